@@ -1,0 +1,29 @@
+"""The exceptions guardsim raises on purpose.
+
+Every error a user can cause (a bad level file, a limit exceeded, an output that cannot be written)
+is a :class:`GuardsimError`. The CLI prints its message as one line and exits with status 2; anything
+else escaping the library is a bug.
+"""
+
+from __future__ import annotations
+
+__all__ = ["GuardsimError", "LevelError", "LimitError", "OutputError"]
+
+
+class GuardsimError(Exception):
+    """Base class of every error guardsim reports to its user."""
+
+
+class LevelError(GuardsimError):
+    """A level file cannot be read or describes an impossible level.
+
+    The message names the file and, where it applies, the ring and point at fault.
+    """
+
+
+class LimitError(GuardsimError):
+    """A configured size limit (cells, vertices, file size, frames) would be exceeded."""
+
+
+class OutputError(GuardsimError):
+    """An output file cannot be written."""

@@ -1,0 +1,159 @@
+"""The coverage grid: a level's bounding box cut into square cells, 4-connected.
+
+A cell is traversable when its centre lies in the free area and the guard's circle fits there; two
+4-neighbours are connected when the guard's circle can slide between their centres without touching a
+wall. Both questions are answered by the physics world's pymunk queries.
+"""
+
+from __future__ import annotations
+
+from collections import deque
+from dataclasses import dataclass
+
+import numpy as np
+import shapely
+
+from guardsim.errors import LevelError
+from guardsim.level import Level
+from guardsim.world import World
+
+__all__ = ["DIRECTIONS", "CoverageGrid", "build_grid"]
+
+#: The four moves as (dcol, drow), indexed by heading number: 0 right, 1 down, 2 left, 3 up.
+#: Heading number k points at 90*k degrees with y down (clockwise on screen).
+DIRECTIONS: tuple[tuple[int, int], ...] = ((1, 0), (0, 1), (-1, 0), (0, -1))
+
+
+@dataclass(frozen=True, eq=False)
+class CoverageGrid:
+    """Cells, their traversability and their 4-connectivity.
+
+    Cells are addressed as ``(col, row)`` or by flat index ``row * cols + col``.
+    """
+
+    origin: tuple[float, float]
+    """World position of the grid's top-left corner."""
+    cell_size: float
+    """Side of a cell in world units."""
+    traversable: np.ndarray
+    """``bool (rows, cols)``: the guard can stand at the cell centre."""
+    neighbours: np.ndarray
+    """``int (rows * cols, 4)``: flat index of the connected neighbour in each direction, or -1."""
+
+    @property
+    def shape(self) -> tuple[int, int]:
+        """``(rows, cols)``."""
+        return self.traversable.shape  # type: ignore[return-value]
+
+    @property
+    def size(self) -> int:
+        """Number of cells."""
+        return int(self.traversable.size)
+
+    def centre(self, col: int, row: int) -> tuple[float, float]:
+        """World position of a cell's centre."""
+        return (
+            self.origin[0] + (col + 0.5) * self.cell_size,
+            self.origin[1] + (row + 0.5) * self.cell_size,
+        )
+
+    def cell_of(self, point: tuple[float, float]) -> tuple[int, int] | None:
+        """``(col, row)`` of the cell containing ``point``, or ``None`` outside the grid."""
+        col = int(np.floor((point[0] - self.origin[0]) / self.cell_size))
+        row = int(np.floor((point[1] - self.origin[1]) / self.cell_size))
+        rows, cols = self.shape
+        if 0 <= col < cols and 0 <= row < rows:
+            return col, row
+        return None
+
+    def flat(self, col: int, row: int) -> int:
+        """Flat index of ``(col, row)``."""
+        return row * self.shape[1] + col
+
+    def unflat(self, index: int) -> tuple[int, int]:
+        """``(col, row)`` of a flat index."""
+        row, col = divmod(int(index), self.shape[1])
+        return col, row
+
+    def component(self, col: int, row: int) -> np.ndarray:
+        """``bool (rows, cols)``: the cells reachable from ``(col, row)`` through connected moves."""
+        reached = np.zeros(self.size, dtype=bool)
+        start = self.flat(col, row)
+        if not self.traversable.flat[start]:
+            return reached.reshape(self.shape)
+        reached[start] = True
+        queue = deque([start])
+        neighbours = self.neighbours
+        while queue:
+            cell = queue.popleft()
+            for other in neighbours[cell]:
+                if other >= 0 and not reached[other]:
+                    reached[other] = True
+                    queue.append(int(other))
+        return reached.reshape(self.shape)
+
+    def largest_component(self) -> np.ndarray:
+        """``bool (rows, cols)``: the largest set of mutually reachable cells (ties: first in row order)."""
+        labelled = np.zeros(self.size, dtype=bool)
+        best = np.zeros(self.shape, dtype=bool)
+        for index in np.flatnonzero(self.traversable):
+            if labelled[index]:
+                continue
+            col, row = self.unflat(int(index))
+            component = self.component(col, row)
+            labelled |= component.ravel()
+            if component.sum() > best.sum():
+                best = component
+        return best
+
+
+def build_grid(level: Level, world: World) -> CoverageGrid:
+    """Rasterise a level into a :class:`CoverageGrid` using the world's pymunk queries.
+
+    Examples
+    --------
+    >>> from guardsim.level import parse_level
+    >>> level = parse_level({"outer": [[0, 0], [3, 0], [3, 2], [0, 2]]})
+    >>> grid = build_grid(level, World(level))
+    >>> grid.shape, int(grid.traversable.sum()), grid.neighbours[0].tolist()
+    ((2, 3), 6, [1, 3, -1, -1])
+    """
+    min_x, min_y, _, _ = level.bounds
+    rows, cols = level.grid_shape()
+    size = level.cell_size
+    origin = (min_x, min_y)
+    xs = min_x + (np.arange(cols) + 0.5) * size
+    ys = min_y + (np.arange(rows) + 0.5) * size
+    centre_x, centre_y = np.meshgrid(xs, ys)
+    inside = shapely.contains_xy(level.free_area(), centre_x, centre_y)
+    radius = level.guard.radius
+    traversable = np.zeros((rows, cols), dtype=bool)
+    for row, col in zip(*np.nonzero(inside), strict=False):
+        traversable[row, col] = world.fits((float(centre_x[row, col]), float(centre_y[row, col])), radius)
+
+    neighbours = np.full((rows * cols, 4), -1, dtype=np.int64)
+    for direction, (dcol, drow) in enumerate(DIRECTIONS[:2]):
+        # Test each pair once (rightward and downward) and record it in both directions.
+        pair = traversable[: rows - drow, : cols - dcol] & traversable[drow:, dcol:]
+        for row, col in zip(*np.nonzero(pair), strict=False):
+            a = (float(xs[col]), float(ys[row]))
+            b = (float(xs[col + dcol]), float(ys[row + drow]))
+            if world.sweep_clear(a, b, radius):
+                here = row * cols + col
+                there = (row + drow) * cols + col + dcol
+                neighbours[here, direction] = there
+                neighbours[there, direction + 2] = here
+    return CoverageGrid(origin=origin, cell_size=size, traversable=traversable, neighbours=neighbours)
+
+
+def start_cell(level: Level, grid: CoverageGrid, point: tuple[float, float]) -> tuple[int, int]:
+    """The traversable cell containing a start point, or a :class:`LevelError` saying why not."""
+    cell = grid.cell_of(point)
+    where = f"{level.source}: start ({point[0]:g}, {point[1]:g})"
+    if cell is None:
+        raise LevelError(f"{where} lies outside the level")
+    if not grid.traversable[cell[1], cell[0]]:
+        raise LevelError(
+            f"{where} is in cell [{cell[0]}, {cell[1]}], where the guard (radius {level.guard.radius:g}) does not fit"
+        )
+    return cell

@@ -1,0 +1,89 @@
+"""Vision: which cells a guard at a cell centre, facing one of the four headings, can see.
+
+A traversable cell is seen when its centre is within ``view_range`` of the eye, within
+``fov_degrees / 2`` of the heading, and the segment from the eye to the centre touches no wall
+(:meth:`guardsim.world.World.line_of_sight`). The guard's own cell is always seen.
+"""
+
+from __future__ import annotations
+
+import math
+from dataclasses import dataclass
+
+import numpy as np
+
+from guardsim.grid import DIRECTIONS, CoverageGrid
+from guardsim.level import GuardSpec
+from guardsim.world import World
+
+__all__ = ["VisionCone", "visible_cells"]
+
+# Cells exactly on the cone's edge or range are in; this absorbs float noise in that comparison.
+_EDGE_TOLERANCE = 1e-9
+
+
+@dataclass(frozen=True, eq=False)
+class VisionCone:
+    """The cone's cell offsets for each of the four headings.
+
+    ``offsets[h]`` is an ``int (n, 2)`` array of ``(dcol, drow)`` whose cell centres lie inside the cone
+    for heading ``h``, nearest first; ``(0, 0)`` is always the first row.
+    """
+
+    view_range: float
+    fov_degrees: float
+    cell_size: float
+    offsets: tuple[np.ndarray, ...]
+
+    @classmethod
+    def from_guard(cls, guard: GuardSpec, cell_size: float) -> VisionCone:
+        """The cone of a guard on a grid of ``cell_size``.
+
+        Examples
+        --------
+        >>> cone = VisionCone.from_guard(GuardSpec(view_range=1.0, fov_degrees=90), 1.0)
+        >>> cone.offsets[0].tolist()
+        [[0, 0], [1, 0]]
+        """
+        reach = guard.view_range / cell_size
+        half_angle = math.radians(guard.fov_degrees) / 2
+        cos_half = math.cos(half_angle)
+        span = math.floor(reach + _EDGE_TOLERANCE)
+        dcol, drow = np.meshgrid(np.arange(-span, span + 1), np.arange(-span, span + 1))
+        dcol, drow = dcol.ravel(), drow.ravel()
+        distance = np.hypot(dcol, drow)
+        in_range = distance <= reach + _EDGE_TOLERANCE
+        offsets = []
+        for heading_col, heading_row in DIRECTIONS:
+            if guard.fov_degrees >= 360:
+                in_angle = np.ones_like(in_range)
+            else:
+                with np.errstate(invalid="ignore", divide="ignore"):
+                    cosine = (dcol * heading_col + drow * heading_row) / distance
+                in_angle = (distance == 0) | (cosine >= cos_half - _EDGE_TOLERANCE)
+            keep = in_range & in_angle
+            order = np.lexsort((dcol[keep], drow[keep], distance[keep]))
+            offsets.append(np.stack([dcol[keep][order], drow[keep][order]], axis=1).astype(np.int64))
+        return cls(guard.view_range, guard.fov_degrees, cell_size, tuple(offsets))
+
+
+def visible_cells(world: World, grid: CoverageGrid, cone: VisionCone, col: int, row: int, heading: int) -> np.ndarray:
+    """Flat indices of the cells seen from cell ``(col, row)`` facing ``heading``, sorted ascending.
+
+    This is the reference: one pymunk segment query per traversable cell in the cone.
+    """
+    rows, cols = grid.shape
+    offsets = cone.offsets[heading]
+    target_cols = col + offsets[:, 0]
+    target_rows = row + offsets[:, 1]
+    on_grid = (target_cols >= 0) & (target_cols < cols) & (target_rows >= 0) & (target_rows < rows)
+    target_cols, target_rows = target_cols[on_grid], target_rows[on_grid]
+    candidates = grid.traversable[target_rows, target_cols]
+    eye = grid.centre(col, row)
+    seen = [row * cols + col]
+    for target_col, target_row in zip(target_cols[candidates].tolist(), target_rows[candidates].tolist(), strict=False):
+        if target_col == col and target_row == row:
+            continue
+        if world.line_of_sight(eye, grid.centre(target_col, target_row)):
+            seen.append(target_row * cols + target_col)
+    return np.unique(np.asarray(seen, dtype=np.int64))
