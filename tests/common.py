@@ -1,0 +1,77 @@
+"""Tiny canonical levels, defined once and reused across the tests (after shapely's tests/common.py)."""
+
+from __future__ import annotations
+
+import copy
+import json
+from pathlib import Path
+from typing import Any
+
+import pytest
+
+from guardsim.level import Level, parse_level
+from guardsim.simulation import Scene
+
+REPO = Path(__file__).resolve().parent.parent
+LEVELS = sorted((REPO / "levels").glob("*.json"))
+
+#: An empty 4 x 4 room.
+EMPTY_SQUARE: dict[str, Any] = {
+    "name": "empty square",
+    "outer": [[0, 0], [4, 0], [4, 4], [0, 4]],
+    "guard": {"start": [0.5, 0.5], "heading": "right"},
+}
+
+#: A 6 x 6 room with a 2 x 2 pillar in the middle.
+SQUARE_WITH_HOLE: dict[str, Any] = {
+    "name": "square with hole",
+    "outer": [[0, 0], [6, 0], [6, 6], [0, 6]],
+    "holes": [[[2, 2], [4, 2], [4, 4], [2, 4]]],
+    "guard": {"start": [0.5, 0.5], "heading": "right"},
+}
+
+#: An L-shaped room: a 6 x 2 bar along the top and a 2 x 4 leg down the left.
+L_ROOM: dict[str, Any] = {
+    "name": "L room",
+    "outer": [[0, 0], [6, 0], [6, 2], [2, 2], [2, 6], [0, 6]],
+    "guard": {"start": [0.5, 0.5], "heading": "right"},
+}
+
+#: Two 3 x 3 rooms side by side, split by a thin wall the guard can neither cross nor see through.
+SPLIT_ROOMS: dict[str, Any] = {
+    "name": "split rooms",
+    "outer": [[0, 0], [6, 0], [6, 3], [0, 3]],
+    "holes": [[[2.9, 0], [3.1, 0], [3.1, 3], [2.9, 3]]],
+    "guard": {"start": [0.5, 0.5], "heading": "right"},
+}
+
+TINY_LEVELS = {
+    "empty-square": EMPTY_SQUARE,
+    "square-with-hole": SQUARE_WITH_HOLE,
+    "l-room": L_ROOM,
+    "split-rooms": SPLIT_ROOMS,
+}
+
+#: ``pytest.mark.parametrize`` over the tiny levels with readable ids.
+tiny_levels = pytest.mark.parametrize("level_data", list(TINY_LEVELS.values()), ids=list(TINY_LEVELS))
+#: ``pytest.mark.parametrize`` over the shipped levels.
+shipped_levels = pytest.mark.parametrize("level_path", LEVELS, ids=[path.stem for path in LEVELS])
+
+
+def level_from(data: dict[str, Any], **changes: Any) -> Level:
+    """A level from a dictionary, with top-level keys replaced by ``changes``."""
+    merged = copy.deepcopy(data)
+    merged.update(changes)
+    return parse_level(merged, source="test.json")
+
+
+def scene_from(data: dict[str, Any], **changes: Any) -> Scene:
+    """The scene of :func:`level_from`."""
+    return Scene.from_level(level_from(data, **changes))
+
+
+def write_level(folder: Path, data: Any, name: str = "level.json") -> Path:
+    """Write level data (or raw text) as a file and return its path."""
+    path = folder / name
+    path.write_text(data if isinstance(data, str) else json.dumps(data), encoding="utf-8")
+    return path
