@@ -60,7 +60,7 @@ class World:
         return self.space.segment_query_first(eye, target, 0.0, _WALLS_ONLY) is None
 
     def fits(self, point: tuple[float, float], radius: float) -> bool:
-        """Whether a circle of ``radius`` at ``point`` stays strictly clear of every wall."""
+        """Whether a circle of ``radius`` at ``point`` overlaps no wall (touching one is allowed)."""
         if radius <= 0:
             return True
         return self.space.point_query_nearest(point, radius, _WALLS_ONLY) is None
