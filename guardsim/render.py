@@ -86,8 +86,11 @@ def frame_ticks(steps: int, options: GifOptions) -> list[int]:
     """
     if options.max_frames < 1 or options.max_frames > FRAME_CEILING:
         raise LimitError(f"max frames must be between 1 and {FRAME_CEILING}, not {options.max_frames}")
+    if options.max_frames == 1:
+        return [steps]
     if options.stride is None:
-        stride = max(1, math.ceil((steps + 1) / options.max_frames))
+        # The last tick is always added, so leave room for it.
+        stride = max(1, math.ceil(steps / (options.max_frames - 1)))
     else:
         if options.stride < 1:
             raise LimitError(f"frame stride must be at least 1, not {options.stride}")
