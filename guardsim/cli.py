@@ -28,7 +28,7 @@ from guardsim.level import (
 from guardsim.output import atomic_path, write_text_atomic
 from guardsim.planners import PLANNERS, make_planner
 from guardsim.render import DEFAULT_MAX_FRAMES, GifOptions, encode_gif, render_preview
-from guardsim.simulation import Scene, choose_start, run_episode
+from guardsim.simulation import Scene, choose_start, episode_generator, run_episode
 
 F = TypeVar("F", bound=Callable[..., Any])
 
@@ -105,6 +105,11 @@ def main() -> None:
 @click.option("--seed", type=click.IntRange(min=0), default=0, show_default=True, help="Seed for random choices.")
 @click.option("--start", callback=_parse_point, metavar="X,Y", help="Start position in world units.")
 @click.option("--heading", type=click.Choice(list(HEADINGS)), help="First heading (default: the level's, or drawn).")
+@click.option(
+    "--episode",
+    type=click.IntRange(min=0),
+    help="Re-run episode K of a batch seeded with --seed: start and heading drawn as in `guardsim bench`.",
+)
 @click.option("--planner", type=click.Choice(list(PLANNERS)), default="ripplefront", show_default=True)
 @click.option("--max-steps", type=click.IntRange(min=0), help="Step limit [default: 10 per traversable cell].")
 @click.option("--sweeps-per-tick", type=click.IntRange(min=1), default=1, show_default=True)
@@ -120,6 +125,7 @@ def play(
     seed: int,
     start: tuple[float, float] | None,
     heading: str | None,
+    episode: int | None,
     planner: str,
     max_steps: int | None,
     sweeps_per_tick: int,
@@ -133,14 +139,18 @@ def play(
     """Walk a guard over LEVEL until it has seen every reachable cell.
 
     The start is --start, else the level's guard.start, else drawn from the seed; likewise the heading.
+    With --episode K, both are drawn from episode K's generator unless given with --start/--heading.
     """
     level = _load(level_path, max_cells, max_vertices, max_file_bytes)
     began = time.perf_counter()
     scene = Scene.from_level(level)
-    rng = np.random.default_rng(seed)
-    cell, first_heading = choose_start(
-        scene, rng=rng, point=start or level.guard.start, heading=heading or level.guard.heading
-    )
+    if episode is not None:
+        rng = episode_generator(seed, episode)
+        point, first = start, heading
+    else:
+        rng = np.random.default_rng(seed)
+        point, first = start or level.guard.start, heading or level.guard.heading
+    cell, first_heading = choose_start(scene, rng=rng, point=point, heading=first)
     guard_planner = make_planner(planner, sweeps_per_tick=sweeps_per_tick)
     trace = run_episode(scene, guard_planner, cell, first_heading, max_steps=max_steps, seed=seed)
     seconds = time.perf_counter() - began

@@ -18,7 +18,7 @@ from guardsim.trace import Trace
 from guardsim.vision import VisionCone, visible_cells
 from guardsim.world import World
 
-__all__ = ["Scene", "VisionFunction", "choose_start", "default_max_steps", "run_episode"]
+__all__ = ["Scene", "VisionFunction", "choose_start", "default_max_steps", "episode_generator", "run_episode"]
 
 #: ``(col, row, heading) -> flat indices of the cells seen``.
 VisionFunction = Callable[[int, int, int], np.ndarray]
@@ -47,6 +47,21 @@ class Scene:
             return visible_cells(self.world, self.grid, self.cone, col, row, heading)
 
         return see
+
+
+def episode_generator(seed: int, episode: int) -> np.random.Generator:
+    """The generator of episode ``episode`` in a batch seeded with ``seed``.
+
+    It is the ``episode``-th child of ``SeedSequence(seed).spawn(...)``, built directly, so an episode
+    draws the same numbers whether it runs alone, in a batch, or on any worker.
+
+    Examples
+    --------
+    >>> children = np.random.SeedSequence(5).spawn(3)
+    >>> bool(episode_generator(5, 2).integers(1000) == np.random.default_rng(children[2]).integers(1000))
+    True
+    """
+    return np.random.default_rng(np.random.SeedSequence(seed, spawn_key=(episode,)))
 
 
 def default_max_steps(grid: CoverageGrid) -> int:

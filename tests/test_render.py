@@ -42,7 +42,7 @@ def pixel_at_cell(frame: np.ndarray, col: int, row: int, scale: int) -> tuple[in
         (10, GifOptions(stride=1), list(range(11))),
         (10, GifOptions(stride=4), [0, 4, 8, 10]),
         (8, GifOptions(stride=4), [0, 4, 8]),
-        (999, GifOptions(max_frames=100), list(range(0, 999, 11)) + [999]),
+        (999, GifOptions(max_frames=100), [*range(0, 999, 11), 999]),
         (5, GifOptions(max_frames=1), [5]),
         (0, GifOptions(), [0]),
     ],
