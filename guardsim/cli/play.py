@@ -1,0 +1,92 @@
+"""``guardsim play``: one episode, as a summary line, a GIF and a trace."""
+
+from __future__ import annotations
+
+import time
+
+import click
+import numpy as np
+
+from guardsim.cli.common import limit_options, load, parse_point, reports_errors
+from guardsim.level import HEADINGS
+from guardsim.output import atomic_path, write_text_atomic
+from guardsim.planners import PLANNERS, make_planner
+from guardsim.render import DEFAULT_MAX_FRAMES, GifOptions, encode_gif
+from guardsim.simulation import Scene, choose_start, episode_generator, run_episode
+
+__all__ = ["play"]
+
+
+@click.command()
+@click.argument("level_path", metavar="LEVEL", type=click.Path(dir_okay=False))
+@click.option("--gif", "gif_path", type=click.Path(dir_okay=False), help="Write the episode as an animated GIF.")
+@click.option("--trace", "trace_path", type=click.Path(dir_okay=False), help="Write the episode as JSON.")
+@click.option("--seed", type=click.IntRange(min=0), default=0, show_default=True, help="Seed for random choices.")
+@click.option("--start", callback=parse_point, metavar="X,Y", help="Start position in world units.")
+@click.option("--heading", type=click.Choice(list(HEADINGS)), help="First heading (default: the level's, or drawn).")
+@click.option(
+    "--episode",
+    type=click.IntRange(min=0),
+    help="Re-run episode K of a batch seeded with --seed: start and heading drawn as in `guardsim bench`.",
+)
+@click.option("--planner", type=click.Choice(list(PLANNERS)), default="ripplefront", show_default=True)
+@click.option("--max-steps", type=click.IntRange(min=0), help="Step limit [default: 10 per traversable cell].")
+@click.option("--sweeps-per-tick", type=click.IntRange(min=1), default=1, show_default=True)
+@click.option("--stride", type=click.IntRange(min=1), help="Ticks between GIF frames [default: fit --max-frames].")
+@click.option("--frame-ms", type=click.IntRange(min=10), default=60, show_default=True, help="GIF frame duration.")
+@click.option("--max-frames", type=click.IntRange(min=1), default=DEFAULT_MAX_FRAMES, show_default=True)
+@limit_options
+@reports_errors
+def play(
+    level_path: str,
+    gif_path: str | None,
+    trace_path: str | None,
+    seed: int,
+    start: tuple[float, float] | None,
+    heading: str | None,
+    episode: int | None,
+    planner: str,
+    max_steps: int | None,
+    sweeps_per_tick: int,
+    stride: int | None,
+    frame_ms: int,
+    max_frames: int,
+    max_cells: int,
+    max_vertices: int,
+    max_file_bytes: int,
+) -> None:
+    """Walk a guard over LEVEL until it has seen every reachable cell.
+
+    The start is --start, else the level's guard.start, else drawn from the seed; likewise the heading.
+    With --episode K, both are drawn from episode K's generator unless given with --start/--heading.
+    """
+    level = load(level_path, max_cells, max_vertices, max_file_bytes)
+    began = time.perf_counter()
+    scene = Scene.from_level(level)
+    if episode is not None:
+        rng = episode_generator(seed, episode)
+        point, first = start, heading
+    else:
+        rng = np.random.default_rng(seed)
+        point, first = start or level.guard.start, heading or level.guard.heading
+    cell, first_heading = choose_start(scene, rng=rng, point=point, heading=first)
+    guard_planner = make_planner(planner, sweeps_per_tick=sweeps_per_tick)
+    trace = run_episode(scene, guard_planner, cell, first_heading, max_steps=max_steps, seed=seed)
+    seconds = time.perf_counter() - began
+    options = GifOptions(stride=stride, frame_ms=frame_ms, max_frames=max_frames)
+    written = []
+    if gif_path:
+        gif = encode_gif(level, trace, options)
+        with atomic_path(gif_path) as temporary:
+            temporary.write_bytes(gif)
+        written.append(gif_path)
+    if trace_path:
+        write_text_atomic(trace_path, trace.to_json())
+        written.append(trace_path)
+    seen_percent = 100.0 - trace.unseen_percent[-1]
+    extra = f", {trace.unreachable} unreachable" if trace.unreachable else ""
+    click.echo(
+        f"{level.name}: {trace.outcome.replace('_', ' ')} after {trace.steps} steps, {seen_percent:.1f}% seen "
+        f"({trace.reachable} reachable cells{extra}), {seconds:.2f} s"
+        + (f" -> {', '.join(written)}" if written else "")
+    )
