@@ -13,12 +13,21 @@ import numpy as np
 from guardsim.errors import LevelError
 from guardsim.grid import CoverageGrid, build_grid, start_cell
 from guardsim.level import HEADINGS, Level
+from guardsim.planners import make_planner
 from guardsim.planners.base import GuardState, Planner
 from guardsim.trace import Trace
 from guardsim.vision import VisionCone, visible_cells
 from guardsim.world import World
 
-__all__ = ["Scene", "VisionFunction", "choose_start", "default_max_steps", "episode_generator", "run_episode"]
+__all__ = [
+    "Scene",
+    "VisionFunction",
+    "choose_start",
+    "default_max_steps",
+    "episode_generator",
+    "run_batch_episode",
+    "run_episode",
+]
 
 #: ``(col, row, heading) -> flat indices of the cells seen``.
 VisionFunction = Callable[[int, int, int], np.ndarray]
@@ -39,6 +48,13 @@ class Scene:
         world = World(level)
         grid = build_grid(level, world)
         return cls(level, world, grid, VisionCone.from_guard(level.guard, level.cell_size))
+
+    def vision(self, *, reference: bool = False) -> VisionFunction:
+        """The vision to use: the fast path by default, the per-cell-ray reference on request.
+
+        Both give the same cells for every state; the fast path is what ``play`` and ``bench`` use.
+        """
+        return self.reference_vision()
 
     def reference_vision(self) -> VisionFunction:
         """The reference vision: one pymunk ray per cell in the cone, every tick."""
@@ -94,6 +110,33 @@ def choose_start(
     return cell, heading_number
 
 
+def run_batch_episode(
+    scene: Scene,
+    *,
+    seed: int,
+    episode: int,
+    planner: str = "ripplefront",
+    reference: bool = False,
+    max_steps: int | None = None,
+    **planner_options: object,
+) -> Trace:
+    """Episode ``episode`` of a batch seeded with ``seed``: start and heading drawn from its generator.
+
+    This is what ``guardsim bench`` runs for each episode and ``guardsim play --seed S --episode K``
+    re-runs alone; the trace is the same either way.
+    """
+    cell, heading = choose_start(scene, rng=episode_generator(seed, episode))
+    return run_episode(
+        scene,
+        make_planner(planner, **planner_options),
+        cell,
+        heading,
+        vision=scene.vision(reference=reference),
+        max_steps=max_steps,
+        seed=seed,
+    )
+
+
 def run_episode(
     scene: Scene,
     planner: Planner,
@@ -115,14 +158,14 @@ def run_episode(
     start, heading
         ``(col, row)`` of a traversable cell and the first heading number.
     vision
-        Which cells a state sees; the scene's reference vision by default.
+        Which cells a state sees; :meth:`Scene.vision` by default.
     max_steps
         Step limit; :func:`default_max_steps` by default.
     seed
         Recorded in the trace only.
     """
     grid = scene.grid
-    see = vision or scene.reference_vision()
+    see = vision or scene.vision()
     limit = default_max_steps(grid) if max_steps is None else max_steps
     goal = grid.component(*start).ravel()
     goal_count = int(goal.sum())
