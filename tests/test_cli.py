@@ -1,0 +1,269 @@
+"""The command line: bad input is one ``guardsim: error:`` line with status 2; good input does its job.
+
+The bad level files are the ones of ``tests/test_level.py`` (``BAD_LEVELS`` and ``GRID_TIME_LEVELS``).
+"""
+
+from __future__ import annotations
+
+import json
+import re
+import subprocess
+import sys
+from pathlib import Path
+
+import imageio.v3 as iio
+import pytest
+from click.testing import CliRunner, Result
+
+from guardsim.cli import main
+from tests.common import EMPTY_SQUARE, LEVELS, REPO, SQUARE_WITH_HOLE, shipped_levels, write_level
+from tests.test_level import BAD_LEVELS, GRID_TIME_LEVELS, PILLAR, BadLevel, bad_params, changed
+
+SQUARE = REPO / "levels" / "square.json"
+ALL_BAD_LEVELS = {**BAD_LEVELS, **GRID_TIME_LEVELS}
+TRACE_KEYS = {
+    "level",
+    "planner",
+    "seed",
+    "cell_size",
+    "origin",
+    "shape",
+    "start",
+    "path",
+    "steps",
+    "covered",
+    "unseen_percent",
+    "reachable",
+    "unreachable",
+}
+
+
+def run(*args: str | Path) -> Result:
+    """Invoke ``guardsim ARGS`` in-process, keeping stdout and stderr apart."""
+    return CliRunner().invoke(main, [str(arg) for arg in args])
+
+
+def assert_one_line_error(result: Result, path: Path) -> str:
+    """Exit status 2, exactly one stderr line ``guardsim: error: ...`` naming ``path``, and no traceback."""
+    assert "Traceback" not in result.output
+    assert isinstance(result.exception, SystemExit), result.exception
+    assert result.exit_code == 2
+    lines = result.stderr.splitlines()
+    assert len(lines) == 1, result.stderr
+    assert lines[0].startswith("guardsim: error: ")
+    assert str(path) in lines[0]
+    return lines[0]
+
+
+@bad_params(ALL_BAD_LEVELS, cli=True)
+def test_play_bad_level_is_one_error_line(tmp_path: Path, case: BadLevel) -> None:
+    """`guardsim play BAD.json` exits 2 with one `guardsim: error:` line naming the file and the fault."""
+    path = case.write(tmp_path)
+    result = run("play", path, "--gif", tmp_path / "out.gif", *case.cli_options())
+    line = assert_one_line_error(result, path)
+    for fragment in case.fragments:
+        assert fragment in line
+    assert result.stdout == ""
+    assert not (tmp_path / "out.gif").exists()
+
+
+@bad_params(ALL_BAD_LEVELS, cli=True)
+def test_validate_bad_level_reports_it(tmp_path: Path, case: BadLevel) -> None:
+    """`guardsim validate BAD.json` prints the fault on stdout, a count on stderr, and exits 2."""
+    path = case.write(tmp_path)
+    result = run("validate", path, *case.cli_options())
+    assert "Traceback" not in result.output
+    assert result.exit_code == 2
+    problem_lines = result.stdout.splitlines()
+    assert problem_lines
+    assert all(str(path) in line for line in problem_lines)
+    for fragment in case.fragments:
+        assert fragment in result.stdout
+    assert result.stderr == "1 of 1 level(s) invalid\n"
+
+
+def test_validate_prints_every_problem_of_every_file(tmp_path: Path) -> None:
+    """Each file's problems are all listed, one line each; valid files say ok; any invalid file means exit 2."""
+    two = write_level(
+        tmp_path,
+        changed(SQUARE_WITH_HOLE, cell_size="big", holes=[PILLAR, [[4.5, 4.5], [5.5, 4.5], [7, 7], [4.5, 5.5]]]),
+        "two-problems.json",
+    )
+    one = write_level(tmp_path, changed(EMPTY_SQUARE, colour="red"), "one-problem.json")
+    good = write_level(tmp_path, EMPTY_SQUARE, "good.json")
+    result = run("validate", two, good, one)
+    assert result.exit_code == 2
+    assert result.stdout.splitlines() == [
+        f"{two}: cell_size: must be a number, not a string",
+        f"{two}: holes[1] point 2 (7, 7): hole point lies outside the outer ring (keep holes inside the outer ring)",
+        f"{good}: ok",
+        f"{one}: key 'colour': unknown key (known keys: cell_size, guard, holes, name, outer, starts)",
+    ]
+    assert result.stderr == "2 of 3 level(s) invalid\n"
+
+
+def test_validate_goes_on_after_an_unreadable_file(tmp_path: Path) -> None:
+    """A missing or non-JSON file is reported and the remaining files are still checked."""
+    missing = tmp_path / "missing.json"
+    broken = write_level(tmp_path, "{", "broken.json")
+    result = run("validate", missing, broken, SQUARE)
+    assert result.exit_code == 2
+    lines = result.stdout.splitlines()
+    assert lines[0] == f"{missing}: no such file"
+    assert lines[1].startswith(f"{broken}: not valid JSON")
+    assert lines[2] == f"{SQUARE}: ok"
+
+
+def test_validate_shipped_levels_ok() -> None:
+    """Every shipped level validates: one ok line each, exit 0, nothing on stderr."""
+    result = run("validate", *LEVELS)
+    assert result.exit_code == 0, result.output
+    assert result.stdout.splitlines() == [f"{path}: ok" for path in LEVELS]
+    assert result.stderr == ""
+
+
+@pytest.mark.parametrize(
+    ("option", "tight", "enough"),
+    [("--max-cells", "35", "36"), ("--max-vertices", "7", "8"), ("--max-file-bytes", "10", "100000")],
+    ids=["max-cells", "max-vertices", "max-file-bytes"],
+)
+def test_limit_options_raise_the_caps(tmp_path: Path, option: str, tight: str, enough: str) -> None:
+    """Each size limit is an option: too low fails with a message naming it, high enough passes."""
+    path = write_level(tmp_path, SQUARE_WITH_HOLE)
+    too_low = run("validate", path, option, tight)
+    assert too_low.exit_code == 2
+    assert option in too_low.stdout
+    high_enough = run("validate", path, option, enough)
+    assert high_enough.exit_code == 0, high_enough.output
+
+
+def test_default_max_cells_rejects_a_huge_grid(tmp_path: Path) -> None:
+    """Without --max-cells, a 2000 x 2000 grid is refused before anything is built."""
+    path = write_level(tmp_path, changed(EMPTY_SQUARE, cell_size=0.002))
+    refused = run("validate", path)
+    assert refused.exit_code == 2
+    assert "2000 x 2000 = 4000000 cells is over the limit of 1000000" in refused.stdout
+    assert "--max-cells" in refused.stdout
+
+
+@shipped_levels
+def test_play_shipped_level_over_max_cells(tmp_path: Path, level_path: Path) -> None:
+    """`--max-cells 10` turns a shipped level into a one-line error that names the option."""
+    result = run("play", level_path, "--max-cells", "10", "--gif", tmp_path / "out.gif")
+    line = assert_one_line_error(result, level_path)
+    assert "--max-cells" in line
+
+
+def test_play_writes_gif_and_trace(tmp_path: Path) -> None:
+    """`play --gif --trace` exits 0; the summary's step count is the trace's, and the trace is consistent."""
+    gif = tmp_path / "square.gif"
+    trace_path = tmp_path / "square.json"
+    result = run("play", SQUARE, "--gif", gif, "--trace", trace_path, "--stride", "100")
+    assert result.exit_code == 0, result.output
+    assert result.stderr == ""
+    summary = result.stdout.strip()
+    assert "\n" not in summary
+    assert "covered" in summary
+    trace = json.loads(trace_path.read_text(encoding="utf-8"))
+    assert set(trace) >= TRACE_KEYS
+    match = re.search(r"after (\d+) steps", summary)
+    assert match is not None, summary
+    assert int(match.group(1)) == trace["steps"]
+    assert trace["steps"] == len(trace["path"]) - 1 > 0
+    assert len(trace["unseen_percent"]) == len(trace["path"])
+    assert trace["unseen_percent"][-1] == 0
+    assert trace["covered"] is True
+    assert trace["level"] == "Square"
+    assert trace["planner"] == "ripplefront"
+    assert trace["seed"] == 0
+    assert trace["cell_size"] == 1.0
+    assert trace["shape"] == [60, 60]
+    assert trace["start"] == trace["path"][0] == [2, 2]
+    assert trace["reachable"] > 0
+    assert trace["unreachable"] == 0
+    assert gif.read_bytes()[:6] in (b"GIF87a", b"GIF89a")
+    assert str(gif) in summary
+    assert str(trace_path) in summary
+
+
+@pytest.mark.parametrize("value", ["1", "a,b", "1,2,3", "nan,1", "1,inf", ""], ids=repr)
+def test_play_malformed_start_is_a_usage_error(tmp_path: Path, value: str) -> None:
+    """`--start` must be two finite numbers X,Y; anything else is a click usage error with status 2."""
+    result = run("play", SQUARE, "--start", value, "--gif", tmp_path / "out.gif")
+    assert result.exit_code == 2
+    assert "Traceback" not in result.output
+    assert "Usage:" in result.stderr
+    assert "--start" in result.stderr
+    assert not (tmp_path / "out.gif").exists()
+
+
+@pytest.mark.parametrize(
+    ("start", "fault"),
+    [("25,25", "does not fit"), ("100,1", "lies outside the level"), ("-0.5,3", "lies outside the level")],
+    ids=["in-pillar", "right-of-level", "left-of-level"],
+)
+def test_play_start_option_in_wall_or_outside(tmp_path: Path, start: str, fault: str) -> None:
+    """A well-formed `--start` in a wall or off the level is a one-line error naming the start."""
+    result = run("play", SQUARE, "--start", start, "--gif", tmp_path / "out.gif")
+    line = assert_one_line_error(result, SQUARE)
+    x, y = start.split(",")
+    assert f"start ({float(x):g}, {float(y):g})" in line
+    assert fault in line
+
+
+def test_play_unwritable_output_is_one_error_line(tmp_path: Path) -> None:
+    """A GIF path in a missing folder is an OutputError line with status 2, not a traceback."""
+    level = write_level(tmp_path, EMPTY_SQUARE)
+    target = tmp_path / "no-such-folder" / "out.gif"
+    result = run("play", level, "--gif", target)
+    line = assert_one_line_error(result, target)
+    assert "does not exist" in line
+
+
+def test_render_writes_png(tmp_path: Path) -> None:
+    """`render --png` writes a PNG larger than 64 x 64 and reports the grid on one line."""
+    png = tmp_path / "out.png"
+    result = run("render", SQUARE, "--png", png)
+    assert result.exit_code == 0, result.output
+    image = iio.imread(png)
+    assert image.shape[0] > 64
+    assert image.shape[1] > 64
+    assert image.shape[2] in (3, 4)
+    assert result.stdout.startswith("Square: 60 x 60 cells")
+    assert str(png) in result.stdout
+
+
+def test_render_bad_level_is_one_error_line(tmp_path: Path) -> None:
+    """`render` reports a bad level like `play` does and writes no image."""
+    path = write_level(tmp_path, changed(EMPTY_SQUARE, cell_size=-1))
+    png = tmp_path / "out.png"
+    line = assert_one_line_error(run("render", path, "--png", png), path)
+    assert "cell_size: must be positive" in line
+    assert not png.exists()
+
+
+def guardsim_command() -> list[str]:
+    """The installed console script next to the interpreter, else its entry point through ``python -c``."""
+    script = Path(sys.executable).with_name("guardsim")
+    if script.exists():
+        return [str(script)]
+    return [sys.executable, "-c", "from guardsim.cli import main; main()"]
+
+
+def test_console_script_bad_level(tmp_path: Path) -> None:
+    """The real `guardsim play` process on a bad level: status 2, one stderr line, no traceback."""
+    path = write_level(tmp_path, changed(SQUARE_WITH_HOLE, holes=[[[1, 1], [3, 3], [3, 1], [1, 3]]]))
+    completed = subprocess.run(
+        [*guardsim_command(), "play", str(path), "--gif", str(tmp_path / "out.gif")],
+        capture_output=True,
+        text=True,
+        timeout=60,
+        check=False,
+    )
+    assert completed.returncode == 2
+    assert "Traceback" not in completed.stderr + completed.stdout
+    lines = completed.stderr.splitlines()
+    assert len(lines) == 1, completed.stderr
+    assert lines[0].startswith(f"guardsim: error: {path}: holes[0] point ")
+    assert "crosses or touches itself" in lines[0]
+    assert completed.stdout == ""

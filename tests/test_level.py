@@ -1,0 +1,451 @@
+"""The level loader: every kind of bad level is a LevelError naming the file and the place at fault.
+
+``BAD_LEVELS`` and ``GRID_TIME_LEVELS`` are shared with ``tests/test_cli.py``, which checks that the
+same files give one clean error line on the command line.
+"""
+
+from __future__ import annotations
+
+import copy
+import json
+from dataclasses import dataclass, field
+from pathlib import Path
+from typing import Any
+
+import numpy as np
+import pytest
+import shapely
+
+from guardsim.errors import LevelError
+from guardsim.level import (
+    DEFAULT_MAX_CELLS,
+    GuardSpec,
+    Level,
+    Problem,
+    check_level_data,
+    level_to_data,
+    load_level,
+    parse_level,
+)
+from guardsim.simulation import Scene, choose_start
+from tests.common import EMPTY_SQUARE, SQUARE_WITH_HOLE, TINY_LEVELS, shipped_levels, tiny_levels, write_level
+
+#: Stand-ins for files that cannot be written as text.
+MISSING = object()
+DIRECTORY = object()
+
+
+@dataclass(frozen=True)
+class BadLevel:
+    """A bad level file and what its error must say."""
+
+    content: Any
+    """JSON-ready data, raw text (``str``), raw ``bytes``, :data:`MISSING` or :data:`DIRECTORY`."""
+    fragments: tuple[str, ...]
+    """Words the message must contain besides the file path: the location and a key phrase."""
+    limits: dict[str, int] = field(default_factory=dict)
+    """Keyword limits for :func:`load_level`, e.g. ``{"max_vertices": 3}``; the CLI gets the same options."""
+    bug: str = ""
+    """Why this case fails today (a known guardsim bug); the test is then a strict xfail."""
+    cli_bug: str = ""
+    """A bug only the command line has."""
+
+    def write(self, folder: Path, name: str = "bad-level.json") -> Path:
+        """Create the file (or directory, or nothing) in ``folder`` and return its path."""
+        path = folder / name
+        if self.content is MISSING:
+            return path
+        if self.content is DIRECTORY:
+            path.mkdir()
+        elif isinstance(self.content, bytes):
+            path.write_bytes(self.content)
+        else:
+            write_level(folder, self.content, name)
+        return path
+
+    def cli_options(self) -> list[str]:
+        """The limits as command-line options."""
+        return [arg for key, value in self.limits.items() for arg in (f"--{key.replace('_', '-')}", str(value))]
+
+
+def changed(data: dict[str, Any], **changes: Any) -> dict[str, Any]:
+    """A deep copy of ``data`` with top-level keys replaced."""
+    merged = copy.deepcopy(data)
+    merged.update(changes)
+    return merged
+
+
+def guard_changed(data: dict[str, Any], **changes: Any) -> dict[str, Any]:
+    """A deep copy of ``data`` with keys of its ``guard`` object replaced."""
+    merged = copy.deepcopy(data)
+    merged["guard"].update(changes)
+    return merged
+
+
+def raw(data: dict[str, Any], placeholder: str, literal: str) -> str:
+    """JSON text of ``data`` with the string ``placeholder`` replaced by a bare literal such as ``NaN``."""
+    return json.dumps(data).replace(json.dumps(placeholder), literal)
+
+
+#: SQUARE_WITH_HOLE's pillar, and a small hole clear of it (both valid).
+PILLAR = SQUARE_WITH_HOLE["holes"][0]
+CORNER_HOLE = [[4.5, 0.5], [5.5, 0.5], [5.5, 1.5], [4.5, 1.5]]
+UNIT_SQUARE = [[0, 0], [1, 0], [1, 1], [0, 1]]
+
+BAD_LEVELS: dict[str, BadLevel] = {
+    # Unreadable files.
+    "missing-file": BadLevel(MISSING, ("no such file",)),
+    "directory": BadLevel(
+        DIRECTORY,
+        ("is a directory",),
+        cli_bug="click.Path(dir_okay=False) on LEVEL rejects a directory with a multi-line usage error "
+        "instead of the one-line 'guardsim: error:' (LEVEL argument of guardsim/cli/play.py, render.py, "
+        "validate.py)",
+    ),
+    "not-utf8": BadLevel(b'{"name": "caf\xe9", "outer": []}', ("not UTF-8", "byte 13")),
+    "not-json": BadLevel('{"outer": [[0, 0], [4, 0]', ("not valid JSON", "line 1")),
+    "empty-file": BadLevel("", ("not valid JSON",)),
+    "file-too-big": BadLevel(EMPTY_SQUARE, ("over the limit of 10", "--max-file-bytes"), {"max_file_bytes": 10}),
+    # Structure and types.
+    "top-level-list": BadLevel([EMPTY_SQUARE], ("top level must be a JSON object", "not a list")),
+    "top-level-number": BadLevel("42", ("top level must be a JSON object", "not a number")),
+    "outer-missing": BadLevel({"guard": {}}, ("outer", "missing")),
+    "outer-not-list": BadLevel(changed(EMPTY_SQUARE, outer="square"), ("outer", "must be a list", "not a string")),
+    "point-three-numbers": BadLevel(
+        changed(EMPTY_SQUARE, outer=[[0, 0], [4, 0, 1], [4, 4], [0, 4]]), ("outer point 1", "[x, y]")
+    ),
+    "point-not-list": BadLevel(changed(EMPTY_SQUARE, outer=[[0, 0], [4, 0], 4, [0, 4]]), ("outer point 2", "[x, y]")),
+    "string-coordinate": BadLevel(
+        changed(SQUARE_WITH_HOLE, holes=[PILLAR, [[4.5, 0.5], [5.5, 0.5], ["5.5", 1.5], [4.5, 1.5]]]),
+        ("holes[1] point 2", "coordinates must be numbers"),
+    ),
+    "boolean-coordinate": BadLevel(
+        changed(EMPTY_SQUARE, outer=[[0, 0], [4, False], [4, 4], [0, 4]]), ("outer point 1", "must be numbers")
+    ),
+    "holes-not-list": BadLevel(changed(EMPTY_SQUARE, holes={"a": 1}), ("holes", "must be a list", "not an object")),
+    "cell-size-string": BadLevel(changed(EMPTY_SQUARE, cell_size="1"), ("cell_size", "must be a number", "a string")),
+    "name-not-string": BadLevel(changed(EMPTY_SQUARE, name=7), ("name", "must be a string")),
+    "guard-not-object": BadLevel(changed(EMPTY_SQUARE, guard=[0.5, 0.5]), ("guard", "must be an object", "a list")),
+    "view-range-string": BadLevel(
+        guard_changed(EMPTY_SQUARE, view_range="far"), ("guard.view_range", "must be a number", "a string")
+    ),
+    "view-range-null": BadLevel(guard_changed(EMPTY_SQUARE, view_range=None), ("guard.view_range", "not null")),
+    "view-range-zero": BadLevel(guard_changed(EMPTY_SQUARE, view_range=0), ("guard.view_range", "must be positive")),
+    "fov-over-360": BadLevel(guard_changed(EMPTY_SQUARE, fov_degrees=400), ("guard.fov_degrees", "at most 360")),
+    "radius-negative": BadLevel(guard_changed(EMPTY_SQUARE, radius=-0.1), ("guard.radius", "at least 0")),
+    "heading-unknown": BadLevel(guard_changed(EMPTY_SQUARE, heading="north"), ("guard.heading", "'north'")),
+    "heading-list": BadLevel(
+        guard_changed(EMPTY_SQUARE, heading=["up"]),
+        ("guard.heading", "must be one of"),
+        bug="guardsim/level.py _guard: `heading not in HEADINGS` raises TypeError (unhashable list)",
+    ),
+    "start-not-point": BadLevel(guard_changed(EMPTY_SQUARE, start="corner"), ("guard.start", "[x, y]")),
+    "unknown-key": BadLevel(changed(EMPTY_SQUARE, colour="red"), ("key 'colour'", "unknown key", "known keys")),
+    "unknown-guard-key": BadLevel(guard_changed(EMPTY_SQUARE, speed=2), ("guard.speed", "unknown key")),
+    # Too few points.
+    "outer-two-points": BadLevel(
+        changed(EMPTY_SQUARE, outer=[[0, 0], [4, 0], [4, 0], [0, 0]]), ("outer", "2 distinct points", "at least 3")
+    ),
+    "outer-empty": BadLevel(changed(EMPTY_SQUARE, outer=[]), ("outer", "0 distinct points")),
+    "hole-two-points": BadLevel(
+        changed(SQUARE_WITH_HOLE, holes=[PILLAR, [[5, 5], [5.5, 5.5], [5, 5]]]), ("holes[1]", "2 distinct points")
+    ),
+    # Non-finite numbers, which Python's json module accepts.
+    "nan-coordinate": BadLevel(
+        raw(changed(EMPTY_SQUARE, outer=[[0, 0], ["X", 0], [4, 4], [0, 4]]), "X", "NaN"),
+        ("outer point 1", "finite"),
+    ),
+    "infinite-hole-coordinate": BadLevel(
+        raw(changed(SQUARE_WITH_HOLE, holes=[PILLAR, [[4.5, 0.5], [5.5, 0.5], [5.5, "X"]]]), "X", "Infinity"),
+        ("holes[1] point 2", "finite"),
+    ),
+    "infinite-cell-size": BadLevel(raw(changed(EMPTY_SQUARE, cell_size="X"), "X", "Infinity"), ("cell_size", "finite")),
+    "nan-view-range": BadLevel(raw(guard_changed(EMPTY_SQUARE, view_range="X"), "X", "NaN"), ("guard.view_range",)),
+    "infinite-start": BadLevel(
+        raw(guard_changed(EMPTY_SQUARE, start=[0.5, "X"]), "X", "-Infinity"), ("guard.start", "finite")
+    ),
+    # Rings that are not simple polygons.
+    "bow-tie-outer": BadLevel(
+        changed(EMPTY_SQUARE, outer=[[0, 0], [4, 4], [4, 0], [0, 4]]), ("outer point", "crosses or touches itself")
+    ),
+    "bow-tie-hole": BadLevel(
+        changed(SQUARE_WITH_HOLE, holes=[PILLAR, [[4.5, 4.5], [5.5, 5.5], [5.5, 4.5], [4.5, 5]]]),
+        ("holes[1] point 3 (4.5, 5)", "crosses or touches itself"),
+    ),
+    "collinear-outer": BadLevel(
+        changed(EMPTY_SQUARE, outer=[[0, 0], [2, 0], [4, 0]]),
+        ("outer", "encloses no area"),
+        bug="guardsim/level.py _ring_problem: the 'ring encloses no area' branch is unreachable (a collinear "
+        "ring is never simple), so it is reported as 'crosses or touches itself' at an arbitrary vertex",
+    ),
+    # Holes against the outer ring and each other.
+    "hole-outside": BadLevel(
+        changed(SQUARE_WITH_HOLE, holes=[PILLAR, [[4.5, 4.5], [5.5, 4.5], [7, 7], [4.5, 5.5]]]),
+        ("holes[1] point 2 (7, 7)", "outside the outer ring"),
+    ),
+    "hole-crosses-concave-outer": BadLevel(
+        changed(TINY_LEVELS["l-room"], holes=[[[1, 1], [3, 1], [3, 3], [1, 3]]]), ("holes[0]", "outside the outer ring")
+    ),
+    "holes-overlap": BadLevel(
+        changed(SQUARE_WITH_HOLE, holes=[PILLAR, CORNER_HOLE, [[1, 1], [2.5, 1], [2.5, 2.5], [1, 2.5]]]),
+        ("holes[0] and holes[2]", "holes overlap"),
+    ),
+    "hole-inside-hole": BadLevel(
+        changed(SQUARE_WITH_HOLE, holes=[[[2.5, 2.5], [3.5, 2.5], [3.5, 3.5], [2.5, 3.5]], PILLAR]),
+        ("holes[0] and holes[1]", "holes overlap"),
+    ),
+    # Starts.
+    "start-in-wall": BadLevel(guard_changed(SQUARE_WITH_HOLE, start=[3, 3]), ("guard.start (3, 3)", "inside a wall")),
+    "start-outside": BadLevel(guard_changed(EMPTY_SQUARE, start=[5, 1]), ("guard.start (5, 1)", "outside the level")),
+    "marked-start-outside": BadLevel(
+        changed(EMPTY_SQUARE, starts=[[1, 1], [-1, 2]]), ("starts point 1 (-1, 2)", "outside the level")
+    ),
+    # Sizes and limits.
+    "cell-size-zero": BadLevel(changed(EMPTY_SQUARE, cell_size=0), ("cell_size", "must be positive")),
+    "cell-size-negative": BadLevel(changed(EMPTY_SQUARE, cell_size=-1), ("cell_size", "must be positive", "-1")),
+    "grid-too-large": BadLevel(
+        changed(EMPTY_SQUARE, cell_size=0.001),
+        ("cell_size", "4000 x 4000", f"limit of {DEFAULT_MAX_CELLS}", "--max-cells"),
+    ),
+    "grid-over-max-cells": BadLevel(
+        changed(EMPTY_SQUARE, cell_size=0.5), ("cell_size", "64 cells", "limit of 10", "--max-cells"), {"max_cells": 10}
+    ),
+    "too-many-vertices": BadLevel(
+        SQUARE_WITH_HOLE, ("8 vertices", "limit of 5", "--max-vertices"), {"max_vertices": 5}
+    ),
+    "cell-size-subnormal": BadLevel(
+        changed(EMPTY_SQUARE, cell_size=1e-320),
+        ("cell_size",),
+        bug="guardsim/level.py _grid_shape: 4 / 1e-320 is inf and math.ceil(inf) raises OverflowError",
+    ),
+    "coordinates-span-overflows": BadLevel(
+        changed(EMPTY_SQUARE, outer=[[-1e308, 0], [1e308, 0], [1e308, 1], [-1e308, 1]], guard={}),
+        (),
+        bug="guardsim/level.py _grid_shape: max_x - min_x overflows to inf; math.ceil(inf) raises OverflowError",
+    ),
+    "integer-too-big-for-float": BadLevel(
+        '{"outer": [[0, 0], [4, 0], [4, 4], [0, 4]], "cell_size": 1' + "0" * 400 + "}",
+        ("cell_size",),
+        bug="guardsim/level.py _number: float(10**400) raises OverflowError",
+    ),
+    "integer-too-many-digits": BadLevel(
+        '{"outer": [[0, 0], [4, 0], [4, 4], [0, 4]], "cell_size": 1' + "0" * 5000 + "}",
+        (),
+        bug="guardsim/level.py read_level_json: json.loads raises ValueError (int max str digits), not JSONDecodeError",
+    ),
+}
+
+#: Levels the loader accepts but whose start cell the guard's circle does not fit; found when the grid is built.
+GRID_TIME_LEVELS: dict[str, BadLevel] = {
+    "radius-too-big-at-start": BadLevel(
+        guard_changed(EMPTY_SQUARE, radius=0.6), ("start (0.5, 0.5)", "cell [0, 0]", "radius 0.6", "does not fit")
+    ),
+    "start-cell-centre-in-wall": BadLevel(
+        changed(EMPTY_SQUARE, holes=[[[1.4, 1], [3, 1], [3, 3], [1.4, 3]]], guard={"start": [1.2, 1.5]}),
+        ("start (1.2, 1.5)", "cell [1, 1]", "does not fit"),
+    ),
+}
+
+
+def bad_params(cases: dict[str, BadLevel], *, cli: bool = False) -> Any:
+    """``pytest.mark.parametrize`` over bad levels, with known bugs as strict xfails."""
+    params = []
+    for case in cases.values():
+        reason = case.bug or (case.cli_bug if cli else "")
+        # Overflowing coordinates also make shapely warn on the way to the bug.
+        marks = [pytest.mark.xfail(reason=reason, strict=True), pytest.mark.filterwarnings("ignore::RuntimeWarning")]
+        params.append(pytest.param(case, marks=marks if reason else []))
+    return pytest.mark.parametrize("case", params, ids=list(cases))
+
+
+def start_of(level: Level) -> tuple[tuple[int, int], int]:
+    """Build the level's grid and place the guard at its start, as ``guardsim play`` does."""
+    return choose_start(Scene.from_level(level), rng=np.random.default_rng(0), point=level.guard.start, heading="right")
+
+
+@bad_params(BAD_LEVELS)
+def test_bad_level_is_a_level_error_naming_file_and_place(tmp_path: Path, case: BadLevel) -> None:
+    """Each kind of bad level raises LevelError with the file, the location and what is wrong."""
+    path = case.write(tmp_path)
+    with pytest.raises(LevelError) as caught:
+        load_level(path, **case.limits)
+    message = str(caught.value)
+    assert message.startswith(f"{path}: ")
+    assert "\n" not in message
+    for fragment in case.fragments:
+        assert fragment in message
+
+
+@bad_params(GRID_TIME_LEVELS)
+def test_start_where_guard_does_not_fit_fails_when_grid_is_built(tmp_path: Path, case: BadLevel) -> None:
+    """A start cell too tight for the guard loads, then choose_start raises LevelError naming file and start."""
+    path = case.write(tmp_path)
+    level = load_level(path)
+    with pytest.raises(LevelError) as caught:
+        start_of(level)
+    message = str(caught.value)
+    assert message.startswith(f"{path}: ")
+    for fragment in case.fragments:
+        assert fragment in message
+
+
+@pytest.mark.parametrize("key", ["max_cells", "max_vertices", "max_file_bytes"])
+def test_limits_are_inclusive_and_can_be_raised(tmp_path: Path, key: str) -> None:
+    """A level exactly at a limit loads; lowering the limit by one makes it a LevelError naming the option."""
+    path = write_level(tmp_path, changed(SQUARE_WITH_HOLE, cell_size=0.1))
+    size = {"max_cells": 60 * 60, "max_vertices": 8, "max_file_bytes": path.stat().st_size}[key]
+    assert load_level(path, **{key: size}).grid_shape() == (60, 60)
+    with pytest.raises(LevelError, match=f"{path}: .*--{key.replace('_', '-')}"):
+        load_level(path, **{key: size - 1})
+
+
+def test_defaults_of_a_minimal_level(tmp_path: Path) -> None:
+    """Only `outer` is required: cell_size 1.0, view_range 8, fov 90, radius 0.3, no holes, name from file."""
+    path = write_level(tmp_path, {"outer": EMPTY_SQUARE["outer"]}, "minimal-room.json")
+    level = load_level(path)
+    assert level.name == "minimal-room"
+    assert level.cell_size == 1.0
+    assert level.holes == ()
+    assert level.starts == ()
+    assert level.guard == GuardSpec(view_range=8.0, fov_degrees=90.0, radius=0.3, start=None, heading=None)
+    assert level.source == str(path)
+    assert level.grid_shape() == (4, 4)
+
+
+def test_given_values_override_defaults(tmp_path: Path) -> None:
+    """Every field in the file reaches the Level, as floats."""
+    data = {
+        "name": "custom",
+        "cell_size": 2,
+        "outer": SQUARE_WITH_HOLE["outer"],
+        "holes": SQUARE_WITH_HOLE["holes"],
+        "guard": {"view_range": 5, "fov_degrees": 360, "radius": 0, "start": [1, 1], "heading": "up"},
+        "starts": [[5, 5]],
+    }
+    level = load_level(write_level(tmp_path, data))
+    assert level.name == "custom"
+    assert level.cell_size == 2.0
+    assert level.holes == (((2.0, 2.0), (4.0, 2.0), (4.0, 4.0), (2.0, 4.0)),)
+    assert level.guard == GuardSpec(view_range=5.0, fov_degrees=360.0, radius=0.0, start=(1.0, 1.0), heading="up")
+    assert level.starts == ((5.0, 5.0),)
+
+
+def test_closing_point_and_consecutive_duplicates_are_dropped() -> None:
+    """A ring repeating its first point at the end, or a point twice in a row, keeps only distinct corners."""
+    data = changed(
+        SQUARE_WITH_HOLE,
+        outer=[[0, 0], [6, 0], [6, 0], [6, 6], [0, 6], [0, 6], [0, 0]],
+        holes=[[[2, 2], [2, 2], [4, 2], [4, 4], [2, 4], [2, 2]]],
+    )
+    level = parse_level(data, source="dupes.json")
+    assert level.outer == ((0.0, 0.0), (6.0, 0.0), (6.0, 6.0), (0.0, 6.0))
+    assert level.holes == (((2.0, 2.0), (4.0, 2.0), (4.0, 4.0), (2.0, 4.0)),)
+
+
+def test_repeated_but_not_consecutive_points_are_kept() -> None:
+    """Only consecutive duplicates go: a ring that revisits a corner later is reported, not silently fixed."""
+    data = changed(EMPTY_SQUARE, outer=[[0, 0], [4, 0], [4, 4], [4, 0], [0, 4]])
+    _, problems = check_level_data(data)
+    assert [problem.where.split(" point")[0] for problem in problems] == ["outer"]
+
+
+def test_check_level_data_reports_every_problem() -> None:
+    """Two independent problems in one file are both returned, with their locations, and no level."""
+    data = changed(
+        SQUARE_WITH_HOLE,
+        cell_size="big",
+        holes=[PILLAR, [[4.5, 4.5], [5.5, 4.5], [7, 7], [4.5, 5.5]]],
+        colour="red",
+    )
+    level, problems = check_level_data(data, source="two.json")
+    assert level is None
+    assert all(isinstance(problem, Problem) for problem in problems)
+    wheres = [problem.where for problem in problems]
+    assert "key 'colour'" in wheres
+    assert "cell_size" in wheres
+    assert "holes[1] point 2 (7, 7)" in wheres
+    assert len(problems) == 3
+
+
+def test_check_level_data_reports_problems_in_several_rings() -> None:
+    """A bad outer point and a bad hole point are both reported (checking does not stop at the first ring)."""
+    data = changed(
+        SQUARE_WITH_HOLE,
+        outer=[[0, 0], [6, "0"], [6, 6], [0, 6]],
+        holes=[PILLAR, [[1, 1], [1.5, 1], "oops"]],
+    )
+    _, problems = check_level_data(data)
+    assert [problem.where for problem in problems] == ["outer point 1", "holes[1] point 2"]
+
+
+def test_parse_level_raises_the_first_problem_and_counts_the_rest() -> None:
+    """parse_level's message is the first problem and says how many more `guardsim validate` would show."""
+    data = changed(EMPTY_SQUARE, cell_size=0, guard={"radius": -1, "fov_degrees": 0})
+    with pytest.raises(LevelError) as caught:
+        parse_level(data, source="many.json")
+    message = str(caught.value)
+    assert message.startswith("many.json: cell_size: must be positive")
+    assert message.endswith("(+2 more; run guardsim validate)")
+
+
+def test_valid_level_reports_no_problems() -> None:
+    """check_level_data returns the level and an empty list for a valid level."""
+    level, problems = check_level_data(SQUARE_WITH_HOLE, source="ok.json")
+    assert problems == []
+    assert level is not None
+    assert level.source == "ok.json"
+
+
+TOUCHING_HOLES = {
+    "hole-shares-edge-with-outer": ([[[0, 0], [2, 0], [2, 2], [0, 2]]], 32.0),
+    "hole-fills-outer-corner-triangle": ([[[3, 0], [6, 0], [6, 3]]], 31.5),
+    "hole-touches-outer-at-vertex": ([[[6, 3], [5, 2], [4, 3], [5, 4]]], 34.0),
+    "holes-share-an-edge": ([[[2, 2], [3, 2], [3, 3], [2, 3]], [[3, 2], [4, 2], [4, 3], [3, 3]]], 34.0),
+    "holes-share-part-of-an-edge": ([[[1, 1], [3, 1], [3, 2], [1, 2]], [[2, 2], [4, 2], [4, 3], [2, 3]]], 32.0),
+    "holes-touch-at-a-corner": ([[[1, 1], [2, 1], [2, 2], [1, 2]], [[2, 2], [3, 2], [3, 3], [2, 3]]], 34.0),
+}
+
+
+@pytest.mark.parametrize(("holes", "free_area"), list(TOUCHING_HOLES.values()), ids=list(TOUCHING_HOLES))
+def test_touching_holes_are_accepted(holes: list[Any], free_area: float) -> None:
+    """Holes may touch the outer ring or each other without overlapping; the free area stays valid."""
+    data = {"outer": [[0, 0], [6, 0], [6, 6], [0, 6]], "holes": holes, "guard": {"start": [5.5, 5.5]}}
+    level, problems = check_level_data(data, source="touching.json")
+    assert problems == []
+    assert level is not None
+    assert len(level.holes) == len(holes)
+    area = level.free_area()
+    assert shapely.is_valid(area)
+    assert area.area == pytest.approx(free_area)
+    assert start_of(level)[0] == (5, 5)
+
+
+@tiny_levels
+def test_level_to_data_round_trips(tmp_path: Path, level_data: dict[str, Any]) -> None:
+    """level_to_data → JSON → parse_level gives back an equal Level."""
+    level = parse_level(level_data, source="tiny.json")
+    text = json.dumps(level_to_data(level))
+    assert parse_level(json.loads(text), source="tiny.json") == level
+
+
+def test_level_to_data_round_trips_every_field() -> None:
+    """Non-default cell size, guard fields and marked starts survive the round trip too."""
+    data = changed(
+        SQUARE_WITH_HOLE,
+        cell_size=0.5,
+        guard={"view_range": 3, "fov_degrees": 120, "radius": 0.1, "start": [1, 5], "heading": "up"},
+        starts=[[5, 1], [5, 5]],
+    )
+    level = parse_level(data, source="full.json")
+    again = parse_level(level_to_data(level), source="full.json")
+    assert again == level
+    assert again.starts == ((5.0, 1.0), (5.0, 5.0))
+
+
+@shipped_levels
+def test_shipped_levels_load(level_path: Path) -> None:
+    """Every level in levels/ loads under the default limits and its start fits the guard."""
+    level = load_level(level_path)
+    assert level.source == str(level_path)
+    assert level.guard.start is not None
+    start_of(level)
