@@ -15,6 +15,7 @@ from dataclasses import dataclass, field
 from pathlib import Path
 from typing import Any, NamedTuple
 
+import numpy as np
 import shapely
 from shapely.geometry import LinearRing, Polygon
 from shapely.validation import explain_validity
@@ -126,11 +127,14 @@ def _free_area(outer: Ring, holes: tuple[Ring, ...] | list[Ring]) -> shapely.Geo
 
 
 def _grid_shape(bounds: tuple[float, float, float, float], cell_size: float) -> tuple[int, int]:
+    """``(rows, cols)``; a span too large for a float gives a huge count, which the cell cap rejects."""
     min_x, min_y, max_x, max_y = bounds
-    # A small epsilon keeps a 60-unit level at cell size 1 at 60 columns despite float noise.
-    cols = max(1, math.ceil((max_x - min_x) / cell_size - 1e-9))
-    rows = max(1, math.ceil((max_y - min_y) / cell_size - 1e-9))
-    return rows, cols
+    counts = []
+    for span in (max_y - min_y, max_x - min_x):
+        cells = span / cell_size
+        # A small epsilon keeps a 60-unit level at cell size 1 at 60 columns despite float noise.
+        counts.append(max(1, math.ceil(cells - 1e-9)) if math.isfinite(cells) and cells < 1e18 else 10**18)
+    return counts[0], counts[1]
 
 
 def load_level(
@@ -177,6 +181,9 @@ def read_level_json(path: str | os.PathLike[str], *, max_file_bytes: int = DEFAU
         raise LevelError(f"{source}: not valid JSON: {error.msg} at line {error.lineno} column {error.colno}") from None
     except RecursionError:
         raise LevelError(f"{source}: not valid JSON: nested too deeply") from None
+    except ValueError as error:
+        # e.g. an integer with more digits than Python converts by default.
+        raise LevelError(f"{source}: not valid JSON: {error}") from None
 
 
 def parse_level(
@@ -329,7 +336,11 @@ def _number(
     if not _is_number(value):
         problems.append(Problem(where, f"must be a number, not {_json_type(value)}"))
         return None
-    value = float(value)
+    try:
+        value = float(value)
+    except OverflowError:
+        problems.append(Problem(where, "number too large"))
+        return None
     if not math.isfinite(value):
         problems.append(Problem(where, f"must be a finite number, not {value}"))
         return None
@@ -346,13 +357,20 @@ def _number(
 
 
 def _point(value: Any, where: str, problems: list[Problem]) -> Point | None:
-    if not isinstance(value, list) or len(value) != 2:
+    if not isinstance(value, list):
         problems.append(Problem(where, f"a point must be a list [x, y], not {_json_type(value)}"))
+        return None
+    if len(value) != 2:
+        problems.append(Problem(where, f"a point must be a list of 2 numbers [x, y], not of {len(value)} items"))
         return None
     if not all(_is_number(v) for v in value):
         problems.append(Problem(where, "a point's coordinates must be numbers"))
         return None
-    x, y = float(value[0]), float(value[1])
+    try:
+        x, y = float(value[0]), float(value[1])
+    except OverflowError:
+        problems.append(Problem(where, "coordinate too large"))
+        return None
     if not (math.isfinite(x) and math.isfinite(y)):
         problems.append(Problem(where, f"coordinates must be finite numbers, not ({x}, {y})"))
         return None
@@ -412,7 +430,7 @@ def _guard(value: Any, problems: list[Problem]) -> GuardSpec | None:
     if "start" in value and value["start"] is not None:
         start = _point(value["start"], "guard.start", problems)
     heading = value.get("heading")
-    if heading is not None and heading not in HEADINGS:
+    if heading is not None and (not isinstance(heading, str) or heading not in HEADINGS):
         problems.append(Problem("guard.heading", f"must be one of {', '.join(HEADINGS)}, not {heading!r}"))
     if len(problems) > count or view_range is None or fov is None or radius is None:
         return None
@@ -427,17 +445,27 @@ def _nearest_vertex(ring: Ring, x: float, y: float) -> int:
     return min(range(len(ring)), key=lambda i: (ring[i][0] - x) ** 2 + (ring[i][1] - y) ** 2)
 
 
+def _collinear(ring: Ring) -> bool:
+    """Whether every point of a ring lies on one line (to within float noise)."""
+    points = np.asarray(ring, dtype=float)
+    offsets = points - points[0]
+    direction = offsets[np.argmax(np.abs(offsets).sum(axis=1))]
+    cross = offsets[:, 0] * direction[1] - offsets[:, 1] * direction[0]
+    scale = float(np.abs(offsets).max()) ** 2
+    return bool(np.all(np.abs(cross) <= 1e-12 * scale))
+
+
 def _ring_problem(ring: Ring, where: str) -> Problem | None:
     """Why a ring is not a simple polygon boundary, located at the nearest vertex, or ``None``."""
     try:
-        line = LinearRing(ring)
-        if line.is_simple and Polygon(ring).area > 0:
-            return None
-        reason = explain_validity(Polygon(ring))
+        with np.errstate(all="ignore"):
+            if _collinear(ring):
+                return Problem(where, "ring encloses no area (all its points lie on one line)")
+            if LinearRing(ring).is_simple:
+                return None
+            reason = explain_validity(Polygon(ring))
     except (shapely.errors.ShapelyError, ValueError) as error:
         return Problem(where, f"not a valid ring: {error}")
-    if Polygon(ring).area <= 0 and line.is_simple:
-        return Problem(where, "ring encloses no area (all points on one line)")
     # explain_validity reports e.g. "Self-intersection[12.5 3]"; point at the vertex nearest to it.
     x, y = ring[0]
     if "[" in reason:

@@ -18,9 +18,9 @@ __all__ = ["play"]
 
 
 @click.command()
-@click.argument("level_path", metavar="LEVEL", type=click.Path(dir_okay=False))
-@click.option("--gif", "gif_path", type=click.Path(dir_okay=False), help="Write the episode as an animated GIF.")
-@click.option("--trace", "trace_path", type=click.Path(dir_okay=False), help="Write the episode as JSON.")
+@click.argument("level_path", metavar="LEVEL")
+@click.option("--gif", "gif_path", type=str, help="Write the episode as an animated GIF.")
+@click.option("--trace", "trace_path", type=str, help="Write the episode as JSON.")
 @click.option("--seed", type=click.IntRange(min=0), default=0, show_default=True, help="Seed for random choices.")
 @click.option("--start", callback=parse_point, metavar="X,Y", help="Start position in world units.")
 @click.option("--heading", type=click.Choice(list(HEADINGS)), help="First heading (default: the level's, or drawn).")

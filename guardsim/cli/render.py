@@ -14,8 +14,8 @@ __all__ = ["render"]
 
 
 @click.command()
-@click.argument("level_path", metavar="LEVEL", type=click.Path(dir_okay=False))
-@click.option("--png", "png_path", required=True, type=click.Path(dir_okay=False), help="Where to write the preview.")
+@click.argument("level_path", metavar="LEVEL")
+@click.option("--png", "png_path", required=True, type=str, help="Where to write the preview.")
 @click.option("--start", callback=parse_point, metavar="X,Y", help="Start position (default: the level's).")
 @click.option("--size", type=click.IntRange(min=64, max=8192), default=640, show_default=True, help="Image size.")
 @limit_options

@@ -16,7 +16,7 @@ __all__ = ["validate"]
 
 
 @click.command()
-@click.argument("level_paths", metavar="LEVEL...", nargs=-1, required=True, type=click.Path(dir_okay=False))
+@click.argument("level_paths", metavar="LEVEL...", nargs=-1, required=True)
 @limit_options
 @reports_errors
 def validate(level_paths: tuple[str, ...], max_cells: int, max_vertices: int, max_file_bytes: int) -> None:
