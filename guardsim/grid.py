@@ -9,6 +9,7 @@ from __future__ import annotations
 
 from collections import deque
 from dataclasses import dataclass
+from functools import cached_property
 
 import numpy as np
 import shapely
@@ -75,36 +76,43 @@ class CoverageGrid:
         row, col = divmod(int(index), self.shape[1])
         return col, row
 
+    @cached_property
+    def component_labels(self) -> np.ndarray:
+        """``int64 (rows * cols,)``: connected-area number of each cell, -1 where not traversable.
+
+        Areas are numbered in row-major order of their first cell. Computed once per grid.
+        """
+        labels = np.full(self.size, -1, dtype=np.int64)
+        neighbours = self.neighbours
+        next_label = 0
+        for start in np.flatnonzero(self.traversable.ravel()).tolist():
+            if labels[start] >= 0:
+                continue
+            labels[start] = next_label
+            queue = deque([start])
+            while queue:
+                cell = queue.popleft()
+                for other in neighbours[cell].tolist():
+                    if other >= 0 and labels[other] < 0:
+                        labels[other] = next_label
+                        queue.append(other)
+            next_label += 1
+        return labels
+
     def component(self, col: int, row: int) -> np.ndarray:
         """``bool (rows, cols)``: the cells reachable from ``(col, row)`` through connected moves."""
-        reached = np.zeros(self.size, dtype=bool)
-        start = self.flat(col, row)
-        if not self.traversable.flat[start]:
-            return reached.reshape(self.shape)
-        reached[start] = True
-        queue = deque([start])
-        neighbours = self.neighbours
-        while queue:
-            cell = queue.popleft()
-            for other in neighbours[cell]:
-                if other >= 0 and not reached[other]:
-                    reached[other] = True
-                    queue.append(int(other))
-        return reached.reshape(self.shape)
+        label = self.component_labels[self.flat(col, row)]
+        if label < 0:
+            return np.zeros(self.shape, dtype=bool)
+        return (self.component_labels == label).reshape(self.shape)
 
     def largest_component(self) -> np.ndarray:
         """``bool (rows, cols)``: the largest set of mutually reachable cells (ties: first in row order)."""
-        labelled = np.zeros(self.size, dtype=bool)
-        best = np.zeros(self.shape, dtype=bool)
-        for index in np.flatnonzero(self.traversable):
-            if labelled[index]:
-                continue
-            col, row = self.unflat(int(index))
-            component = self.component(col, row)
-            labelled |= component.ravel()
-            if component.sum() > best.sum():
-                best = component
-        return best
+        labels = self.component_labels
+        if labels.max(initial=-1) < 0:
+            return np.zeros(self.shape, dtype=bool)
+        largest = int(np.argmax(np.bincount(labels[labels >= 0])))
+        return (labels == largest).reshape(self.shape)
 
 
 def build_grid(level: Level, world: World) -> CoverageGrid:
@@ -128,14 +136,14 @@ def build_grid(level: Level, world: World) -> CoverageGrid:
     inside = shapely.contains_xy(level.free_area(), centre_x, centre_y)
     radius = level.guard.radius
     traversable = np.zeros((rows, cols), dtype=bool)
-    for row, col in zip(*np.nonzero(inside), strict=False):
+    for row, col in zip(*np.nonzero(inside)):
         traversable[row, col] = world.fits((float(centre_x[row, col]), float(centre_y[row, col])), radius)
 
     neighbours = np.full((rows * cols, 4), -1, dtype=np.int64)
     for direction, (dcol, drow) in enumerate(DIRECTIONS[:2]):
         # Test each pair once (rightward and downward) and record it in both directions.
         pair = traversable[: rows - drow, : cols - dcol] & traversable[drow:, dcol:]
-        for row, col in zip(*np.nonzero(pair), strict=False):
+        for row, col in zip(*np.nonzero(pair)):
             a = (float(xs[col]), float(ys[row]))
             b = (float(xs[col + dcol]), float(ys[row + drow]))
             if world.sweep_clear(a, b, radius):

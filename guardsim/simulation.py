@@ -14,9 +14,12 @@ from guardsim.errors import LevelError
 from guardsim.grid import CoverageGrid, build_grid, start_cell
 from guardsim.level import HEADINGS, Level
 from guardsim.planners import make_planner
+from guardsim.fast_ripplefront import run_compiled
 from guardsim.planners.base import GuardState, Planner
-from guardsim.trace import Trace
+from guardsim.planners.ripplefront import RippleFront
+from guardsim.trace import OUTCOMES, Trace
 from guardsim.vision import VisionCone, visible_cells
+from guardsim.vision_cache import VisionCache
 from guardsim.world import World
 
 __all__ = [
@@ -41,20 +44,23 @@ class Scene:
     world: World
     grid: CoverageGrid
     cone: VisionCone
+    vision_cache: VisionCache
+    """Visible cells per state, filled as episodes meet them and shared by all of them."""
 
     @classmethod
     def from_level(cls, level: Level) -> Scene:
         """Build the physics world, the grid and the cone of a level."""
         world = World(level)
         grid = build_grid(level, world)
-        return cls(level, world, grid, VisionCone.from_guard(level.guard, level.cell_size))
+        cone = VisionCone.from_guard(level.guard, level.cell_size)
+        return cls(level, world, grid, cone, VisionCache(world, grid, cone))
 
     def vision(self, *, reference: bool = False) -> VisionFunction:
-        """The vision to use: the fast path by default, the per-cell-ray reference on request.
+        """The vision to use: the shared cache by default, the per-cell-ray reference on request.
 
-        Both give the same cells for every state; the fast path is what ``play`` and ``bench`` use.
+        Both give the same cells for every state (tested on every state of the shipped levels).
         """
-        return self.reference_vision()
+        return self.reference_vision() if reference else self.vision_cache
 
     def reference_vision(self) -> VisionFunction:
         """The reference vision: one pymunk ray per cell in the cone, every tick."""
@@ -131,7 +137,7 @@ def run_batch_episode(
         make_planner(planner, **planner_options),
         cell,
         heading,
-        vision=scene.vision(reference=reference),
+        reference=reference,
         max_steps=max_steps,
         seed=seed,
     )
@@ -144,10 +150,15 @@ def run_episode(
     heading: int,
     *,
     vision: VisionFunction | None = None,
+    reference: bool = False,
     max_steps: int | None = None,
     seed: int | None = None,
 ) -> Trace:
     """Walk the guard from ``start`` until every reachable cell is seen or a limit stops it.
+
+    A :class:`RippleFront` planner with the default vision runs on the compiled fast path
+    (:mod:`guardsim.fast_ripplefront`); ``reference=True`` runs the plain loop with the reference
+    vision and full-grid sweeps instead. Both give the same trace.
 
     Parameters
     ----------
@@ -159,23 +170,45 @@ def run_episode(
         ``(col, row)`` of a traversable cell and the first heading number.
     vision
         Which cells a state sees; :meth:`Scene.vision` by default.
+    reference
+        Use the reference vision and the planner's own loop, for checking the fast path.
     max_steps
         Step limit; :func:`default_max_steps` by default.
     seed
         Recorded in the trace only.
     """
     grid = scene.grid
-    see = vision or scene.vision()
     limit = default_max_steps(grid) if max_steps is None else max_steps
     goal = grid.component(*start).ravel()
-    goal_count = int(goal.sum())
+    if vision is None and not reference and isinstance(planner, RippleFront):
+        arrays = run_compiled(
+            scene.vision_cache,
+            grid.neighbours,
+            goal,
+            grid.flat(*start),
+            heading,
+            sweeps_per_tick=planner.sweeps_per_tick,
+            limit=limit,
+        )
+        return _trace(
+            scene,
+            planner.name,
+            seed,
+            goal,
+            path=[grid.unflat(int(cell)) for cell in arrays.path],
+            headings=arrays.headings.tolist(),
+            unseen_counts=arrays.unseen_counts.tolist(),
+            first_seen=arrays.first_seen,
+            outcome=OUTCOMES[arrays.outcome],
+        )
+    see = vision or scene.vision(reference=reference)
     seen = np.zeros(grid.size, dtype=bool)
     first_seen = np.full(grid.size, -1, dtype=np.int64)
     cell = grid.flat(*start)
-    unseen_left = goal_count
+    unseen_left = int(goal.sum())
     path = [start]
     headings = [heading]
-    unseen_percent: list[float] = []
+    unseen_counts: list[int] = []
     planner.reset(grid, goal)
 
     def look(tick: int) -> int:
@@ -186,7 +219,7 @@ def run_episode(
         seen[new] = True
         first_seen[new] = tick
         newly_goal = int(goal[new].sum())
-        unseen_percent.append(round(100.0 * (unseen_left - newly_goal) / goal_count, 4))
+        unseen_counts.append(unseen_left - newly_goal)
         return newly_goal
 
     unseen_left -= look(0)
@@ -211,17 +244,45 @@ def run_episode(
         path.append(grid.unflat(cell))
         headings.append(heading)
         unseen_left -= look(tick)
+    return _trace(
+        scene,
+        planner.name,
+        seed,
+        goal,
+        path=path,
+        headings=headings,
+        unseen_counts=unseen_counts,
+        first_seen=first_seen,
+        outcome=outcome,
+    )
+
+
+def _trace(
+    scene: Scene,
+    planner: str,
+    seed: int | None,
+    goal: np.ndarray,
+    *,
+    path: list[tuple[int, int]],
+    headings: list[int],
+    unseen_counts: list[int],
+    first_seen: np.ndarray,
+    outcome: str,
+) -> Trace:
+    """Assemble a trace; both loops share it so their traces agree to the byte."""
+    grid = scene.grid
+    goal_count = int(goal.sum())
     traversable = grid.traversable
     return Trace(
         level=scene.level.name,
-        planner=planner.name,
+        planner=planner,
         seed=seed,
         cell_size=grid.cell_size,
         origin=grid.origin,
         shape=grid.shape,
         path=tuple(path),
         headings=tuple(headings),
-        unseen_percent=tuple(unseen_percent),
+        unseen_percent=tuple(round(100.0 * count / goal_count, 4) for count in unseen_counts),
         outcome=outcome,
         reachable=goal_count,
         unreachable=int(traversable.sum()) - goal_count,

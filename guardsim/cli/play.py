@@ -32,6 +32,11 @@ __all__ = ["play"]
 @click.option("--planner", type=click.Choice(list(PLANNERS)), default="ripplefront", show_default=True)
 @click.option("--max-steps", type=click.IntRange(min=0), help="Step limit [default: 10 per traversable cell].")
 @click.option("--sweeps-per-tick", type=click.IntRange(min=1), default=1, show_default=True)
+@click.option(
+    "--reference",
+    is_flag=True,
+    help="Use the reference vision (a ray per cell per tick) and full-grid field sweeps, for checking.",
+)
 @click.option("--stride", type=click.IntRange(min=1), help="Ticks between GIF frames [default: fit --max-frames].")
 @click.option("--frame-ms", type=click.IntRange(min=10), default=60, show_default=True, help="GIF frame duration.")
 @click.option("--max-frames", type=click.IntRange(min=1), default=DEFAULT_MAX_FRAMES, show_default=True)
@@ -48,6 +53,7 @@ def play(
     planner: str,
     max_steps: int | None,
     sweeps_per_tick: int,
+    reference: bool,
     stride: int | None,
     frame_ms: int,
     max_frames: int,
@@ -71,7 +77,7 @@ def play(
         point, first = start or level.guard.start, heading or level.guard.heading
     cell, first_heading = choose_start(scene, rng=rng, point=point, heading=first)
     guard_planner = make_planner(planner, sweeps_per_tick=sweeps_per_tick)
-    trace = run_episode(scene, guard_planner, cell, first_heading, max_steps=max_steps, seed=seed)
+    trace = run_episode(scene, guard_planner, cell, first_heading, max_steps=max_steps, seed=seed, reference=reference)
     seconds = time.perf_counter() - began
     options = GifOptions(stride=stride, frame_ms=frame_ms, max_frames=max_frames)
     written = []
