@@ -11,10 +11,10 @@ from dataclasses import dataclass
 import numpy as np
 
 from guardsim.errors import LevelError
+from guardsim.fast_ripplefront import run_compiled
 from guardsim.grid import CoverageGrid, build_grid, start_cell
 from guardsim.level import HEADINGS, Level
 from guardsim.planners import make_planner
-from guardsim.fast_ripplefront import run_compiled
 from guardsim.planners.base import GuardState, Planner
 from guardsim.planners.ripplefront import RippleFront
 from guardsim.trace import OUTCOMES, Trace
