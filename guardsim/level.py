@@ -521,7 +521,7 @@ def _check_geometry(
         polygons = [polygon for _, polygon in valid_holes]
         tree = shapely.STRtree(polygons)
         left, right = tree.query(polygons, predicate="intersects")
-        for a, b in zip(left.tolist(), right.tolist(), strict=False):
+        for a, b in zip(left.tolist(), right.tolist()):
             if a >= b:
                 continue
             overlap = polygons[a].intersection(polygons[b])
