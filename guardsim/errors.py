@@ -7,7 +7,7 @@ else escaping the library is a bug.
 
 from __future__ import annotations
 
-__all__ = ["GuardsimError", "LevelError", "LimitError", "OutputError"]
+__all__ = ["GuardsimError", "LevelError", "LimitError", "OutputError", "RegressionError"]
 
 
 class GuardsimError(Exception):
@@ -27,3 +27,7 @@ class LimitError(GuardsimError):
 
 class OutputError(GuardsimError):
     """An output file cannot be written."""
+
+
+class RegressionError(GuardsimError):
+    """Stored regression references (``guardsim regress``) are missing a file or cannot be read."""

@@ -9,6 +9,7 @@ from __future__ import annotations
 import click
 
 from guardsim.cli.play import play
+from guardsim.cli.regress import regress
 from guardsim.cli.render import render
 from guardsim.cli.validate import validate
 
@@ -21,5 +22,5 @@ def main() -> None:
     """Coverage path planning for guards in games."""
 
 
-for command in (play, render, validate):
+for command in (play, regress, render, validate):
     main.add_command(command)

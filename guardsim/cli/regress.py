@@ -1,0 +1,115 @@
+"""``guardsim regress``: re-play levels and compare them with stored references, for a studio's CI."""
+
+from __future__ import annotations
+
+import sys
+from pathlib import Path
+
+import click
+
+from guardsim.cli.common import limit_options, load, reports_errors
+from guardsim.errors import GuardsimError, LevelError, OutputError
+from guardsim.regress import regress_level
+
+__all__ = ["level_files", "regress"]
+
+#: Exit status when a level differs from its references or has none.
+DIFFERS = 1
+#: Exit status for bad input: a level or reference that cannot be read.
+BAD_INPUT = 2
+
+
+def level_files(paths: tuple[str, ...]) -> list[Path]:
+    """The level files named: files as given, folders as their ``*.json`` files in name order.
+
+    Raises
+    ------
+    LevelError
+        If a path does not exist, a folder holds no ``.json`` file, or two levels share a file stem
+        (their references would share a folder).
+    """
+    files: list[Path] = []
+    for given in paths:
+        path = Path(given)
+        if path.is_dir():
+            found = sorted(path.glob("*.json"))
+            if not found:
+                raise LevelError(f"{path}: folder holds no .json level files")
+            files += found
+        elif path.exists():
+            files.append(path)
+        else:
+            raise LevelError(f"{path}: no such file or folder")
+    by_stem: dict[str, Path] = {}
+    for path in files:
+        other = by_stem.setdefault(path.stem, path)
+        if other != path:
+            raise LevelError(f"{path}: same file name as {other}; their references would share a folder")
+    return files
+
+
+@click.command()
+@click.argument("level_paths", metavar="LEVELS...", nargs=-1, required=True, type=click.Path())
+@click.option(
+    "--renders",
+    type=click.Path(file_okay=False),
+    default="renders",
+    show_default=True,
+    help="Folder of references, one sub-folder per level.",
+)
+@click.option("--update", is_flag=True, help="Rewrite the references from the current code and levels.")
+@click.option(
+    "--diff-dir",
+    type=click.Path(file_okay=False),
+    help="Write diff images here as LEVEL.diff.png [default: diff.png in each level's reference folder].",
+)
+@limit_options
+@reports_errors
+def regress(
+    level_paths: tuple[str, ...],
+    renders: str,
+    update: bool,
+    diff_dir: str | None,
+    max_cells: int,
+    max_vertices: int,
+    max_file_bytes: int,
+) -> None:
+    """Re-play each level (files, or folders of *.json) and compare it with its references.
+
+    Compares the trace exactly and the key frames within a tolerance; prints one line per level.
+    Exit status: 0 all match, 1 some level differs or has no references (a diff image is written),
+    2 bad input.
+    """
+    files = level_files(level_paths)
+    renders_folder = Path(renders)
+    if not renders_folder.is_dir():
+        if not update:
+            raise OutputError(f"{renders_folder}: no such folder of references (create it with --update)")
+        _make_folder(renders_folder)
+    diff_folder = None
+    if diff_dir is not None:
+        diff_folder = Path(diff_dir)
+        _make_folder(diff_folder)
+    differing = invalid = 0
+    for path in files:
+        try:
+            level = load(str(path), max_cells, max_vertices, max_file_bytes)
+            result = regress_level(level, renders_folder, update=update, diff_dir=diff_folder)
+        except GuardsimError as error:
+            # One bad level must not hide the results of the others: report it and go on.
+            click.echo(f"guardsim: error: {error}", err=True)
+            invalid += 1
+            continue
+        click.echo(result.line())
+        differing += result.status in ("differs", "missing")
+    if invalid or differing:
+        parts = [f"{count} {what}" for count, what in ((differing, "differ"), (invalid, "invalid")) if count]
+        click.echo(f"guardsim regress: {' and '.join(parts)} of {len(files)} level(s)", err=True)
+        sys.exit(BAD_INPUT if invalid else DIFFERS)
+
+
+def _make_folder(folder: Path) -> None:
+    try:
+        folder.mkdir(parents=True, exist_ok=True)
+    except OSError as error:
+        raise OutputError(f"{folder}: cannot create folder: {error.strerror or error}") from None

@@ -1,0 +1,235 @@
+"""`guardsim regress` against the committed references, on edited levels, and determinism across processes.
+
+The references in ``renders/`` are regenerated with ``guardsim regress levels/ --update`` (see
+``docs/regression.md``); these tests never write into the repository's ``renders/``.
+"""
+
+from __future__ import annotations
+
+import json
+import shutil
+import subprocess
+from pathlib import Path
+
+import imageio.v3 as iio
+import numpy as np
+import pytest
+
+from guardsim.regress import KEY_PERCENTS, REFERENCE_FRAME_SIZE, Tolerance, compare_frames
+from tests.common import LEVELS, REPO, SQUARE_WITH_HOLE, write_level
+from tests.test_cli import assert_one_line_error, guardsim_command, run
+
+RENDERS = REPO / "renders"
+SQUARE = REPO / "levels" / "square.json"
+
+
+def edited_square(folder: Path, shift: float = 3.0) -> Path:
+    """A copy of the shipped square with its pillar moved ``shift`` units to the right."""
+    data = json.loads(SQUARE.read_text(encoding="utf-8"))
+    data["holes"][0] = [[x + shift, y] for x, y in data["holes"][0]]
+    folder.mkdir(parents=True, exist_ok=True)
+    return write_level(folder, data, "square.json")
+
+
+def copied_references(folder: Path, *stems: str) -> Path:
+    """A scratch copy of the committed references of ``stems``."""
+    for stem in stems:
+        shutil.copytree(RENDERS / stem, folder / stem)
+    return folder
+
+
+def test_shipped_levels_match_committed_references() -> None:
+    """`guardsim regress levels/ --renders renders/` passes on a fresh clone: one ok line per level."""
+    result = run("regress", REPO / "levels", "--renders", RENDERS)
+    assert result.exit_code == 0, result.output
+    lines = result.stdout.splitlines()
+    assert [line.split(": ok (")[0] for line in lines] == [str(path) for path in LEVELS]
+    assert result.stderr == ""
+
+
+def test_committed_references_are_small_and_complete() -> None:
+    """Each shipped level has a manifest, a level snapshot, and per episode a trace and five PNG key frames."""
+    for level_path in LEVELS:
+        folder = RENDERS / level_path.stem
+        manifest = json.loads((folder / "manifest.json").read_text(encoding="utf-8"))
+        assert manifest["frame_size"] == REFERENCE_FRAME_SIZE
+        assert 1 <= len(manifest["episodes"]) <= 2
+        for episode in manifest["episodes"]:
+            assert (folder / f"{episode['name']}.trace.json").is_file()
+            for percent in KEY_PERCENTS:
+                frame = iio.imread(folder / f"{episode['name']}-{percent:03d}.png")
+                assert max(frame.shape[:2]) <= REFERENCE_FRAME_SIZE
+    assert sum(path.stat().st_size for path in RENDERS.rglob("*") if path.is_file()) < 1_000_000
+
+
+def test_edited_level_fails_with_one_line_and_a_diff_image(tmp_path: Path) -> None:
+    """Moving the square's pillar: exit 1, one readable line (what differs, steps before -> after, diff path)."""
+    level = edited_square(tmp_path / "levels")
+    diffs = tmp_path / "diffs"
+    result = run("regress", level, "--renders", RENDERS, "--diff-dir", diffs)
+    assert result.exit_code == 1, result.output
+    [line] = result.stdout.splitlines()
+    diff_path = diffs / "square.diff.png"
+    assert line.startswith(f"{level}: DIFFERS: level edited; level-start: path from tick ")
+    assert "steps 685 -> " in line
+    assert "seed0-episode0: " in line
+    assert line.endswith(f"diff {diff_path}")
+    assert result.stderr == "guardsim regress: 1 differ of 1 level(s)\n"
+    image = iio.imread(diff_path)
+    # Rows of reference | current | difference, each a 240-pixel frame with 4-pixel gaps.
+    assert image.shape[1] == 3 * REFERENCE_FRAME_SIZE + 2 * 4
+    assert (image.reshape(-1, 3) == (255, 0, 255)).all(axis=1).any(), "no pixel highlighted as different"
+
+
+def test_update_rewrites_references_and_removes_the_diff(tmp_path: Path) -> None:
+    """Default diff location is the reference folder; --update makes the edited level the reference."""
+    renders = copied_references(tmp_path / "renders", "square")
+    level = edited_square(tmp_path / "levels")
+    failed = run("regress", level, "--renders", renders)
+    assert failed.exit_code == 1
+    assert (renders / "square" / "diff.png").is_file()
+    updated = run("regress", level, "--renders", renders, "--update")
+    assert updated.exit_code == 0, updated.output
+    assert updated.stdout.startswith(f"{level}: references written to {renders / 'square'} (level-start ")
+    assert not (renders / "square" / "diff.png").exists()
+    assert not [path for path in (renders / "square").iterdir() if path.name.startswith(".")]
+    passed = run("regress", level, "--renders", renders)
+    assert passed.exit_code == 0, passed.output
+    # The original level now differs from the updated references.
+    assert run("regress", SQUARE, "--renders", renders).exit_code == 1
+
+
+def test_new_level_needs_references_then_passes(tmp_path: Path) -> None:
+    """A level without references fails (exit 1) until --update writes them; a level without a start
+    gets only the batch episode."""
+    data = {key: value for key, value in SQUARE_WITH_HOLE.items() if key != "guard"}
+    level = write_level(tmp_path, data, "pillar.json")
+    renders = tmp_path / "renders"
+    renders.mkdir()
+    missing = run("regress", level, "--renders", renders)
+    assert missing.exit_code == 1
+    assert missing.stdout == f"{level}: no references in {renders / 'pillar'} (write them with --update)\n"
+    assert run("regress", level, "--renders", renders, "--update").exit_code == 0
+    manifest = json.loads((renders / "pillar" / "manifest.json").read_text(encoding="utf-8"))
+    assert [episode["name"] for episode in manifest["episodes"]] == ["seed0-episode0"]
+    assert manifest["episodes"][0]["play_options"] == "--seed 0 --episode 0"
+    assert run("regress", level, "--renders", renders).stdout.startswith(f"{level}: ok (seed0-episode0 ")
+
+
+def test_stored_trace_tampered_names_the_first_tick(tmp_path: Path) -> None:
+    """A reference trace whose path differs at one tick is reported as 'path from tick N'."""
+    level = write_level(tmp_path, SQUARE_WITH_HOLE, "pillar.json")
+    renders = tmp_path / "renders"
+    assert run("regress", level, "--renders", renders, "--update").exit_code == 0
+    trace_path = renders / "pillar" / "level-start.trace.json"
+    data = json.loads(trace_path.read_text(encoding="utf-8"))
+    data["path"][3] = [5, 5]
+    trace_path.write_text(json.dumps(data), encoding="utf-8")
+    result = run("regress", level, "--renders", renders)
+    assert result.exit_code == 1
+    assert "level-start: path from tick 3, steps " in result.stdout
+    assert "seed0-episode0 " in result.stdout
+
+
+@pytest.mark.parametrize("channel_change", [20, 200], ids=["within-channel-tolerance", "over-it"])
+def test_frame_tolerance(channel_change: int) -> None:
+    """A pixel differs only past the channel tolerance; a frame only past the fraction of differing pixels."""
+    reference = np.zeros((100, 100, 3), dtype=np.uint8)
+    few, many = reference.copy(), reference.copy()
+    few[:2, :2] += np.uint8(channel_change)  # 4 pixels: 0.04 %
+    many[:10, :10] += np.uint8(channel_change)  # 100 pixels: 1 %
+    tolerance = Tolerance()
+    expected = 0.0 if channel_change <= tolerance.channel else 1.0
+    assert compare_frames(reference, few, tolerance) == (expected * 0.0004, channel_change)
+    assert compare_frames(reference, many, tolerance) == (expected * 0.01, channel_change)
+    assert compare_frames(reference, reference[:50], tolerance) == (1.0, 255)
+
+
+def test_folders_expand_and_duplicate_names_are_refused(tmp_path: Path) -> None:
+    """A folder means its *.json files; two levels with one file name would share references: exit 2."""
+    for folder in ("a", "b"):
+        (tmp_path / folder).mkdir()
+        write_level(tmp_path / folder, SQUARE_WITH_HOLE, "room.json")
+    result = run("regress", tmp_path / "a", tmp_path / "b", "--renders", RENDERS)
+    assert_one_line_error(result, tmp_path / "b" / "room.json")
+    assert "same file name" in result.stderr
+    (tmp_path / "empty").mkdir()
+    assert_one_line_error(run("regress", tmp_path / "empty", "--renders", RENDERS), tmp_path / "empty")
+
+
+@pytest.mark.parametrize(
+    ("damage", "fragment"),
+    [
+        ("manifest-not-json", "manifest.json: not valid JSON"),
+        ("manifest-bad-episode", "episodes[0]: name must be"),
+        ("frame-missing", "level-start-050.png: missing (rewrite the references with --update)"),
+        ("frame-not-png", "level-start-050.png: not a PNG image"),
+    ],
+)
+def test_damaged_references_are_bad_input(tmp_path: Path, damage: str, fragment: str) -> None:
+    """A reference that cannot be read is one error line and exit 2, and the other levels still run."""
+    renders = copied_references(tmp_path / "renders", "square", "passages")
+    folder = renders / "square"
+    if damage == "manifest-not-json":
+        (folder / "manifest.json").write_text("{", encoding="utf-8")
+    elif damage == "manifest-bad-episode":
+        manifest = json.loads((folder / "manifest.json").read_text(encoding="utf-8"))
+        manifest["episodes"][0]["name"] = "../escape"
+        (folder / "manifest.json").write_text(json.dumps(manifest), encoding="utf-8")
+    elif damage == "frame-missing":
+        (folder / "level-start-050.png").unlink()
+    else:
+        (folder / "level-start-050.png").write_bytes(b"not a png")
+    result = run("regress", SQUARE, REPO / "levels" / "passages.json", "--renders", renders)
+    assert result.exit_code == 2
+    assert result.stdout.startswith(f"{REPO / 'levels' / 'passages.json'}: ok (")
+    [error, count] = result.stderr.splitlines()
+    assert error.startswith(f"guardsim: error: {folder}")
+    assert fragment in error
+    assert count == "guardsim regress: 1 invalid of 2 level(s)"
+
+
+def test_bad_level_and_missing_renders_folder_are_bad_input(tmp_path: Path) -> None:
+    """A level that does not load, or a --renders folder that does not exist: one line, exit 2."""
+    missing_level = tmp_path / "nope.json"
+    assert_one_line_error(run("regress", missing_level, "--renders", RENDERS), missing_level)
+    bad = write_level(tmp_path, {"outer": [[0, 0], [1, 0]]}, "bad.json")
+    result = run("regress", bad, "--renders", RENDERS)
+    assert result.exit_code == 2
+    assert result.stderr.splitlines()[0].startswith(f"guardsim: error: {bad}: outer: ring has 2 distinct points")
+    line = assert_one_line_error(run("regress", SQUARE, "--renders", tmp_path / "none"), tmp_path / "none")
+    assert "--update" in line
+
+
+def test_real_process_regress_and_byte_identical_play(tmp_path: Path) -> None:
+    """Real processes: `guardsim regress` passes on one shipped level, and two `guardsim play` runs with the
+    same level, seed and options write the same trace and the same GIF, byte for byte."""
+    regress = subprocess.run(
+        [*guardsim_command(), "regress", str(SQUARE), "--renders", str(RENDERS)],
+        capture_output=True,
+        text=True,
+        timeout=120,
+        check=False,
+    )
+    assert regress.returncode == 0, regress.stderr
+    assert regress.stdout.startswith(f"{SQUARE}: ok (level-start 685 steps")
+    outputs = []
+    for run_number in (1, 2):
+        gif, trace = tmp_path / f"run{run_number}.gif", tmp_path / f"run{run_number}.json"
+        play = subprocess.run(
+            [
+                *guardsim_command(),
+                "play",
+                str(REPO / "levels" / "passages.json"),
+                *("--seed", "3", "--episode", "2", "--max-frames", "30", "--gif", str(gif), "--trace", str(trace)),
+            ],
+            capture_output=True,
+            text=True,
+            timeout=120,
+            check=False,
+        )
+        assert play.returncode == 0, play.stderr
+        outputs.append((gif.read_bytes(), trace.read_bytes()))
+    assert outputs[0][1] == outputs[1][1]
+    assert outputs[0][0] == outputs[1][0]
+    assert iio.imread(outputs[0][0], index=None, extension=".gif").shape[0] == 30
