@@ -1,0 +1,163 @@
+"""What every importer produces: a validated level, and a record of what the import changed."""
+
+from __future__ import annotations
+
+import json
+import os
+from collections.abc import Sequence
+from dataclasses import dataclass
+from pathlib import Path
+from typing import Any
+
+import numpy as np
+import shapely
+from shapely.geometry import box
+
+from guardsim.errors import LevelError
+from guardsim.importers.walls import WallReport, blocked_cell_walls, hole_rings, ring_vertex_count
+from guardsim.level import (
+    DEFAULT_MAX_CELLS,
+    DEFAULT_MAX_FILE_BYTES,
+    DEFAULT_MAX_VERTICES,
+    Level,
+    level_to_data,
+    parse_level,
+)
+
+__all__ = ["ImportedLevel", "level_from_blocked_cells", "level_from_walls", "read_source_bytes", "read_source_text"]
+
+Point = tuple[float, float]
+
+
+@dataclass(frozen=True)
+class ImportedLevel:
+    """A level converted from a designer's map."""
+
+    level: Level
+    """The level, already accepted by :func:`guardsim.level.parse_level`."""
+    kind: str
+    """What was read: ``Moving AI map``, ``Tiled map`` or ``image``."""
+    map_size: tuple[int, int]
+    """``(width, height)`` of the source in its own units: cells, tiles or pixels."""
+    changes: tuple[str, ...]
+    """What the import changed or left out, one phrase each (merged holes, split rings, snapped vertices)."""
+
+    @property
+    def vertices(self) -> int:
+        """Vertices over the outer ring and all holes."""
+        return len(self.level.outer) + ring_vertex_count(self.level.holes)
+
+    def to_json(self) -> str:
+        """The level file's text: whole numbers written without ``.0``, one ring per line."""
+        lines = []
+        for key, value in _compact(level_to_data(self.level)).items():
+            if key == "holes" and value:
+                rings = ",\n".join(f"    {json.dumps(ring)}" for ring in value)
+                lines.append(f'  "holes": [\n{rings}\n  ]')
+            else:
+                lines.append(f"  {json.dumps(key)}: {json.dumps(value)}")
+        return "{\n" + ",\n".join(lines) + "\n}\n"
+
+    def summary(self) -> str:
+        """One line: source, grid, holes, vertices and changes."""
+        rows, cols = self.level.grid_shape()
+        width, height = self.map_size
+        text = (
+            f"{self.level.source}: {self.kind} {width} x {height} -> {cols} x {rows} grid "
+            f"(cell size {self.level.cell_size:g}), {len(self.level.holes)} holes, {self.vertices} vertices"
+        )
+        return f"{text}; {'; '.join(self.changes)}" if self.changes else text
+
+
+def level_from_walls(
+    walls: Sequence[shapely.Geometry],
+    bounds: tuple[float, float, float, float],
+    *,
+    name: str,
+    source: str,
+    cell_size: float,
+    cut_step: float | None = 1.0,
+    starts: Sequence[Point] = (),
+    max_cells: int = DEFAULT_MAX_CELLS,
+    max_vertices: int = DEFAULT_MAX_VERTICES,
+) -> tuple[Level, WallReport]:
+    """A level whose outer ring is the rectangle ``bounds`` and whose holes are ``walls`` cleaned up.
+
+    The first start, if any, becomes ``guard.start``. Raises :class:`~guardsim.errors.LevelError` (naming
+    ``source``) if the result breaks a loader rule or limit.
+    """
+    min_x, min_y, max_x, max_y = bounds
+    rings, report = hole_rings(walls, box(*bounds), cut_step=cut_step)
+    data: dict[str, Any] = {
+        "name": name,
+        "cell_size": cell_size,
+        "outer": [[min_x, min_y], [max_x, min_y], [max_x, max_y], [min_x, max_y]],
+        "holes": [[list(point) for point in ring] for ring in rings],
+    }
+    if starts:
+        data["guard"] = {"start": list(starts[0])}
+        data["starts"] = [list(point) for point in starts]
+    return parse_level(data, source=source, max_cells=max_cells, max_vertices=max_vertices), report
+
+
+def read_source_bytes(path: str | os.PathLike[str], max_file_bytes: int = DEFAULT_MAX_FILE_BYTES) -> bytes:
+    """A map file's bytes, every way of failing a :class:`LevelError` naming the file."""
+    source = str(path)
+    try:
+        size = Path(path).stat().st_size
+        if size > max_file_bytes:
+            raise LevelError(
+                f"{source}: file is {size} bytes, over the limit of {max_file_bytes} (raise it with --max-file-bytes)"
+            )
+        return Path(path).read_bytes()
+    except FileNotFoundError:
+        raise LevelError(f"{source}: no such file") from None
+    except IsADirectoryError:
+        raise LevelError(f"{source}: is a directory, not a map") from None
+    except OSError as error:
+        raise LevelError(f"{source}: cannot read: {error.strerror or error}") from None
+
+
+def read_source_text(path: str | os.PathLike[str], max_file_bytes: int = DEFAULT_MAX_FILE_BYTES) -> str:
+    """A map file as UTF-8 text (see :func:`read_source_bytes`)."""
+    try:
+        return read_source_bytes(path, max_file_bytes).decode("utf-8")
+    except UnicodeDecodeError as error:
+        raise LevelError(f"{path}: not a text file (byte {error.start} is not UTF-8)") from None
+
+
+def level_from_blocked_cells(
+    blocked: np.ndarray,
+    *,
+    source: str,
+    cell_size: float,
+    max_cells: int = DEFAULT_MAX_CELLS,
+    max_vertices: int = DEFAULT_MAX_VERTICES,
+) -> tuple[Level, WallReport]:
+    """A level one world unit per cell of ``bool (rows, cols)`` ``blocked``, its bounds the outer ring.
+
+    The name is the source file's name without its suffix.
+    """
+    if blocked.all():
+        raise LevelError(f"{source}: every cell is blocked: no free area")
+    height, width = blocked.shape
+    return level_from_walls(
+        blocked_cell_walls(blocked),
+        (0.0, 0.0, float(width), float(height)),
+        name=Path(source).stem,
+        source=source,
+        cell_size=cell_size,
+        max_cells=max_cells,
+        max_vertices=max_vertices,
+    )
+
+
+def _compact(value: Any) -> Any:
+    """Floats that are whole numbers as ints, recursively, so files read ``[12, 40]``, not ``[12.0, 40.0]``."""
+    if isinstance(value, float) and value.is_integer():
+        return int(value)
+    if isinstance(value, list):
+        return [_compact(item) for item in value]
+    if isinstance(value, dict):
+        return {key: _compact(item) for key, item in value.items()}
+    return value
