@@ -16,7 +16,7 @@ from guardsim.grid import DIRECTIONS, CoverageGrid
 from guardsim.level import GuardSpec
 from guardsim.world import World
 
-__all__ = ["VisionCone", "cone_cells", "visible_cells"]
+__all__ = ["VisionCone", "cone_targets", "visible_cells"]
 
 # Cells exactly on the cone's edge or range are in; this absorbs float noise in that comparison.
 _EDGE_TOLERANCE = 1e-9
@@ -67,7 +67,7 @@ class VisionCone:
         return cls(guard.view_range, guard.fov_degrees, cell_size, tuple(offsets))
 
 
-def _cone_targets(
+def cone_targets(
     grid: CoverageGrid, cone: VisionCone, col: int, row: int, heading: int
 ) -> tuple[np.ndarray, np.ndarray]:
     """``(cols, rows)`` of the traversable cells whose centres lie in the cone, nearest first."""
@@ -81,23 +81,13 @@ def _cone_targets(
     return target_cols[candidates], target_rows[candidates]
 
 
-def cone_cells(grid: CoverageGrid, cone: VisionCone, col: int, row: int, heading: int) -> np.ndarray:
-    """Flat indices, ascending, of every traversable cell in the cone and the guard's own cell.
-
-    This is what the guard sees when no wall is near enough to block any ray.
-    """
-    target_cols, target_rows = _cone_targets(grid, cone, col, row, heading)
-    flat = np.append(target_rows * grid.shape[1] + target_cols, row * grid.shape[1] + col)
-    return np.unique(flat.astype(np.int64))
-
-
 def visible_cells(world: World, grid: CoverageGrid, cone: VisionCone, col: int, row: int, heading: int) -> np.ndarray:
     """Flat indices of the cells seen from cell ``(col, row)`` facing ``heading``, sorted ascending.
 
     This is the reference: one pymunk segment query per traversable cell in the cone.
     """
     cols = grid.shape[1]
-    target_cols, target_rows = _cone_targets(grid, cone, col, row, heading)
+    target_cols, target_rows = cone_targets(grid, cone, col, row, heading)
     eye = grid.centre(col, row)
     seen = [row * cols + col]
     for target_col, target_row in zip(target_cols.tolist(), target_rows.tolist()):

@@ -1,20 +1,84 @@
 """The fast vision path: each state's visible cells, computed once and shared by every episode.
 
 A state is a cell and one of the four headings. The first time a state is asked for, its cells are
-computed with the reference rule (:func:`guardsim.vision.visible_cells`) — except when no wall lies
-within reach of the eye, where every traversable cell of the cone is visible without casting a ray —
-and stored in flat arrays (CSR layout) that the compiled episode loop reads directly.
+computed with the reference rule (:func:`guardsim.vision.visible_cells`): each ray is first screened
+against the walls near the eye (:mod:`guardsim.sight_screen`), which settles clear misses and clear
+crossings, and pymunk casts only the close calls. The result is stored in flat arrays (CSR layout) that
+the compiled episode loop reads directly.
 """
 
 from __future__ import annotations
 
+import numba
 import numpy as np
 
 from guardsim.grid import CoverageGrid
-from guardsim.vision import VisionCone, cone_cells, visible_cells
+from guardsim.sight_screen import CLEAR, CLOSE_CALL, WallIndex, screen
+from guardsim.vision import VisionCone
 from guardsim.world import World
 
 __all__ = ["VisionCache"]
+
+
+@numba.njit(cache=True, nogil=True)
+def _screen_state(
+    col: int,
+    row: int,
+    offsets: np.ndarray,
+    traversable: np.ndarray,
+    rows: int,
+    cols: int,
+    origin_x: float,
+    origin_y: float,
+    cell_size: float,
+    segments: np.ndarray,
+    bucket_start: np.ndarray,
+    bucket_walls: np.ndarray,
+    bucket_x: float,
+    bucket_y: float,
+    bucket: float,
+    bucket_columns: int,
+    bucket_rows: int,
+    margin: float,
+    stamp: np.ndarray,
+    candidates: np.ndarray,
+    targets: np.ndarray,
+    verdicts: np.ndarray,
+) -> int:
+    """The traversable cells in the cone (the guard's own excluded), their centres and ray verdicts."""
+    count = 0
+    for index in range(offsets.shape[0]):
+        target_col = col + offsets[index, 0]
+        target_row = row + offsets[index, 1]
+        if target_col < 0 or target_col >= cols or target_row < 0 or target_row >= rows:
+            continue
+        if target_col == col and target_row == row:
+            continue
+        flat = target_row * cols + target_col
+        if not traversable[flat]:
+            continue
+        candidates[count] = flat
+        targets[count, 0] = origin_x + (target_col + 0.5) * cell_size
+        targets[count, 1] = origin_y + (target_row + 0.5) * cell_size
+        count += 1
+    if count and bucket_walls.shape[0]:
+        screen(
+            origin_x + (col + 0.5) * cell_size,
+            origin_y + (row + 0.5) * cell_size,
+            targets[:count],
+            segments,
+            bucket_start,
+            bucket_walls,
+            bucket_x,
+            bucket_y,
+            bucket,
+            bucket_columns,
+            bucket_rows,
+            margin,
+            stamp,
+            verdicts[:count],
+        )
+    return count
 
 
 class VisionCache:
@@ -39,10 +103,20 @@ class VisionCache:
         self.length = np.full(states, -1, dtype=np.int64)
         self.data = np.zeros(max(1024, 16 * len(cone.offsets[0])), dtype=np.int32)
         self.used = 0
-        self.rays_skipped = 0
-        # No ray is longer than the farthest cone offset; a wall farther than that cannot block one.
+        self.rays_cast = 0
+        """Rays pymunk was asked about (the close calls)."""
+        self.rays_screened = 0
+        """Rays settled by the screen alone."""
         longest = max(float(np.hypot(*offsets.T).max()) if len(offsets) else 0.0 for offsets in cone.offsets)
-        self._clear_radius = longest * grid.cell_size * (1 + 1e-9) + 1e-9
+        rows, cols = grid.shape
+        self._walls = WallIndex(
+            np.array([(*wall.a, *wall.b) for wall in world.walls], dtype=np.float64).reshape(-1, 4),
+            grid.origin,
+            (cols * grid.cell_size, rows * grid.cell_size),
+            longest * grid.cell_size,
+        )
+        self._stamp = np.zeros(len(world.walls) + 1, dtype=np.int64)
+        self._traversable = np.ascontiguousarray(grid.traversable.ravel())
 
     @property
     def computed(self) -> int:
@@ -55,11 +129,44 @@ class VisionCache:
             return
         cell, heading = divmod(state, 4)
         col, row = self.grid.unflat(cell)
-        if self.world.wall_within(self.grid.centre(col, row), self._clear_radius):
-            cells = visible_cells(self.world, self.grid, self.cone, col, row, heading)
-        else:
-            cells = cone_cells(self.grid, self.cone, col, row, heading)
-            self.rays_skipped += len(cells) - 1
+        rows, cols = self.grid.shape
+        offsets = self.cone.offsets[heading]
+        walls = self._walls
+        candidates = np.zeros(len(offsets), dtype=np.int64)
+        targets = np.zeros((len(offsets), 2), dtype=np.float64)
+        verdicts = np.zeros(len(offsets), dtype=np.int8)
+        count = _screen_state(
+            col,
+            row,
+            offsets,
+            self._traversable,
+            rows,
+            cols,
+            self.grid.origin[0],
+            self.grid.origin[1],
+            self.grid.cell_size,
+            walls.segments,
+            walls.start,
+            walls.walls,
+            walls.origin[0],
+            walls.origin[1],
+            walls.bucket,
+            walls.columns,
+            walls.rows,
+            walls.margin,
+            self._stamp,
+            candidates,
+            targets,
+            verdicts,
+        )
+        candidates, targets, verdicts = candidates[:count], targets[:count], verdicts[:count]
+        visible = verdicts == CLEAR
+        eye = self.grid.centre(col, row)
+        for index in np.flatnonzero(verdicts == CLOSE_CALL).tolist():
+            visible[index] = self.world.line_of_sight(eye, (float(targets[index, 0]), float(targets[index, 1])))
+            self.rays_cast += 1
+        self.rays_screened += count
+        cells = np.sort(np.append(candidates[visible], cell))
         needed = self.used + len(cells)
         if needed > len(self.data):
             self.data = np.concatenate([self.data, np.zeros(max(needed, len(self.data)), dtype=np.int32)])

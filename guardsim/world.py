@@ -69,10 +69,6 @@ class World:
         """Whether a circle of ``radius`` can slide from ``start`` to ``end`` without touching a wall."""
         return self.space.segment_query_first(start, end, radius, _WALLS_ONLY) is None
 
-    def wall_within(self, point: tuple[float, float], distance: float) -> bool:
-        """Whether any wall lies within ``distance`` of ``point``."""
-        return self.space.point_query_nearest(point, distance, _WALLS_ONLY) is not None
-
     def place_guard(self, point: tuple[float, float]) -> None:
         """Move the guard's body to ``point`` (a cell centre) and let the space know."""
         self.guard_body.position = point
