@@ -41,8 +41,8 @@ class WallIndex:
         self.segments = np.ascontiguousarray(segments, dtype=np.float64)
         self.origin = (float(origin[0]), float(origin[1]))
         self.bucket = max(float(reach), 1e-9)
-        self.columns = int(math.ceil(extent[0] / self.bucket)) + 1
-        self.rows = int(math.ceil(extent[1] / self.bucket)) + 1
+        self.columns = math.ceil(extent[0] / self.bucket) + 1
+        self.rows = math.ceil(extent[1] / self.bucket) + 1
         members: list[list[int]] = [[] for _ in range(self.columns * self.rows)]
         for index, (ax, ay, bx, by) in enumerate(self.segments.tolist()):
             for row in range(self._row(min(ay, by)), self._row(max(ay, by)) + 1):
