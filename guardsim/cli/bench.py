@@ -1,0 +1,212 @@
+"""``guardsim bench``: the paper's evaluation, many episodes per level, on local cores or a Dask cluster."""
+
+from __future__ import annotations
+
+import math
+import sys
+import time
+from pathlib import Path
+from typing import TextIO
+
+import click
+
+from guardsim.cli.common import limit_options, reports_errors
+from guardsim.errors import GuardsimError
+from guardsim.executors import make_executor
+from guardsim.experiment import (
+    RESULTS_NAME,
+    SUMMARY_NAME,
+    Batch,
+    BatchLevel,
+    EpisodeRecord,
+    GroupSummary,
+    finish_batch,
+    format_table,
+    run_batch,
+    run_spec,
+    start_batch,
+)
+from guardsim.planners import PLANNERS
+
+__all__ = ["bench"]
+
+#: Figure files written by --plot, in the output folder.
+PLOT_NAMES = ("steps.png", "steps.svg")
+
+
+@click.command()
+@click.argument("level_paths", metavar="LEVEL...", nargs=-1, required=True)
+@click.option(
+    "--episodes", type=click.IntRange(min=1), default=200, show_default=True, help="Episodes per level and planner."
+)
+@click.option("--seed", type=click.IntRange(min=0), default=0, show_default=True, help="Seed of the batch.")
+@click.option("--out", "out", type=click.Path(), default="results", show_default=True, help="Output folder.")
+@click.option(
+    "--planner",
+    "planner_list",
+    default="ripplefront",
+    show_default=True,
+    metavar="NAME[,NAME...]",
+    help=f"Planners to compare, comma-separated; known: {', '.join(PLANNERS)}.",
+)
+@click.option("--reference", is_flag=True, help="Use the reference vision (one ray per cell) instead of the fast path.")
+@click.option("--max-steps", type=click.IntRange(min=0), help="Step limit [default: 10 per traversable cell].")
+@click.option("--workers", type=click.IntRange(min=1), help="Local worker processes [default: all cores]; 1 runs here.")
+@click.option("--scheduler", metavar="ADDRESS", help="Run on a dask.distributed scheduler, e.g. tcp://host:8786.")
+@click.option("--plot", is_flag=True, help="Also draw steps.png and steps.svg: a box plot of steps per level.")
+@limit_options
+@reports_errors
+def bench(
+    level_paths: tuple[str, ...],
+    episodes: int,
+    seed: int,
+    out: str,
+    planner_list: str,
+    reference: bool,
+    max_steps: int | None,
+    workers: int | None,
+    scheduler: str | None,
+    plot: bool,
+    max_cells: int,
+    max_vertices: int,
+    max_file_bytes: int,
+) -> None:
+    """Run --episodes episodes of each planner on each LEVEL and summarise the steps they took.
+
+    Episode K starts from a cell drawn uniformly from the largest connected area, with a random first
+    heading, both drawn from episode K's own generator; `guardsim play LEVEL --seed S --episode K`
+    re-runs it alone. Writes OUT/results.csv (one row per episode, appended as they finish),
+    OUT/summary.json and, with --plot, OUT/steps.png and OUT/steps.svg; prints the summary table.
+    Running the same command again resumes: episodes already in results.csv are skipped.
+    """
+    planners = parse_planners(planner_list)
+    if workers is not None and scheduler is not None:
+        raise GuardsimError("--workers and --scheduler exclude each other: the scheduler's workers run the episodes")
+    if plot:
+        from guardsim.plots import require_matplotlib
+
+        require_matplotlib()
+    limits = {"max_cells": max_cells, "max_vertices": max_vertices, "max_file_bytes": max_file_bytes}
+    levels = tuple(BatchLevel.load(path, **limits) for path in level_paths)
+    batch = Batch(levels, planners, episodes, seed, max_steps, reference)
+    folder = Path(out)
+    done, pending = start_batch(batch, folder)
+    total = len(done) + len(pending)
+    began = time.perf_counter()
+    if pending:
+        run_pending(batch, folder, pending, done_before=len(done), workers=workers, scheduler=scheduler)
+    else:
+        click.echo(f"{folder}: all {total} episodes already done", err=True)
+    records, groups = finish_batch(batch, folder)
+    written = [folder / RESULTS_NAME, folder / SUMMARY_NAME]
+    if plot:
+        written += draw_plot(batch, folder, records, groups)
+    click.echo(format_table(groups))
+    seconds = time.perf_counter() - began
+    click.echo(f"{total} episodes, {seconds:.1f} s -> {', '.join(str(path) for path in written)}", err=True)
+    errors = sum(group.outcomes["error"] for group in groups)
+    if errors:
+        click.echo(
+            f"guardsim: warning: {errors} episodes raised an error; see the error column of {written[0]}", err=True
+        )
+
+
+def parse_planners(text: str) -> tuple[str, ...]:
+    """``a,b`` into planner names, each checked against :data:`~guardsim.planners.PLANNERS`."""
+    names = tuple(dict.fromkeys(name.strip() for name in text.split(",")))
+    for name in names:
+        if name not in PLANNERS:
+            raise GuardsimError(f"--planner: unknown planner {name!r}; known: {', '.join(PLANNERS)}")
+    return names
+
+
+def run_pending(
+    batch: Batch, folder: Path, pending: list, *, done_before: int, workers: int | None, scheduler: str | None
+) -> None:
+    """Run the episodes not done yet; on Ctrl-C or lost workers, say how to resume and exit."""
+    total = done_before + len(pending)
+    executor = make_executor(workers, scheduler, preload=[run_spec.__module__])
+    already = f" ({done_before} already done)" if done_before else ""
+    click.echo(f"{folder}: running {len(pending)} of {total} episodes on {executor.description}{already}", err=True)
+    progress = ProgressLine(len(pending), sys.stderr)
+    try:
+        with executor:
+            report = run_batch(pending, folder, executor, progress.advance)
+    except KeyboardInterrupt:
+        progress.close()
+        click.echo(
+            f"guardsim: interrupted; {done_before + progress.done} of {total} episodes are in "
+            f"{folder / RESULTS_NAME}; run the same command again to resume",
+            err=True,
+        )
+        sys.exit(130)
+    progress.close()
+    if report.not_run:
+        click.echo(
+            f"guardsim: error: {report.not_run} episodes did not run ({report.failure}); "
+            f"{done_before + progress.done} of {total} are in {folder / RESULTS_NAME}; run the same command "
+            "again to resume",
+            err=True,
+        )
+        sys.exit(1)
+
+
+def draw_plot(batch: Batch, folder: Path, records: list[EpisodeRecord], groups: list[GroupSummary]) -> list[Path]:
+    """Write the box plot of steps per level and planner; returns the files written."""
+    from guardsim.plots import StepsBox, plot_steps
+
+    boxes = [
+        StepsBox(
+            group.level,
+            group.planner,
+            [r.steps for r in records if (r.level_file, r.planner) == (group.level_file, group.planner) and r.steps is not None],
+        )
+        for group in groups
+    ]  # fmt: skip
+    targets = [folder / name for name in PLOT_NAMES]
+    plot_steps(boxes, targets, title=f"Steps to cover, {batch.episodes} episodes per box (seed {batch.seed})")
+    return targets
+
+
+class ProgressLine:
+    """Episodes done, rate and time left, redrawn in place on one line; silent unless ``stream`` is a terminal."""
+
+    def __init__(self, total: int, stream: TextIO) -> None:
+        self.total = total
+        self.done = 0
+        self.stream = stream
+        self.active = stream.isatty()
+        self.began = time.monotonic()
+        self.drawn_at = -math.inf
+        self.draw()
+
+    def advance(self, _record: EpisodeRecord) -> None:
+        """Count one episode done; redraw at most five times a second."""
+        self.done += 1
+        now = time.monotonic()
+        if now - self.drawn_at >= 0.2 or self.done == self.total:
+            self.draw()
+
+    def draw(self) -> None:
+        """Write the line over the previous one."""
+        if not self.active:
+            return
+        self.drawn_at = time.monotonic()
+        elapsed = self.drawn_at - self.began
+        rate = self.done / elapsed if elapsed > 0 and self.done else 0.0
+        left = f"{_duration((self.total - self.done) / rate)} left" if rate else "time left unknown"
+        self.stream.write(f"\r{self.done}/{self.total} episodes  {rate:.1f}/s  {left}   ")
+        self.stream.flush()
+
+    def close(self) -> None:
+        """End the line, so later messages start on their own."""
+        if self.active:
+            self.stream.write("\n")
+            self.stream.flush()
+            self.active = False
+
+
+def _duration(seconds: float) -> str:
+    minutes, second = divmod(round(seconds), 60)
+    hours, minute = divmod(minutes, 60)
+    return f"{hours}h{minute:02d}m" if hours else f"{minute}m{second:02d}s" if minute else f"{second}s"

@@ -1,0 +1,237 @@
+"""Where a batch's episodes run: in this process, in a pool of local processes, or on a Dask cluster.
+
+The three share one small interface, :class:`EpisodeExecutor`: a context manager whose
+:meth:`~EpisodeExecutor.run_unordered` applies a function to items and yields a :class:`Completion` per
+item as it finishes. The function must be importable (a module-level function) and its items picklable.
+A failure of the machinery (a worker process killed, a Dask worker lost for good) comes back as the
+completion's ``failure``; errors inside the function are the function's business. Leaving the ``with``
+block early (Ctrl-C included) cancels what has not started.
+"""
+
+from __future__ import annotations
+
+import concurrent.futures
+import multiprocessing
+import os
+import signal
+from collections.abc import Callable, Iterator, Sequence
+from types import TracebackType
+from typing import Any, NamedTuple, Protocol
+
+from guardsim.errors import GuardsimError
+
+__all__ = [
+    "Completion",
+    "DaskCluster",
+    "EpisodeExecutor",
+    "InProcess",
+    "LocalPool",
+    "default_start_method",
+    "make_executor",
+]
+
+
+class Completion(NamedTuple):
+    """One item done, or lost."""
+
+    item: Any
+    """The item as submitted."""
+    result: Any
+    """What the function returned; ``None`` if :attr:`failure` is set."""
+    failure: BaseException | None
+    """Why the item did not run to the end (a dead worker, a cancelled task); ``None`` when it did."""
+
+
+class EpisodeExecutor(Protocol):
+    """Runs a function over items somewhere and hands back each result as it finishes."""
+
+    description: str
+    """Where the work runs, for messages: ``2 local processes``."""
+
+    def __enter__(self) -> EpisodeExecutor: ...
+
+    def __exit__(
+        self, kind: type[BaseException] | None, error: BaseException | None, traceback: TracebackType | None
+    ) -> None: ...
+
+    def run_unordered(self, function: Callable[[Any], Any], items: Sequence[Any]) -> Iterator[Completion]:
+        """Yield one :class:`Completion` per item, in the order they finish."""
+        ...
+
+
+class InProcess:
+    """Runs every item here, one after the other: the reference, and the simplest to debug."""
+
+    description = "1 worker (this process)"
+
+    def __enter__(self) -> InProcess:
+        return self
+
+    def __exit__(self, *_exc: object) -> None:
+        return None
+
+    def run_unordered(self, function: Callable[[Any], Any], items: Sequence[Any]) -> Iterator[Completion]:
+        """Call ``function`` on each item in turn."""
+        for item in items:
+            yield Completion(item, function(item), None)
+
+
+def default_start_method() -> str:
+    """``forkserver`` where the platform has it, else ``spawn``.
+
+    Not ``fork``: pymunk's Chipmunk state and any threads of the parent (a progress display, Dask's event
+    loop) must not be copied into workers mid-flight, and ``fork`` is no faster here (see
+    ``docs/performance.md``).
+    """
+    return "forkserver" if "forkserver" in multiprocessing.get_all_start_methods() else "spawn"
+
+
+def _ignore_interrupt() -> None:
+    # Ctrl-C reaches every process of the terminal's foreground group; only the parent should react, by
+    # cancelling what has not started, so that workers do not print tracebacks on the way out.
+    signal.signal(signal.SIGINT, signal.SIG_IGN)
+
+
+class LocalPool:
+    """A pool of worker processes on this machine (:class:`concurrent.futures.ProcessPoolExecutor`).
+
+    Parameters
+    ----------
+    workers
+        Number of processes.
+    start_method
+        ``multiprocessing`` start method; :func:`default_start_method` by default.
+    preload
+        Modules the ``forkserver`` imports before forking workers, e.g. the one defining the function.
+    """
+
+    def __init__(self, workers: int, start_method: str | None = None, preload: Sequence[str] = ()) -> None:
+        self.workers = workers
+        self.preload = tuple(preload)
+        self.start_method = start_method or default_start_method()
+        self.description = f"{workers} local processes"
+        self._pool: concurrent.futures.ProcessPoolExecutor | None = None
+
+    def __enter__(self) -> LocalPool:
+        context = multiprocessing.get_context(self.start_method)
+        if self.start_method == "forkserver":
+            # Import guardsim once in the fork server rather than once in each worker.
+            context.set_forkserver_preload(list(self.preload))
+        self._pool = concurrent.futures.ProcessPoolExecutor(
+            self.workers, mp_context=context, initializer=_ignore_interrupt
+        )
+        return self
+
+    def __exit__(self, *_exc: object) -> None:
+        if self._pool is not None:
+            # Running items finish (an episode is short); queued ones are dropped.
+            self._pool.shutdown(wait=True, cancel_futures=True)
+            self._pool = None
+
+    def run_unordered(self, function: Callable[[Any], Any], items: Sequence[Any]) -> Iterator[Completion]:
+        """Submit a few items per worker at a time, so that stopping early leaves little queued."""
+        if self._pool is None:
+            raise RuntimeError("LocalPool.run_unordered called outside its with block")
+        pool = self._pool
+        window = 2 * self.workers
+        queue = iter(items)
+        running: dict[concurrent.futures.Future[Any], Any] = {}
+        broken: BaseException | None = None
+        while True:
+            while broken is None and len(running) < window:
+                item = next(queue, _NOTHING)
+                if item is _NOTHING:
+                    break
+                try:
+                    running[pool.submit(function, item)] = item
+                except concurrent.futures.BrokenExecutor as error:
+                    broken = error
+                    yield Completion(item, None, error)
+            if not running:
+                break
+            done, _ = concurrent.futures.wait(running, return_when=concurrent.futures.FIRST_COMPLETED)
+            for future in done:
+                item = running.pop(future)
+                error = future.exception()
+                if isinstance(error, concurrent.futures.BrokenExecutor):
+                    broken = broken or error
+                yield Completion(item, None, error) if error is not None else Completion(item, future.result(), None)
+        if broken is not None:
+            for item in queue:
+                yield Completion(item, None, broken)
+
+
+_NOTHING = object()
+
+
+class DaskCluster:
+    """The workers of a running ``dask.distributed`` scheduler (``pip install 'guardsim[cluster]'``).
+
+    Parameters
+    ----------
+    address
+        The scheduler, e.g. ``tcp://host:8786``.
+    timeout
+        Seconds to wait for the connection.
+    """
+
+    def __init__(self, address: str, timeout: float = 10.0) -> None:
+        try:
+            from distributed import Client
+        except ImportError:
+            raise GuardsimError(
+                "--scheduler needs dask.distributed, which is not installed: pip install 'guardsim[cluster]'"
+            ) from None
+        try:
+            self._client = Client(address, timeout=timeout, set_as_default=False)
+        except (OSError, ValueError, TypeError) as error:
+            message = " ".join(str(error).split()) or type(error).__name__
+            raise GuardsimError(f"--scheduler {address}: cannot connect to a Dask scheduler: {message}") from None
+        workers = len(self._client.scheduler_info().get("workers", {}))
+        self.description = f"Dask scheduler {address} ({workers} workers now)"
+        self._futures: list[Any] = []
+
+    def __enter__(self) -> DaskCluster:
+        return self
+
+    def __exit__(self, *_exc: object) -> None:
+        pending = [future for future in self._futures if not future.done()]
+        if pending:
+            self._client.cancel(pending)
+        self._futures = []
+        self._client.close()
+
+    def run_unordered(self, function: Callable[[Any], Any], items: Sequence[Any]) -> Iterator[Completion]:
+        """Send every item to the scheduler at once (it balances them) and yield them as they finish.
+
+        A worker lost mid-task is retried by the scheduler; only a task that keeps killing workers comes
+        back as a failure (``KilledWorker``).
+        """
+        from distributed import as_completed
+
+        items = list(items)
+        if not items:
+            return
+        self._futures = self._client.map(function, items, pure=False)
+        item_of = {future.key: item for future, item in zip(self._futures, items)}
+        for future in as_completed(self._futures, loop=self._client.loop):
+            item = item_of[future.key]
+            if future.status == "finished":
+                yield Completion(item, future.result(), None)
+            else:
+                yield Completion(item, None, future.exception())
+            future.release()
+
+
+def make_executor(
+    workers: int | None = None, scheduler: str | None = None, preload: Sequence[str] = ()
+) -> EpisodeExecutor:
+    """The executor for ``--workers`` and ``--scheduler``: Dask if a scheduler is given, else local.
+
+    ``workers`` defaults to the number of cores; 1 runs in this process. ``preload`` is passed to
+    :class:`LocalPool`.
+    """
+    if scheduler is not None:
+        return DaskCluster(scheduler)
+    count = workers if workers is not None else os.cpu_count() or 1
+    return InProcess() if count == 1 else LocalPool(count, preload=preload)

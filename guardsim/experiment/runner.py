@@ -1,0 +1,146 @@
+"""A batch from start to finish: plan the episodes, skip those done, run the rest, write the summary."""
+
+from __future__ import annotations
+
+import hashlib
+import os
+from collections.abc import Callable, Sequence
+from dataclasses import dataclass
+from pathlib import Path
+from typing import Any, NamedTuple
+
+from guardsim.executors import EpisodeExecutor
+from guardsim.experiment.episodes import EpisodeRecord, EpisodeSpec, run_spec
+from guardsim.experiment.results import (
+    RESULTS_NAME,
+    append_record,
+    appending_results,
+    check_run_options,
+    prepare_folder,
+    read_results,
+    write_results_sorted,
+)
+from guardsim.experiment.summary import GroupSummary, summarise, summary_json
+from guardsim.level import Level, load_level
+from guardsim.output import write_text_atomic
+
+__all__ = ["SUMMARY_NAME", "Batch", "BatchLevel", "Progress", "RunReport", "finish_batch", "run_batch", "start_batch"]
+
+SUMMARY_NAME = "summary.json"
+
+
+class BatchLevel(NamedTuple):
+    """A level file of the batch, read and validated once by the command."""
+
+    file: str
+    """The path as given, normalised (``./levels/a.json`` and ``levels/a.json`` are one file)."""
+    sha256: str
+    """Digest of the file's bytes, recorded in ``run.json`` so that a changed level is not resumed."""
+    level: Level
+
+    @classmethod
+    def load(cls, path: str, **limits: int) -> BatchLevel:
+        """Load and validate a level file; raises :class:`~guardsim.errors.LevelError`."""
+        level = load_level(path, **limits)
+        digest = hashlib.sha256(Path(path).read_bytes()).hexdigest()
+        return cls(os.path.normpath(path), digest, level)
+
+
+@dataclass(frozen=True)
+class Batch:
+    """What a ``guardsim bench`` run computes: every (level, planner, episode) with the same options."""
+
+    levels: tuple[BatchLevel, ...]
+    planners: tuple[str, ...]
+    episodes: int
+    seed: int
+    max_steps: int | None = None
+    reference: bool = False
+
+    def __post_init__(self) -> None:
+        # One order whatever the command line's, so that run.json and the plan do not depend on it.
+        unique_levels = {level.file: level for level in self.levels}
+        object.__setattr__(self, "levels", tuple(unique_levels[file] for file in sorted(unique_levels)))
+        object.__setattr__(self, "planners", tuple(sorted(set(self.planners))))
+
+    def options(self) -> dict[str, Any]:
+        """The options that decide the results, as stored in ``run.json``."""
+        return {
+            "levels": [{"file": level.file, "sha256": level.sha256} for level in self.levels],
+            "planners": list(self.planners),
+            "episodes": self.episodes,
+            "seed": self.seed,
+            "max_steps": self.max_steps,
+            "reference": self.reference,
+        }
+
+    def specs(self) -> list[EpisodeSpec]:
+        """Every episode, ordered by level file, planner and episode."""
+        return [
+            EpisodeSpec(level.level, level.file, planner, self.seed, episode, self.reference, self.max_steps)
+            for level in self.levels
+            for planner in self.planners
+            for episode in range(self.episodes)
+        ]
+
+
+def start_batch(batch: Batch, folder: Path) -> tuple[list[EpisodeRecord], list[EpisodeSpec]]:
+    """Prepare the folder and split the batch into the rows already done and the episodes still to run.
+
+    Raises
+    ------
+    OutputError
+        If the folder cannot be made, holds a run with other options, or has an unreadable results file.
+    """
+    prepare_folder(folder)
+    check_run_options(folder, batch.options())
+    done = read_results(folder / RESULTS_NAME)
+    finished = {record.key for record in done}
+    return done, [spec for spec in batch.specs() if spec.key not in finished]
+
+
+class RunReport(NamedTuple):
+    """What :func:`run_batch` did."""
+
+    records: list[EpisodeRecord]
+    """Rows appended by this run, in the order they finished."""
+    not_run: int
+    """Episodes lost to a failed worker or transport (not to an error in the episode); they run on resume."""
+    failure: str
+    """The first such failure, as ``Type: message``; empty if none."""
+
+
+#: Called with each record as it is written (for a progress display).
+Progress = Callable[[EpisodeRecord], None]
+
+
+def run_batch(
+    specs: Sequence[EpisodeSpec], folder: Path, executor: EpisodeExecutor, on_record: Progress | None = None
+) -> RunReport:
+    """Run ``specs`` on ``executor``, appending each record to ``results.csv`` as soon as it arrives.
+
+    Ctrl-C propagates as ``KeyboardInterrupt`` once the executor has stopped; every row written stays.
+    """
+    records: list[EpisodeRecord] = []
+    not_run = 0
+    failure = ""
+    with appending_results(folder / RESULTS_NAME) as stream:
+        for completion in executor.run_unordered(run_spec, specs):
+            if completion.failure is not None:
+                not_run += 1
+                failure = failure or " ".join(f"{type(completion.failure).__name__}: {completion.failure}".split())
+                continue
+            append_record(stream, completion.result)
+            records.append(completion.result)
+            if on_record is not None:
+                on_record(completion.result)
+    return RunReport(records, not_run, failure)
+
+
+def finish_batch(batch: Batch, folder: Path) -> tuple[list[EpisodeRecord], list[GroupSummary]]:
+    """Rewrite ``results.csv`` in order and write ``summary.json``; returns the rows and their summary."""
+    records = read_results(folder / RESULTS_NAME)
+    write_results_sorted(folder / RESULTS_NAME, records)
+    groups = summarise(records)
+    write_text_atomic(folder / SUMMARY_NAME, summary_json(groups, batch.options()))
+    return sorted(records, key=lambda record: record.sort_key), groups
