@@ -8,9 +8,12 @@ from __future__ import annotations
 
 import click
 
+from guardsim.cli.bench import bench
+from guardsim.cli.importing import import_command
 from guardsim.cli.play import play
 from guardsim.cli.regress import regress
 from guardsim.cli.render import render
+from guardsim.cli.schema import schema
 from guardsim.cli.validate import validate
 
 __all__ = ["main"]
@@ -22,5 +25,5 @@ def main() -> None:
     """Coverage path planning for guards in games."""
 
 
-for command in (play, regress, render, validate):
+for command in (bench, import_command, play, regress, render, schema, validate):
     main.add_command(command)
