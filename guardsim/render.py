@@ -24,6 +24,7 @@ __all__ = [
     "COLOURS",
     "DEFAULT_MAX_FRAMES",
     "GifOptions",
+    "draw_cone_overlay",
     "encode_gif",
     "frame_ticks",
     "render_frame",
@@ -285,3 +286,32 @@ def _ruler_step(extent: float) -> float:
         if raw <= multiple * power:
             return multiple * power
     return 10 * power
+
+
+def draw_cone_overlay(
+    preview: np.ndarray,
+    level: Level,
+    shape: tuple[int, int],
+    seen: np.ndarray,
+    cell: tuple[int, int],
+    heading: int,
+    *,
+    size: int = 640,
+) -> np.ndarray:
+    """A copy of a :func:`render_preview` image showing what a guard at ``cell`` facing ``heading`` sees.
+
+    The ``bool (rows, cols)`` ``seen`` cells are tinted with the cone's colour, and the cone's outline and
+    the guard are drawn on top. ``shape`` and ``size`` must be the ones the preview was drawn with.
+    """
+    rows, cols = shape
+    scale = max(2, pixels_per_cell(shape, size))
+    # render_preview frames the cells in an equal margin on every side (the rulers).
+    margin = (preview.shape[1] - cols * scale) // 2
+    framed = preview.copy()
+    cells = framed[margin : margin + rows * scale, margin : margin + cols * scale]
+    tint = np.repeat(np.repeat(seen, scale, axis=0), scale, axis=1)
+    cells[tint] = (cells[tint] * 0.45 + np.asarray(COLOURS["cone"]) * 0.55).astype(np.uint8)
+    image = Image.fromarray(np.ascontiguousarray(cells))
+    _draw_guard(ImageDraw.Draw(image), level, cell, heading, scale)
+    framed[margin : margin + rows * scale, margin : margin + cols * scale] = np.asarray(image)
+    return framed

@@ -1,26 +1,71 @@
-"""``guardsim validate``: every problem in each level file."""
+"""``guardsim validate``: every problem in each level file, designer warnings, and ``--fix OUT``."""
 
 from __future__ import annotations
 
 import sys
+from collections import defaultdict
+from typing import Any
 
 import click
 import numpy as np
 
 from guardsim.cli.common import limit_options, reports_errors
+from guardsim.diagnostics import DEFAULT_MAX_RAYS, DesignerWarning, level_warnings
 from guardsim.errors import GuardsimError
-from guardsim.level import check_level_data, read_level_json
+from guardsim.importers.imported import level_json_text
+from guardsim.level import Level, check_level_data, read_level_json
+from guardsim.output import write_text_atomic
+from guardsim.repair import repair_level_data
 from guardsim.simulation import Scene, choose_start
 
 __all__ = ["validate"]
 
+#: Warnings of one kind printed per level before the rest are summed up in one line.
+WARNINGS_PER_KIND = 5
+
 
 @click.command()
 @click.argument("level_paths", metavar="LEVEL...", nargs=-1, required=True)
+@click.option(
+    "--fix",
+    "fix_path",
+    metavar="OUT",
+    help="Write a repaired copy of LEVEL to OUT: ring orientation, duplicate and straight-edge points, "
+    "overlapping or touching holes merged. Only with one LEVEL.",
+)
+@click.option(
+    "--warnings/--no-warnings",
+    "show_warnings",
+    default=True,
+    show_default=True,
+    help="Designer warnings: unreachable pockets, narrow passages, hidden areas.",
+)
+@click.option(
+    "--max-rays",
+    type=click.IntRange(min=0),
+    default=DEFAULT_MAX_RAYS,
+    show_default=True,
+    help="Sight rays the hidden-area warning may cast before it stops.",
+)
 @limit_options
 @reports_errors
-def validate(level_paths: tuple[str, ...], max_cells: int, max_vertices: int, max_file_bytes: int) -> None:
-    """Report every problem in each LEVEL; exit 0 only if all are valid."""
+def validate(
+    level_paths: tuple[str, ...],
+    fix_path: str | None,
+    show_warnings: bool,
+    max_rays: int,
+    max_cells: int,
+    max_vertices: int,
+    max_file_bytes: int,
+) -> None:
+    """Report every problem in each LEVEL, then warnings; exit 0 only if all are valid.
+
+    Warnings do not change the exit status. With --fix, the repairs are listed first and the problems
+    and warnings are those of the repaired level, which is written to OUT only if it is valid.
+    """
+    if fix_path is not None and len(level_paths) != 1:
+        click.echo(f"guardsim: error: --fix {fix_path} takes exactly one LEVEL, not {len(level_paths)}", err=True)
+        sys.exit(2)
     invalid = 0
     for path in level_paths:
         try:
@@ -29,13 +74,15 @@ def validate(level_paths: tuple[str, ...], max_cells: int, max_vertices: int, ma
             click.echo(str(error))
             invalid += 1
             continue
+        if fix_path is not None:
+            data, repairs = repair_level_data(data)
+            for repair in repairs:
+                click.echo(f"{path}: repaired {repair}")
         level, problems = check_level_data(data, source=path, max_cells=max_cells, max_vertices=max_vertices)
+        scene = None
         if level is not None:
             try:
-                # Problems only the grid can find: a start cell where the guard does not fit.
-                scene = Scene.from_level(level)
-                for point in ([level.guard.start] if level.guard.start else []) + list(level.starts):
-                    choose_start(scene, rng=np.random.default_rng(0), point=point, heading="right")
+                scene, reachable = _scene_and_reachable(level)
             except GuardsimError as error:
                 click.echo(str(error))
                 invalid += 1
@@ -46,6 +93,46 @@ def validate(level_paths: tuple[str, ...], max_cells: int, max_vertices: int, ma
             invalid += 1
         else:
             click.echo(f"{path}: ok")
+        if scene is not None and show_warnings:
+            _echo_warnings(path, level_warnings(scene, reachable, max_rays=max_rays))
+        if fix_path is not None:
+            _write_fixed(path, fix_path, data, written=not problems and level is not None)
     if invalid:
         click.echo(f"{invalid} of {len(level_paths)} level(s) invalid", err=True)
         sys.exit(2)
+
+
+def _scene_and_reachable(level: Level) -> tuple[Scene, np.ndarray]:
+    """The scene, and the cells reachable from the start (or the largest area without one).
+
+    Building the grid also finds what only it can: a start cell where the guard does not fit.
+    """
+    scene = Scene.from_level(level)
+    for point in ([level.guard.start] if level.guard.start else []) + list(level.starts):
+        choose_start(scene, rng=np.random.default_rng(0), point=point, heading="right")
+    if level.guard.start is not None:
+        cell, _ = choose_start(scene, rng=np.random.default_rng(0), point=level.guard.start, heading="right")
+        return scene, scene.grid.component(*cell)
+    return scene, scene.grid.largest_component()
+
+
+def _echo_warnings(path: str, warnings: list[DesignerWarning]) -> None:
+    """The first few warnings of each kind, then one line summing up the rest of that kind."""
+    by_kind: dict[str, list[DesignerWarning]] = defaultdict(list)
+    for warning in warnings:
+        by_kind[warning.kind].append(warning)
+    for kind, items in by_kind.items():
+        for warning in items[:WARNINGS_PER_KIND]:
+            click.echo(f"{path}: warning: {warning}")
+        rest = items[WARNINGS_PER_KIND:]
+        if rest:
+            cells = sum(warning.cells for warning in rest)
+            click.echo(f"{path}: warning: {len(rest)} more {kind}s ({cells} cells)")
+
+
+def _write_fixed(path: str, fix_path: str, data: Any, *, written: bool) -> None:
+    if written:
+        write_text_atomic(fix_path, level_json_text(data))
+        click.echo(f"{path}: wrote the repaired level to {fix_path}")
+    else:
+        click.echo(f"{path}: not written to {fix_path}: the problems above need a designer's decision")

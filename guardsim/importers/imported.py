@@ -24,7 +24,15 @@ from guardsim.level import (
     parse_level,
 )
 
-__all__ = ["ImportedLevel", "level_from_blocked_cells", "level_from_walls", "read_source_bytes", "read_source_text"]
+__all__ = [
+    "ImportedLevel",
+    "compact_numbers",
+    "level_from_blocked_cells",
+    "level_from_walls",
+    "level_json_text",
+    "read_source_bytes",
+    "read_source_text",
+]
 
 Point = tuple[float, float]
 
@@ -48,15 +56,8 @@ class ImportedLevel:
         return len(self.level.outer) + ring_vertex_count(self.level.holes)
 
     def to_json(self) -> str:
-        """The level file's text: whole numbers written without ``.0``, one ring per line."""
-        lines = []
-        for key, value in _compact(level_to_data(self.level)).items():
-            if key == "holes" and value:
-                rings = ",\n".join(f"    {json.dumps(ring)}" for ring in value)
-                lines.append(f'  "holes": [\n{rings}\n  ]')
-            else:
-                lines.append(f"  {json.dumps(key)}: {json.dumps(value)}")
-        return "{\n" + ",\n".join(lines) + "\n}\n"
+        """The level file's text (see :func:`level_json_text`)."""
+        return level_json_text(level_to_data(self.level))
 
     def summary(self) -> str:
         """One line: source, grid, holes, vertices and changes."""
@@ -152,12 +153,37 @@ def level_from_blocked_cells(
     )
 
 
-def _compact(value: Any) -> Any:
+def level_json_text(data: dict[str, Any]) -> str:
+    """Level JSON as a designer would like to read it: one key per line, one hole per line, and whole
+    numbers written without ``.0``.
+
+    Examples
+    --------
+    >>> print(level_json_text({"outer": [[0.0, 0.0], [4.0, 0.0], [4.0, 4.5]], "holes": [[[1, 1], [2, 1], [2, 2]]]}))
+    {
+      "outer": [[0, 0], [4, 0], [4, 4.5]],
+      "holes": [
+        [[1, 1], [2, 1], [2, 2]]
+      ]
+    }
+    <BLANKLINE>
+    """
+    lines = []
+    for key, value in compact_numbers(data).items():
+        if key == "holes" and isinstance(value, list) and value:
+            rings = ",\n".join(f"    {json.dumps(ring)}" for ring in value)
+            lines.append(f'  "holes": [\n{rings}\n  ]')
+        else:
+            lines.append(f"  {json.dumps(key)}: {json.dumps(value)}")
+    return "{\n" + ",\n".join(lines) + "\n}\n"
+
+
+def compact_numbers(value: Any) -> Any:
     """Floats that are whole numbers as ints, recursively, so files read ``[12, 40]``, not ``[12.0, 40.0]``."""
     if isinstance(value, float) and value.is_integer():
         return int(value)
     if isinstance(value, list):
-        return [_compact(item) for item in value]
+        return [compact_numbers(item) for item in value]
     if isinstance(value, dict):
-        return {key: _compact(item) for key, item in value.items()}
+        return {key: compact_numbers(item) for key, item in value.items()}
     return value
