@@ -12,15 +12,17 @@ It produces exactly the trace of :func:`guardsim.simulation.run_episode` with th
 
 from __future__ import annotations
 
+import time
+
 import numba
 import numpy as np
 
 from guardsim.planners.ripplefront import FAR
 from guardsim.vision_cache import VisionCache
 
-__all__ = ["COVERED", "NEED_VISION", "STEP_LIMIT", "STUCK", "EpisodeArrays", "run_compiled"]
+__all__ = ["COVERED", "NEED_VISION", "PAUSED", "STEP_LIMIT", "STUCK", "EpisodeArrays", "run_compiled"]
 
-COVERED, STEP_LIMIT, STUCK, NEED_VISION = 0, 1, 2, 3
+COVERED, STEP_LIMIT, STUCK, NEED_VISION, PAUSED = 0, 1, 2, 3, 4
 
 # Slots of the loop's saved state, so a return for a missing vision state can resume exactly.
 _TICK, _CELL, _HEADING, _UNSEEN, _PHASE, _PENDING, _STAMP, _STATE = range(8)
@@ -48,6 +50,7 @@ def _advance(
     sweeps_per_tick: int,
     limit: int,
     far: int,
+    tick_budget: int,
 ) -> int:
     tick = saved[_TICK]
     cell = saved[_CELL]
@@ -130,6 +133,9 @@ def _advance(
                 cell = neighbours[cell, best]
                 heading = best
                 phase = _LOOK
+                tick_budget -= 1
+                if tick_budget == 0:
+                    outcome = PAUSED
         if outcome >= 0:
             saved[_TICK], saved[_CELL], saved[_HEADING] = tick, cell, heading
             saved[_UNSEEN], saved[_PHASE], saved[_PENDING], saved[_STAMP] = unseen_left, phase, n_pending, stamp
@@ -163,8 +169,16 @@ def run_compiled(
     *,
     sweeps_per_tick: int,
     limit: int,
+    tick_seconds: list[float] | None = None,
 ) -> EpisodeArrays:
-    """Run one RippleFront episode with the compiled loop, filling vision states as it meets them."""
+    """Run one RippleFront episode with the compiled loop, filling vision states as it meets them.
+
+    With ``tick_seconds``, the loop returns after every tick and the wall time of each tick (vision,
+    field and decision, vision fills included) is appended to it: for benchmarks only, as the extra
+    calls cost a few microseconds each.
+    """
+    budget = 1 if tick_seconds is not None else -1
+    began = time.perf_counter()
     cells = goal.size
     seen = np.zeros(cells, dtype=np.bool_)
     first_seen = np.full(cells, -1, dtype=np.int64)
@@ -199,9 +213,16 @@ def run_compiled(
             sweeps_per_tick,
             limit,
             int(FAR),
+            budget,
         )
-        if outcome != NEED_VISION:
+        if outcome == NEED_VISION:
+            cache.fill(int(saved[_STATE]))
+            continue
+        if tick_seconds is not None:
+            now = time.perf_counter()
+            tick_seconds.append(now - began)
+            began = now
+        if outcome != PAUSED:
             break
-        cache.fill(int(saved[_STATE]))
     ticks = int(saved[_TICK]) + 1
     return EpisodeArrays(path[:ticks], headings[:ticks], unseen_counts[:ticks], first_seen, outcome)

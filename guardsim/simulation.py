@@ -52,7 +52,7 @@ class Scene:
         """Build the physics world, the grid and the cone of a level."""
         world = World(level)
         grid = build_grid(level, world)
-        cone = VisionCone.from_guard(level.guard, level.cell_size)
+        cone = VisionCone.from_guard(level.guard, level.cell_size, grid_shape=grid.shape)
         return cls(level, world, grid, cone, VisionCache(world, grid, cone))
 
     def vision(self, *, reference: bool = False) -> VisionFunction:
@@ -195,7 +195,7 @@ def run_episode(
             planner.name,
             seed,
             goal,
-            path=[grid.unflat(int(cell)) for cell in arrays.path],
+            path=list(zip((arrays.path % grid.shape[1]).tolist(), (arrays.path // grid.shape[1]).tolist())),
             headings=arrays.headings.tolist(),
             unseen_counts=arrays.unseen_counts.tolist(),
             first_seen=arrays.first_seen,
