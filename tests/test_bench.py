@@ -287,11 +287,14 @@ def test_plot_one_box_per_planner_with_a_legend(tmp_path: Path) -> None:
         StepsBox("B", "first", [5, 7]),
         StepsBox("B", "second", [30]),
     ]
-    target = tmp_path / "boxes.svg"
-    plot_steps(boxes, [target])
-    texts = svg_texts(target)
+    targets = [tmp_path / "boxes.svg", tmp_path / "boxes.png"]
+    plot_steps(boxes, targets)
+    texts = svg_texts(targets[0])
     for expected in ("12", "21.5", "6", "30", "first", "second", "A", "B"):
         assert expected in texts
+    first = [target.read_bytes() for target in targets]
+    plot_steps(boxes, targets)
+    assert [target.read_bytes() for target in targets] == first  # no timestamps: same data, same bytes
 
 
 class Terminal(io.StringIO):
@@ -336,12 +339,13 @@ def test_local_pool_reports_a_killed_worker_as_failures() -> None:
 
 
 def start_bench(out: Path, *args: str) -> subprocess.Popen[str]:
-    """Start the real `guardsim bench` on the shipped square with two workers."""
+    """Start the real `guardsim bench` on the shipped square with two workers, in its own process group."""
     return subprocess.Popen(
         [*guardsim_command(), "bench", str(SQUARE), "--out", str(out), "--workers", "2", *args],
         stdout=subprocess.PIPE,
         stderr=subprocess.PIPE,
         text=True,
+        start_new_session=True,
     )
 
 
@@ -355,11 +359,12 @@ def wait_for_rows(process: subprocess.Popen[str], results: Path, count: int) -> 
 
 
 def test_interrupted_run_resumes(tmp_path: Path) -> None:
-    """SIGINT mid-run (Ctrl-C): status 130, one line, complete rows kept; the same command finishes the rest."""
+    """Ctrl-C mid-run (SIGINT to the whole process group, as a terminal sends it): status 130, one line,
+    complete rows kept; the same command then runs only the rest."""
     out = tmp_path / "out"
     process = start_bench(out, "--episodes", "300")
     wait_for_rows(process, out / "results.csv", 5)
-    process.send_signal(signal.SIGINT)
+    os.killpg(process.pid, signal.SIGINT)
     stdout, stderr = process.communicate(timeout=60)
     assert process.returncode == 130, stderr
     last = stderr.splitlines()[-1]
@@ -404,3 +409,25 @@ def test_records_round_trip_through_csv_fields() -> None:
     record = EpisodeRecord("L", "l.json", "ripplefront", 0, 4, None, None, None, None, "error", None, None, None,
                            None, 0.25, "ValueError: boom")  # fmt: skip
     assert EpisodeRecord.from_row(record.to_row()) == record
+
+
+def test_reference_gives_the_fast_path_rows(tmp_path: Path, tiny_levels: list[Path]) -> None:
+    """--reference (per-cell rays, the planner's own loop) and the default fast path record the same episodes."""
+    fast = bench(*tiny_levels, "--episodes", "3", "--workers", "1", "--out", tmp_path / "fast")
+    slow = bench(*tiny_levels, "--episodes", "3", "--workers", "1", "--reference", "--out", tmp_path / "slow")
+    assert fast.exit_code == slow.exit_code == 0, fast.output + slow.output
+    assert without_seconds(rows(tmp_path / "fast")) == without_seconds(rows(tmp_path / "slow"))
+    assert json.loads((tmp_path / "slow" / RUN_NAME).read_text(encoding="utf-8"))["reference"] is True
+
+
+def test_second_run_on_a_busy_folder_is_refused(tmp_path: Path) -> None:
+    """While one bench appends to a folder, a second one on the same folder is a one-line error."""
+    out = tmp_path / "out"
+    process = start_bench(out, "--episodes", "300")
+    try:
+        wait_for_rows(process, out / "results.csv", 1)
+        second = bench(SQUARE, "--episodes", "300", "--workers", "1", "--out", out)
+        assert "another guardsim bench is writing to this folder" in assert_one_line_error(second, out / "results.csv")
+    finally:
+        os.killpg(process.pid, signal.SIGINT)
+        process.communicate(timeout=60)

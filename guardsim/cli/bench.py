@@ -3,6 +3,7 @@
 from __future__ import annotations
 
 import math
+import os
 import sys
 import time
 from pathlib import Path
@@ -19,6 +20,7 @@ from guardsim.experiment import (
     Batch,
     BatchLevel,
     EpisodeRecord,
+    EpisodeSpec,
     GroupSummary,
     finish_batch,
     format_table,
@@ -49,7 +51,11 @@ PLOT_NAMES = ("steps.png", "steps.svg")
     metavar="NAME[,NAME...]",
     help=f"Planners to compare, comma-separated; known: {', '.join(PLANNERS)}.",
 )
-@click.option("--reference", is_flag=True, help="Use the reference vision (one ray per cell) instead of the fast path.")
+@click.option(
+    "--reference",
+    is_flag=True,
+    help="Run the reference vision and loop instead of the fast path (for checking it; much slower).",
+)
 @click.option("--max-steps", type=click.IntRange(min=0), help="Step limit [default: 10 per traversable cell].")
 @click.option("--workers", type=click.IntRange(min=1), help="Local worker processes [default: all cores]; 1 runs here.")
 @click.option("--scheduler", metavar="ADDRESS", help="Run on a dask.distributed scheduler, e.g. tcp://host:8786.")
@@ -94,7 +100,7 @@ def bench(
     total = len(done) + len(pending)
     began = time.perf_counter()
     if pending:
-        run_pending(batch, folder, pending, done_before=len(done), workers=workers, scheduler=scheduler)
+        run_pending(folder, pending, done_before=len(done), workers=workers, scheduler=scheduler)
     else:
         click.echo(f"{folder}: all {total} episodes already done", err=True)
     records, groups = finish_batch(batch, folder)
@@ -103,7 +109,8 @@ def bench(
         written += draw_plot(batch, folder, records, groups)
     click.echo(format_table(groups))
     seconds = time.perf_counter() - began
-    click.echo(f"{total} episodes, {seconds:.1f} s -> {', '.join(str(path) for path in written)}", err=True)
+    files = ", ".join(str(path) for path in written)
+    click.echo(f"{len(pending)} of {total} episodes run in {seconds:.1f} s -> {files}", err=True)
     errors = sum(group.outcomes["error"] for group in groups)
     if errors:
         click.echo(
@@ -121,31 +128,33 @@ def parse_planners(text: str) -> tuple[str, ...]:
 
 
 def run_pending(
-    batch: Batch, folder: Path, pending: list, *, done_before: int, workers: int | None, scheduler: str | None
+    folder: Path, pending: list[EpisodeSpec], *, done_before: int, workers: int | None, scheduler: str | None
 ) -> None:
     """Run the episodes not done yet; on Ctrl-C or lost workers, say how to resume and exit."""
     total = done_before + len(pending)
+    if scheduler is None:
+        # More processes than episodes would only cost start-up time.
+        workers = min(workers or os.cpu_count() or 1, len(pending))
     executor = make_executor(workers, scheduler, preload=[run_spec.__module__])
     already = f" ({done_before} already done)" if done_before else ""
     click.echo(f"{folder}: running {len(pending)} of {total} episodes on {executor.description}{already}", err=True)
     progress = ProgressLine(len(pending), sys.stderr)
+    resume = f"{folder / RESULTS_NAME}; run the same command again to resume"
     try:
         with executor:
             report = run_batch(pending, folder, executor, progress.advance)
     except KeyboardInterrupt:
         progress.close()
         click.echo(
-            f"guardsim: interrupted; {done_before + progress.done} of {total} episodes are in "
-            f"{folder / RESULTS_NAME}; run the same command again to resume",
-            err=True,
+            f"guardsim: interrupted; {done_before + progress.done} of {total} episodes are in {resume}", err=True
         )
         sys.exit(130)
-    progress.close()
+    finally:
+        progress.close()
     if report.not_run:
         click.echo(
             f"guardsim: error: {report.not_run} episodes did not run ({report.failure}); "
-            f"{done_before + progress.done} of {total} are in {folder / RESULTS_NAME}; run the same command "
-            "again to resume",
+            f"{done_before + progress.done} of {total} are in {resume}",
             err=True,
         )
         sys.exit(1)

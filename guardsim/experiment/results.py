@@ -94,11 +94,14 @@ def read_results(path: Path) -> list[EpisodeRecord]:
     Raises
     ------
     OutputError
-        If the header is not guardsim's or a complete row does not parse.
+        If another ``guardsim bench`` is appending to the file, the header is not guardsim's, or a
+        complete row does not parse.
     """
     if not path.exists():
         return []
     try:
+        with path.open("a", encoding="utf-8") as stream:
+            _lock(stream)  # a run appending right now would make the half line below whole again
         data = path.read_bytes()
         complete = data[: data.rfind(b"\n") + 1]
         if len(complete) < len(data):
@@ -129,9 +132,22 @@ def appending_results(path: Path) -> Iterator[TextIO]:
     except OSError as error:
         raise OutputError(f"{path}: cannot write: {error.strerror or error}") from None
     with stream:
+        _lock(stream)
         if stream.tell() == 0:
             _write(stream, _csv_text([list(CSV_COLUMNS)]))
         yield stream
+
+
+def _lock(stream: TextIO) -> None:
+    """Refuse a second ``guardsim bench`` appending to the same file (it would write each row twice)."""
+    try:
+        import fcntl
+    except ImportError:  # not POSIX: no advisory locks, run one command per folder
+        return
+    try:
+        fcntl.flock(stream.fileno(), fcntl.LOCK_EX | fcntl.LOCK_NB)
+    except BlockingIOError:
+        raise OutputError(f"{stream.name}: another guardsim bench is writing to this folder") from None
 
 
 def append_record(stream: TextIO, record: EpisodeRecord) -> None:
