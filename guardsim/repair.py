@@ -166,7 +166,9 @@ def _split_outer(outer: Ring, repairs: list[Repair]) -> tuple[Ring, list[Ring]]:
             f"split where it touches itself into the outer ring and {len(holes)} hole{'s' if len(holes) != 1 else ''}",
         )
     )
-    return [(float(x), float(y)) for x, y in valid.exterior.coords[:-1]], holes
+    # The pinch point is left in the middle of a straight edge; it goes as part of the split.
+    exterior = _cleaned([(float(x), float(y)) for x, y in valid.exterior.coords[:-1]], "outer", [])
+    return exterior, [_oriented(_cleaned(hole, "outer", []), "", counter_clockwise=False, repairs=[]) for hole in holes]
 
 
 def _merged_holes(
@@ -200,7 +202,16 @@ def _merged_holes(
         if len(group) == 1 and index not in split:
             result.append(hole)
             continue
-        rings, _ = hole_rings([polygons[i] for i in group if polygons[i] is not None], outer)
+        members = [polygons[i] for i in group if polygons[i] is not None]
+        rings, _ = hole_rings(members, outer)
+        if (
+            index not in split
+            and len(rings) >= len(group)
+            and shapely.union_all(members).area == sum(m.area for m in members)
+        ):
+            # Walls that only share edges and cannot become fewer rings (a band cut open around a pocket) stay.
+            result.extend(holes[i] for i in group)
+            continue
         result.extend((None, list(ring)) for ring in rings)
         if len(group) > 1:
             names = " and ".join(holes[i][0] or "the area the outer ring enclosed" for i in group)
