@@ -188,10 +188,13 @@ def _compose(base: np.ndarray, level: Level, trace: Trace, tick: int, scale: int
     _paint_cells(frame, trace.traversable & ~trace.goal, COLOURS["unreachable"], scale)
     image = Image.fromarray(frame)
     draw = ImageDraw.Draw(image)
-    walked = [((c + 0.5) * scale, (r + 0.5) * scale) for c, r in trace.path[: tick + 1]]
-    if len(walked) > 1:
-        draw.line(walked, fill=COLOURS["path"], width=max(1, scale // 4))
-    _draw_guard(draw, level, trace.path[tick], trace.headings[tick], scale)
+    team = list(zip(trace.team_paths(), trace.team_headings()))
+    for path, _ in team:
+        walked = [((c + 0.5) * scale, (r + 0.5) * scale) for c, r in path[: tick + 1]]
+        if len(walked) > 1:
+            draw.line(walked, fill=COLOURS["path"], width=max(1, scale // 4))
+    for path, headings in team:
+        _draw_guard(draw, level, path[tick], headings[tick], scale)
     percent = trace.unseen_percent[tick]
     _text_centred(draw, (image.width / 2, image.height / 2), f"{percent:.1f}% unseen", max(12, image.width // 12))
     return np.asarray(image)

@@ -5,7 +5,7 @@ The loop owns the limits and termination; vision and planner are handed in. Noth
 
 from __future__ import annotations
 
-from collections.abc import Callable
+from collections.abc import Sequence
 from dataclasses import dataclass
 
 import numpy as np
@@ -15,7 +15,7 @@ from guardsim.fast_ripplefront import run_compiled
 from guardsim.grid import CoverageGrid, build_grid, start_cell
 from guardsim.level import HEADINGS, Level
 from guardsim.planners import make_planner
-from guardsim.planners.base import GuardState, Planner
+from guardsim.planners.base import STAY, EpisodeSetup, GuardState, Planner, VisionFunction
 from guardsim.planners.ripplefront import RippleFront
 from guardsim.trace import OUTCOMES, Trace
 from guardsim.vision import VisionCone, visible_cells
@@ -30,10 +30,9 @@ __all__ = [
     "episode_generator",
     "run_batch_episode",
     "run_episode",
+    "run_team_episode",
+    "team_starts",
 ]
-
-#: ``(col, row, heading) -> flat indices of the cells seen``.
-VisionFunction = Callable[[int, int, int], np.ndarray]
 
 
 @dataclass(frozen=True, eq=False)
@@ -116,30 +115,48 @@ def choose_start(
     return cell, heading_number
 
 
+def team_starts(
+    scene: Scene,
+    first: tuple[tuple[int, int], int],
+    guards: int,
+    *,
+    rng: np.random.Generator,
+) -> tuple[list[tuple[int, int]], list[int]]:
+    """Starts and headings of a team: ``first`` for guard 0, the others drawn from its connected area.
+
+    Each further guard draws a cell uniformly from the cells reachable from guard 0, then a heading,
+    in guard order, after guard 0's own draws, so one guard's episode is the same with or without
+    this call.
+    """
+    cells, headings = [first[0]], [first[1]]
+    area = np.flatnonzero(scene.grid.component(*first[0]))
+    for _ in range(guards - 1):
+        cells.append(scene.grid.unflat(int(area[rng.integers(area.size)])))
+        headings.append(int(rng.integers(4)))
+    return cells, headings
+
+
 def run_batch_episode(
     scene: Scene,
     *,
     seed: int,
     episode: int,
     planner: str = "ripplefront",
+    guards: int = 1,
     reference: bool = False,
     max_steps: int | None = None,
     **planner_options: object,
 ) -> Trace:
-    """Episode ``episode`` of a batch seeded with ``seed``: start and heading drawn from its generator.
+    """Episode ``episode`` of a batch seeded with ``seed``: starts and headings drawn from its generator.
 
     This is what ``guardsim bench`` runs for each episode and ``guardsim play --seed S --episode K``
-    re-runs alone; the trace is the same either way.
+    re-runs alone; the trace is the same either way. The same generator then feeds the planners.
     """
-    cell, heading = choose_start(scene, rng=episode_generator(seed, episode))
-    return run_episode(
-        scene,
-        make_planner(planner, **planner_options),
-        cell,
-        heading,
-        reference=reference,
-        max_steps=max_steps,
-        seed=seed,
+    rng = episode_generator(seed, episode)
+    cells, headings = team_starts(scene, choose_start(scene, rng=rng), guards, rng=rng)
+    planners = [make_planner(planner, **planner_options) for _ in range(guards)]
+    return run_team_episode(
+        scene, planners, cells, headings, rng=rng, reference=reference, max_steps=max_steps, seed=seed
     )
 
 
@@ -153,104 +170,157 @@ def run_episode(
     reference: bool = False,
     max_steps: int | None = None,
     seed: int | None = None,
+    rng: np.random.Generator | None = None,
 ) -> Trace:
-    """Walk the guard from ``start`` until every reachable cell is seen or a limit stops it.
+    """One guard walks from ``start`` until every reachable cell is seen or a limit stops it.
 
-    A :class:`RippleFront` planner with the default vision runs on the compiled fast path
-    (:mod:`guardsim.fast_ripplefront`); ``reference=True`` runs the plain loop with the reference
-    vision and full-grid sweeps instead. Both give the same trace.
+    See :func:`run_team_episode` for the parameters; this is the team of one.
+    """
+    return run_team_episode(
+        scene,
+        [planner],
+        [start],
+        [heading],
+        vision=vision,
+        reference=reference,
+        max_steps=max_steps,
+        seed=seed,
+        rng=rng,
+    )
+
+
+def run_team_episode(
+    scene: Scene,
+    planners: Sequence[Planner],
+    starts: Sequence[tuple[int, int]],
+    headings: Sequence[int],
+    *,
+    vision: VisionFunction | None = None,
+    reference: bool = False,
+    max_steps: int | None = None,
+    seed: int | None = None,
+    rng: np.random.Generator | None = None,
+) -> Trace:
+    """Walk a team of guards, one planner each, until every reachable cell is seen or a limit stops them.
+
+    Each tick every planner decides on the same state, then all guards move at once (guards may share a
+    cell), then all look. A single :class:`RippleFront` guard with the default vision runs on the
+    compiled fast path (:mod:`guardsim.fast_ripplefront`); ``reference=True`` runs this loop with the
+    reference vision and the planner's full-grid sweeps instead. Both give the same trace.
 
     Parameters
     ----------
     scene
         The level, world, grid and cone.
-    planner
-        Picks each move; it is reset here.
-    start, heading
-        ``(col, row)`` of a traversable cell and the first heading number.
+    planners, starts, headings
+        One planner, ``(col, row)`` start cell and first heading number per guard.
     vision
         Which cells a state sees; :meth:`Scene.vision` by default.
     reference
-        Use the reference vision and the planner's own loop, for checking the fast path.
+        Use the reference vision, for checking the fast path.
     max_steps
-        Step limit; :func:`default_max_steps` by default.
+        Step limit (ticks); :func:`default_max_steps` by default.
     seed
         Recorded in the trace only.
+    rng
+        The generator handed to the planners; a fresh one from ``seed`` (or 0) by default.
+
+    Returns
+    -------
+    Trace
+        Guard 0's path as ``path``; with several guards, every guard's in ``guard_paths``.
     """
     grid = scene.grid
     limit = default_max_steps(grid) if max_steps is None else max_steps
-    goal = grid.component(*start).ravel()
-    if vision is None and not reference and isinstance(planner, RippleFront):
+    goal = np.zeros(grid.size, dtype=bool)
+    for start in starts:
+        goal |= grid.component(*start).ravel()
+    single = len(planners) == 1
+    if single and vision is None and not reference and type(planners[0]) is RippleFront:
         arrays = run_compiled(
             scene.vision_cache,
             grid.neighbours,
             goal,
-            grid.flat(*start),
-            heading,
-            sweeps_per_tick=planner.sweeps_per_tick,
+            grid.flat(*starts[0]),
+            headings[0],
+            sweeps_per_tick=planners[0].sweeps_per_tick,
             limit=limit,
         )
+        path = list(zip((arrays.path % grid.shape[1]).tolist(), (arrays.path // grid.shape[1]).tolist()))
         return _trace(
             scene,
-            planner.name,
+            planners[0].name,
             seed,
             goal,
-            path=list(zip((arrays.path % grid.shape[1]).tolist(), (arrays.path // grid.shape[1]).tolist())),
-            headings=arrays.headings.tolist(),
+            paths=[path],
+            headings=[arrays.headings.tolist()],
             unseen_counts=arrays.unseen_counts.tolist(),
             first_seen=arrays.first_seen,
             outcome=OUTCOMES[arrays.outcome],
         )
     see = vision or scene.vision(reference=reference)
+    generator = rng if rng is not None else np.random.default_rng(seed or 0)
     seen = np.zeros(grid.size, dtype=bool)
     first_seen = np.full(grid.size, -1, dtype=np.int64)
-    cell = grid.flat(*start)
+    cells = [grid.flat(*start) for start in starts]
+    facing = list(headings)
     unseen_left = int(goal.sum())
-    path = [start]
-    headings = [heading]
+    paths = [[tuple(start)] for start in starts]
+    heading_log = [[heading] for heading in headings]
     unseen_counts: list[int] = []
-    planner.reset(grid, goal)
+    seen_view = seen.view()
+    seen_view.flags.writeable = False
+    goal.flags.writeable = False
+    for number, planner in enumerate(planners):
+        planner.reset(EpisodeSetup(grid, goal, see, generator, number, len(planners)))
 
     def look(tick: int) -> int:
-        col, row = grid.unflat(cell)
-        scene.world.place_guard(grid.centre(col, row))
-        visible = see(col, row, heading)
-        new = visible[~seen[visible]]
-        seen[new] = True
-        first_seen[new] = tick
-        newly_goal = int(goal[new].sum())
+        newly_goal = 0
+        for cell, heading in zip(cells, facing):
+            col, row = grid.unflat(cell)
+            scene.world.place_guard(grid.centre(col, row))
+            visible = see(col, row, heading)
+            new = visible[~seen[visible]]
+            seen[new] = True
+            first_seen[new] = tick
+            newly_goal += int(goal[new].sum())
         unseen_counts.append(unseen_left - newly_goal)
         return newly_goal
 
     unseen_left -= look(0)
     outcome = "covered"
     tick = 0
-    seen_view = seen.view()
-    seen_view.flags.writeable = False
-    goal.flags.writeable = False
     while unseen_left > 0:
         if tick >= limit:
             outcome = "step_limit"
             break
-        move = planner.next_move(GuardState(tick, cell, heading, seen_view, goal))
-        if move is None:
+        team = tuple(zip(cells, facing)) if not single else ()
+        moves = [
+            planner.next_move(GuardState(tick, cells[number], facing[number], seen_view, goal, number, team))
+            for number, planner in enumerate(planners)
+        ]
+        if all(move is None for move in moves):
             outcome = "stuck"
             break
-        target = int(grid.neighbours[cell, move])
-        if target < 0:
-            raise RuntimeError(f"planner {planner.name} chose a move into a wall from cell {grid.unflat(cell)}")
         tick += 1
-        cell, heading = target, move
-        path.append(grid.unflat(cell))
-        headings.append(heading)
+        for number, move in enumerate(moves):
+            if move is not None and move != STAY:
+                target = int(grid.neighbours[cells[number], move])
+                if target < 0:
+                    raise RuntimeError(
+                        f"planner {planners[number].name} chose a move into a wall from cell {grid.unflat(cells[number])}"
+                    )
+                cells[number], facing[number] = target, move
+            paths[number].append(grid.unflat(cells[number]))
+            heading_log[number].append(facing[number])
         unseen_left -= look(tick)
     return _trace(
         scene,
-        planner.name,
+        planners[0].name,
         seed,
         goal,
-        path=path,
-        headings=headings,
+        paths=paths,
+        headings=heading_log,
         unseen_counts=unseen_counts,
         first_seen=first_seen,
         outcome=outcome,
@@ -263,8 +333,8 @@ def _trace(
     seed: int | None,
     goal: np.ndarray,
     *,
-    path: list[tuple[int, int]],
-    headings: list[int],
+    paths: list[list[tuple[int, int]]],
+    headings: list[list[int]],
     unseen_counts: list[int],
     first_seen: np.ndarray,
     outcome: str,
@@ -280,8 +350,8 @@ def _trace(
         cell_size=grid.cell_size,
         origin=grid.origin,
         shape=grid.shape,
-        path=tuple(path),
-        headings=tuple(headings),
+        path=tuple(paths[0]),
+        headings=tuple(headings[0]),
         unseen_percent=tuple(round(100.0 * count / goal_count, 4) for count in unseen_counts),
         outcome=outcome,
         reachable=goal_count,
@@ -289,4 +359,6 @@ def _trace(
         first_seen=first_seen.reshape(grid.shape),
         goal=goal.reshape(grid.shape).copy(),
         traversable=traversable.copy(),
+        guard_paths=tuple(tuple(path) for path in paths) if len(paths) > 1 else (),
+        guard_headings=tuple(tuple(log) for log in headings) if len(paths) > 1 else (),
     )

@@ -2,6 +2,7 @@
 
 from __future__ import annotations
 
+import itertools
 import json
 from dataclasses import dataclass
 from typing import Any
@@ -47,6 +48,28 @@ class Trace:
     """``bool (rows, cols)``: the reachable cells."""
     traversable: np.ndarray
     """``bool (rows, cols)``: cells the guard could stand on."""
+    guard_paths: tuple[tuple[tuple[int, int], ...], ...] = ()
+    """With several guards, every guard's path (guard 0's is also :attr:`path`); empty for one guard."""
+    guard_headings: tuple[tuple[int, ...], ...] = ()
+    """With several guards, every guard's headings; empty for one guard."""
+
+    @property
+    def guards(self) -> int:
+        """Number of guards."""
+        return max(1, len(self.guard_paths))
+
+    def team_paths(self) -> tuple[tuple[tuple[int, int], ...], ...]:
+        """Every guard's path, also for a single guard."""
+        return self.guard_paths or (self.path,)
+
+    def team_headings(self) -> tuple[tuple[int, ...], ...]:
+        """Every guard's headings, also for a single guard."""
+        return self.guard_headings or (self.headings,)
+
+    @property
+    def total_moves(self) -> int:
+        """Steps actually taken, summed over the guards (a guard standing still takes none)."""
+        return sum(sum(a != b for a, b in itertools.pairwise(path)) for path in self.team_paths())
 
     @property
     def start(self) -> tuple[int, int]:
@@ -55,7 +78,7 @@ class Trace:
 
     @property
     def steps(self) -> int:
-        """Steps taken."""
+        """Ticks taken: one guard's steps, a team's makespan."""
         return len(self.path) - 1
 
     @property
@@ -94,6 +117,16 @@ class Trace:
             "first_seen": self.first_seen.tolist(),
             "goal": self.goal.astype(int).tolist(),
             "traversable": self.traversable.astype(int).tolist(),
+            **(
+                {
+                    "guards": self.guards,
+                    "total_moves": self.total_moves,
+                    "guard_paths": [[list(cell) for cell in path] for path in self.guard_paths],
+                    "guard_headings": [list(log) for log in self.guard_headings],
+                }
+                if self.guard_paths
+                else {}
+            ),
         }
 
     def to_json(self) -> str:
@@ -122,4 +155,6 @@ class Trace:
             first_seen=np.asarray(data["first_seen"], dtype=np.int64),
             goal=np.asarray(data["goal"], dtype=bool),
             traversable=np.asarray(data["traversable"], dtype=bool),
+            guard_paths=tuple(tuple((int(c), int(r)) for c, r in path) for path in data.get("guard_paths", ())),
+            guard_headings=tuple(tuple(int(h) for h in log) for log in data.get("guard_headings", ())),
         )

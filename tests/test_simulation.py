@@ -103,7 +103,7 @@ class _StandStill:
 
     name = "stand-still"
 
-    def reset(self, grid: object, goal: np.ndarray) -> None:
+    def reset(self, setup: object) -> None:
         pass
 
     def next_move(self, state: GuardState) -> int | None:

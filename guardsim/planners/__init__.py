@@ -4,10 +4,20 @@ from __future__ import annotations
 
 from collections.abc import Callable
 
-from guardsim.planners.base import GuardState, Planner
+from guardsim.planners.base import STAY, EpisodeSetup, GuardState, Planner, VisionFunction
 from guardsim.planners.ripplefront import RippleFront, ripple_sweep
 
-__all__ = ["PLANNERS", "GuardState", "Planner", "RippleFront", "make_planner", "ripple_sweep"]
+__all__ = [
+    "PLANNERS",
+    "STAY",
+    "EpisodeSetup",
+    "GuardState",
+    "Planner",
+    "RippleFront",
+    "VisionFunction",
+    "make_planner",
+    "ripple_sweep",
+]
 
 #: Planner factories by the name used on the command line.
 PLANNERS: dict[str, Callable[..., Planner]] = {"ripplefront": RippleFront}

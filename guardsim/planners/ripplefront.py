@@ -15,8 +15,7 @@ from __future__ import annotations
 
 import numpy as np
 
-from guardsim.grid import CoverageGrid
-from guardsim.planners.base import GuardState
+from guardsim.planners.base import EpisodeSetup, GuardState
 
 __all__ = ["FAR", "RippleFront", "ripple_sweep"]
 
@@ -79,10 +78,10 @@ class RippleFront:
         self.distance = np.zeros(0, dtype=np.int32)
         self._neighbours = np.zeros((0, 4), dtype=np.int64)
 
-    def reset(self, grid: CoverageGrid, goal: np.ndarray) -> None:
+    def reset(self, setup: EpisodeSetup) -> None:
         """Start every cell at D = 0, as if all were unseen."""
-        self.distance = np.zeros(grid.size, dtype=np.int32)
-        self._neighbours = grid.neighbours
+        self.distance = np.zeros(setup.grid.size, dtype=np.int32)
+        self._neighbours = setup.grid.neighbours
 
     def next_move(self, state: GuardState) -> int | None:
         """Sweep, then return the heading toward the connected neighbour with the smallest D."""
