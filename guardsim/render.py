@@ -159,7 +159,8 @@ def _draw_guard(
     scale: int,
 ) -> None:
     centre = ((cell[0] + 0.5) * scale, (cell[1] + 0.5) * scale)
-    reach = level.guard.view_range / level.cell_size * scale
+    # Past twice the grid's longer side the cone's arc is off the image; Pillow's time grows with the radius.
+    reach = min(level.guard.view_range / level.cell_size, 2 * max(level.grid_shape())) * scale
     half = level.guard.fov_degrees / 2
     box = [centre[0] - reach, centre[1] - reach, centre[0] + reach, centre[1] + reach]
     width = max(1, scale // 4)

@@ -40,7 +40,8 @@ class WallIndex:
     ) -> None:
         self.segments = np.ascontiguousarray(segments, dtype=np.float64)
         self.origin = (float(origin[0]), float(origin[1]))
-        self.bucket = max(float(reach), 1e-9)
+        # At least a 256th of the extent: a short reach on a wide level must not make billions of buckets.
+        self.bucket = max(float(reach), max(extent) / 256, 1e-9)
         self.columns = math.ceil(extent[0] / self.bucket) + 1
         self.rows = math.ceil(extent[1] / self.bucket) + 1
         members: list[list[int]] = [[] for _ in range(self.columns * self.rows)]

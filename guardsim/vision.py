@@ -36,8 +36,13 @@ class VisionCone:
     offsets: tuple[np.ndarray, ...]
 
     @classmethod
-    def from_guard(cls, guard: GuardSpec, cell_size: float) -> VisionCone:
+    def from_guard(
+        cls, guard: GuardSpec, cell_size: float, *, grid_shape: tuple[int, int] | None = None
+    ) -> VisionCone:
         """The cone of a guard on a grid of ``cell_size``.
+
+        With ``grid_shape`` (``(rows, cols)``), offsets too long to land on such a grid are left out: the
+        cells seen are the same, and the cone's size stays bounded by the grid's whatever the view range.
 
         Examples
         --------
@@ -48,7 +53,7 @@ class VisionCone:
         reach = guard.view_range / cell_size
         half_angle = math.radians(guard.fov_degrees) / 2
         cos_half = math.cos(half_angle)
-        span = math.floor(reach + _EDGE_TOLERANCE)
+        span = math.floor(min(reach + _EDGE_TOLERANCE, math.inf if grid_shape is None else max(grid_shape) - 1))
         dcol, drow = np.meshgrid(np.arange(-span, span + 1), np.arange(-span, span + 1))
         dcol, drow = dcol.ravel(), drow.ravel()
         distance = np.hypot(dcol, drow)
