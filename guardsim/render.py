@@ -86,7 +86,7 @@ def frame_ticks(steps: int, options: GifOptions) -> list[int]:
         If an explicit stride would exceed ``max_frames``.
     """
     if options.max_frames < 1 or options.max_frames > FRAME_CEILING:
-        raise LimitError(f"max frames must be between 1 and {FRAME_CEILING}, not {options.max_frames}")
+        raise LimitError(f"--max-frames must be from 1 to {FRAME_CEILING} (the GIF ceiling), not {options.max_frames}")
     if options.max_frames == 1:
         return [steps]
     if options.stride is None:

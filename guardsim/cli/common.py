@@ -2,7 +2,9 @@
 
 from __future__ import annotations
 
+import dataclasses
 import functools
+import math
 import sys
 from collections.abc import Callable
 from typing import Any, TypeVar
@@ -12,14 +14,17 @@ import numpy as np
 
 from guardsim.errors import GuardsimError
 from guardsim.level import DEFAULT_MAX_CELLS, DEFAULT_MAX_FILE_BYTES, DEFAULT_MAX_VERTICES, Level, load_level
+from guardsim.simulation import Scene
+from guardsim.vision_cache import LINES_OF_SIGHT
 
-__all__ = ["limit_options", "load", "parse_point", "reports_errors"]
+__all__ = ["build_scene", "limit_options", "load", "parse_point", "reports_errors", "vision_options"]
 
 F = TypeVar("F", bound=Callable[..., Any])
 
 
 def reports_errors(command: F) -> F:
-    """Turn guardsim's own errors into one line on stderr and exit status 2; Ctrl-C into status 130."""
+    """Turn guardsim's own errors (and running out of memory) into one line on stderr and exit status 2;
+    Ctrl-C into status 130."""
 
     @functools.wraps(command)
     def wrapper(*args: Any, **kwargs: Any) -> Any:
@@ -27,6 +32,10 @@ def reports_errors(command: F) -> F:
             return command(*args, **kwargs)
         except GuardsimError as error:
             click.echo(f"guardsim: error: {error}", err=True)
+            sys.exit(2)
+        except MemoryError:
+            # Only reachable when a size limit was raised past what this machine holds.
+            click.echo("guardsim: error: out of memory; lower --max-cells or --max-vertices", err=True)
             sys.exit(2)
         except KeyboardInterrupt:
             click.echo("guardsim: interrupted", err=True)
@@ -77,3 +86,41 @@ def limit_options(command: F) -> F:
 def load(path: str, max_cells: int, max_vertices: int, max_file_bytes: int) -> Level:
     """Load a level with the limits given on the command line."""
     return load_level(path, max_cells=max_cells, max_vertices=max_vertices, max_file_bytes=max_file_bytes)
+
+
+def vision_options(command: F) -> F:
+    """Options that change how the guard sees: --los, --fov, --view-range."""
+    command = click.option(
+        "--view-range",
+        type=click.FloatRange(min=0, min_open=True),
+        help="Override the guard's view range (world units) [default: the level's; unlimited with --los bresenham].",
+    )(command)
+    command = click.option(
+        "--fov",
+        type=click.FloatRange(min=0, max=360, min_open=True),
+        help="Override the guard's field of view in degrees.",
+    )(command)
+    command = click.option(
+        "--los",
+        type=click.Choice(LINES_OF_SIGHT),
+        default="pymunk",
+        show_default=True,
+        help="Line of sight: pymunk rays against the walls, or Bresenham lines over free cells (grid solvers' rule).",
+    )(command)
+    return command
+
+
+def build_scene(level: Level, los: str = "pymunk", fov: float | None = None, view_range: float | None = None) -> Scene:
+    """The scene of a level with the vision options applied.
+
+    With ``los="bresenham"`` and no ``view_range``, the range is unlimited (the grid's extent).
+    """
+    guard = level.guard
+    if fov is not None:
+        guard = dataclasses.replace(guard, fov_degrees=fov)
+    if view_range is None and los == "bresenham":
+        rows, cols = level.grid_shape()
+        view_range = math.hypot(rows, cols) * level.cell_size
+    if view_range is not None:
+        guard = dataclasses.replace(guard, view_range=view_range)
+    return Scene.from_level(dataclasses.replace(level, guard=guard), line_of_sight=los)

@@ -103,8 +103,9 @@ def regress(
         click.echo(result.line())
         differing += result.status in ("differs", "missing")
     if invalid or differing:
-        parts = [f"{count} {what}" for count, what in ((differing, "differ"), (invalid, "invalid")) if count]
-        click.echo(f"guardsim regress: {' and '.join(parts)} of {len(files)} level(s)", err=True)
+        if len(files) > 1:
+            parts = [f"{count} {what}" for count, what in ((differing, "differ"), (invalid, "invalid")) if count]
+            click.echo(f"guardsim regress: {' and '.join(parts)} of {len(files)} levels", err=True)
         sys.exit(BAD_INPUT if invalid else DIFFERS)
 
 
