@@ -63,4 +63,3 @@ def import_command(
     )
     write_text_atomic(out_path, imported.to_json())
     click.echo(f"{imported.summary()} -> {out_path}")
-
