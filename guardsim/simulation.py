@@ -10,6 +10,7 @@ from dataclasses import dataclass
 
 import numpy as np
 
+from guardsim.bresenham import bresenham_visible
 from guardsim.errors import LevelError
 from guardsim.fast_ripplefront import run_compiled
 from guardsim.grid import CoverageGrid, build_grid, start_cell
@@ -47,12 +48,16 @@ class Scene:
     """Visible cells per state, filled as episodes meet them and shared by all of them."""
 
     @classmethod
-    def from_level(cls, level: Level) -> Scene:
-        """Build the physics world, the grid and the cone of a level."""
+    def from_level(cls, level: Level, *, line_of_sight: str = "pymunk") -> Scene:
+        """Build the physics world, the grid and the cone of a level.
+
+        ``line_of_sight`` is ``"pymunk"`` (rays against the walls) or ``"bresenham"`` (grid lines; see
+        :mod:`guardsim.bresenham`).
+        """
         world = World(level)
         grid = build_grid(level, world)
         cone = VisionCone.from_guard(level.guard, level.cell_size, grid_shape=grid.shape)
-        return cls(level, world, grid, cone, VisionCache(world, grid, cone))
+        return cls(level, world, grid, cone, VisionCache(world, grid, cone, line_of_sight=line_of_sight))
 
     def vision(self, *, reference: bool = False) -> VisionFunction:
         """The vision to use: the shared cache by default, the per-cell-ray reference on request.
@@ -61,8 +66,19 @@ class Scene:
         """
         return self.reference_vision() if reference else self.vision_cache
 
+    @property
+    def line_of_sight(self) -> str:
+        """The line-of-sight rule, ``"pymunk"`` or ``"bresenham"``."""
+        return self.vision_cache.line_of_sight
+
     def reference_vision(self) -> VisionFunction:
-        """The reference vision: one pymunk ray per cell in the cone, every tick."""
+        """The reference vision: one pymunk ray (or Bresenham line) per cell in the cone, every tick."""
+        if self.line_of_sight == "bresenham":
+
+            def see_on_grid(col: int, row: int, heading: int) -> np.ndarray:
+                return bresenham_visible(self.grid.traversable, col, row, self.cone.offsets[heading])
+
+            return see_on_grid
 
         def see(col: int, row: int, heading: int) -> np.ndarray:
             return visible_cells(self.world, self.grid, self.cone, col, row, heading)

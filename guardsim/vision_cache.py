@@ -1,6 +1,7 @@
 """The fast vision path: each state's visible cells, computed once and shared by every episode.
 
-A state is a cell and one of the four headings. The first time a state is asked for, its cells are
+A state is a cell and one of the four headings. (With ``line_of_sight="bresenham"`` the states are filled
+by the compiled Bresenham rule of :mod:`guardsim.bresenham` instead.) The first time a state is asked for, its cells are
 computed with the reference rule (:func:`guardsim.vision.visible_cells`): each ray is first screened
 against the walls near the eye (:mod:`guardsim.sight_screen`), which settles clear misses and clear
 crossings, and pymunk casts only the close calls. The result is stored in flat arrays (CSR layout) that
@@ -12,12 +13,16 @@ from __future__ import annotations
 import numba
 import numpy as np
 
+from guardsim.bresenham import bresenham_clear
 from guardsim.grid import CoverageGrid
 from guardsim.sight_screen import CLEAR, CLOSE_CALL, WallIndex, screen
 from guardsim.vision import VisionCone
 from guardsim.world import World
 
-__all__ = ["VisionCache"]
+__all__ = ["LINES_OF_SIGHT", "VisionCache"]
+
+#: The line-of-sight rules: pymunk rays against the walls (the default), or Bresenham lines on the grid.
+LINES_OF_SIGHT = ("pymunk", "bresenham")
 
 
 @numba.njit(cache=True, nogil=True)
@@ -94,10 +99,13 @@ class VisionCache:
         ``int32 (capacity,)``: the flat indices of the cells seen, state after state, each ascending.
     """
 
-    def __init__(self, world: World, grid: CoverageGrid, cone: VisionCone) -> None:
+    def __init__(self, world: World, grid: CoverageGrid, cone: VisionCone, *, line_of_sight: str = "pymunk") -> None:
+        if line_of_sight not in LINES_OF_SIGHT:
+            raise ValueError(f"unknown line of sight {line_of_sight!r}; known: {', '.join(LINES_OF_SIGHT)}")
         self.world = world
         self.grid = grid
         self.cone = cone
+        self.line_of_sight = line_of_sight
         states = grid.size * 4
         self.start = np.zeros(states, dtype=np.int64)
         self.length = np.full(states, -1, dtype=np.int64)
@@ -131,6 +139,11 @@ class VisionCache:
         col, row = self.grid.unflat(cell)
         rows, cols = self.grid.shape
         offsets = self.cone.offsets[heading]
+        if self.line_of_sight == "bresenham":
+            out = np.zeros(len(offsets) + 1, dtype=np.int64)
+            count = bresenham_clear(self._traversable, rows, cols, col, row, offsets, out)
+            self._store(state, np.sort(out[:count]))
+            return
         walls = self._walls
         candidates = np.zeros(len(offsets), dtype=np.int64)
         targets = np.zeros((len(offsets), 2), dtype=np.float64)
@@ -166,7 +179,9 @@ class VisionCache:
             visible[index] = self.world.line_of_sight(eye, (float(targets[index, 0]), float(targets[index, 1])))
             self.rays_cast += 1
         self.rays_screened += count
-        cells = np.sort(np.append(candidates[visible], cell))
+        self._store(state, np.sort(np.append(candidates[visible], cell)))
+
+    def _store(self, state: int, cells: np.ndarray) -> None:
         needed = self.used + len(cells)
         if needed > len(self.data):
             self.data = np.concatenate([self.data, np.zeros(max(needed, len(self.data)), dtype=np.int32)])

@@ -7,12 +7,12 @@ import time
 import click
 import numpy as np
 
-from guardsim.cli.common import limit_options, load, parse_point, reports_errors
+from guardsim.cli.common import build_scene, limit_options, load, parse_point, reports_errors, vision_options
 from guardsim.level import HEADINGS
 from guardsim.output import atomic_path, write_text_atomic
 from guardsim.planners import PLANNERS, make_planner
 from guardsim.render import DEFAULT_MAX_FRAMES, GifOptions, encode_gif
-from guardsim.simulation import Scene, choose_start, episode_generator, run_episode
+from guardsim.simulation import choose_start, episode_generator, run_episode
 
 __all__ = ["play"]
 
@@ -40,6 +40,7 @@ __all__ = ["play"]
 @click.option("--stride", type=click.IntRange(min=1), help="Ticks between GIF frames [default: fit --max-frames].")
 @click.option("--frame-ms", type=click.IntRange(min=10), default=60, show_default=True, help="GIF frame duration.")
 @click.option("--max-frames", type=click.IntRange(min=1), default=DEFAULT_MAX_FRAMES, show_default=True)
+@vision_options
 @limit_options
 @reports_errors
 def play(
@@ -57,6 +58,9 @@ def play(
     stride: int | None,
     frame_ms: int,
     max_frames: int,
+    los: str,
+    fov: float | None,
+    view_range: float | None,
     max_cells: int,
     max_vertices: int,
     max_file_bytes: int,
@@ -68,7 +72,7 @@ def play(
     """
     level = load(level_path, max_cells, max_vertices, max_file_bytes)
     began = time.perf_counter()
-    scene = Scene.from_level(level)
+    scene = build_scene(level, los, fov, view_range)
     if episode is not None:
         rng = episode_generator(seed, episode)
         point, first = start, heading
@@ -76,7 +80,8 @@ def play(
         rng = np.random.default_rng(seed)
         point, first = start or level.guard.start, heading or level.guard.heading
     cell, first_heading = choose_start(scene, rng=rng, point=point, heading=first)
-    guard_planner = make_planner(planner, sweeps_per_tick=sweeps_per_tick)
+    options = {"sweeps_per_tick": sweeps_per_tick} if planner == "ripplefront" else {}
+    guard_planner = make_planner(planner, **options)
     trace = run_episode(scene, guard_planner, cell, first_heading, max_steps=max_steps, seed=seed, reference=reference)
     seconds = time.perf_counter() - began
     options = GifOptions(stride=stride, frame_ms=frame_ms, max_frames=max_frames)
