@@ -419,7 +419,9 @@ def _guard(value: Any, problems: list[Problem]) -> GuardSpec | None:
         return None
     count = len(problems)
     for key in sorted(set(value) - _GUARD_KEYS, key=str):
-        problems.append(Problem(f"guard.{key}", "unknown key", f"known keys: {', '.join(sorted(_GUARD_KEYS))}"))
+        # repr() for a key such as "\n" that would break the one-line message.
+        where = f"guard.{key}" if str(key).isprintable() else f"guard.{key!r}"
+        problems.append(Problem(where, "unknown key", f"known keys: {', '.join(sorted(_GUARD_KEYS))}"))
     defaults = GuardSpec()
     view_range = _number(value, "view_range", defaults.view_range, problems, where="guard.view_range", positive=True)
     fov = _number(

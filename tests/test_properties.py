@@ -1,0 +1,403 @@
+"""Property-based tests (hypothesis) over the level loader and the whole pipeline.
+
+Every input ends in a valid result or a :class:`LevelError` with a one-line message, never another
+exception; every episode on a valid level keeps its invariants, checked against pymunk and shapely
+independently of the grid's connectivity.
+
+Runs are reproducible: every test is ``derandomize=True`` with no example database, so CI tries the
+same cases every time. ``max_examples`` is chosen so the file runs in well under a minute on 2 cores;
+the ``deadline`` only turns a hang into a failure. For a longer local search, raise the counts with
+``GUARDSIM_PROPERTY_SCALE=10 python -m pytest tests/test_properties.py --hypothesis-show-statistics``.
+"""
+
+from __future__ import annotations
+
+import json
+import math
+import os
+import resource
+import subprocess
+import tempfile
+import tracemalloc
+from pathlib import Path
+from typing import Any
+
+import imageio.v3 as iio
+import numpy as np
+import pymunk
+import pytest
+import shapely
+from click.testing import CliRunner
+from hypothesis import HealthCheck, event, example, given, settings
+from hypothesis import strategies as st
+
+from guardsim.cli import main
+from guardsim.errors import LevelError
+from guardsim.grid import DIRECTIONS
+from guardsim.level import check_level_data, parse_level
+from guardsim.planners import RippleFront
+from guardsim.simulation import Scene, choose_start, default_max_steps, run_episode
+from guardsim.trace import OUTCOMES, Trace
+from tests.test_cli import guardsim_command
+
+SCALE = int(os.environ.get("GUARDSIM_PROPERTY_SCALE", "1"))
+#: Small enough that a valid random level rasterises in milliseconds.
+MAX_CELLS = 4_000
+
+
+def bounded(examples: int, deadline_ms: int = 5_000) -> settings:
+    """Reproducible settings: the same cases on every run, ``examples`` of them (times the scale)."""
+    return settings(
+        max_examples=examples * SCALE,
+        deadline=deadline_ms,
+        derandomize=True,
+        database=None,
+        suppress_health_check=[HealthCheck.too_slow, HealthCheck.filter_too_much],
+    )
+
+
+def assert_outcome_of_loading(data: Any) -> Scene | None:
+    """The loader's contract: a level and no problem, or problems and a one-line LevelError.
+
+    A valid level is also built into a scene (world and grid); the grid is bounded by ``MAX_CELLS``.
+    """
+    level, problems = check_level_data(data, source="prop.json", max_cells=MAX_CELLS)
+    assert (level is None) == bool(problems)
+    assert all(str(problem) and "\n" not in str(problem) for problem in problems)
+    try:
+        parsed = parse_level(data, source="prop.json", max_cells=MAX_CELLS)
+    except LevelError as error:
+        assert problems
+        message = str(error)
+        assert message.startswith("prop.json: ") and "\n" not in message
+        event("LevelError")
+        return None
+    assert not problems
+    event("valid level")
+    assert parsed == level
+    return Scene.from_level(parsed)
+
+
+#: Levels on which a bug was found (see the report on issue 5); each is also run end to end below.
+FOUND: dict[str, dict[str, Any]] = {
+    # The sight screen made (extent / view range)^2 wall buckets: ~1e20 here, memory without bound.
+    "view-range-under-a-cell": {"outer": [[0, 0], [6, 0], [6, 6], [0, 6]], "guard": {"view_range": 0.3}},
+    # The cone allocated (2 * view range / cell size)^2 offsets (298 GiB here), and Pillow then spent
+    # minutes per frame drawing an arc of radius 8e6 pixels.
+    "view-range-past-the-level": {"outer": [[0, 0], [6, 0], [6, 6], [0, 6]], "guard": {"view_range": 1e5}},
+    # view range / cell size overflows to infinity: math.floor(inf) raised OverflowError.
+    "view-range-infinite-in-cells": {
+        "outer": [[0, 0], [6e-9, 0], [6e-9, 6e-9], [0, 6e-9]],
+        "cell_size": 1e-9,
+        "guard": {"view_range": 1e300, "radius": 0},
+    },
+}
+
+
+# --- random JSON values -------------------------------------------------------------------------------
+
+numbers = st.one_of(
+    st.integers(-(10**20), 10**20),
+    st.floats(allow_nan=True, allow_infinity=True),
+    st.sampled_from([0, 1, -1, 0.5, 1e15, -1e15, 1e-12, 1e308]),
+)
+scalars = st.one_of(st.none(), st.booleans(), numbers, st.text(max_size=8))
+json_values = st.recursive(
+    scalars,
+    lambda children: st.lists(children, max_size=5) | st.dictionaries(st.text(max_size=6), children, max_size=5),
+    max_leaves=25,
+)
+points = st.one_of(st.lists(numbers, min_size=2, max_size=2), st.lists(scalars, max_size=3), json_values)
+rings = st.one_of(st.lists(points, max_size=8), json_values)
+guards = st.one_of(
+    st.fixed_dictionaries(
+        {},
+        optional={
+            "view_range": numbers | scalars,
+            "fov_degrees": numbers | scalars,
+            "radius": numbers | scalars,
+            "start": points,
+            "heading": st.sampled_from(["right", "down", "left", "up", "north", 3]),
+            "colour": scalars,
+        },
+    ),
+    json_values,
+)
+#: Dictionaries shaped like levels, so the checks past the top level get exercised.
+level_like = st.fixed_dictionaries(
+    {"outer": rings},
+    optional={
+        "name": scalars,
+        "cell_size": numbers | scalars,
+        "holes": st.lists(rings, max_size=3) | json_values,
+        "guard": guards,
+        "starts": st.lists(points, max_size=3) | json_values,
+        "extra": json_values,
+    },
+)
+
+
+@bounded(1000)
+@given(st.one_of(json_values, level_like))
+@example({"outer": [], "guard": {"\n": None}})  # found: the newline went into the one-line message
+def test_random_json_loads_or_fails_with_a_message(data: Any) -> None:
+    """Any decoded JSON value gives a level or a LevelError, never another exception."""
+    assert_outcome_of_loading(data)
+
+
+@bounded(200)
+@given(st.one_of(json_values.map(lambda value: json.dumps(value)), st.binary(max_size=64), st.text(max_size=64)))
+def test_validate_any_file_content(content: str | bytes) -> None:
+    """`guardsim validate FILE` on any content (JSON text, bytes, text) exits 0 or 2, never a traceback."""
+    with tempfile.TemporaryDirectory() as folder:
+        path = Path(folder) / "level.json"
+        if isinstance(content, bytes):
+            path.write_bytes(content)
+        else:
+            path.write_text(content, encoding="utf-8")
+        result = CliRunner().invoke(main, ["validate", str(path), "--max-cells", str(MAX_CELLS)])
+    assert result.exit_code in (0, 2), result.output
+    assert result.exception is None or isinstance(result.exception, SystemExit), repr(result.exception)
+    assert "Traceback" not in result.output
+    lines = result.stdout.splitlines()
+    assert lines and all(line.startswith(str(path)) for line in lines)
+
+
+# --- random polygons ----------------------------------------------------------------------------------
+
+coordinates = st.one_of(
+    st.integers(0, 12).map(float),
+    st.floats(0, 12, allow_nan=False),
+    st.sampled_from([1e15, -1e15, 1e-12, -1e-12, 6.0 + 1e-12, math.nan, math.inf]),
+)
+plain_point = st.tuples(coordinates, coordinates)
+
+
+@st.composite
+def polygon_rings(draw: st.DrawFn) -> list[list[float]]:
+    """Rings that break things: random, self-touching, slivers, duplicates, huge, tiny, thousands of points."""
+    kind = draw(st.sampled_from(["random", "bowtie", "touching", "sliver", "duplicates", "scaled", "many"]))
+    if kind == "random":
+        return [list(point) for point in draw(st.lists(plain_point, min_size=0, max_size=10))]
+    if kind == "bowtie":  # edges cross in the middle
+        return [[0, 0], [4, 4], [4, 0], [0, 4]]
+    if kind == "touching":  # two squares sharing one vertex: the ring touches itself
+        return [[0, 0], [2, 0], [2, 2], [4, 2], [4, 4], [2, 4], [2, 2], [0, 2]]
+    if kind == "sliver":  # zero or near-zero area
+        width = draw(st.sampled_from([0.0, 1e-12, 1e-6]))
+        return [[0, 0], [8, 0], [8, width], [0, width]]
+    if kind == "duplicates":
+        base = [[0, 0], [6, 0], [6, 6], [0, 6]]
+        picks = draw(st.lists(st.integers(0, 3), min_size=0, max_size=8))
+        return [*base, *(base[i] for i in picks)]
+    if kind == "scaled":
+        scale = draw(st.sampled_from([1e15, 1e-12, 1e6, 1.0]))
+        return [[0, 0], [6 * scale, 0], [6 * scale, 6 * scale], [0, 6 * scale]]
+    count = draw(st.integers(1_000, 5_000))
+    jitter = draw(st.sampled_from([0.0, 0.3, 3.0]))  # large jitter makes the ring cross itself
+    rng = np.random.default_rng(draw(st.integers(0, 2**32 - 1)))
+    angles = np.linspace(0, 2 * np.pi, count, endpoint=False)
+    radius = 20 + jitter * rng.standard_normal(count)
+    return np.stack([25 + radius * np.cos(angles), 25 + radius * np.sin(angles)], axis=1).tolist()
+
+
+polygon_levels = st.fixed_dictionaries(
+    {"outer": polygon_rings()},
+    optional={
+        "holes": st.lists(polygon_rings(), max_size=2),
+        "cell_size": st.sampled_from([1.0, 0.5, 3.0, 1e-9, 1e12]),
+        "guard": st.fixed_dictionaries(
+            {},
+            optional={
+                "start": st.lists(coordinates, min_size=2, max_size=2),
+                "view_range": st.sampled_from([1e-12, 0.3, 8.0, 1e15, 1e300]),
+            },
+        ),
+    },
+)
+
+
+@bounded(400, deadline_ms=10_000)
+@given(polygon_levels)
+@example(FOUND["view-range-under-a-cell"])
+@example(FOUND["view-range-infinite-in-cells"])
+def test_random_polygons_load_or_fail_with_a_message(data: dict[str, Any]) -> None:
+    """Polygons of every awkward kind give a level (and a grid) or a LevelError; valid ones run an episode."""
+    scene = assert_outcome_of_loading(data)
+    if scene is None:
+        return
+    try:
+        cell, heading = choose_start(scene, rng=np.random.default_rng(0), point=scene.level.guard.start)
+    except LevelError as error:
+        assert str(error).startswith("prop.json: ")
+        event("valid level, no start")
+        return
+    trace = run_episode(scene, RippleFront(), cell, heading, max_steps=200)
+    event(f"episode {trace.outcome}")
+    assert trace.outcome in OUTCOMES
+
+
+def test_huge_coordinates_fail_fast_on_the_cells_limit() -> None:
+    """A level spanning 1e15 units with thousands of vertices is refused by the cells limit before any
+    grid is built: the refusal allocates next to nothing."""
+    angles = np.linspace(0, 2 * np.pi, 5_000, endpoint=False)
+    ring = np.stack([5e14 * (1 + np.cos(angles)), 5e14 * (1 + np.sin(angles))], axis=1).tolist()
+    tracemalloc.start()
+    try:
+        with pytest.raises(LevelError, match=r"cells is over the limit of 1000000 .*--max-cells"):
+            parse_level({"outer": ring}, source="huge.json")
+        _, peak = tracemalloc.get_traced_memory()
+    finally:
+        tracemalloc.stop()
+    assert peak < 50 * 2**20
+
+
+# --- random valid small levels and random starts -------------------------------------------------------
+
+
+@st.composite
+def small_levels(draw: st.DrawFn) -> dict[str, Any]:
+    """A rectangle with non-overlapping rectangular holes (they may touch the walls), a random guard and
+    sometimes a start point."""
+    width, height = draw(st.integers(2, 12)), draw(st.integers(2, 12))
+    step = draw(st.sampled_from([1.0, 0.5]))
+    holes: list[list[list[float]]] = []
+    for _ in range(draw(st.integers(0, 4))):
+        x0 = draw(st.integers(0, int(width / step) - 1)) * step
+        y0 = draw(st.integers(0, int(height / step) - 1)) * step
+        x1 = min(width, x0 + draw(st.integers(1, 6)) * step)
+        y1 = min(height, y0 + draw(st.integers(1, 6)) * step)
+        hole = shapely.box(x0, y0, x1, y1)
+        if all(hole.intersection(shapely.Polygon(other)).area == 0 for other in holes):
+            holes.append([[x0, y0], [x1, y0], [x1, y1], [x0, y1]])
+    guard: dict[str, Any] = {
+        # Shorter than a cell (the cone is the guard's own cell) up to far past the level.
+        "view_range": draw(st.sampled_from([0.3, 1.0, 2.5, 4.0, 8.0, 1e6, 1e300])),
+        "fov_degrees": draw(st.sampled_from([30.0, 90.0, 135.0, 360.0])),
+        "radius": draw(st.sampled_from([0.0, 0.3, 0.45, 0.5])),
+    }
+    if draw(st.booleans()):
+        guard["start"] = [draw(st.floats(0.01, width - 0.01)), draw(st.floats(0.01, height - 0.01))]
+        guard["heading"] = draw(st.sampled_from(["right", "down", "left", "up"]))
+    return {
+        "outer": [[0, 0], [width, 0], [width, height], [0, height]],
+        "holes": holes,
+        "cell_size": draw(st.sampled_from([1.0, 0.5, 0.7])),
+        "guard": guard,
+    }
+
+
+def wall_space(data: dict[str, Any]) -> pymunk.Space:
+    """A fresh pymunk space of the level's wall segments, built here rather than by guardsim.world."""
+    space = pymunk.Space()
+    for ring in [data["outer"], *data["holes"]]:
+        for start, end in zip(ring, ring[1:] + ring[:1]):
+            space.add(pymunk.Segment(space.static_body, tuple(start), tuple(end), 0.0))
+    return space
+
+
+def reachable_cells(scene: Scene, space: pymunk.Space, start: tuple[int, int]) -> np.ndarray:
+    """``bool (rows, cols)``: cells reachable from ``start``, found again from the level's geometry alone
+    (shapely for the free area, the fresh pymunk space for fit and slide), not from the grid's tables."""
+    level, grid = scene.level, scene.grid
+    radius = level.guard.radius
+    free_area = level.free_area()
+    rows, cols = grid.shape
+
+    def stands(col: int, row: int) -> bool:
+        centre = grid.centre(col, row)
+        if not shapely.contains_xy(free_area, *centre):
+            return False
+        return radius <= 0 or space.point_query_nearest(centre, radius, pymunk.ShapeFilter()) is None
+
+    reached = np.zeros((rows, cols), dtype=bool)
+    reached[start[1], start[0]] = True
+    frontier = [start]
+    while frontier:
+        col, row = frontier.pop()
+        for dcol, drow in DIRECTIONS:
+            other = (col + dcol, row + drow)
+            if not (0 <= other[0] < cols and 0 <= other[1] < rows) or reached[other[1], other[0]]:
+                continue
+            slides = space.segment_query_first(grid.centre(col, row), grid.centre(*other), radius, pymunk.ShapeFilter())
+            if stands(*other) and slides is None:
+                reached[other[1], other[0]] = True
+                frontier.append(other)
+    return reached
+
+
+def assert_episode_invariants(scene: Scene, trace: Trace, data: dict[str, Any], limit: int) -> None:
+    """Ends within its step limit; covered means every reachable cell seen; every step to a connected
+    4-neighbour; no step through a wall (pymunk and shapely, not the grid's neighbour table)."""
+    grid = scene.grid
+    assert trace.outcome in OUTCOMES
+    assert trace.steps <= limit
+    assert (trace.outcome == "step_limit") == (trace.steps == limit and trace.unseen_percent[-1] > 0)
+    assert len(trace.path) == len(trace.headings) == len(trace.unseen_percent) == trace.steps + 1
+    space = wall_space(data)
+    assert np.array_equal(trace.goal, reachable_cells(scene, space, trace.start))
+    if trace.covered:
+        assert (trace.first_seen[trace.goal] >= 0).all()
+        assert trace.unseen_percent[-1] == 0.0
+    free_area = scene.level.free_area()
+    radius = scene.level.guard.radius
+    for (col, row), (next_col, next_row), heading in zip(trace.path, trace.path[1:], trace.headings[1:]):
+        assert (next_col - col, next_row - row) == DIRECTIONS[heading]
+        assert grid.neighbours[grid.flat(col, row), heading] == grid.flat(next_col, next_row)
+        a, b = grid.centre(col, row), grid.centre(next_col, next_row)
+        assert space.segment_query_first(a, b, radius, pymunk.ShapeFilter()) is None, (a, b)
+        move = shapely.LineString([a, b])
+        assert free_area.covers(move), (a, b)
+        assert move.distance(free_area.boundary) >= radius - 1e-9, (a, b)
+
+
+@bounded(500)
+@given(small_levels(), st.integers(0, 2**32 - 1), st.sampled_from([None, None, 0, 5, 40]))
+def test_episodes_on_random_levels_keep_their_invariants(
+    data: dict[str, Any], seed: int, max_steps: int | None
+) -> None:
+    """Random rectangles with holes, random guards and starts: the invariants hold, and the fast path's trace
+    equals the reference loop's."""
+    try:
+        level = parse_level(data, source="prop.json")
+        scene = Scene.from_level(level)
+        cell, heading = choose_start(
+            scene, rng=np.random.default_rng(seed), point=level.guard.start, heading=level.guard.heading
+        )
+    except LevelError as error:
+        # A start in a hole or where the guard does not fit, or no room for the guard at all.
+        assert str(error).startswith("prop.json: ")
+        event("no episode: " + ("start refused" if "start" in str(error) else "no room for the guard"))
+        return
+    limit = default_max_steps(scene.grid) if max_steps is None else max_steps
+    trace = run_episode(scene, RippleFront(), cell, heading, max_steps=max_steps, seed=seed)
+    assert_episode_invariants(scene, trace, data, limit)
+    event(f"episode {trace.outcome}, {'over' if trace.steps > 20 else 'at most'} 20 steps")
+    if max_steps is None:
+        assert trace.covered, "RippleFront did not cover a small level within 10 steps per cell"
+    reference = run_episode(scene, RippleFront(), cell, heading, max_steps=max_steps, seed=seed, reference=True)
+    assert reference.to_json() == trace.to_json()
+
+
+@pytest.mark.parametrize("name", list(FOUND))
+def test_found_levels_play_end_to_end_in_bounded_memory(tmp_path: Path, name: str) -> None:
+    """Each level that once exhausted memory or hung plays to a GIF in a real process capped at 3 GiB of
+    address space, so a regression fails here instead of taking the machine down."""
+    path = tmp_path / f"{name}.json"
+    path.write_text(json.dumps(FOUND[name]), encoding="utf-8")
+    gif = tmp_path / "out.gif"
+
+    def cap_memory() -> None:
+        resource.setrlimit(resource.RLIMIT_AS, (3 * 2**30, 3 * 2**30))
+
+    completed = subprocess.run(
+        [*guardsim_command(), "play", str(path), "--gif", str(gif)],
+        capture_output=True,
+        text=True,
+        timeout=120,
+        check=False,
+        preexec_fn=cap_memory,
+    )
+    assert completed.returncode == 0, completed.stderr
+    assert "covered" in completed.stdout
+    assert iio.imread(gif, index=None, extension=".gif").shape[0] >= 1
