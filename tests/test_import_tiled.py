@@ -380,3 +380,44 @@ def test_import_command_with_spawn_tiles(tmp_path: Path) -> None:
     assert result.exit_code == 0, result.output
     assert "1 guard spawn" in result.stdout
     assert json.loads(out.read_text())["starts"] == [[4.5, 1.5]]
+
+
+def test_gzip_base64_layer_reads_like_csv(tmp_path: Path) -> None:
+    """The same floor stored as base64 gzip data gives the same level as CSV."""
+    import gzip
+
+    ground = np.ones(24, dtype="<u4")
+    ground[2 * 6 + 3] = 2
+    encoded = base64.b64encode(gzip.compress(ground.tobytes())).decode("ascii")
+    csv_block = TMX_ROTATED[TMX_ROTATED.index('<layer id="1"') : TMX_ROTATED.index('<layer id="2"')]
+    gzip_block = (
+        '<layer id="1" name="Ground" width="6" height="4">\n'
+        f'  <data encoding="base64" compression="gzip">{encoded}</data>\n </layer>\n '
+    )
+    csv_path, gzip_path = tmp_path / "csv.tmx", tmp_path / "gzip.tmx"
+    csv_path.write_text(TMX_ROTATED, encoding="utf-8")
+    gzip_path.write_text(TMX_ROTATED.replace(csv_block, gzip_block), encoding="utf-8")
+    assert level_to_data(import_map(gzip_path).level)["holes"] == level_to_data(import_map(csv_path).level)["holes"]
+
+
+def test_compressed_data_is_not_inflated_past_what_the_layer_needs(tmp_path: Path) -> None:
+    """50 MB of zeros in 50 kB of zlib data, declared as a 2 x 2 layer, is an error, not 50 MB of memory."""
+    bomb = base64.b64encode(zlib.compress(bytes(50_000_000), 9)).decode("ascii")
+    data = {
+        "orientation": "orthogonal",
+        "tilewidth": 8,
+        "tileheight": 8,
+        "layers": [
+            {
+                "type": "tilelayer",
+                "name": "F",
+                "width": 2,
+                "height": 2,
+                "encoding": "base64",
+                "compression": "zlib",
+                "data": bomb,
+            }
+        ],
+    }
+    with pytest.raises(LevelError, match="tile data has 5 tiles, expected 4"):
+        import_map(write_json(tmp_path, data))

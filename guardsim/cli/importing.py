@@ -14,7 +14,7 @@ __all__ = ["import_command"]
 
 @click.command("import")
 @click.argument("source", metavar="SOURCE")
-@click.option("--out", "out_path", required=True, type=click.Path(dir_okay=False), help="Where to write the level.")
+@click.option("--out", "out_path", required=True, type=str, help="Where to write the level.")
 @click.option(
     "--cell-size",
     type=click.FloatRange(min=0, min_open=True),

@@ -36,7 +36,7 @@ from guardsim.importers.imported import ImportedLevel, level_from_walls, read_so
 from guardsim.importers.tiled_format import ObjectLayer, Properties, TiledMap, TiledObject, TileLayer
 from guardsim.importers.tiled_json import JsonMapReader, parse_json, read_tsj_tiles
 from guardsim.importers.tiled_tmx import TmxReader, parse_xml, read_tsx_tiles
-from guardsim.importers.walls import blocked_cell_walls, snap_points
+from guardsim.importers.walls import snap_points
 from guardsim.level import (
     DEFAULT_MAX_CELLS,
     DEFAULT_MAX_FILE_BYTES,
@@ -251,10 +251,14 @@ def _tile_boxes(layer: TileLayer, scale: np.ndarray, gids: set[int] | None = Non
     if not keep.any():
         return []
     cols, rows = layer.cols[keep], layer.rows[keep]
-    mask = np.zeros((rows.max() - rows.min() + 1, cols.max() - cols.min() + 1), dtype=bool)
-    mask[rows - rows.min(), cols - cols.min()] = True
-    origin = (cols.min() + layer.offset[0] / scale[0], rows.min() + layer.offset[1] / scale[1])
-    return blocked_cell_walls(mask, origin=(float(origin[0]), float(origin[1])))
+    # Runs of consecutive tiles in a row, found from the sorted tiles rather than a dense mask, so that
+    # one stray tile far away costs nothing here (the grid size limit reports it later).
+    order = np.lexsort((cols, rows))
+    cols, rows = cols[order], rows[order]
+    starts = np.flatnonzero(np.r_[True, (rows[1:] != rows[:-1]) | (cols[1:] != cols[:-1] + 1)])
+    ends = np.r_[starts[1:], cols.size] - 1
+    dx, dy = layer.offset[0] / scale[0], layer.offset[1] / scale[1]
+    return list(shapely.box(cols[starts] + dx, rows[starts] + dy, cols[ends] + 1 + dx, rows[starts] + 1 + dy))
 
 
 def _spawns(tiled: TiledMap, scale: np.ndarray, spawn_tiles: set[int]) -> list[tuple[float, float]]:

@@ -11,7 +11,6 @@ and floor is :mod:`guardsim.importers.tiled`'s job.
 from __future__ import annotations
 
 import base64
-import gzip
 import math
 import zlib
 from collections.abc import Callable
@@ -39,6 +38,8 @@ Properties = dict[str, Any]
 
 #: The flip and rotation flags in the top bits of a global tile id.
 GID_MASK = 0x0FFFFFFF
+#: Most tiles in one layer or chunk (64 MiB of tile ids).
+MAX_LAYER_TILES = 2**24
 
 
 @dataclass(frozen=True)
@@ -128,22 +129,24 @@ def _relative_outline(shape: str, width: float, height: float, points: list[Poin
 
 def decode_tile_data(raw: Any, encoding: str | None, compression: str | None, count: int, where: str) -> np.ndarray:
     """Global tile ids (flags cleared) of one layer's or chunk's data, as ``uint32 (count,)``."""
+    if not 0 <= count <= MAX_LAYER_TILES:
+        raise LevelError(f"{where}: {count} tiles in one layer or chunk; guardsim reads at most {MAX_LAYER_TILES}")
     try:
         if encoding == "csv":
             text = raw.strip().rstrip(",")
             values = np.array([int(value) for value in text.split(",")], dtype=np.uint64) if text else np.zeros(0)
         elif encoding == "base64":
             packed = base64.b64decode(raw.strip(), validate=False)
-            if compression == "zlib":
-                packed = zlib.decompress(packed)
-            elif compression == "gzip":
-                packed = gzip.decompress(packed)
+            if compression in ("zlib", "gzip"):
+                # Inflate no further than the tiles expected, so a tiny file cannot unpack to gigabytes.
+                inflater = zlib.decompressobj(wbits=15 if compression == "zlib" else 31)
+                packed = inflater.decompress(packed, count * 4 + 4)
             elif compression:
                 raise LevelError(f"{where}: {compression} compression is not supported (save as CSV, zlib or gzip)")
             values = np.frombuffer(packed, dtype="<u4").astype(np.uint64)
         else:
             values = np.array([int(value) for value in raw], dtype=np.uint64)
-    except (ValueError, TypeError, zlib.error, OSError, EOFError):
+    except (ValueError, TypeError, OverflowError, zlib.error, EOFError):
         raise LevelError(f"{where}: tile data is not valid {encoding or 'tile list'} data") from None
     if values.size != count:
         raise LevelError(f"{where}: tile data has {values.size} tiles, expected {count}")
@@ -184,6 +187,13 @@ class MapReader:
             raise LevelError(f"{self.source}: {where} must be a finite number, not {value!r}")
         return number
 
+    def integer(self, value: Any, where: str, default: int | None = None) -> int:
+        """A whole number in Tiled's 32-bit range (tile ids go up to 2**32 with their flag bits)."""
+        number = self.number(value, where, None if default is None else float(default))
+        if not number.is_integer() or not -(2**31) <= number < 2**32:
+            raise LevelError(f"{self.source}: {where} must be a whole number within 32 bits, not {value!r}")
+        return int(number)
+
     def check_orientation(self, orientation: Any) -> None:
         if orientation != "orthogonal":
             raise LevelError(f"{self.source}: orientation {orientation!r} is not supported (only orthogonal maps)")
@@ -207,6 +217,10 @@ class MapReader:
         self.tile_layers.append(TileLayer(name, path, properties, offset, *joined))
 
     def result(self, tile_width: float, tile_height: float) -> TiledMap:
+        if tile_width <= 0 or tile_height <= 0:
+            raise LevelError(
+                f"{self.source}: tilewidth and tileheight must be positive, not {tile_width:g} x {tile_height:g}"
+            )
         return TiledMap(
             tile_width,
             tile_height,

@@ -57,7 +57,7 @@ class JsonMapReader(MapReader):
         self.check_orientation(root.get("orientation"))
         for index, tileset in enumerate(self.list(root, "tilesets", "map")):
             where = f"tilesets[{index}]"
-            firstgid = int(self.number(tileset.get("firstgid"), f"{where}.firstgid"))
+            firstgid = self.integer(tileset.get("firstgid"), f"{where}.firstgid")
             if "source" in tileset:
                 self.external_tileset(str(tileset["source"]), firstgid)
             else:
@@ -88,7 +88,7 @@ class JsonMapReader(MapReader):
             if kind:
                 properties["class"] = kind
             if properties:
-                tiles[firstgid + int(self.number(tile.get("id"), f"tiles[{index}].id"))] = properties
+                tiles[firstgid + self.integer(tile.get("id"), f"tiles[{index}].id")] = properties
 
     def layers(
         self, layers: list[dict[str, Any]], path: tuple[str, ...], inherited: Properties, offset: Point, where: str
@@ -124,10 +124,10 @@ class JsonMapReader(MapReader):
         parts = self.list(layer, "chunks", where) if chunks is not None else [layer]
         for index, part in enumerate(parts):
             here = f"{where}.chunks[{index}]" if chunks is not None else where
-            width = int(self.number(part.get("width"), f"{here}.width"))
-            height = int(self.number(part.get("height"), f"{here}.height"))
-            x = int(self.number(part.get("x"), f"{here}.x", 0.0)) if chunks is not None else 0
-            y = int(self.number(part.get("y"), f"{here}.y", 0.0)) if chunks is not None else 0
+            width = self.integer(part.get("width"), f"{here}.width")
+            height = self.integer(part.get("height"), f"{here}.height")
+            x = self.integer(part.get("x"), f"{here}.x", 0) if chunks is not None else 0
+            y = self.integer(part.get("y"), f"{here}.y", 0) if chunks is not None else 0
             raw = part.get("data", [])
             kind = "base64" if encoding == "base64" else None
             blocks.append(
@@ -143,7 +143,7 @@ class JsonMapReader(MapReader):
         width = self.number(value.get("width"), f"{where}.width", 0.0)
         height = self.number(value.get("height"), f"{where}.height", 0.0)
         rotation = self.number(value.get("rotation"), f"{where}.rotation", 0.0)
-        gid = int(self.number(value.get("gid"), f"{where}.gid", 0.0)) & GID_MASK
+        gid = self.integer(value.get("gid"), f"{where}.gid", 0) & GID_MASK
         shape = "tile" if gid else "rectangle"
         points: list[Point] = []
         for key in ("polygon", "polyline"):
@@ -163,7 +163,7 @@ class JsonMapReader(MapReader):
             if value.get(key):
                 shape = key
         return TiledObject(
-            int(self.number(value.get("id"), f"{where}.id", 0.0)),
+            self.integer(value.get("id"), f"{where}.id", 0),
             str(value.get("name", "")),
             str(value.get("class", value.get("type", "")) or self.tiles.get(gid, {}).get("class", "")),
             shape,

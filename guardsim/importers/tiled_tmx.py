@@ -52,7 +52,7 @@ class TmxReader(MapReader):
             raise LevelError(f"{self.source}: a tileset, not a map")
         self.check_orientation(root.get("orientation"))
         for tileset in root.findall("tileset"):
-            firstgid = int(self.number(tileset.get("firstgid"), "tileset firstgid"))
+            firstgid = self.integer(tileset.get("firstgid"), "tileset firstgid")
             if tileset.get("source"):
                 self.external_tileset(tileset.get("source", ""), firstgid)
             else:
@@ -81,7 +81,7 @@ class TmxReader(MapReader):
             if kind:
                 properties["class"] = kind
             if properties:
-                tiles[firstgid + int(self.number(tile.get("id"), "tile id"))] = properties
+                tiles[firstgid + self.integer(tile.get("id"), "tile id")] = properties
 
     def layers(self, parent: ElementTree.Element, path: tuple[str, ...], inherited: Properties, offset: Point) -> None:
         for element in parent:
@@ -119,17 +119,17 @@ class TmxReader(MapReader):
             chunks = data.findall("chunk")
             parts = chunks if chunks else [data]
             for part in parts:
-                width = int(self.number(part.get("width", element.get("width")), f"{where} width"))
-                height = int(self.number(part.get("height", element.get("height")), f"{where} height"))
-                x = int(self.number(part.get("x"), f"{where} chunk x", 0.0)) if chunks else 0
-                y = int(self.number(part.get("y"), f"{where} chunk y", 0.0)) if chunks else 0
+                width = self.integer(part.get("width", element.get("width")), f"{where} width")
+                height = self.integer(part.get("height", element.get("height")), f"{where} height")
+                x = self.integer(part.get("x"), f"{where} chunk x", 0) if chunks else 0
+                y = self.integer(part.get("y"), f"{where} chunk y", 0) if chunks else 0
                 raw: Any = (part.text or "") if encoding else [tile.get("gid", "0") for tile in part.findall("tile")]
                 chunk_where = f"{self.source}: {where}" + (f" chunk ({x}, {y})" if chunks else "")
                 blocks.append((x, y, width, decode_tile_data(raw, encoding, compression, width * height, chunk_where)))
         self.add_cells(name, path, properties, offset, blocks)
 
     def object(self, element: ElementTree.Element, offset: Point, where: str) -> TiledObject:
-        identifier = int(self.number(element.get("id"), f"{where} id", 0.0))
+        identifier = self.integer(element.get("id"), f"{where} id", 0)
         where = f"{where} {identifier}"
         if element.get("template"):
             raise LevelError(f"{self.source}: {where}: uses a template; detach it in Tiled (templates are not read)")
@@ -138,7 +138,7 @@ class TmxReader(MapReader):
         width = self.number(element.get("width"), f"{where} width", 0.0)
         height = self.number(element.get("height"), f"{where} height", 0.0)
         rotation = self.number(element.get("rotation"), f"{where} rotation", 0.0)
-        gid = int(self.number(element.get("gid"), f"{where} gid", 0.0)) & GID_MASK
+        gid = self.integer(element.get("gid"), f"{where} gid", 0) & GID_MASK
         points: list[Point] = []
         shape = "tile" if gid else "rectangle"
         for tag in ("polygon", "polyline", "ellipse", "point", "text"):
