@@ -394,14 +394,14 @@ def _read_manifest(path: Path) -> _Manifest | None:
     if not isinstance(data, dict) or data.get("format") != FORMAT:
         raise bad(f"not a guardsim regress manifest of format {FORMAT}")
     frame_size = data.get("frame_size", REFERENCE_FRAME_SIZE)
-    if not isinstance(frame_size, int) or not 16 <= frame_size <= 4096:
+    if not _is_count(frame_size) or not 16 <= frame_size <= 4096:
         raise bad(f"frame_size must be a whole number of pixels from 16 to 4096, not {frame_size!r}")
     tolerance = data.get("tolerance", {})
-    channel, fraction = tolerance.get("channel", 32), tolerance.get("fraction", 0.005)
-    if not (isinstance(channel, int) and 0 <= channel <= 255 and isinstance(fraction, (int, float))):
-        raise bad("tolerance must be {'channel': 0-255, 'fraction': a number from 0 to 1}")
-    if not 0 <= fraction <= 1:
-        raise bad(f"tolerance fraction must be from 0 to 1, not {fraction!r}")
+    default = Tolerance()
+    channel = tolerance.get("channel", default.channel) if isinstance(tolerance, dict) else None
+    fraction = tolerance.get("fraction", default.fraction) if isinstance(tolerance, dict) else None
+    if not (_is_count(channel) and channel <= 255 and _is_number(fraction) and 0 <= fraction <= 1):
+        raise bad('tolerance must be {"channel": 0 to 255, "fraction": 0 to 1}')
     episodes = data.get("episodes")
     if not isinstance(episodes, list) or not episodes:
         raise bad("episodes must be a non-empty list")
@@ -422,6 +422,10 @@ def _read_manifest(path: Path) -> _Manifest | None:
 
 def _is_count(value: Any) -> bool:
     return isinstance(value, int) and not isinstance(value, bool) and value >= 0
+
+
+def _is_number(value: Any) -> bool:
+    return isinstance(value, (int, float)) and not isinstance(value, bool)
 
 
 def _read_text(path: Path) -> str:

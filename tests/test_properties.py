@@ -163,6 +163,47 @@ def test_validate_any_file_content(content: str | bytes) -> None:
     assert lines and all(line.startswith(str(path)) for line in lines)
 
 
+manifests = st.one_of(
+    json_values,
+    st.fixed_dictionaries(
+        {"format": st.sampled_from([1, 1, 2, "1"])},
+        optional={
+            "frame_size": st.sampled_from([16, 64, 240, 0, 10**6, 64.0, True]) | scalars,
+            "tolerance": st.fixed_dictionaries({}, optional={"channel": numbers, "fraction": numbers}) | json_values,
+            "episodes": st.lists(
+                st.fixed_dictionaries(
+                    {"name": st.sampled_from(["a", "seed0-episode0", "../up", "", "x" * 65]) | scalars},
+                    optional={"seed": numbers | scalars, "episode": numbers | scalars},
+                )
+                | json_values,
+                max_size=3,
+            )
+            | json_values,
+        },
+    ),
+)
+
+
+@bounded(100)
+@given(manifests)
+@example({"format": 1, "tolerance": []})  # found: AttributeError on a tolerance that is not an object
+def test_regress_any_manifest(manifest: Any) -> None:
+    """`guardsim regress` with any manifest.json: exit 0, 1 (differs) or 2 (one error line), no traceback."""
+    with tempfile.TemporaryDirectory() as folder:
+        level = Path(folder) / "tiny.json"
+        level.write_text(json.dumps({"outer": [[0, 0], [3, 0], [3, 2], [0, 2]]}), encoding="utf-8")
+        (Path(folder) / "renders" / "tiny").mkdir(parents=True)
+        (Path(folder) / "renders" / "tiny" / "manifest.json").write_text(json.dumps(manifest), encoding="utf-8")
+        result = CliRunner().invoke(main, ["regress", str(level), "--renders", str(Path(folder) / "renders")])
+    assert result.exception is None or isinstance(result.exception, SystemExit), repr(result.exception)
+    assert "Traceback" not in result.output
+    assert result.exit_code in (0, 1, 2)
+    if result.exit_code == 2:
+        [line] = result.stderr.splitlines()
+        assert line.startswith("guardsim: error: ")
+    event(f"exit {result.exit_code}")
+
+
 # --- random polygons ----------------------------------------------------------------------------------
 
 coordinates = st.one_of(

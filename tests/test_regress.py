@@ -62,6 +62,17 @@ def test_committed_references_are_small_and_complete() -> None:
     assert sum(path.stat().st_size for path in RENDERS.rglob("*") if path.is_file()) < 1_000_000
 
 
+@pytest.mark.parametrize("name", ["level-start", "seed0-episode0"])
+def test_play_options_rerun_the_stored_episode(tmp_path: Path, name: str) -> None:
+    """The manifest's `play_options` make `guardsim play` write the stored trace, byte for byte."""
+    manifest = json.loads((RENDERS / "square" / "manifest.json").read_text(encoding="utf-8"))
+    [episode] = [episode for episode in manifest["episodes"] if episode["name"] == name]
+    result = run("play", SQUARE, *episode["play_options"].split(), "--trace", tmp_path / "trace.json")
+    assert result.exit_code == 0, result.output
+    stored = RENDERS / "square" / f"{name}.trace.json"
+    assert (tmp_path / "trace.json").read_bytes() == stored.read_bytes()
+
+
 def test_edited_level_fails_with_one_line_and_a_diff_image(tmp_path: Path) -> None:
     """Moving the square's pillar: exit 1, one readable line (what differs, steps before -> after, diff path)."""
     level = edited_square(tmp_path / "levels")
