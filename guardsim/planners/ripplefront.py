@@ -9,6 +9,10 @@ the smallest D.
 
 Ties between equal neighbours go to the current heading (keep walking straight), then to the first of
 right, down, left, up.
+
+In a team of several guards each guard's field treats as unseen only its share of the unseen cells,
+those nearer to it than to any teammate (:mod:`guardsim.planners.team_share`), so the guards spread out
+instead of chasing the same frontier. One guard's field is the paper's, unchanged.
 """
 
 from __future__ import annotations
@@ -16,11 +20,10 @@ from __future__ import annotations
 import numpy as np
 
 from guardsim.planners.base import EpisodeSetup, GuardState
+from guardsim.planners.shortest_paths import FAR
+from guardsim.planners.team_share import guard_share
 
 __all__ = ["FAR", "RippleFront", "ripple_sweep"]
-
-#: D of a seen cell with no connected neighbour: farther than any real distance.
-FAR = np.int32(np.iinfo(np.int32).max // 2)
 
 
 def ripple_sweep(distance: np.ndarray, seen: np.ndarray, neighbours: np.ndarray) -> np.ndarray:
@@ -77,16 +80,21 @@ class RippleFront:
         self.sweeps_per_tick = sweeps_per_tick
         self.distance = np.zeros(0, dtype=np.int32)
         self._neighbours = np.zeros((0, 4), dtype=np.int64)
+        self._goal = np.zeros(0, dtype=bool)
 
     def reset(self, setup: EpisodeSetup) -> None:
         """Start every cell at D = 0, as if all were unseen."""
         self.distance = np.zeros(setup.grid.size, dtype=np.int32)
         self._neighbours = setup.grid.neighbours
+        self._goal = setup.goal
 
     def next_move(self, state: GuardState) -> int | None:
         """Sweep, then return the heading toward the connected neighbour with the smallest D."""
+        done = state.seen
+        if state.team:
+            done = ~guard_share(self._neighbours, self._goal & ~state.seen, state.team, state.guard)
         for _ in range(self.sweeps_per_tick):
-            self.distance = ripple_sweep(self.distance, state.seen, self._neighbours)
+            self.distance = ripple_sweep(self.distance, done, self._neighbours)
         return greedy_move(self.distance, self._neighbours[state.cell], state.heading)
 
 

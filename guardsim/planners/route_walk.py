@@ -1,0 +1,221 @@
+"""Walking viewpoint routes ahead of time: the whole team's episode, simulated with the level's view table.
+
+The rule each guard follows, every tick, all guards deciding on the same state and then moving at once
+(as :func:`guardsim.simulation.run_team_episode` does):
+
+1. drop the head of its route while that viewpoint would see no unseen goal cell;
+2. its target is the head; with the route done, the nearest state that would see an unseen goal cell
+   (the frontier rule, :func:`guardsim.planners.frontier.nearest_frontier`); with none, it stays;
+3. standing on the target's entry cell it steps into the target; otherwise it steps down the
+   breadth-first field toward the entry cell, choosing among equally short steps the one whose
+   arrival state would see the most unseen goal cells (ties: keep the heading, then right, down,
+   left, up).
+
+The view table gives exactly the cells the loop's vision would, so the simulated walk is the walk the
+loop will see, tick for tick.
+"""
+
+from __future__ import annotations
+
+from typing import NamedTuple
+
+import numba
+import numpy as np
+
+from guardsim.planners.frontier import _nearest
+from guardsim.planners.shortest_paths import FAR, _breadth_first
+from guardsim.planners.views import ViewTable
+
+__all__ = ["RouteWalk", "walk_routes"]
+
+
+class RouteWalk(NamedTuple):
+    """A simulated team walk."""
+
+    moves: np.ndarray
+    """``int64 (guards, ticks)``: each guard's move per tick (a heading number, or -1 to stay)."""
+    cells: np.ndarray
+    """``int64 (guards, ticks + 1)``: each guard's cell per tick, the start included."""
+    headings: np.ndarray
+    """``int64 (guards, ticks + 1)``: each guard's heading per tick."""
+    covered: bool
+    """Whether every goal cell was seen before the limit."""
+    visits: list[np.ndarray]
+    """Per guard, the states it arrived in as its target (route viewpoints or frontier states), in order."""
+
+    @property
+    def steps(self) -> int:
+        """Ticks until covered (the team's makespan)."""
+        return int(self.moves.shape[1])
+
+    @property
+    def total_moves(self) -> int:
+        """Moves made, summed over the guards."""
+        return int((self.moves >= 0).sum())
+
+
+@numba.njit(cache=True, nogil=True)
+def _walk(
+    neighbours: np.ndarray,
+    entry: np.ndarray,
+    sight_start: np.ndarray,
+    sight: np.ndarray,
+    watch_start: np.ndarray,
+    watchers: np.ndarray,
+    goal: np.ndarray,
+    seen: np.ndarray,
+    counts: np.ndarray,
+    cells: np.ndarray,
+    headings: np.ndarray,
+    routes: np.ndarray,
+    lengths: np.ndarray,
+    limit: int,
+    far: int,
+    moves: np.ndarray,
+    path: np.ndarray,
+    facing: np.ndarray,
+    visits: np.ndarray,
+    visit_count: np.ndarray,
+) -> int:
+    guards = cells.shape[0]
+    cell_count = neighbours.shape[0]
+    unseen = 0
+    for cell in range(cell_count):
+        if goal[cell] and not seen[cell]:
+            unseen += 1
+    position = np.zeros(guards, dtype=np.int64)
+    target = np.full(guards, -1, dtype=np.int64)
+    fields = np.empty((guards, cell_count), dtype=np.int32)
+    here = np.empty(cell_count, dtype=np.int32)
+    source = np.empty(1, dtype=np.int64)
+    decided = np.empty(guards, dtype=np.int64)
+    for guard in range(guards):
+        path[guard, 0] = cells[guard]
+        facing[guard, 0] = headings[guard]
+    tick = 0
+    while unseen > 0 and tick < limit:
+        for guard in range(guards):
+            while position[guard] < lengths[guard] and counts[routes[guard, position[guard]]] == 0:
+                position[guard] += 1
+            if position[guard] < lengths[guard]:
+                goal_state = routes[guard, position[guard]]
+            else:
+                source[0] = cells[guard]
+                _breadth_first(neighbours, source, far, here)
+                goal_state = _nearest(entry, counts, here, far)
+            move = -1
+            if goal_state >= 0:
+                if goal_state != target[guard]:
+                    target[guard] = goal_state
+                    source[0] = entry[goal_state]
+                    _breadth_first(neighbours, source, far, fields[guard])
+                field = fields[guard]
+                cell = cells[guard]
+                if cell == entry[goal_state]:
+                    move = goal_state % 4
+                else:
+                    best_view = -1
+                    for choice in range(5):
+                        direction = headings[guard] if choice == 0 else choice - 1
+                        other = neighbours[cell, direction]
+                        if other < 0 or field[other] >= field[cell]:
+                            continue
+                        view = counts[other * 4 + direction]
+                        if view > best_view:
+                            move, best_view = direction, view
+            decided[guard] = move
+        for guard in range(guards):
+            move = decided[guard]
+            moves[guard, tick] = move
+            if move >= 0:
+                cells[guard] = neighbours[cells[guard], move]
+                headings[guard] = move
+        tick += 1
+        for guard in range(guards):
+            path[guard, tick] = cells[guard]
+            facing[guard, tick] = headings[guard]
+            state = cells[guard] * 4 + headings[guard]
+            if state == target[guard] and decided[guard] >= 0:
+                visits[guard, visit_count[guard]] = state
+                visit_count[guard] += 1
+            for index in range(sight_start[state], sight_start[state + 1]):
+                cell = sight[index]
+                if not seen[cell]:
+                    seen[cell] = True
+                    if goal[cell]:
+                        unseen -= 1
+                        for other in range(watch_start[cell], watch_start[cell + 1]):
+                            counts[watchers[other]] -= 1
+    return tick
+
+
+def walk_routes(
+    table: ViewTable,
+    neighbours: np.ndarray,
+    goal: np.ndarray,
+    seen: np.ndarray,
+    counts: np.ndarray,
+    team: tuple[tuple[int, int], ...],
+    routes: list[np.ndarray],
+    *,
+    limit: int,
+) -> RouteWalk:
+    """Simulate the team walking ``routes`` from ``team`` until every goal cell is seen or ``limit`` ticks.
+
+    Parameters
+    ----------
+    table
+        The level's view table (the loop's vision, state by state).
+    neighbours
+        The grid's connected neighbours.
+    goal, seen
+        ``bool (cells,)``: cells to see, and cells seen so far (the looks at the start included).
+    counts
+        ``int32 (states,)``: unseen goal cells each state would see, matching ``seen``.
+    team
+        ``(cell, heading)`` of every guard at the start of the walk.
+    routes
+        Per guard, the state numbers of its viewpoints in order.
+    limit
+        Most ticks to simulate.
+    """
+    guards = len(team)
+    longest = max((route.size for route in routes), default=0)
+    padded = np.full((guards, max(longest, 1)), -1, dtype=np.int64)
+    for guard, route in enumerate(routes):
+        padded[guard, : route.size] = route
+    moves = np.full((guards, limit), -1, dtype=np.int64)
+    path = np.zeros((guards, limit + 1), dtype=np.int64)
+    facing = np.zeros((guards, limit + 1), dtype=np.int64)
+    visits = np.zeros((guards, limit), dtype=np.int64)
+    visit_count = np.zeros(guards, dtype=np.int64)
+    seen = seen.copy()
+    ticks = _walk(
+        np.ascontiguousarray(neighbours, dtype=np.int64),
+        table.entry,
+        table.sight_start,
+        table.sight,
+        table.watch_start,
+        table.watchers,
+        np.ascontiguousarray(goal, dtype=np.bool_),
+        seen,
+        counts.copy(),
+        np.array([cell for cell, _ in team], dtype=np.int64),
+        np.array([heading for _, heading in team], dtype=np.int64),
+        padded,
+        np.array([route.size for route in routes], dtype=np.int64),
+        limit,
+        int(FAR),
+        moves,
+        path,
+        facing,
+        visits,
+        visit_count,
+    )
+    return RouteWalk(
+        moves[:, :ticks],
+        path[:, : ticks + 1],
+        facing[:, : ticks + 1],
+        bool((seen | ~goal).all()),
+        [visits[guard, : visit_count[guard]].copy() for guard in range(guards)],
+    )

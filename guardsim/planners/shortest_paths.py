@@ -1,0 +1,131 @@
+"""Breadth-first distances over the grid's connected cells, compiled with numba.
+
+Moves cost one step each and connectivity is symmetric, so the distance from a set of cells to a cell
+is also the distance from that cell to the set. Heading does not constrain moves (a guard may step in
+any of the four directions), so the steps from a cell to a state ``(cell b, heading h)`` are one more
+than the steps to the cell behind ``b`` in heading ``h`` (the one a guard steps from to arrive facing
+``h``): see :func:`entry_cells`.
+"""
+
+from __future__ import annotations
+
+import numba
+import numpy as np
+
+__all__ = ["FAR", "distance_fields", "distances_between", "distances_from", "entry_cells"]
+
+#: Distance of a cell no source reaches: farther than any real distance, with room to add to it.
+FAR = np.int32(np.iinfo(np.int32).max // 2)
+
+
+@numba.njit(cache=True, nogil=True)
+def _breadth_first(neighbours: np.ndarray, sources: np.ndarray, far: int, distance: np.ndarray) -> None:
+    """Fill ``distance`` with steps to the nearest source; ``far`` where no source is reachable."""
+    cells = neighbours.shape[0]
+    queue = np.empty(cells, dtype=np.int64)
+    for cell in range(cells):
+        distance[cell] = far
+    tail = 0
+    for source in sources:
+        if distance[source] != 0:
+            distance[source] = 0
+            queue[tail] = source
+            tail += 1
+    head = 0
+    while head < tail:
+        cell = queue[head]
+        head += 1
+        step = distance[cell] + 1
+        for direction in range(4):
+            other = neighbours[cell, direction]
+            if other >= 0 and distance[other] == far:
+                distance[other] = step
+                queue[tail] = other
+                tail += 1
+
+
+@numba.njit(cache=True, nogil=True)
+def _fields(neighbours: np.ndarray, sources: np.ndarray, far: int, out: np.ndarray) -> None:
+    single = np.empty(1, dtype=np.int64)
+    for index in range(sources.shape[0]):
+        single[0] = sources[index]
+        _breadth_first(neighbours, single, far, out[index])
+
+
+@numba.njit(cache=True, nogil=True)
+def _between(neighbours: np.ndarray, sources: np.ndarray, targets: np.ndarray, far: int, out: np.ndarray) -> None:
+    single = np.empty(1, dtype=np.int64)
+    field = np.empty(neighbours.shape[0], dtype=np.int32)
+    for index in range(sources.shape[0]):
+        single[0] = sources[index]
+        _breadth_first(neighbours, single, far, field)
+        for column in range(targets.shape[0]):
+            out[index, column] = field[targets[column]]
+
+
+def distances_from(neighbours: np.ndarray, sources: np.ndarray) -> np.ndarray:
+    """Steps from every cell to the nearest of ``sources`` through connected moves.
+
+    Parameters
+    ----------
+    neighbours
+        ``int64 (n, 4)``: connected neighbour per direction, -1 where none (``CoverageGrid.neighbours``).
+    sources
+        ``bool (n,)`` mask or integer flat indices of the source cells.
+
+    Returns
+    -------
+    numpy.ndarray
+        ``int32 (n,)``: 0 on sources, :data:`FAR` where no source is
+        reachable (so the field can be fed to the same greedy rule as RippleFront's).
+
+    Examples
+    --------
+    A corridor of four cells, the right-most one the source:
+
+    >>> neighbours = np.array([[1, -1, -1, -1], [2, -1, 0, -1], [3, -1, 1, -1], [-1, -1, 2, -1]])
+    >>> distances_from(neighbours, np.array([3])).tolist()
+    [3, 2, 1, 0]
+    """
+    indices = np.flatnonzero(sources) if sources.dtype == np.bool_ else np.asarray(sources, dtype=np.int64)
+    distance = np.empty(neighbours.shape[0], dtype=np.int32)
+    _breadth_first(np.ascontiguousarray(neighbours, dtype=np.int64), indices.astype(np.int64), int(FAR), distance)
+    return distance
+
+
+def distance_fields(neighbours: np.ndarray, sources: np.ndarray) -> np.ndarray:
+    """One field per source cell: ``int32 (len(sources), n)``, row ``k`` the steps to ``sources[k]``."""
+    sources = np.asarray(sources, dtype=np.int64)
+    out = np.empty((sources.size, neighbours.shape[0]), dtype=np.int32)
+    _fields(np.ascontiguousarray(neighbours, dtype=np.int64), sources, int(FAR), out)
+    return out
+
+
+def distances_between(neighbours: np.ndarray, sources: np.ndarray, targets: np.ndarray) -> np.ndarray:
+    """Steps from each source cell to each target cell: ``int32 (len(sources), len(targets))``.
+
+    Needs one field at a time, so memory grows with the pairs asked for, not with sources times cells.
+    """
+    sources = np.asarray(sources, dtype=np.int64)
+    targets = np.asarray(targets, dtype=np.int64)
+    out = np.empty((sources.size, targets.size), dtype=np.int32)
+    _between(np.ascontiguousarray(neighbours, dtype=np.int64), sources, targets, int(FAR), out)
+    return out
+
+
+def entry_cells(neighbours: np.ndarray) -> np.ndarray:
+    """The cell a guard steps from to arrive in each state, -1 where no step arrives.
+
+    Returns
+    -------
+    numpy.ndarray
+        ``int64 (n * 4,)``: for state ``cell * 4 + heading``, the connected neighbour of ``cell`` in
+        the direction opposite ``heading``.
+
+    Examples
+    --------
+    >>> neighbours = np.array([[1, -1, -1, -1], [-1, -1, 0, -1]])
+    >>> entry_cells(neighbours).reshape(2, 4).tolist()
+    [[-1, -1, 1, -1], [0, -1, -1, -1]]
+    """
+    return np.asarray(neighbours, dtype=np.int64)[:, [2, 3, 0, 1]].ravel()

@@ -1,0 +1,89 @@
+"""Splitting viewpoints among guards: one open tour per guard, balanced so the longest is short.
+
+Each viewpoint first goes to the guard whose start is nearest to it (ties to the lowest number), and
+each guard's viewpoints are ordered into an open tour (:mod:`guardsim.planners.open_tour`). Then, as
+long as it helps, one viewpoint moves from the longest tour to the place in another guard's tour where
+it costs least, provided both tours end up shorter than the longest was; both tours are then improved
+again. This is the min-max multiple-TSP heuristic of moving nodes off the critical tour (after the
+insertion moves of Frederickson, Hecht and Kim 1978, "Approximation algorithms for some routing
+problems", and its later local-search variants); its aim is the team's makespan, not the total steps.
+"""
+
+from __future__ import annotations
+
+import numba
+import numpy as np
+
+from guardsim.planners.open_tour import improve_tour, nearest_neighbour_tour, tour_cost
+
+__all__ = ["plan_routes"]
+
+
+@numba.njit(cache=True, nogil=True)
+def _best_transfer(cost: np.ndarray, tours: numba.typed.List, longest: int) -> tuple[int, int, int, int]:
+    """The move of one viewpoint off tour ``longest`` that most shortens the longer of the two tours.
+
+    Returns ``(position in longest, other guard, gap in other, resulting max length)``; ``(-1, ...)``
+    when no move makes both tours shorter than ``longest`` is now.
+    """
+    source = tours[longest]
+    source_cost = tour_cost(cost, source)
+    best = (-1, -1, -1, source_cost)
+    for position in range(1, source.shape[0]):
+        node = source[position]
+        saved = cost[source[position - 1], node]
+        if position + 1 < source.shape[0]:
+            saved += cost[node, source[position + 1]] - cost[source[position - 1], source[position + 1]]
+        remaining = source_cost - saved
+        for guard in range(len(tours)):
+            if guard == longest:
+                continue
+            target = tours[guard]
+            target_cost = tour_cost(cost, target)
+            for gap in range(target.shape[0]):
+                added = cost[target[gap], node]
+                if gap + 1 < target.shape[0]:
+                    added += cost[node, target[gap + 1]] - cost[target[gap], target[gap + 1]]
+                worst = max(remaining, target_cost + added)
+                if worst < best[3]:
+                    best = (position, guard, gap, worst)
+    return best
+
+
+def plan_routes(cost: np.ndarray, starts: np.ndarray, viewpoints: np.ndarray) -> list[np.ndarray]:
+    """One open tour per guard covering every viewpoint once.
+
+    Parameters
+    ----------
+    cost
+        ``int64 (nodes, nodes)``: steps from one node to another.
+    starts
+        ``int64 (guards,)``: each guard's start node.
+    viewpoints
+        ``int64``: the nodes to visit.
+
+    Returns
+    -------
+    list of numpy.ndarray
+        Per guard, its viewpoints in walking order (its start left out).
+    """
+    guards = starts.size
+    if guards == 1:
+        owner = np.zeros(viewpoints.size, dtype=np.int64)
+    else:
+        owner = np.argmin(cost[np.ix_(starts, viewpoints)], axis=0)
+    tours = numba.typed.List(
+        [improve_tour(cost, nearest_neighbour_tour(cost, starts[g], viewpoints[owner == g])) for g in range(guards)]
+    )
+    for _ in range(4 * viewpoints.size):
+        if guards == 1:
+            break
+        lengths = [tour_cost(cost, tour) for tour in tours]
+        longest = int(np.argmax(lengths))
+        position, other, gap, _ = _best_transfer(cost, tours, longest)
+        if position < 0:
+            break
+        node = tours[longest][position]
+        tours[longest] = improve_tour(cost, np.delete(tours[longest], position))
+        tours[other] = improve_tour(cost, np.insert(tours[other], gap + 1, node))
+    return [tour[1:].copy() for tour in tours]

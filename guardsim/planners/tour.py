@@ -1,0 +1,151 @@
+"""Tour: cover the level from a few viewpoints, visited in a short order.
+
+Per level (once, shared by every episode): a greedy set cover of the goal by viewpoints, states whose
+cones together see every goal cell (:mod:`guardsim.planners.viewpoint_cover`), and the true steps
+between every two of them (breadth-first over connected moves; arriving in a viewpoint means arriving
+at its cell by a step in its heading).
+
+Per episode, at the first decision: the viewpoints that still see something unseen are ordered into an
+open travelling-salesman tour from the start (nearest neighbour, then 2-opt and Or-opt,
+:mod:`guardsim.planners.open_tour`); a team splits them into one tour per guard
+(:mod:`guardsim.planners.team_routes`). The guard then walks its tour along shortest paths, skipping
+any viewpoint whose cells have all been seen meanwhile (by it on the way or by a teammate). Among
+equally short next steps it takes the one whose arrival state would see the most unseen cells, so the
+walk sees as much as it can on the way. A guard whose tour is done while cells remain unseen (in a team)
+helps by walking to the nearest state that would see one (the frontier rule).
+"""
+
+from __future__ import annotations
+
+from typing import NamedTuple
+
+import numpy as np
+
+from guardsim.planners.base import STAY, EpisodeSetup, GuardState
+from guardsim.planners.frontier import Frontier
+from guardsim.planners.route_walk import RouteWalk, walk_routes
+from guardsim.planners.shortest_paths import distances_between
+from guardsim.planners.team_routes import plan_routes
+from guardsim.planners.viewpoint_cover import greedy_cover
+from guardsim.planners.views import UnseenTally, level_memo, view_table
+
+__all__ = ["LevelCover", "Tour", "route_costs"]
+
+#: Rounds of routing again through the states a simulated walk arrived in.
+REFINE_ROUNDS = 8
+
+#: ``(cell, heading)`` of every guard.
+Team = tuple[tuple[int, int], ...]
+
+
+def route_costs(neighbours: np.ndarray, entry: np.ndarray, states: np.ndarray, team: Team) -> np.ndarray:
+    """Steps between nodes: ``states`` (nodes ``0..k-1``), then one start per guard (never arrived at).
+
+    Arriving in state ``b`` from node ``a`` takes the steps from ``a``'s cell to ``b``'s entry cell and
+    the step into ``b``.
+    """
+    k = states.size
+    cells = np.concatenate([states // 4, np.array([cell for cell, _ in team], dtype=np.int64)])
+    cost = np.zeros((cells.size, cells.size), dtype=np.int64)
+    cost[:, :k] = distances_between(neighbours, entry[states], cells).T.astype(np.int64) + 1
+    cost[np.arange(k), np.arange(k)] = 0
+    return cost
+
+
+class LevelCover(NamedTuple):
+    """What the tour planner keeps per level and goal."""
+
+    viewpoints: np.ndarray
+    """``int64 (m,)``: state numbers (``cell * 4 + heading``) of the greedy set cover."""
+
+
+class Tour:
+    """Plan a short walk through set-cover viewpoints at the first tick, then walk it."""
+
+    name = "tour"
+
+    def __init__(self) -> None:
+        self.cover = LevelCover(np.zeros(0, dtype=np.int64))
+        self.walk: RouteWalk | None = None
+        """The team's planned walk, made at the first decision."""
+
+    def reset(self, setup: EpisodeSetup) -> None:
+        """Load (or build, once per level and goal) the viewpoint cover; the walk waits for the start."""
+        self._neighbours = setup.grid.neighbours
+        self._goal = setup.goal
+        self._table = view_table(setup.grid, setup.vision)
+        memo = level_memo(setup.grid, setup.vision)
+        key = ("tour-cover", setup.goal.tobytes())
+        if key not in memo:
+            memo[key] = LevelCover(greedy_cover(self._table, setup.goal))
+        self.cover = memo[key]
+        self._memo = memo
+        self._goal_key = key
+        self._tally = UnseenTally(self._table, setup.goal)
+        self._fallback = Frontier()
+        self._fallback.reset(setup)
+        self.walk = None
+        self._first_tick = 0
+
+    def next_move(self, state: GuardState) -> int | None:
+        """The planned move of this tick; the frontier rule if the world left the plan (or it ran out)."""
+        if self.walk is None:
+            self._tally.update(state.seen)
+            self.walk = self._plan(state)
+            self._first_tick = state.tick
+        tick = state.tick - self._first_tick
+        walk, guard = self.walk, state.guard
+        if (
+            tick < walk.moves.shape[1]
+            and walk.cells[guard, tick] == state.cell
+            and walk.headings[guard, tick] == state.heading
+        ):
+            move = int(walk.moves[guard, tick])
+            return STAY if move < 0 else move
+        return self._fallback.next_move(state)
+
+    def _plan(self, state: GuardState) -> RouteWalk:
+        """The team's walk from this state; every guard of a team plans the same one, so it is shared."""
+        team = state.team or ((state.cell, state.heading),)
+        key = (self._goal_key, team, state.seen.tobytes())
+        cached = self._memo.get("tour-walk")
+        if cached is None or cached[0] != key:
+            cached = (key, self._best_walk(state.seen, team))
+            self._memo["tour-walk"] = cached
+        return cached[1]
+
+    def _best_walk(self, seen: np.ndarray, team: Team) -> RouteWalk:
+        """The shortest of the refined walks from two seeds: the viewpoint tour and the frontier walk."""
+        limit = 10 * int(self._goal.sum()) + 100
+        viewpoints = self.cover.viewpoints
+        pending = viewpoints[self._tally.counts[viewpoints] > 0]
+        seeds = [self._route(pending, team), [np.zeros(0, dtype=np.int64)] * len(team)]
+        walks = [self._refine(seen, team, routes, limit) for routes in seeds]
+        return min(walks, key=_walk_rank)
+
+    def _route(self, states: np.ndarray, team: Team) -> list[np.ndarray]:
+        """Per guard, an order of its share of ``states`` (state numbers)."""
+        cost = route_costs(self._neighbours, self._table.entry, states, team)
+        routes = plan_routes(cost, np.arange(states.size, cost.shape[0]), np.arange(states.size))
+        return [states[route] for route in routes]
+
+    def _refine(self, seen: np.ndarray, team: Team, routes: list[np.ndarray], limit: int) -> RouteWalk:
+        """Walk the routes; then route again through the states the walk actually arrived in, while it helps."""
+        best = self._simulate(seen, team, routes, limit)
+        for _ in range(REFINE_ROUNDS):
+            visited = np.unique(np.concatenate(best.visits))
+            walk = self._simulate(seen, team, self._route(visited, team), limit)
+            if _walk_rank(walk) >= _walk_rank(best):
+                break
+            best = walk
+        return best
+
+    def _simulate(self, seen: np.ndarray, team: Team, routes: list[np.ndarray], limit: int) -> RouteWalk:
+        return walk_routes(
+            self._table, self._neighbours, self._goal, seen, self._tally.counts, team, routes, limit=limit
+        )
+
+
+def _walk_rank(walk: RouteWalk) -> tuple[bool, int, int]:
+    """Covered first, then fewer ticks, then fewer moves."""
+    return (not walk.covered, walk.steps, walk.total_moves)

@@ -1,0 +1,97 @@
+"""Greedy set cover: a small set of viewpoints whose visible cells together include every goal cell.
+
+Candidates are the states a guard can arrive in by a step (the start state is the episode's own and
+sees its cells at tick 0 anyway). The greedy rule (Chvátal 1979, "A greedy heuristic for the
+set-covering problem") repeatedly takes the state that sees the most goal cells not yet covered, ties to
+the lowest state number; it stays within a factor ``ln(max cells per state) + 1`` of the smallest cover.
+A final pass drops any chosen viewpoint whose cells the others already cover, latest pick first.
+"""
+
+from __future__ import annotations
+
+import numba
+import numpy as np
+
+from guardsim.planners.views import ViewTable
+
+__all__ = ["greedy_cover"]
+
+
+@numba.njit(cache=True, nogil=True)
+def _greedy_cover(
+    sight_start: np.ndarray,
+    sight: np.ndarray,
+    watch_start: np.ndarray,
+    watchers: np.ndarray,
+    candidate: np.ndarray,
+    goal: np.ndarray,
+) -> np.ndarray:
+    states = candidate.shape[0]
+    gain = np.zeros(states, dtype=np.int64)
+    for state in range(states):
+        if candidate[state]:
+            for index in range(sight_start[state], sight_start[state + 1]):
+                gain[state] += goal[sight[index]]
+    covered = ~goal
+    chosen = []
+    while True:
+        best = -1
+        best_gain = 0
+        for state in range(states):
+            if candidate[state] and gain[state] > best_gain:
+                best, best_gain = state, gain[state]
+        if best < 0:
+            break
+        chosen.append(best)
+        for index in range(sight_start[best], sight_start[best + 1]):
+            cell = sight[index]
+            if not covered[cell]:
+                covered[cell] = True
+                for other in range(watch_start[cell], watch_start[cell + 1]):
+                    gain[watchers[other]] -= 1
+    # Redundancy pass: how many chosen viewpoints see each goal cell; drop those nobody needs.
+    multiplicity = np.zeros(goal.shape[0], dtype=np.int64)
+    for state in chosen:
+        for index in range(sight_start[state], sight_start[state + 1]):
+            multiplicity[sight[index]] += 1
+    keep = np.ones(len(chosen), dtype=np.bool_)
+    for position in range(len(chosen) - 1, -1, -1):
+        state = chosen[position]
+        needed = False
+        for index in range(sight_start[state], sight_start[state + 1]):
+            cell = sight[index]
+            if goal[cell] and multiplicity[cell] == 1:
+                needed = True
+                break
+        if not needed:
+            keep[position] = False
+            for index in range(sight_start[state], sight_start[state + 1]):
+                multiplicity[sight[index]] -= 1
+    result = np.empty(keep.sum(), dtype=np.int64)
+    count = 0
+    for position in range(len(chosen)):
+        if keep[position]:
+            result[count] = chosen[position]
+            count += 1
+    return result
+
+
+def greedy_cover(table: ViewTable, goal: np.ndarray) -> np.ndarray:
+    """Viewpoints (state numbers, in the order chosen) that together see every coverable goal cell.
+
+    Parameters
+    ----------
+    table
+        The level's :class:`~guardsim.planners.views.ViewTable`.
+    goal
+        ``bool (cells,)``: the cells to cover.
+
+    Returns
+    -------
+    numpy.ndarray
+        ``int64``: state numbers. A goal cell no arrivable state sees (only possible when the goal is a
+        single cell, seen from the start) stays uncovered.
+    """
+    goal = np.ascontiguousarray(goal, dtype=np.bool_)
+    candidate = (table.entry >= 0) & np.repeat(goal, 4)
+    return _greedy_cover(table.sight_start, table.sight, table.watch_start, table.watchers, candidate, goal)

@@ -1,0 +1,134 @@
+"""What every state of a level sees, and which states see each cell, computed once per level.
+
+A state is a cell and a heading, numbered ``cell * 4 + heading``. The table asks the episode's vision
+function about every state of every traversable cell once; it depends only on the grid and the vision,
+so it is kept for as long as both exist and shared by every episode and planner of the level.
+Planners that look ahead (frontier, tour) read it; they never look at the line-of-sight rule itself.
+"""
+
+from __future__ import annotations
+
+import weakref
+from dataclasses import dataclass
+from typing import Any
+
+import numba
+import numpy as np
+
+from guardsim.grid import CoverageGrid
+from guardsim.planners.base import VisionFunction
+from guardsim.planners.shortest_paths import entry_cells
+
+__all__ = ["UnseenTally", "ViewTable", "level_memo", "view_table"]
+
+
+@dataclass(frozen=True, eq=False)
+class ViewTable:
+    """Visible cells per state and watching states per cell, as flat (CSR) arrays."""
+
+    sight_start: np.ndarray
+    """``int64 (states + 1,)``: state ``s`` sees ``sight[sight_start[s]:sight_start[s + 1]]``."""
+    sight: np.ndarray
+    """``int32``: flat cell indices, state after state, each state's ascending."""
+    watch_start: np.ndarray
+    """``int64 (cells + 1,)``: cell ``c`` is seen by ``watchers[watch_start[c]:watch_start[c + 1]]``."""
+    watchers: np.ndarray
+    """``int32``: state numbers, cell after cell, each cell's ascending."""
+    entry: np.ndarray
+    """``int64 (states,)``: the cell a guard steps from to arrive in the state, -1 if none."""
+
+    def sees(self, state: int) -> np.ndarray:
+        """Flat indices of the cells ``state`` sees."""
+        return self.sight[self.sight_start[state] : self.sight_start[state + 1]]
+
+
+def build_view_table(grid: CoverageGrid, vision: VisionFunction) -> ViewTable:
+    """Ask ``vision`` about every state of every traversable cell; states of other cells see nothing."""
+    states = grid.size * 4
+    lengths = np.zeros(states, dtype=np.int64)
+    parts: list[np.ndarray] = []
+    for cell in np.flatnonzero(grid.traversable.ravel()).tolist():
+        col, row = grid.unflat(cell)
+        for heading in range(4):
+            cells = np.asarray(vision(col, row, heading), dtype=np.int32)
+            lengths[cell * 4 + heading] = cells.size
+            parts.append(cells)
+    sight = np.concatenate(parts) if parts else np.zeros(0, dtype=np.int32)
+    sight_start = np.zeros(states + 1, dtype=np.int64)
+    np.cumsum(lengths, out=sight_start[1:])
+    owner = np.repeat(np.arange(states, dtype=np.int32), lengths)
+    order = np.argsort(sight, kind="stable")
+    watch_start = np.zeros(grid.size + 1, dtype=np.int64)
+    np.cumsum(np.bincount(sight, minlength=grid.size), out=watch_start[1:])
+    return ViewTable(sight_start, sight, watch_start, owner[order], entry_cells(grid.neighbours))
+
+
+# grid -> vision -> memo; entries vanish with the grid or the vision function.
+_MEMOS: weakref.WeakKeyDictionary[CoverageGrid, weakref.WeakKeyDictionary[Any, dict[Any, Any]]] = (
+    weakref.WeakKeyDictionary()
+)
+
+
+def level_memo(grid: CoverageGrid, vision: VisionFunction) -> dict[Any, Any]:
+    """A dictionary kept for as long as ``grid`` and ``vision`` live: per-level precomputation goes here.
+
+    A vision function that cannot be weakly referenced gets a fresh, unshared dictionary.
+    """
+    by_vision = _MEMOS.setdefault(grid, weakref.WeakKeyDictionary())
+    try:
+        return by_vision.setdefault(vision, {})
+    except TypeError:
+        return {}
+
+
+def view_table(grid: CoverageGrid, vision: VisionFunction) -> ViewTable:
+    """The :class:`ViewTable` of a level and vision, built on first use and then shared."""
+    memo = level_memo(grid, vision)
+    if "views" not in memo:
+        memo["views"] = build_view_table(grid, vision)
+    return memo["views"]
+
+
+@numba.njit(cache=True, nogil=True)
+def _goal_counts(sight_start: np.ndarray, sight: np.ndarray, goal: np.ndarray, counts: np.ndarray) -> None:
+    for state in range(counts.shape[0]):
+        total = 0
+        for index in range(sight_start[state], sight_start[state + 1]):
+            total += goal[sight[index]]
+        counts[state] = total
+
+
+@numba.njit(cache=True, nogil=True)
+def _discount(cells: np.ndarray, watch_start: np.ndarray, watchers: np.ndarray, counts: np.ndarray) -> None:
+    for cell in cells:
+        for index in range(watch_start[cell], watch_start[cell + 1]):
+            counts[watchers[index]] -= 1
+
+
+class UnseenTally:
+    """How many unseen goal cells each state would see, kept up to date as cells get seen.
+
+    Each cell is discounted once, the first time :meth:`update` finds it seen, so an episode costs as
+    much as one pass over the table.
+
+    Parameters
+    ----------
+    table
+        The level's :class:`ViewTable`.
+    goal
+        ``bool (cells,)``: the cells the episode must see.
+    """
+
+    def __init__(self, table: ViewTable, goal: np.ndarray) -> None:
+        self.table = table
+        self.counts = np.zeros(table.entry.size, dtype=np.int32)
+        """``int32 (states,)``: unseen goal cells each state sees."""
+        _goal_counts(table.sight_start, table.sight, goal.astype(np.bool_), self.counts)
+        self._counted = ~goal
+
+    def update(self, seen: np.ndarray) -> None:
+        """Discount the goal cells seen since the last call."""
+        new = np.flatnonzero(seen & ~self._counted)
+        if new.size:
+            self._counted[new] = True
+            _discount(new, self.table.watch_start, self.table.watchers, self.counts)
