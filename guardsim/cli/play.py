@@ -12,7 +12,7 @@ from guardsim.level import HEADINGS
 from guardsim.output import atomic_path, write_text_atomic
 from guardsim.planners import PLANNERS, make_planner
 from guardsim.render import DEFAULT_MAX_FRAMES, GifOptions, encode_gif
-from guardsim.simulation import choose_start, episode_generator, run_episode
+from guardsim.simulation import choose_start, episode_generator, run_team_episode, team_starts
 
 __all__ = ["play"]
 
@@ -30,6 +30,13 @@ __all__ = ["play"]
     help="Re-run episode K of a batch seeded with --seed: start and heading drawn as in `guardsim bench`.",
 )
 @click.option("--planner", type=click.Choice(list(PLANNERS)), default="ripplefront", show_default=True)
+@click.option(
+    "--guards",
+    type=click.IntRange(min=1),
+    default=1,
+    show_default=True,
+    help="Team size: the other guards start at cells drawn from the first guard's connected area.",
+)
 @click.option("--max-steps", type=click.IntRange(min=0), help="Step limit [default: 10 per traversable cell].")
 @click.option("--sweeps-per-tick", type=click.IntRange(min=1), default=1, show_default=True)
 @click.option(
@@ -52,6 +59,7 @@ def play(
     heading: str | None,
     episode: int | None,
     planner: str,
+    guards: int,
     max_steps: int | None,
     sweeps_per_tick: int,
     reference: bool,
@@ -69,6 +77,8 @@ def play(
 
     The start is --start, else the level's guard.start, else drawn from the seed; likewise the heading.
     With --episode K, both are drawn from episode K's generator unless given with --start/--heading.
+    With --guards K, the other guards' starts and headings are drawn next from the same generator, which
+    then feeds the planners, as in `guardsim bench`.
     """
     level = load(level_path, max_cells, max_vertices, max_file_bytes)
     began = time.perf_counter()
@@ -81,8 +91,11 @@ def play(
         point, first = start or level.guard.start, heading or level.guard.heading
     cell, first_heading = choose_start(scene, rng=rng, point=point, heading=first)
     options = {"sweeps_per_tick": sweeps_per_tick} if planner == "ripplefront" else {}
-    guard_planner = make_planner(planner, **options)
-    trace = run_episode(scene, guard_planner, cell, first_heading, max_steps=max_steps, seed=seed, reference=reference)
+    cells, headings = team_starts(scene, (cell, first_heading), guards, rng=rng)
+    planners = [make_planner(planner, **options) for _ in range(guards)]
+    trace = run_team_episode(
+        scene, planners, cells, headings, max_steps=max_steps, seed=seed, reference=reference, rng=rng
+    )
     seconds = time.perf_counter() - began
     options = GifOptions(stride=stride, frame_ms=frame_ms, max_frames=max_frames)
     written = []
@@ -96,8 +109,9 @@ def play(
         written.append(trace_path)
     seen_percent = 100.0 - trace.unseen_percent[-1]
     extra = f", {trace.unreachable} unreachable" if trace.unreachable else ""
+    team = f" ({guards} guards, {trace.total_moves} moves in all)" if guards > 1 else ""
     click.echo(
-        f"{level.name}: {trace.outcome.replace('_', ' ')} after {trace.steps} steps, {seen_percent:.1f}% seen "
+        f"{level.name}: {trace.outcome.replace('_', ' ')} after {trace.steps} steps{team}, {seen_percent:.1f}% seen "
         f"({trace.reachable} reachable cells{extra}), {seconds:.2f} s"
         + (f" -> {', '.join(written)}" if written else "")
     )
