@@ -66,8 +66,22 @@ class World:
         return self.space.point_query_nearest(point, radius, _WALLS_ONLY) is None
 
     def sweep_clear(self, start: tuple[float, float], end: tuple[float, float], radius: float) -> bool:
-        """Whether a circle of ``radius`` can slide from ``start`` to ``end`` without touching a wall."""
-        return self.space.segment_query_first(start, end, radius, _WALLS_ONLY) is None
+        """Whether a circle of ``radius`` can slide from ``start`` to ``end`` without touching a wall.
+
+        Each wall whose box overlaps the swept box is asked on its own: the space's segment query with a
+        radius prunes walls by the bare centre line's box and would miss a ledge the circle grazes.
+        """
+        box = pymunk.BB(
+            min(start[0], end[0]) - radius,
+            min(start[1], end[1]) - radius,
+            max(start[0], end[0]) + radius,
+            max(start[1], end[1]) + radius,
+        )
+        for wall in self.space.bb_query(box, _WALLS_ONLY):
+            hit = wall.segment_query(start, end, radius)
+            if hit is not None and hit.shape is not None:
+                return False
+        return True
 
     def place_guard(self, point: tuple[float, float]) -> None:
         """Move the guard's body to ``point`` (a cell centre) and let the space know."""
