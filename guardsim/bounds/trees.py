@@ -1,0 +1,204 @@
+"""Minimum spanning trees over clusters of guard states, with distances between the clusters as weights.
+
+A cluster is a set of states (the watchers of one cell), given as a label per state: the cluster's
+number, or -1 for none; clusters are disjoint. The distance between clusters ``A`` and ``B`` is
+``min(d(A -> B), d(B -> A))``, ``d`` being the fewest steps from any state of one to any state of the
+other. Two ways to weigh the tree:
+
+- :func:`spanning_tree_weight`, for any number of clusters: two searches over the state graph in all;
+- :func:`cluster_distances` then :func:`subset_tree_weight`, for a few clusters and many subsets of them:
+  one search per cluster, then each subset's tree from the matrix in microseconds.
+"""
+
+from __future__ import annotations
+
+import numba
+import numpy as np
+
+__all__ = ["cluster_distances", "spanning_tree_weight", "subset_tree_weight"]
+
+
+@numba.njit(cache=True, nogil=True)
+def _spread(neighbours: np.ndarray, label: np.ndarray, clusters: int, backward: bool) -> tuple[np.ndarray, np.ndarray]:
+    """Search from all clusters at once: each state's distance from (or, ``backward``, to) the nearest
+    cluster, and that cluster's number; -1 where none is connected."""
+    states = label.shape[0]
+    distance = np.full(states, -1, dtype=np.int32)
+    nearest = np.full(states, -1, dtype=np.int32)
+    queue = np.empty(states, dtype=np.int64)
+    tail = 0
+    for state in range(states):
+        if 0 <= label[state] < clusters:
+            distance[state] = 0
+            nearest[state] = label[state]
+            queue[tail] = state
+            tail += 1
+    head = 0
+    while head < tail:
+        state = queue[head]
+        head += 1
+        cell, heading = state // 4, state % 4
+        if backward:
+            # The moves into (c, h) come from every state of the cell behind c along h.
+            behind = neighbours[cell, (heading + 2) % 4]
+            if behind < 0:
+                continue
+            for other in range(behind * 4, behind * 4 + 4):
+                if distance[other] < 0:
+                    distance[other] = distance[state] + 1
+                    nearest[other] = nearest[state]
+                    queue[tail] = other
+                    tail += 1
+        else:
+            for direction in range(4):
+                there = neighbours[cell, direction]
+                if there >= 0 and distance[there * 4 + direction] < 0:
+                    other = there * 4 + direction
+                    distance[other] = distance[state] + 1
+                    nearest[other] = nearest[state]
+                    queue[tail] = other
+                    tail += 1
+    return distance, nearest
+
+
+@numba.njit(cache=True, nogil=True)
+def _root(parent: np.ndarray, node: int) -> int:
+    """Union-find root, halving the path on the way."""
+    while parent[node] != node:
+        parent[node] = parent[parent[node]]
+        node = parent[node]
+    return node
+
+
+@numba.njit(cache=True, nogil=True)
+def spanning_tree_weight(neighbours: np.ndarray, label: np.ndarray, clusters: int) -> int:
+    """Weight of the minimum spanning tree over clusters ``0 .. clusters - 1`` of ``label``.
+
+    One search forward from all clusters and one backward to them give, for each state ``p`` reached,
+    a walk from the nearest cluster behind ``p`` to the nearest cluster ahead of it, and for each move
+    ``p -> q`` one through that move. Every such walk is at least the distance between its two clusters,
+    and the spanning tree over these walks weighs exactly as much as over the true distances (Mehlhorn
+    1988 for undirected graphs; the directed case is argued in ``docs/bounds.md``).
+    """
+    ahead, ahead_label = _spread(neighbours, label, clusters, False)
+    behind, behind_label = _spread(neighbours, label, clusters, True)
+    states = label.shape[0]
+    source = np.empty(5 * states, dtype=np.int32)
+    target = np.empty(5 * states, dtype=np.int32)
+    weight = np.empty(5 * states, dtype=np.int64)
+    count = 0
+    for state in range(states):
+        if ahead[state] < 0:
+            continue
+        here = ahead_label[state]
+        if behind[state] >= 0 and behind_label[state] != here:
+            source[count], target[count], weight[count] = here, behind_label[state], ahead[state] + behind[state]
+            count += 1
+        cell = state // 4
+        for direction in range(4):
+            there = neighbours[cell, direction]
+            if there < 0:
+                continue
+            other = there * 4 + direction
+            if behind[other] >= 0 and behind_label[other] != here:
+                source[count], target[count] = here, behind_label[other]
+                weight[count] = ahead[state] + 1 + behind[other]
+                count += 1
+    # Kruskal, the walks ordered by a counting sort on their lengths (small whole numbers).
+    heaviest = weight[:count].max() if count else 0
+    slot = np.zeros(heaviest + 2, dtype=np.int64)
+    for index in range(count):
+        slot[weight[index] + 1] += 1
+    for value in range(heaviest + 1):
+        slot[value + 1] += slot[value]
+    order = np.empty(count, dtype=np.int64)
+    for index in range(count):
+        order[slot[weight[index]]] = index
+        slot[weight[index]] += 1
+    parent = np.arange(clusters)
+    total = 0
+    joined = 0
+    for index in order:
+        if joined == clusters - 1:
+            break
+        a = _root(parent, source[index])
+        b = _root(parent, target[index])
+        if a != b:
+            parent[a] = b
+            total += weight[index]
+            joined += 1
+    return total
+
+
+@numba.njit(cache=True, nogil=True)
+def cluster_distances(neighbours: np.ndarray, label: np.ndarray, clusters: int) -> np.ndarray:
+    """``int64 (clusters, clusters)``: ``min(d(A -> B), d(B -> A))`` between clusters of ``label``.
+
+    One forward search per cluster, stopped once it has met every other cluster.
+    """
+    states = label.shape[0]
+    ahead = np.full((clusters, clusters), -1, dtype=np.int64)
+    distance = np.full(states, -1, dtype=np.int32)
+    queue = np.empty(states, dtype=np.int64)
+    for source in range(clusters):
+        distance[:] = -1
+        tail = 0
+        for state in range(states):
+            if label[state] == source:
+                distance[state] = 0
+                queue[tail] = state
+                tail += 1
+        missing = clusters
+        head = 0
+        while head < tail and missing > 0:
+            state = queue[head]
+            head += 1
+            # States leave the queue in order of distance, so the first of a cluster is its nearest.
+            there = label[state]
+            if 0 <= there < clusters and ahead[source, there] < 0:
+                ahead[source, there] = distance[state]
+                missing -= 1
+            cell = state // 4
+            for direction in range(4):
+                other_cell = neighbours[cell, direction]
+                if other_cell >= 0 and distance[other_cell * 4 + direction] < 0:
+                    distance[other_cell * 4 + direction] = distance[state] + 1
+                    queue[tail] = other_cell * 4 + direction
+                    tail += 1
+    both = np.zeros((clusters, clusters), dtype=np.int64)
+    for a in range(clusters):
+        for b in range(clusters):
+            forward, backward = ahead[a, b], ahead[b, a]
+            if forward >= 0 and backward >= 0:
+                both[a, b] = min(forward, backward)
+            else:
+                # A walk covering both clusters joins them one way or the other, so one is always
+                # known; zero keeps the tree a lower bound should neither be.
+                both[a, b] = max(forward, backward, 0)
+    return both
+
+
+@numba.njit(cache=True, nogil=True)
+def subset_tree_weight(matrix: np.ndarray, members: np.ndarray) -> int:
+    """Weight of the minimum spanning tree over the clusters ``members`` of a :func:`cluster_distances`
+    matrix (Prim's algorithm on the dense matrix)."""
+    count = members.shape[0]
+    if count < 2:
+        return 0
+    inside = np.zeros(count, dtype=np.bool_)
+    link = np.empty(count, dtype=np.int64)
+    for k in range(count):
+        link[k] = matrix[members[0], members[k]]
+    inside[0] = True
+    total = 0
+    for _ in range(count - 1):
+        best = -1
+        for k in range(count):
+            if not inside[k] and (best < 0 or link[k] < link[best]):
+                best = k
+        inside[best] = True
+        total += link[best]
+        for k in range(count):
+            if not inside[k] and matrix[members[best], members[k]] < link[k]:
+                link[k] = matrix[members[best], members[k]]
+    return total
