@@ -451,10 +451,14 @@ def _collinear(ring: Ring) -> bool:
     """Whether every point of a ring lies on one line (to within float noise)."""
     points = np.asarray(ring, dtype=float)
     offsets = points - points[0]
-    direction = offsets[np.argmax(np.abs(offsets).sum(axis=1))]
-    cross = offsets[:, 0] * direction[1] - offsets[:, 1] * direction[0]
-    scale = float(np.abs(offsets).max()) ** 2
-    return bool(np.all(np.abs(cross) <= 1e-12 * scale))
+    extent = np.abs(offsets).max()
+    if not 0 < extent < np.inf:
+        return bool(extent == 0)
+    # Scaled to at most 1 first, so that coordinates past 1e154 cannot overflow the cross products.
+    unit = offsets / extent
+    direction = unit[np.argmax(np.abs(unit).sum(axis=1))]
+    cross = unit[:, 0] * direction[1] - unit[:, 1] * direction[0]
+    return bool(np.all(np.abs(cross) <= 1e-12))
 
 
 def _ring_problem(ring: Ring, where: str) -> Problem | None:

@@ -140,6 +140,7 @@ level_like = st.fixed_dictionaries(
 @bounded(1000)
 @given(st.one_of(json_values, level_like))
 @example({"outer": [], "guard": {"\n": None}})  # found: the newline went into the one-line message
+@example({"outer": [[0, 0], [0, 1], [0, 1.3407807929942597e154]]})  # found: OverflowError squaring 1e154
 def test_random_json_loads_or_fails_with_a_message(data: Any) -> None:
     """Any decoded JSON value gives a level or a LevelError, never another exception."""
     assert_outcome_of_loading(data)
