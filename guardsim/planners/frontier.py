@@ -19,11 +19,12 @@ from guardsim.planners.ripplefront import greedy_move
 from guardsim.planners.shortest_paths import FAR, distances_from
 from guardsim.planners.views import UnseenTally, ViewTable, view_table
 
-__all__ = ["Frontier", "nearest_frontier"]
+__all__ = ["Frontier", "nearest_frontier", "nearest_frontier_kernel"]
 
 
 @numba.njit(cache=True, nogil=True)
-def _nearest(entry: np.ndarray, counts: np.ndarray, distance: np.ndarray, far: int) -> int:
+def nearest_frontier_kernel(entry: np.ndarray, counts: np.ndarray, distance: np.ndarray, far: int) -> int:
+    """Compiled :func:`nearest_frontier` over the entry cells, for other compiled loops."""
     best = -1
     best_steps = far
     best_count = 0
@@ -50,7 +51,7 @@ def nearest_frontier(table: ViewTable, counts: np.ndarray, distance: np.ndarray)
     distance
         ``int32 (cells,)``: steps from the guard's cell to each cell (``FAR`` out of reach).
     """
-    return int(_nearest(table.entry, counts, distance, int(FAR)))
+    return int(nearest_frontier_kernel(table.entry, counts, distance, int(FAR)))
 
 
 class Frontier:

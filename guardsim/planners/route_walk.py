@@ -22,8 +22,8 @@ from typing import NamedTuple
 import numba
 import numpy as np
 
-from guardsim.planners.frontier import _nearest
-from guardsim.planners.shortest_paths import FAR, _breadth_first
+from guardsim.planners.frontier import nearest_frontier_kernel
+from guardsim.planners.shortest_paths import FAR, fill_distances
 from guardsim.planners.views import ViewTable
 
 __all__ = ["RouteWalk", "walk_routes"]
@@ -101,14 +101,14 @@ def _walk(
                 goal_state = routes[guard, position[guard]]
             else:
                 source[0] = cells[guard]
-                _breadth_first(neighbours, source, far, here)
-                goal_state = _nearest(entry, counts, here, far)
+                fill_distances(neighbours, source, far, here)
+                goal_state = nearest_frontier_kernel(entry, counts, here, far)
             move = -1
             if goal_state >= 0:
                 if goal_state != target[guard]:
                     target[guard] = goal_state
                     source[0] = entry[goal_state]
-                    _breadth_first(neighbours, source, far, fields[guard])
+                    fill_distances(neighbours, source, far, fields[guard])
                 field = fields[guard]
                 cell = cells[guard]
                 if cell == entry[goal_state]:

@@ -12,15 +12,18 @@ from __future__ import annotations
 import numba
 import numpy as np
 
-__all__ = ["FAR", "distance_fields", "distances_between", "distances_from", "entry_cells"]
+__all__ = ["FAR", "distance_fields", "distances_between", "distances_from", "entry_cells", "fill_distances"]
 
 #: Distance of a cell no source reaches: farther than any real distance, with room to add to it.
 FAR = np.int32(np.iinfo(np.int32).max // 2)
 
 
 @numba.njit(cache=True, nogil=True)
-def _breadth_first(neighbours: np.ndarray, sources: np.ndarray, far: int, distance: np.ndarray) -> None:
-    """Fill ``distance`` with steps to the nearest source; ``far`` where no source is reachable."""
+def fill_distances(neighbours: np.ndarray, sources: np.ndarray, far: int, distance: np.ndarray) -> None:
+    """Fill ``distance`` with steps to the nearest source; ``far`` where no source is reachable.
+
+    The compiled kernel behind :func:`distances_from`, for other compiled loops.
+    """
     cells = neighbours.shape[0]
     queue = np.empty(cells, dtype=np.int64)
     for cell in range(cells):
@@ -49,7 +52,7 @@ def _fields(neighbours: np.ndarray, sources: np.ndarray, far: int, out: np.ndarr
     single = np.empty(1, dtype=np.int64)
     for index in range(sources.shape[0]):
         single[0] = sources[index]
-        _breadth_first(neighbours, single, far, out[index])
+        fill_distances(neighbours, single, far, out[index])
 
 
 @numba.njit(cache=True, nogil=True)
@@ -58,7 +61,7 @@ def _between(neighbours: np.ndarray, sources: np.ndarray, targets: np.ndarray, f
     field = np.empty(neighbours.shape[0], dtype=np.int32)
     for index in range(sources.shape[0]):
         single[0] = sources[index]
-        _breadth_first(neighbours, single, far, field)
+        fill_distances(neighbours, single, far, field)
         for column in range(targets.shape[0]):
             out[index, column] = field[targets[column]]
 
@@ -89,7 +92,7 @@ def distances_from(neighbours: np.ndarray, sources: np.ndarray) -> np.ndarray:
     """
     indices = np.flatnonzero(sources) if sources.dtype == np.bool_ else np.asarray(sources, dtype=np.int64)
     distance = np.empty(neighbours.shape[0], dtype=np.int32)
-    _breadth_first(np.ascontiguousarray(neighbours, dtype=np.int64), indices.astype(np.int64), int(FAR), distance)
+    fill_distances(np.ascontiguousarray(neighbours, dtype=np.int64), indices.astype(np.int64), int(FAR), distance)
     return distance
 
 

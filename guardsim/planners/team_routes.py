@@ -20,33 +20,34 @@ __all__ = ["plan_routes"]
 
 
 @numba.njit(cache=True, nogil=True)
-def _best_transfer(cost: np.ndarray, tours: numba.typed.List, longest: int) -> tuple[int, int, int, int]:
+def _best_transfer(cost: np.ndarray, nodes: np.ndarray, offsets: np.ndarray, longest: int) -> tuple[int, int, int]:
     """The move of one viewpoint off tour ``longest`` that most shortens the longer of the two tours.
 
-    Returns ``(position in longest, other guard, gap in other, resulting max length)``; ``(-1, ...)``
-    when no move makes both tours shorter than ``longest`` is now.
+    Tour ``g`` is ``nodes[offsets[g]:offsets[g + 1]]``. Returns ``(position in longest, other guard,
+    gap in other)``, or ``(-1, -1, -1)`` when no move makes both tours shorter than ``longest`` is now.
     """
-    source = tours[longest]
+    source = nodes[offsets[longest] : offsets[longest + 1]]
     source_cost = tour_cost(cost, source)
-    best = (-1, -1, -1, source_cost)
+    best = (-1, -1, -1)
+    best_worst = source_cost
     for position in range(1, source.shape[0]):
         node = source[position]
         saved = cost[source[position - 1], node]
         if position + 1 < source.shape[0]:
             saved += cost[node, source[position + 1]] - cost[source[position - 1], source[position + 1]]
         remaining = source_cost - saved
-        for guard in range(len(tours)):
+        for guard in range(offsets.shape[0] - 1):
             if guard == longest:
                 continue
-            target = tours[guard]
+            target = nodes[offsets[guard] : offsets[guard + 1]]
             target_cost = tour_cost(cost, target)
             for gap in range(target.shape[0]):
                 added = cost[target[gap], node]
                 if gap + 1 < target.shape[0]:
                     added += cost[node, target[gap + 1]] - cost[target[gap], target[gap + 1]]
                 worst = max(remaining, target_cost + added)
-                if worst < best[3]:
-                    best = (position, guard, gap, worst)
+                if worst < best_worst:
+                    best, best_worst = (position, guard, gap), worst
     return best
 
 
@@ -72,15 +73,11 @@ def plan_routes(cost: np.ndarray, starts: np.ndarray, viewpoints: np.ndarray) ->
         owner = np.zeros(viewpoints.size, dtype=np.int64)
     else:
         owner = np.argmin(cost[np.ix_(starts, viewpoints)], axis=0)
-    tours = numba.typed.List(
-        [improve_tour(cost, nearest_neighbour_tour(cost, starts[g], viewpoints[owner == g])) for g in range(guards)]
-    )
-    for _ in range(4 * viewpoints.size):
-        if guards == 1:
-            break
-        lengths = [tour_cost(cost, tour) for tour in tours]
-        longest = int(np.argmax(lengths))
-        position, other, gap, _ = _best_transfer(cost, tours, longest)
+    tours = [improve_tour(cost, nearest_neighbour_tour(cost, starts[g], viewpoints[owner == g])) for g in range(guards)]
+    for _ in range(4 * viewpoints.size if guards > 1 else 0):
+        longest = int(np.argmax([tour_cost(cost, tour) for tour in tours]))
+        offsets = np.cumsum([0] + [tour.size for tour in tours])
+        position, other, gap = _best_transfer(cost, np.concatenate(tours), offsets, longest)
         if position < 0:
             break
         node = tours[longest][position]
