@@ -54,13 +54,29 @@ def build_view_table(grid: CoverageGrid, vision: VisionFunction) -> ViewTable:
             lengths[cell * 4 + heading] = cells.size
             parts.append(cells)
     sight = np.concatenate(parts) if parts else np.zeros(0, dtype=np.int32)
+    del parts
     sight_start = np.zeros(states + 1, dtype=np.int64)
     np.cumsum(lengths, out=sight_start[1:])
-    owner = np.repeat(np.arange(states, dtype=np.int32), lengths)
-    order = np.argsort(sight, kind="stable")
-    watch_start = np.zeros(grid.size + 1, dtype=np.int64)
-    np.cumsum(np.bincount(sight, minlength=grid.size), out=watch_start[1:])
-    return ViewTable(sight_start, sight, watch_start, owner[order], entry_cells(grid.neighbours))
+    watch_start, watchers = _invert(sight_start, sight, grid.size)
+    return ViewTable(sight_start, sight, watch_start, watchers, entry_cells(grid.neighbours))
+
+
+@numba.njit(cache=True, nogil=True)
+def _invert(sight_start: np.ndarray, sight: np.ndarray, cells: int) -> tuple[np.ndarray, np.ndarray]:
+    """Counting sort of the (state, cell) pairs by cell, so each cell's watchers come out ascending."""
+    watch_start = np.zeros(cells + 1, dtype=np.int64)
+    for index in range(sight.shape[0]):
+        watch_start[sight[index] + 1] += 1
+    for cell in range(cells):
+        watch_start[cell + 1] += watch_start[cell]
+    fill = watch_start[:cells].copy()
+    watchers = np.empty(sight.shape[0], dtype=np.int32)
+    for state in range(sight_start.shape[0] - 1):
+        for index in range(sight_start[state], sight_start[state + 1]):
+            cell = sight[index]
+            watchers[fill[cell]] = state
+            fill[cell] += 1
+    return watch_start, watchers
 
 
 # grid -> vision -> memo; entries vanish with the grid or the vision function.
