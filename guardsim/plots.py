@@ -6,11 +6,15 @@ matplotlib is optional (``pip install 'guardsim[plot]'``) and imported only when
 from __future__ import annotations
 
 import os
+import statistics
 from collections.abc import Sequence
-from typing import NamedTuple
+from typing import TYPE_CHECKING, NamedTuple
 
 from guardsim.errors import GuardsimError
 from guardsim.output import atomic_path
+
+if TYPE_CHECKING:
+    from matplotlib.figure import Figure
 
 __all__ = ["StepsBox", "plot_steps", "require_matplotlib"]
 
@@ -32,13 +36,15 @@ def require_matplotlib() -> None:
         raise GuardsimError("--plot needs matplotlib, which is not installed: pip install 'guardsim[plot]'") from None
 
 
-def plot_steps(boxes: Sequence[StepsBox], targets: Sequence[str | os.PathLike[str]], *, title: str = "") -> None:
+def plot_steps(boxes: Sequence[StepsBox], targets: Sequence[str | os.PathLike[str]], *, title: str = "") -> Figure:
     """Draw the box plot and write it to each target (the format follows the suffix: ``.png``, ``.svg``).
 
     Levels appear left to right in the order of their first box; when there are several planners, each
-    level gets one box per planner side by side, coloured by planner, with a legend. Boxes span the
+    level gets one box per planner side by side, coloured by planner, with a legend below. When the
+    medians differ more than tenfold the steps axis is logarithmic. Boxes span the
     quartiles, whiskers reach 1.5 times the interquartile range, and points beyond are drawn as outliers.
-    Output is deterministic: no timestamp in the SVG, a fixed SVG id salt.
+    Output is deterministic: no timestamp in the SVG, a fixed SVG id salt. Returns the figure (a
+    :class:`matplotlib.figure.Figure`, not attached to pyplot) for inspection.
     """
     require_matplotlib()
     from matplotlib import rc_context
@@ -50,7 +56,8 @@ def plot_steps(boxes: Sequence[StepsBox], targets: Sequence[str | os.PathLike[st
     width = 0.8 / len(planners)
     colours = [f"C{index % 10}" for index in range(len(planners))]
     with rc_context({"svg.hashsalt": "guardsim", "svg.fonttype": "none"}):
-        figure = Figure(figsize=(max(6.0, 1.6 * len(levels) * max(1, len(planners) / 2)), 4.5), layout="constrained")
+        inches = min(16.0, max(6.4, 1.0 + len(levels) * (0.6 + 0.35 * len(planners))))
+        figure = Figure(figsize=(inches, 4.8), layout="constrained")
         axes = figure.add_subplot()
         for box in boxes:
             if not box.steps:
@@ -76,17 +83,28 @@ def plot_steps(boxes: Sequence[StepsBox], targets: Sequence[str | os.PathLike[st
                 va="bottom",
                 fontsize=8,
                 fontweight="bold",
+                bbox={"boxstyle": "round,pad=0.1", "facecolor": "white", "alpha": 0.7, "linewidth": 0},
             )
         axes.set_xticks(range(len(levels)), levels)
         axes.set_xlim(-0.6, len(levels) - 0.4)
-        axes.set_ylabel("steps to cover")
+        medians = [statistics.median(box.steps) for box in boxes if box.steps]
+        # Planners can differ by orders of magnitude (a random walk against a planner); a linear axis
+        # would flatten all but the slowest box.
+        logarithmic = bool(medians) and min(medians) > 0 and max(medians) / min(medians) > 10
+        if logarithmic:
+            axes.set_yscale("log")
+        axes.set_ylabel("steps to cover" + (" (log scale)" if logarithmic else ""))
         axes.grid(axis="y", alpha=0.3)
         if title:
             axes.set_title(title)
         if len(planners) > 1:
-            axes.legend(
-                handles=[Patch(facecolor=colour, alpha=0.6, label=name) for colour, name in zip(colours, planners)]
+            figure.legend(
+                handles=[Patch(facecolor=colour, alpha=0.6, label=name) for colour, name in zip(colours, planners)],
+                loc="outside lower center",
+                ncols=min(len(planners), 6),
+                frameon=False,
             )
         for target in targets:
             with atomic_path(target) as temporary:
                 figure.savefig(temporary, dpi=120, metadata={"Date": None} if str(target).endswith(".svg") else None)
+    return figure

@@ -62,13 +62,15 @@ def tiny_levels(tmp_path: Path) -> list[Path]:
 
 
 def test_rows_identical_for_one_and_two_workers(tmp_path: Path, tiny_levels: list[Path]) -> None:
-    """--workers 1 (in this process) and --workers 2 (process pool) write the same rows in the same order."""
-    one = bench(*tiny_levels, "--episodes", "6", "--seed", "3", "--workers", "1", "--out", tmp_path / "one")
-    two = bench(*tiny_levels, "--episodes", "6", "--seed", "3", "--workers", "2", "--out", tmp_path / "two")
+    """--workers 1 (in this process) and --workers 2 (process pool) write the same rows in the same order,
+    for a deterministic planner and for one that draws from the episode's generator (random-walk)."""
+    options = ("--episodes", "6", "--seed", "3", "--planner", "ripplefront,random-walk")
+    one = bench(*tiny_levels, *options, "--workers", "1", "--out", tmp_path / "one")
+    two = bench(*tiny_levels, *options, "--workers", "2", "--out", tmp_path / "two")
     assert one.exit_code == 0, one.output
     assert two.exit_code == 0, two.output
     assert "on 2 local processes" in two.stderr
-    assert len(rows(tmp_path / "one")) == 12
+    assert len(rows(tmp_path / "one")) == 24
     assert without_seconds(rows(tmp_path / "one")) == without_seconds(rows(tmp_path / "two"))
     assert (tmp_path / "one" / "summary.json").read_bytes() == (tmp_path / "two" / "summary.json").read_bytes()
     assert one.stdout == two.stdout
@@ -288,7 +290,16 @@ def test_plot_one_box_per_planner_with_a_legend(tmp_path: Path) -> None:
         StepsBox("B", "second", [30]),
     ]
     targets = [tmp_path / "boxes.svg", tmp_path / "boxes.png"]
-    plot_steps(boxes, targets)
+    figure = plot_steps(boxes, targets)
+    (axes,) = figure.axes
+    labels = sorted((round(float(text.xy[0]), 3), float(text.xy[1]), text.get_text()) for text in axes.texts)
+    # Level A at x = 0 and B at x = 1; within a level the first planner's box left of the second's; each
+    # median written at its box's median.
+    assert labels == [(-0.2, 12, "12"), (0.2, 21.5, "21.5"), (0.8, 6, "6"), (1.2, 30, "30")]
+    assert axes.get_xlim()[0] < -0.2 < 1.2 < axes.get_xlim()[1]
+    assert axes.get_yscale() == "linear"  # medians at most 5x apart
+    far_apart = plot_steps([StepsBox("A", "fast", [10, 11]), StepsBox("A", "slow", [3000, 3100])], [])
+    assert far_apart.axes[0].get_yscale() == "log"
     texts = svg_texts(targets[0])
     for expected in ("12", "21.5", "6", "30", "first", "second", "A", "B"):
         assert expected in texts
@@ -431,3 +442,25 @@ def test_second_run_on_a_busy_folder_is_refused(tmp_path: Path) -> None:
     finally:
         os.killpg(process.pid, signal.SIGINT)
         process.communicate(timeout=60)
+
+
+def test_several_planners_are_grouped_per_level_and_planner(tmp_path: Path, tiny_levels: list[Path]) -> None:
+    """--planner a,b: rows, summary groups and table lines per (level, planner); the plot has both."""
+    out = tmp_path / "out"
+    result = bench(*tiny_levels, "--episodes", "3", "--planner", "tour,ripplefront", "--workers", "1", "--plot",
+                   "--out", out)  # fmt: skip
+    assert result.exit_code == 0, result.output
+    table = rows(out)
+    keys = [(row["level_file"], row["planner"], row["episode"]) for row in table]
+    assert keys == sorted(keys)
+    assert {row["planner"] for row in table} == {"ripplefront", "tour"}
+    groups = json.loads((out / "summary.json").read_text(encoding="utf-8"))["groups"]
+    # In level file order (hole.json, l.json), then planner name order.
+    assert [(group["level"], group["planner"]) for group in groups] == [
+        ("square with hole", "ripplefront"), ("square with hole", "tour"), ("L room", "ripplefront"), ("L room", "tour")
+    ]  # fmt: skip
+    assert json.loads((out / RUN_NAME).read_text(encoding="utf-8"))["planners"] == ["ripplefront", "tour"]
+    assert len(result.stdout.splitlines()) == 5
+    texts = svg_texts(out / "steps.svg")
+    assert "ripplefront" in texts
+    assert "tour" in texts
