@@ -9,6 +9,7 @@ from __future__ import annotations
 import click
 
 from guardsim.cli.bench import bench
+from guardsim.cli.bounds import bounds
 from guardsim.cli.importing import import_command
 from guardsim.cli.play import play
 from guardsim.cli.regress import regress
@@ -25,5 +26,5 @@ def main() -> None:
     """Coverage path planning for guards in games."""
 
 
-for command in (bench, import_command, play, regress, render, schema, validate):
+for command in (bench, bounds, import_command, play, regress, render, schema, validate):
     main.add_command(command)
