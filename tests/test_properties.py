@@ -137,7 +137,7 @@ level_like = st.fixed_dictionaries(
 )
 
 
-@bounded(1000)
+@bounded(600)
 @given(st.one_of(json_values, level_like))
 @example({"outer": [], "guard": {"\n": None}})  # found: the newline went into the one-line message
 @example({"outer": [[0, 0], [0, 1], [0, 1.3407807929942597e154]]})  # found: OverflowError squaring 1e154
@@ -259,7 +259,7 @@ polygon_levels = st.fixed_dictionaries(
 )
 
 
-@bounded(400, deadline_ms=10_000)
+@bounded(300, deadline_ms=10_000)
 @given(polygon_levels)
 @example(FOUND["view-range-under-a-cell"])
 @example(FOUND["view-range-infinite-in-cells"])
@@ -338,62 +338,78 @@ def wall_space(data: dict[str, Any]) -> pymunk.Space:
     return space
 
 
-def reachable_cells(scene: Scene, space: pymunk.Space, start: tuple[int, int]) -> np.ndarray:
-    """``bool (rows, cols)``: cells reachable from ``start``, found again from the level's geometry alone
-    (shapely for the free area, the fresh pymunk space for fit and slide), not from the grid's tables."""
+#: Distances this close to the guard's radius may fall either way between two geometry libraries.
+NEAR = 1e-9
+
+
+def reachable_bounds(scene: Scene, start: tuple[int, int]) -> tuple[np.ndarray, np.ndarray]:
+    """Cells surely reachable from ``start``, and cells possibly reachable, found again from the level's
+    geometry with shapely alone (not pymunk, not the grid's tables).
+
+    The grid's rule: the guard stands where its circle may touch walls but not overlap them, and slides
+    between neighbours only without touching any. Only distances within ``NEAR`` of the radius are
+    left undecided; the grid's reachable cells must lie between the two answers.
+    """
     level, grid = scene.level, scene.grid
     radius = level.guard.radius
     free_area = level.free_area()
+    walls = free_area.boundary
     rows, cols = grid.shape
 
-    def stands(col: int, row: int) -> bool:
-        centre = grid.centre(col, row)
-        if not shapely.contains_xy(free_area, *centre):
-            return False
-        return radius <= 0 or space.point_query_nearest(centre, radius, pymunk.ShapeFilter()) is None
+    def search(margin: float) -> np.ndarray:
+        def stands(cell: tuple[int, int]) -> bool:
+            centre = shapely.Point(grid.centre(*cell))
+            return bool(free_area.covers(centre)) and centre.distance(walls) >= radius + margin
 
-    reached = np.zeros((rows, cols), dtype=bool)
-    reached[start[1], start[0]] = True
-    frontier = [start]
-    while frontier:
-        col, row = frontier.pop()
-        for dcol, drow in DIRECTIONS:
-            other = (col + dcol, row + drow)
-            if not (0 <= other[0] < cols and 0 <= other[1] < rows) or reached[other[1], other[0]]:
-                continue
-            slides = space.segment_query_first(grid.centre(col, row), grid.centre(*other), radius, pymunk.ShapeFilter())
-            if stands(*other) and slides is None:
-                reached[other[1], other[0]] = True
-                frontier.append(other)
-    return reached
+        reached = np.zeros((rows, cols), dtype=bool)
+        reached[start[1], start[0]] = True
+        frontier = [start]
+        while frontier:
+            col, row = frontier.pop()
+            for dcol, drow in DIRECTIONS:
+                other = (col + dcol, row + drow)
+                if not (0 <= other[0] < cols and 0 <= other[1] < rows) or reached[other[1], other[0]]:
+                    continue
+                move = shapely.LineString([grid.centre(col, row), grid.centre(*other)])
+                if stands(other) and free_area.covers(move) and move.distance(walls) > radius + margin:
+                    reached[other[1], other[0]] = True
+                    frontier.append(other)
+        return reached
+
+    return search(NEAR), search(-NEAR)
 
 
 def assert_episode_invariants(scene: Scene, trace: Trace, data: dict[str, Any], limit: int) -> None:
-    """Ends within its step limit; covered means every reachable cell seen; every step to a connected
-    4-neighbour; no step through a wall (pymunk and shapely, not the grid's neighbour table)."""
+    """Ends within its step limit; the goal is the reachable cells and, when covered, all were seen; every
+    step goes to a connected 4-neighbour and through no wall (pymunk and shapely, not the grid's tables)."""
     grid = scene.grid
     assert trace.outcome in OUTCOMES
     assert trace.steps <= limit
     assert (trace.outcome == "step_limit") == (trace.steps == limit and trace.unseen_percent[-1] > 0)
     assert len(trace.path) == len(trace.headings) == len(trace.unseen_percent) == trace.steps + 1
-    space = wall_space(data)
-    assert np.array_equal(trace.goal, reachable_cells(scene, space, trace.start))
+    surely, possibly = reachable_bounds(scene, trace.start)
+    assert (trace.goal >= surely).all() and (trace.goal <= possibly).all()
     if trace.covered:
         assert (trace.first_seen[trace.goal] >= 0).all()
         assert trace.unseen_percent[-1] == 0.0
     free_area = scene.level.free_area()
     radius = scene.level.guard.radius
+    walls = wall_space(data).shapes
     for (col, row), (next_col, next_row), heading in zip(trace.path, trace.path[1:], trace.headings[1:]):
         assert (next_col - col, next_row - row) == DIRECTIONS[heading]
         assert grid.neighbours[grid.flat(col, row), heading] == grid.flat(next_col, next_row)
         a, b = grid.centre(col, row), grid.centre(next_col, next_row)
-        assert space.segment_query_first(a, b, radius, pymunk.ShapeFilter()) is None, (a, b)
         move = shapely.LineString([a, b])
+        # Every wall shape on its own (the space's query culls walls by the bare line's box). A hit is
+        # allowed only where the circle merely touches the wall: see the xfail test at the end.
+        for wall in walls:
+            if getattr(wall.segment_query(a, b, radius), "shape", None) is not None:
+                assert move.distance(shapely.LineString([wall.a, wall.b])) >= radius - NEAR, (a, b)
         assert free_area.covers(move), (a, b)
-        assert move.distance(free_area.boundary) >= radius - 1e-9, (a, b)
+        assert move.distance(free_area.boundary) >= radius - NEAR, (a, b)
 
 
-@bounded(500)
+@bounded(400)
 @given(small_levels(), st.integers(0, 2**32 - 1), st.sampled_from([None, None, 0, 5, 40]))
 def test_episodes_on_random_levels_keep_their_invariants(
     data: dict[str, Any], seed: int, max_steps: int | None
@@ -443,3 +459,18 @@ def test_found_levels_play_end_to_end_in_bounded_memory(tmp_path: Path, name: st
     assert completed.returncode == 0, completed.stderr
     assert "covered" in completed.stdout
     assert iio.imread(gif, index=None, extension=".gif").shape[0] >= 1
+
+
+@pytest.mark.xfail(strict=True, reason="touching a wall blocks a move in one direction only (issue 5 report)")
+def test_a_guard_touching_walls_is_connected_the_same_way_in_every_direction() -> None:
+    """In a 3 x 3 room, a guard of radius 0.5 touches the walls from every cell but the centre. By symmetry
+    the centre connects to all four neighbours or to none; the grid connects it right and down only.
+
+    World.sweep_clear asks pymunk whether the circle sliding from A to B hits a wall: a circle touching
+    the wall at A is a hit, one touching it at B is not. build_grid asks each pair once, rightward and
+    downward, so a pair's fate depends on which of its cells touches the wall. Found by the episode
+    property test (a step from (1.5, 2.5) up to (1.5, 1.5) that pymunk, asked in that direction, blocks).
+    """
+    scene = Scene.from_level(parse_level({"outer": [[0, 0], [3, 0], [3, 3], [0, 3]], "guard": {"radius": 0.5}}))
+    connected = {bool(scene.grid.neighbours[scene.grid.flat(1, 1), direction] >= 0) for direction in range(4)}
+    assert len(connected) == 1
