@@ -155,8 +155,9 @@ def load_level(
     return parse_level(data, source=str(path), max_cells=max_cells, max_vertices=max_vertices)
 
 
-def read_level_json(path: str | os.PathLike[str], *, max_file_bytes: int = DEFAULT_MAX_FILE_BYTES) -> Any:
-    """Read a JSON file, turning every way it can fail into a :class:`LevelError`."""
+def read_limited_bytes(path: str | os.PathLike[str], *, max_file_bytes: int, kind: str = "level file") -> bytes:
+    """A file's bytes, every way of failing (missing, a folder, unreadable, too large) a one-line
+    :class:`LevelError` naming the file; ``kind`` names what a folder is not (``level file``, ``map``)."""
     source = str(path)
     try:
         size = Path(path).stat().st_size
@@ -164,17 +165,22 @@ def read_level_json(path: str | os.PathLike[str], *, max_file_bytes: int = DEFAU
             raise LevelError(
                 f"{source}: file is {size} bytes, over the limit of {max_file_bytes} (raise it with --max-file-bytes)"
             )
-        text = Path(path).read_bytes().decode("utf-8")
-    except LevelError:
-        raise
+        return Path(path).read_bytes()
     except FileNotFoundError:
         raise LevelError(f"{source}: no such file") from None
     except IsADirectoryError:
-        raise LevelError(f"{source}: is a directory, not a level file") from None
-    except UnicodeDecodeError as error:
-        raise LevelError(f"{source}: not UTF-8 text (byte {error.start})") from None
+        raise LevelError(f"{source}: is a directory, not a {kind}") from None
     except OSError as error:
         raise LevelError(f"{source}: cannot read: {error.strerror or error}") from None
+
+
+def read_level_json(path: str | os.PathLike[str], *, max_file_bytes: int = DEFAULT_MAX_FILE_BYTES) -> Any:
+    """Read a JSON file, turning every way it can fail into a :class:`LevelError`."""
+    source = str(path)
+    try:
+        text = read_limited_bytes(path, max_file_bytes=max_file_bytes).decode("utf-8")
+    except UnicodeDecodeError as error:
+        raise LevelError(f"{source}: not UTF-8 text (byte {error.start})") from None
     try:
         return json.loads(text)
     except json.JSONDecodeError as error:

@@ -5,13 +5,11 @@ from __future__ import annotations
 import time
 
 import click
-import numpy as np
 
 from guardsim.bounds import lower_bounds
-from guardsim.cli.common import build_scene, limit_options, load, parse_point, reports_errors, vision_options
+from guardsim.cli.common import build_scene, cli_start, limit_options, load, parse_point, reports_errors, vision_options
 from guardsim.level import HEADINGS
 from guardsim.planners.views import view_table
-from guardsim.simulation import choose_start, episode_generator
 
 __all__ = ["bounds"]
 
@@ -51,13 +49,7 @@ def bounds(
     level = load(level_path, max_cells, max_vertices, max_file_bytes)
     began = time.perf_counter()
     scene = build_scene(level, los, fov, view_range)
-    if episode is not None:
-        rng = episode_generator(seed, episode)
-        point, first = start, heading
-    else:
-        rng = np.random.default_rng(seed)
-        point, first = start or level.guard.start, heading or level.guard.heading
-    cell, first_heading = choose_start(scene, rng=rng, point=point, heading=first)
+    _, cell, first_heading = cli_start(scene, seed=seed, episode=episode, start=start, heading=heading)
     built = time.perf_counter()
     vision = scene.vision()
     view_table(scene.grid, vision)

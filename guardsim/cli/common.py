@@ -14,10 +14,10 @@ import numpy as np
 
 from guardsim.errors import GuardsimError
 from guardsim.level import DEFAULT_MAX_CELLS, DEFAULT_MAX_FILE_BYTES, DEFAULT_MAX_VERTICES, Level, load_level
-from guardsim.simulation import Scene
+from guardsim.simulation import Scene, choose_start, episode_generator
 from guardsim.vision_cache import LINES_OF_SIGHT
 
-__all__ = ["build_scene", "limit_options", "load", "parse_point", "reports_errors", "vision_options"]
+__all__ = ["build_scene", "cli_start", "limit_options", "load", "parse_point", "reports_errors", "vision_options"]
 
 F = TypeVar("F", bound=Callable[..., Any])
 
@@ -124,3 +124,28 @@ def build_scene(level: Level, los: str = "pymunk", fov: float | None = None, vie
     if view_range is not None:
         guard = dataclasses.replace(guard, view_range=view_range)
     return Scene.from_level(dataclasses.replace(level, guard=guard), line_of_sight=los)
+
+
+def cli_start(
+    scene: Scene,
+    *,
+    seed: int,
+    episode: int | None,
+    start: tuple[float, float] | None,
+    heading: str | None,
+) -> tuple[np.random.Generator, tuple[int, int], int]:
+    """The generator, start cell and heading the way `play` and `bounds` choose them.
+
+    --start, else the level's guard.start, else drawn from --seed; likewise the heading. With --episode
+    K both are drawn from episode K's generator (as `bench` does) unless given with --start/--heading.
+    The generator is returned so that later draws (other guards, the planners) follow on from it.
+    """
+    level = scene.level
+    if episode is not None:
+        rng = episode_generator(seed, episode)
+        point, first = start, heading
+    else:
+        rng = np.random.default_rng(seed)
+        point, first = start or level.guard.start, heading or level.guard.heading
+    cell, first_heading = choose_start(scene, rng=rng, point=point, heading=first)
+    return rng, cell, first_heading

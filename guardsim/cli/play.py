@@ -5,14 +5,13 @@ from __future__ import annotations
 import time
 
 import click
-import numpy as np
 
-from guardsim.cli.common import build_scene, limit_options, load, parse_point, reports_errors, vision_options
+from guardsim.cli.common import build_scene, cli_start, limit_options, load, parse_point, reports_errors, vision_options
 from guardsim.level import HEADINGS
 from guardsim.output import atomic_path, write_text_atomic
 from guardsim.planners import PLANNERS, make_planner
 from guardsim.render import DEFAULT_MAX_FRAMES, GifOptions, encode_gif
-from guardsim.simulation import choose_start, episode_generator, run_team_episode, team_starts
+from guardsim.simulation import run_team_episode, team_starts
 
 __all__ = ["play"]
 
@@ -83,13 +82,7 @@ def play(
     level = load(level_path, max_cells, max_vertices, max_file_bytes)
     began = time.perf_counter()
     scene = build_scene(level, los, fov, view_range)
-    if episode is not None:
-        rng = episode_generator(seed, episode)
-        point, first = start, heading
-    else:
-        rng = np.random.default_rng(seed)
-        point, first = start or level.guard.start, heading or level.guard.heading
-    cell, first_heading = choose_start(scene, rng=rng, point=point, heading=first)
+    rng, cell, first_heading = cli_start(scene, seed=seed, episode=episode, start=start, heading=heading)
     options = {"sweeps_per_tick": sweeps_per_tick} if planner == "ripplefront" else {}
     cells, headings = team_starts(scene, (cell, first_heading), guards, rng=rng)
     planners = [make_planner(planner, **options) for _ in range(guards)]

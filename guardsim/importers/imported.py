@@ -22,6 +22,7 @@ from guardsim.level import (
     Level,
     level_to_data,
     parse_level,
+    read_limited_bytes,
 )
 
 __all__ = [
@@ -103,20 +104,7 @@ def level_from_walls(
 
 def read_source_bytes(path: str | os.PathLike[str], max_file_bytes: int = DEFAULT_MAX_FILE_BYTES) -> bytes:
     """A map file's bytes, every way of failing a :class:`LevelError` naming the file."""
-    source = str(path)
-    try:
-        size = Path(path).stat().st_size
-        if size > max_file_bytes:
-            raise LevelError(
-                f"{source}: file is {size} bytes, over the limit of {max_file_bytes} (raise it with --max-file-bytes)"
-            )
-        return Path(path).read_bytes()
-    except FileNotFoundError:
-        raise LevelError(f"{source}: no such file") from None
-    except IsADirectoryError:
-        raise LevelError(f"{source}: is a directory, not a map") from None
-    except OSError as error:
-        raise LevelError(f"{source}: cannot read: {error.strerror or error}") from None
+    return read_limited_bytes(path, max_file_bytes=max_file_bytes, kind="map")
 
 
 def read_source_text(path: str | os.PathLike[str], max_file_bytes: int = DEFAULT_MAX_FILE_BYTES) -> str:
