@@ -1,6 +1,6 @@
 """Steps and time of RippleFront from random starts on each shipped level.
 
-Usage: ``python benchmarks/random_starts.py [--episodes 20] [--seed 0] [LEVEL ...]``
+Usage: ``python benchmarks/random_starts.py [--episodes 20] [--seed 0] [--reference] [LEVEL ...]``
 
 Episode k of a level draws its start (uniform over the largest connected area) and first heading from
 ``guardsim.simulation.episode_generator(seed, k)``, the same generators ``guardsim play --episode k``
@@ -26,6 +26,7 @@ def main() -> None:
     parser.add_argument("levels", nargs="*", type=Path, default=LEVELS)
     parser.add_argument("--episodes", type=int, default=20)
     parser.add_argument("--seed", type=int, default=0)
+    parser.add_argument("--reference", action="store_true", help="reference vision and loop instead of the fast path")
     args = parser.parse_args()
     print(f"{'level':<20} {'episodes':>8} {'median':>7} {'min':>6} {'max':>6} {'covered':>8} {'seconds':>8}")
     for path in args.levels:
@@ -35,7 +36,7 @@ def main() -> None:
         covered = 0
         for episode in range(args.episodes):
             cell, heading = choose_start(scene, rng=episode_generator(args.seed, episode))
-            trace = run_episode(scene, RippleFront(), cell, heading, seed=args.seed)
+            trace = run_episode(scene, RippleFront(), cell, heading, seed=args.seed, reference=args.reference)
             steps.append(trace.steps)
             covered += trace.covered
         seconds = time.perf_counter() - began
