@@ -7,6 +7,8 @@ move there, can it see that) are pymunk queries against the walls only.
 
 from __future__ import annotations
 
+import math
+
 import pymunk
 
 from guardsim.level import Level
@@ -66,10 +68,12 @@ class World:
         return self.space.point_query_nearest(point, radius, _WALLS_ONLY) is None
 
     def sweep_clear(self, start: tuple[float, float], end: tuple[float, float], radius: float) -> bool:
-        """Whether a circle of ``radius`` can slide from ``start`` to ``end`` without touching a wall.
+        """Whether a circle of ``radius`` can slide from ``start`` to ``end`` overlapping no wall.
 
-        Each wall whose box overlaps the swept box is asked on its own: the space's segment query with a
-        radius prunes walls by the bare centre line's box and would miss a ledge the circle grazes.
+        Touching a wall is allowed, as in :meth:`fits`: the move is blocked only by a wall closer to the
+        path than ``radius``, whichever way it is walked. Each wall whose box overlaps the swept box is
+        measured on its own: the space's segment query with a radius prunes walls by the bare centre
+        line's box and would miss a ledge the circle grazes.
         """
         box = pymunk.BB(
             min(start[0], end[0]) - radius,
@@ -78,8 +82,7 @@ class World:
             max(start[1], end[1]) + radius,
         )
         for wall in self.space.bb_query(box, _WALLS_ONLY):
-            hit = wall.segment_query(start, end, radius)
-            if hit is not None and hit.shape is not None:
+            if _segments_cross(start, end, wall.a, wall.b) or _segment_distance(start, end, wall.a, wall.b) < radius:
                 return False
         return True
 
@@ -87,3 +90,35 @@ class World:
         """Move the guard's body to ``point`` (a cell centre) and let the space know."""
         self.guard_body.position = point
         self.space.reindex_shapes_for_body(self.guard_body)
+
+
+def _point_segment_distance(point: tuple[float, float], start: tuple[float, float], end: tuple[float, float]) -> float:
+    """Euclidean distance from ``point`` to the segment from ``start`` to ``end``."""
+    dx, dy = end[0] - start[0], end[1] - start[1]
+    length_squared = dx * dx + dy * dy
+    t = 0.0 if length_squared == 0 else ((point[0] - start[0]) * dx + (point[1] - start[1]) * dy) / length_squared
+    t = min(1.0, max(0.0, t))
+    return math.hypot(point[0] - (start[0] + t * dx), point[1] - (start[1] + t * dy))
+
+
+def _orientation(a: tuple[float, float], b: tuple[float, float], c: tuple[float, float]) -> float:
+    return (b[0] - a[0]) * (c[1] - a[1]) - (b[1] - a[1]) * (c[0] - a[0])
+
+
+def _segments_cross(
+    a: tuple[float, float], b: tuple[float, float], c: tuple[float, float], d: tuple[float, float]
+) -> bool:
+    """Whether segments ab and cd properly cross (each strictly separates the other's ends)."""
+    return _orientation(a, b, c) * _orientation(a, b, d) < 0 and _orientation(c, d, a) * _orientation(c, d, b) < 0
+
+
+def _segment_distance(
+    a: tuple[float, float], b: tuple[float, float], c: tuple[float, float], d: tuple[float, float]
+) -> float:
+    """Distance between segments ab and cd that do not properly cross."""
+    return min(
+        _point_segment_distance(a, c, d),
+        _point_segment_distance(b, c, d),
+        _point_segment_distance(c, a, b),
+        _point_segment_distance(d, a, b),
+    )

@@ -461,16 +461,15 @@ def test_found_levels_play_end_to_end_in_bounded_memory(tmp_path: Path, name: st
     assert iio.imread(gif, index=None, extension=".gif").shape[0] >= 1
 
 
-@pytest.mark.xfail(strict=True, reason="touching a wall blocks a move in one direction only (issue 5 report)")
 def test_a_guard_touching_walls_is_connected_the_same_way_in_every_direction() -> None:
     """In a 3 x 3 room, a guard of radius 0.5 touches the walls from every cell but the centre. By symmetry
-    the centre connects to all four neighbours or to none; the grid connects it right and down only.
+    the centre connects to all four neighbours or to none: touching is allowed, so all four.
 
-    World.sweep_clear asks pymunk whether the circle sliding from A to B hits a wall: a circle touching
-    the wall at A is a hit, one touching it at B is not. build_grid asks each pair once, rightward and
-    downward, so a pair's fate depends on which of its cells touches the wall. Found by the episode
-    property test (a step from (1.5, 2.5) up to (1.5, 1.5) that pymunk, asked in that direction, blocks).
+    World.sweep_clear once asked pymunk whether the circle sliding from A to B hits a wall, and a circle
+    touching the wall at A was a hit, one touching it at B was not, so a pair's fate depended on the
+    direction build_grid asked in. Found by the episode property test (a step from (1.5, 2.5) up to
+    (1.5, 1.5) that pymunk, asked in that direction, blocks).
     """
     scene = Scene.from_level(parse_level({"outer": [[0, 0], [3, 0], [3, 3], [0, 3]], "guard": {"radius": 0.5}}))
     connected = {bool(scene.grid.neighbours[scene.grid.flat(1, 1), direction] >= 0) for direction in range(4)}
-    assert len(connected) == 1
+    assert connected == {True}
