@@ -36,14 +36,22 @@ def require_matplotlib() -> None:
         raise GuardsimError("--plot needs matplotlib, which is not installed: pip install 'guardsim[plot]'") from None
 
 
-def plot_steps(boxes: Sequence[StepsBox], targets: Sequence[str | os.PathLike[str]], *, title: str = "") -> Figure:
+def plot_steps(
+    boxes: Sequence[StepsBox],
+    targets: Sequence[str | os.PathLike[str]],
+    *,
+    title: str = "",
+    ylabel: str = "steps to cover",
+) -> Figure:
     """Draw the box plot and write it to each target (the format follows the suffix: ``.png``, ``.svg``).
 
     Levels appear left to right in the order of their first box; when there are several planners, each
     level gets one box per planner side by side, coloured by planner, with a legend below. When the
     medians differ more than tenfold the steps axis is logarithmic. Boxes span the
     quartiles, whiskers reach 1.5 times the interquartile range, and points beyond are drawn as outliers.
-    Output is deterministic: no timestamp in the SVG, a fixed SVG id salt. Returns the figure (a
+    ``ylabel`` names the steps axis (a team's steps are its makespan). The boxes' ``level`` is only their
+    label: any grouping works, e.g. team sizes of one level. Output is deterministic: no timestamp in the
+    SVG, a fixed SVG id salt. Returns the figure (a
     :class:`matplotlib.figure.Figure`, not attached to pyplot) for inspection.
     """
     require_matplotlib()
@@ -93,7 +101,7 @@ def plot_steps(boxes: Sequence[StepsBox], targets: Sequence[str | os.PathLike[st
         logarithmic = bool(medians) and min(medians) > 0 and max(medians) / min(medians) > 10
         if logarithmic:
             axes.set_yscale("log")
-        axes.set_ylabel("steps to cover" + (" (log scale)" if logarithmic else ""))
+        axes.set_ylabel(ylabel + (" (log scale)" if logarithmic else ""))
         axes.grid(axis="y", alpha=0.3)
         if title:
             axes.set_title(title)

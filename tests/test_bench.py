@@ -26,7 +26,7 @@ from click.testing import CliRunner, Result
 from guardsim.cli import main
 from guardsim.cli.bench import ProgressLine
 from guardsim.executors import LocalPool
-from guardsim.experiment import CSV_COLUMNS, RUN_NAME, EpisodeRecord, read_results
+from guardsim.experiment import CSV_COLUMNS, RUN_NAME, TIMED_COLUMNS, EpisodeRecord, read_results
 from guardsim.level import load_level
 from guardsim.plots import StepsBox, plot_steps
 from guardsim.simulation import Scene, run_batch_episode
@@ -51,8 +51,8 @@ def rows(folder: Path) -> list[dict[str, str]]:
 
 
 def without_seconds(table: list[dict[str, str]]) -> list[dict[str, str]]:
-    """Rows minus the wall-time column, the one column that is not deterministic."""
-    return [{name: value for name, value in row.items() if name != "seconds"} for row in table]
+    """Rows minus the wall-time columns (seconds, plan_us_per_step), the columns that are not deterministic."""
+    return [{name: value for name, value in row.items() if name not in TIMED_COLUMNS} for row in table]
 
 
 @pytest.fixture
@@ -417,8 +417,8 @@ def test_killed_worker_run_resumes(tmp_path: Path) -> None:
 
 def test_records_round_trip_through_csv_fields() -> None:
     """A record with empty fields survives to_row/from_row."""
-    record = EpisodeRecord("L", "l.json", "ripplefront", 0, 4, None, None, None, None, "error", None, None, None,
-                           None, 0.25, "ValueError: boom")  # fmt: skip
+    record = EpisodeRecord("L", "l.json", "ripplefront", 1, 0, 4, None, None, None, None, None, "error", None, None,
+                           None, None, None, None, None, 0.25, None, "ValueError: boom")  # fmt: skip
     assert EpisodeRecord.from_row(record.to_row()) == record
 
 

@@ -11,7 +11,7 @@ from typing import TextIO
 
 import click
 
-from guardsim.cli.common import limit_options, reports_errors
+from guardsim.cli.common import build_scene, limit_options, reports_errors, vision_options
 from guardsim.errors import GuardsimError
 from guardsim.executors import make_executor
 from guardsim.experiment import (
@@ -57,6 +57,14 @@ PLOT_NAMES = ("steps.png", "steps.svg")
     help="Run the reference vision and loop instead of the fast path (for checking it; much slower).",
 )
 @click.option("--max-steps", type=click.IntRange(min=0), help="Step limit [default: 10 per traversable cell].")
+@click.option(
+    "--guards",
+    type=click.IntRange(min=1),
+    default=1,
+    show_default=True,
+    help="Guards per team, each running the planner; steps are then the makespan.",
+)
+@vision_options
 @click.option("--workers", type=click.IntRange(min=1), help="Local worker processes [default: all cores]; 1 runs here.")
 @click.option("--scheduler", metavar="ADDRESS", help="Run on a dask.distributed scheduler, e.g. tcp://host:8786.")
 @click.option("--plot", is_flag=True, help="Also draw steps.png and steps.svg: a box plot of steps per level.")
@@ -70,6 +78,10 @@ def bench(
     planner_list: str,
     reference: bool,
     max_steps: int | None,
+    guards: int,
+    los: str,
+    fov: float | None,
+    view_range: float | None,
     workers: int | None,
     scheduler: str | None,
     plot: bool,
@@ -81,9 +93,11 @@ def bench(
 
     Episode K starts from a cell drawn uniformly from the largest connected area, with a random first
     heading, both drawn from episode K's own generator; `guardsim play LEVEL --seed S --episode K`
-    re-runs it alone. Writes OUT/results.csv (one row per episode, appended as they finish),
-    OUT/summary.json and, with --plot, OUT/steps.png and OUT/steps.svg; prints the summary table.
-    Running the same command again resumes: episodes already in results.csv are skipped.
+    re-runs it alone. With --guards K, the other guards' starts follow from the same generator. For one
+    guard, each row also gets the lower bounds on the steps from its start (see docs/bounds.md).
+    Writes OUT/results.csv (one row per episode, appended as they finish), OUT/summary.json and, with
+    --plot, OUT/steps.png and OUT/steps.svg; prints the summary table. Running the same command again
+    resumes: episodes already in results.csv are skipped.
     """
     planners = parse_planners(planner_list)
     if workers is not None and scheduler is not None:
@@ -93,8 +107,8 @@ def bench(
 
         require_matplotlib()
     limits = {"max_cells": max_cells, "max_vertices": max_vertices, "max_file_bytes": max_file_bytes}
-    levels = tuple(BatchLevel.load(path, **limits) for path in level_paths)
-    batch = Batch(levels, planners, episodes, seed, max_steps, reference)
+    levels = tuple(with_vision(BatchLevel.load(path, **limits), los, fov, view_range) for path in level_paths)
+    batch = Batch(levels, planners, episodes, seed, max_steps, reference, guards, los, fov, view_range)
     folder = Path(out)
     done, pending = start_batch(batch, folder)
     total = len(done) + len(pending)
@@ -116,6 +130,14 @@ def bench(
         click.echo(
             f"guardsim: warning: {errors} episodes raised an error; see the error column of {written[0]}", err=True
         )
+
+
+def with_vision(level: BatchLevel, los: str, fov: float | None, view_range: float | None) -> BatchLevel:
+    """The level with its guard changed by --los, --fov and --view-range, exactly as ``guardsim play``
+    changes it (:func:`~guardsim.cli.common.build_scene`); the workers build their own scenes."""
+    if los == "pymunk" and fov is None and view_range is None:
+        return level
+    return level._replace(level=build_scene(level.level, los, fov, view_range).level)
 
 
 def parse_planners(text: str) -> tuple[str, ...]:
@@ -173,7 +195,13 @@ def draw_plot(batch: Batch, folder: Path, records: list[EpisodeRecord], groups: 
         for group in groups
     ]  # fmt: skip
     targets = [folder / name for name in PLOT_NAMES]
-    plot_steps(boxes, targets, title=f"Steps to cover, {batch.episodes} episodes per box (seed {batch.seed})")
+    what = f"Makespan of {batch.guards} guards" if batch.guards > 1 else "Steps to cover"
+    plot_steps(
+        boxes,
+        targets,
+        title=f"{what}, {batch.episodes} episodes per box (seed {batch.seed})",
+        ylabel="makespan (steps)" if batch.guards > 1 else "steps to cover",
+    )
     return targets
 
 

@@ -12,7 +12,7 @@ Modules, in the order the data flows: :mod:`~guardsim.experiment.episodes` (one 
 
 from __future__ import annotations
 
-from guardsim.experiment.episodes import CSV_COLUMNS, EpisodeRecord, EpisodeSpec, run_spec
+from guardsim.experiment.episodes import CSV_COLUMNS, TIMED_COLUMNS, EpisodeRecord, EpisodeSpec, run_spec
 from guardsim.experiment.results import RESULTS_NAME, RUN_NAME, read_results
 from guardsim.experiment.runner import (
     SUMMARY_NAME,
@@ -30,6 +30,7 @@ __all__ = [
     "RESULTS_NAME",
     "RUN_NAME",
     "SUMMARY_NAME",
+    "TIMED_COLUMNS",
     "Batch",
     "BatchLevel",
     "EpisodeRecord",

@@ -2,7 +2,7 @@
 
 :func:`run_spec` is the function workers run. It needs nothing but its argument, so it runs the same in
 this process, in a local process pool or on a Dask worker on another machine, and gives the same record
-(apart from the wall time) wherever it runs.
+(apart from the wall-time columns) wherever it runs.
 """
 
 from __future__ import annotations
@@ -12,10 +12,22 @@ import threading
 import time
 from typing import NamedTuple
 
+from guardsim.bounds import Bounds, lower_bounds
 from guardsim.level import HEADINGS, Level
+from guardsim.planners.views import view_table
 from guardsim.simulation import Scene, run_batch_episode
 
-__all__ = ["CSV_COLUMNS", "FRACTIONS", "EpisodeRecord", "EpisodeSpec", "forget_scenes", "run_spec", "scene_of"]
+__all__ = [
+    "CSV_COLUMNS",
+    "FRACTIONS",
+    "TIMED_COLUMNS",
+    "EpisodeRecord",
+    "EpisodeSpec",
+    "bounds_of",
+    "forget_scenes",
+    "run_spec",
+    "scene_of",
+]
 
 #: Coverage fractions whose first tick is recorded as T50, T90 and T99.
 FRACTIONS = (0.5, 0.9, 0.99)
@@ -28,7 +40,8 @@ class EpisodeSpec(NamedTuple):
     """Everything a worker needs to run one episode of a batch."""
 
     level: Level
-    """The validated level (small, so it travels with each episode; workers need no copy of the file)."""
+    """The validated level (small, so it travels with each episode; workers need no copy of the file),
+    its guard already carrying the batch's field of view and view range."""
     level_file: str
     """The level's file as named on the command line (normalised), which identifies it in the results."""
     planner: str
@@ -41,6 +54,10 @@ class EpisodeSpec(NamedTuple):
     """Use the reference vision instead of the fast path."""
     max_steps: int | None = None
     """Step limit; ``None`` for the simulation's default."""
+    guards: int = 1
+    """Guards in the team, all running ``planner``."""
+    line_of_sight: str = "pymunk"
+    """``pymunk`` or ``bresenham``, as :meth:`Scene.from_level`'s ``line_of_sight``."""
 
     @property
     def key(self) -> tuple[str, str, int, int]:
@@ -57,18 +74,22 @@ class EpisodeRecord(NamedTuple):
     """Level file, as in :attr:`EpisodeSpec.level_file`."""
     planner: str
     """Planner name."""
+    guards: int
+    """Guards in the team."""
     seed: int
     """Seed of the batch."""
     episode: int
     """Episode index within the batch."""
     start_col: int | None
-    """Column of the start cell."""
+    """Column of the start cell (guard 0's, for a team)."""
     start_row: int | None
     """Row of the start cell."""
     start_heading: str | None
     """First heading: ``right``, ``down``, ``left`` or ``up``."""
     steps: int | None
-    """Steps taken."""
+    """Steps taken: ticks until covered or stopped, a team's makespan."""
+    total_moves: int | None
+    """Moves summed over the guards (a tick on which a guard stays is no move)."""
     outcome: str
     """``covered``, ``step_limit``, ``stuck``, or ``error`` when an exception escaped the episode."""
     t50: int | None
@@ -79,8 +100,17 @@ class EpisodeRecord(NamedTuple):
     """The same for 99 %."""
     reachable: int | None
     """Cells reachable from the start: the episode's goal."""
+    best_bound: int | None
+    """The larger of the two lower bounds on one guard's steps from this start (``None`` for a team)."""
+    eccentricity_bound: int | None
+    """The eccentricity bound (:func:`guardsim.bounds.lower_bounds`); ``None`` for a team."""
+    cluster_bound: int | None
+    """The cluster bound; ``None`` for a team."""
     seconds: float
     """Wall time of the episode in its worker. Not deterministic: leave it out when comparing runs."""
+    plan_us_per_step: float | None
+    """``seconds`` per step in microseconds: planning, vision and the loop's bookkeeping. Not deterministic;
+    ``None`` for an episode of no steps."""
     error: str
     """For ``error``: the exception's type and message on one line; otherwise empty."""
 
@@ -94,12 +124,20 @@ class EpisodeRecord(NamedTuple):
         """``(level_file, planner, episode)``: the order of rows in a finished ``results.csv``."""
         return (self.level_file, self.planner, self.episode)
 
+    @property
+    def bound_ratio(self) -> float | None:
+        """``steps / best_bound``: at least how many times the shortest covering walk this episode took.
+
+        ``None`` for a team, an episode that raised, or a bound of 0 (the start sees every cell).
+        """
+        if self.steps is None or not self.best_bound:
+            return None
+        return self.steps / self.best_bound
+
     def to_row(self) -> list[str]:
-        """The record as CSV fields: ``None`` as an empty field, seconds to the microsecond."""
-        return [
-            "" if value is None else f"{value:.6f}" if name == "seconds" else str(value)
-            for name, value in zip(CSV_COLUMNS, self)
-        ]
+        """The record as CSV fields: ``None`` as an empty field, times to the microsecond (per step, to a
+        thousandth of one)."""
+        return [_field(name, value) for name, value in zip(CSV_COLUMNS, self)]
 
     @classmethod
     def from_row(cls, row: list[str]) -> EpisodeRecord:
@@ -120,57 +158,98 @@ class EpisodeRecord(NamedTuple):
 #: The header of ``results.csv``: the fields of :class:`EpisodeRecord`, in order.
 CSV_COLUMNS: tuple[str, ...] = EpisodeRecord._fields
 
+#: Columns measured in wall time, which differ from run to run; compare runs on the others.
+TIMED_COLUMNS = ("seconds", "plan_us_per_step")
+
 _TEXT_FIELDS = {"level", "level_file", "planner", "start_heading", "outcome", "error"}
 #: Text fields that are never ``None`` (an empty ``error`` is no error, not a missing one).
 _ALWAYS_TEXT = _TEXT_FIELDS - {"start_heading"}
-_FIELD_TYPES = {name: str if name in _TEXT_FIELDS else float if name == "seconds" else int for name in CSV_COLUMNS}
+_FIELD_TYPES = {name: str if name in _TEXT_FIELDS else float if name in TIMED_COLUMNS else int for name in CSV_COLUMNS}
+_DECIMALS = {"seconds": 6, "plan_us_per_step": 3}
 
 
-def scene_of(level: Level) -> Scene:
+def _field(name: str, value: object) -> str:
+    if value is None:
+        return ""
+    if name in _DECIMALS:
+        return f"{value:.{_DECIMALS[name]}f}"
+    return str(value)
+
+
+def scene_of(level: Level, line_of_sight: str = "pymunk") -> Scene:
     """The level's scene, built once per worker thread and shared by all the episodes it runs there.
 
     One per thread, not per process, because an episode moves the guard's body in the scene's pymunk
-    space: a Dask worker with several threads must not run two episodes in one space.
+    space: a Dask worker with several threads must not run two episodes in one space. The scene comes
+    with its view table built (what every state sees, :func:`guardsim.planners.views.view_table`), which
+    fills the vision cache: the bounds need it, so do the planners that look ahead, and built here it
+    leaves no episode paying for the level's vision while another finds it cached.
     """
-    return _scene_of_thread(level, threading.get_ident())
+    return _scene_of_thread(level, line_of_sight, threading.get_ident())
 
 
 def forget_scenes() -> None:
-    """Drop this process's cached scenes (for timing a cold start, or to free memory)."""
+    """Drop this process's cached scenes and bounds (for timing a cold start, or to free memory)."""
     _scene_of_thread.cache_clear()
+    _bounds_of_thread.cache_clear()
 
 
 @functools.lru_cache(maxsize=16)
-def _scene_of_thread(level: Level, _thread: int) -> Scene:
-    return Scene.from_level(level)
+def _scene_of_thread(level: Level, line_of_sight: str, _thread: int) -> Scene:
+    scene = Scene.from_level(level, line_of_sight=line_of_sight)
+    view_table(scene.grid, scene.vision())
+    return scene
+
+
+def bounds_of(level: Level, line_of_sight: str, start: tuple[int, int], heading: int) -> Bounds:
+    """:func:`guardsim.bounds.lower_bounds` of one start state, computed once per worker thread.
+
+    The planners of a batch share their episodes' starts, so each start's bounds serve every planner.
+    """
+    return _bounds_of_thread(level, line_of_sight, start, heading, threading.get_ident())
+
+
+@functools.lru_cache(maxsize=4096)
+def _bounds_of_thread(level: Level, line_of_sight: str, start: tuple[int, int], heading: int, thread: int) -> Bounds:
+    scene = _scene_of_thread(level, line_of_sight, thread)
+    return lower_bounds(scene, start, heading, scene.vision())
 
 
 def run_spec(spec: EpisodeSpec) -> EpisodeRecord:
     """Run one episode and record it; an exception from the episode becomes its ``error`` outcome.
 
-    Only ``Exception`` is caught: Ctrl-C and the like still stop the run.
+    Only the episode is timed: not the scene (built once per worker), nor the bounds (computed once per
+    start, for one guard only: they do not bound a team's makespan). Only ``Exception`` is caught:
+    Ctrl-C and the like still stop the run.
     """
     began = time.perf_counter()
     try:
+        scene = scene_of(spec.level, spec.line_of_sight)
+        began = time.perf_counter()
         trace = run_batch_episode(
-            scene_of(spec.level),
+            scene,
             seed=spec.seed,
             episode=spec.episode,
             planner=spec.planner,
+            guards=spec.guards,
             reference=spec.reference,
             max_steps=spec.max_steps,
         )
+        seconds = time.perf_counter() - began
+        col, row = trace.start
+        bounds = bounds_of(spec.level, spec.line_of_sight, (col, row), trace.headings[0]) if spec.guards == 1 else None
     except Exception as error:
         message = " ".join(f"{type(error).__name__}: {error}".split())
         return EpisodeRecord(
-            spec.level.name, spec.level_file, spec.planner, spec.seed, spec.episode,
-            None, None, None, None, "error", None, None, None, None,
-            time.perf_counter() - began, message,
+            spec.level.name, spec.level_file, spec.planner, spec.guards, spec.seed, spec.episode,
+            None, None, None, None, None, "error", None, None, None, None, None, None, None,
+            time.perf_counter() - began, None, message,
         )  # fmt: skip
     t50, t90, t99 = (trace.steps_to_fraction(fraction) for fraction in FRACTIONS)
-    col, row = trace.start
     return EpisodeRecord(
-        spec.level.name, spec.level_file, spec.planner, spec.seed, spec.episode,
-        col, row, HEADING_NAMES[trace.headings[0]], trace.steps, trace.outcome, t50, t90, t99, trace.reachable,
-        time.perf_counter() - began, "",
+        spec.level.name, spec.level_file, spec.planner, spec.guards, spec.seed, spec.episode,
+        col, row, HEADING_NAMES[trace.headings[0]], trace.steps, trace.total_moves, trace.outcome,
+        t50, t90, t99, trace.reachable,
+        *((bounds.best, bounds.eccentricity, bounds.cluster) if bounds is not None else (None, None, None)),
+        seconds, 1e6 * seconds / trace.steps if trace.steps else None, "",
     )  # fmt: skip

@@ -48,7 +48,12 @@ class BatchLevel(NamedTuple):
 
 @dataclass(frozen=True)
 class Batch:
-    """What a ``guardsim bench`` run computes: every (level, planner, episode) with the same options."""
+    """What a ``guardsim bench`` run computes: every (level, planner, episode) with the same options.
+
+    ``fov`` and ``view_range`` are recorded in ``run.json`` as given on the command line; the levels'
+    guards must already carry them (``guardsim bench`` applies them as ``guardsim play`` does, with
+    :func:`guardsim.cli.common.build_scene`). ``None`` means the level's own.
+    """
 
     levels: tuple[BatchLevel, ...]
     planners: tuple[str, ...]
@@ -56,6 +61,10 @@ class Batch:
     seed: int
     max_steps: int | None = None
     reference: bool = False
+    guards: int = 1
+    line_of_sight: str = "pymunk"
+    fov: float | None = None
+    view_range: float | None = None
 
     def __post_init__(self) -> None:
         # One order whatever the command line's, so that run.json and the plan do not depend on it.
@@ -72,12 +81,26 @@ class Batch:
             "seed": self.seed,
             "max_steps": self.max_steps,
             "reference": self.reference,
+            "guards": self.guards,
+            "los": self.line_of_sight,
+            "fov": self.fov,
+            "view_range": self.view_range,
         }
 
     def specs(self) -> list[EpisodeSpec]:
         """Every episode, ordered by level file, planner and episode."""
         return [
-            EpisodeSpec(level.level, level.file, planner, self.seed, episode, self.reference, self.max_steps)
+            EpisodeSpec(
+                level.level,
+                level.file,
+                planner,
+                self.seed,
+                episode,
+                reference=self.reference,
+                max_steps=self.max_steps,
+                guards=self.guards,
+                line_of_sight=self.line_of_sight,
+            )
             for level in self.levels
             for planner in self.planners
             for episode in range(self.episodes)

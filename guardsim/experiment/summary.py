@@ -1,4 +1,8 @@
-"""Statistics of a batch per level and planner: ``summary.json`` and the table printed at the end."""
+"""Statistics of a batch per level and planner: ``summary.json`` and the table printed at the end.
+
+Everything here is deterministic: the wall-time columns of the rows are left out, so the summary of a
+batch is the same file whatever ran it.
+"""
 
 from __future__ import annotations
 
@@ -27,23 +31,29 @@ class Statistics(NamedTuple):
     """First quartile (25th percentile)."""
     q3: float
     """Third quartile (75th percentile)."""
-    min: int
-    max: int
+    min: float
+    """Smallest value (an ``int`` for a sample of integers)."""
+    max: float
+    """Largest value (an ``int`` for a sample of integers)."""
 
 
-def describe(values: Sequence[int]) -> Statistics | None:
+def describe(values: Sequence[float]) -> Statistics | None:
     """:class:`Statistics` of ``values``, rounded to 3 decimals; ``None`` for no values.
 
     Examples
     --------
     >>> describe([4, 1, 3, 2])
     Statistics(count=4, mean=2.5, median=2.5, q1=1.75, q3=3.25, min=1, max=4)
+    >>> describe([1.25, 2.0])
+    Statistics(count=2, mean=1.625, median=1.625, q1=1.438, q3=1.812, min=1.25, max=2.0)
     """
     if not values:
         return None
     array = np.asarray(values, dtype=np.float64)
     q1, median, q3 = (round(float(value), 3) for value in np.percentile(array, [25, 50, 75]))
-    return Statistics(len(values), round(float(array.mean()), 3), median, q1, q3, int(min(values)), int(max(values)))
+    integers = all(isinstance(value, (int, np.integer)) for value in values)
+    low, high = ((int(limit) if integers else round(float(limit), 3)) for limit in (min(values), max(values)))
+    return Statistics(len(values), round(float(array.mean()), 3), median, q1, q3, low, high)
 
 
 class GroupSummary(NamedTuple):
@@ -53,30 +63,38 @@ class GroupSummary(NamedTuple):
     """Level name."""
     level_file: str
     planner: str
+    guards: int
+    """Guards in the team."""
     episodes: int
     """Rows in the group, errors included."""
     outcomes: dict[str, int]
     """Count per outcome, every one of :data:`ALL_OUTCOMES` present."""
     steps: Statistics | None
-    """Steps of the episodes that did not raise (those stopped by the step limit count with the limit)."""
+    """Steps of the episodes that did not raise (those stopped by the step limit count with the limit);
+    a team's makespan."""
     t90: Statistics | None
     """T90 of the episodes that reached 90 % coverage."""
+    total_moves: Statistics | None
+    """Moves summed over the guards, of the episodes that did not raise."""
+    bound_ratio: Statistics | None
+    """``steps / best_bound`` of the episodes with a positive bound (one guard only: ``None`` for a team).
+    Episodes stopped by the step limit count with the limit, as in :attr:`steps`."""
 
     def to_data(self) -> dict[str, Any]:
         """The JSON-ready dictionary."""
         data = self._asdict()
-        for name in ("steps", "t90"):
+        for name in ("steps", "t90", "total_moves", "bound_ratio"):
             data[name] = data[name]._asdict() if data[name] is not None else None
         return data
 
 
 def summarise(records: Iterable[EpisodeRecord]) -> list[GroupSummary]:
-    """One :class:`GroupSummary` per ``(level_file, planner)``, in that order."""
-    groups: dict[tuple[str, str], list[EpisodeRecord]] = {}
+    """One :class:`GroupSummary` per ``(level_file, planner, guards)``, in that order."""
+    groups: dict[tuple[str, str, int], list[EpisodeRecord]] = {}
     for record in records:
-        groups.setdefault((record.level_file, record.planner), []).append(record)
+        groups.setdefault((record.level_file, record.planner, record.guards), []).append(record)
     summaries = []
-    for (level_file, planner), members in sorted(groups.items()):
+    for (level_file, planner, guards), members in sorted(groups.items()):
         outcomes = dict.fromkeys(ALL_OUTCOMES, 0)
         for record in members:
             outcomes[record.outcome] = outcomes.get(record.outcome, 0) + 1
@@ -85,10 +103,15 @@ def summarise(records: Iterable[EpisodeRecord]) -> list[GroupSummary]:
                 level=members[0].level,
                 level_file=level_file,
                 planner=planner,
+                guards=guards,
                 episodes=len(members),
                 outcomes=outcomes,
                 steps=describe([record.steps for record in members if record.steps is not None]),
                 t90=describe([record.t90 for record in members if record.t90 is not None]),
+                total_moves=describe([record.total_moves for record in members if record.total_moves is not None]),
+                bound_ratio=describe(
+                    [ratio for ratio in (record.bound_ratio for record in members) if ratio is not None]
+                ),
             )
         )
     return summaries
@@ -100,16 +123,25 @@ def summary_json(groups: Sequence[GroupSummary], run: dict[str, Any]) -> str:
 
 
 def format_table(groups: Sequence[GroupSummary]) -> str:
-    """The summary as an aligned text table, one line per level and planner."""
-    header = ("level", "planner", "episodes", "covered", "other", "median", "q1", "q3", "min", "max", "mean", "T90 med")
+    """The summary as an aligned text table, one line per level and planner.
+
+    The columns after ``other`` are steps (median, quartiles, range, mean), the median T90 and the median
+    of steps / best lower bound (``-`` for teams); with a team, also the median of the moves summed over
+    its guards.
+    """
+    teams = any(group.guards > 1 for group in groups)
+    header = ("level", "planner", "episodes", "covered", "other", "median", "q1", "q3", "min", "max", "mean",
+              "T90 med", "steps/bound med", *(("moves med",) if teams else ()))  # fmt: skip
     lines = [header]
     for group in groups:
-        steps, t90 = group.steps, group.t90
+        steps, t90, ratio = group.steps, group.t90, group.bound_ratio
         other = ", ".join(f"{count} {name}" for name, count in group.outcomes.items() if count and name != "covered")
         lines.append((
             group.level, group.planner, str(group.episodes), str(group.outcomes["covered"]), other or "-",
             *(_number(getattr(steps, name, None)) for name in ("median", "q1", "q3", "min", "max", "mean")),
             _number(t90.median if t90 else None),
+            f"{ratio.median:.2f}" if ratio else "-",
+            *((_number(group.total_moves.median if group.total_moves else None),) if teams else ()),
         ))  # fmt: skip
     widths = [max(len(line[column]) for line in lines) for column in range(len(header))]
     left = {0, 1, 4}
