@@ -4,6 +4,7 @@ Usage::
 
     python benchmarks/planners.py                          # 20 episodes, all planners, 1/2/4 guards
     python benchmarks/planners.py --episodes 50 --planners ripplefront,tour --guards 1,4 levels/square.json
+    python benchmarks/planners.py --planners tour --tour-parts --guards 1   # what each part of tour buys
 
 Episode k of a level draws its starts and headings as ``guardsim bench`` and ``guardsim play --episode
 k --guards K`` do (``run_batch_episode``), so any row can be re-played. Prints one Markdown table per
@@ -16,8 +17,13 @@ team size, with per level and planner:
 - ``plan us/step``: wall time inside the planners (``reset`` and every ``next_move``) per guard
   decision, in microseconds, the planners' level tables already built (their cost is printed per level
   first, as "level setup"); tour's whole plan is made at its first decision and counted here;
-- ``worst ms``: the median over episodes of the longest single call (tour's plan, or a frontier
-  re-plan), in milliseconds: the spike a game would see in one frame.
+- ``first ms``: the median over episodes of the first decision's time (the slowest guard's), in
+  milliseconds: where tour makes its whole plan, the spike a game would see in one frame. (The longest
+  call of an episode is not shown: on a shared machine it mostly measures the scheduler's time slice.)
+
+With ``--tour-parts`` three more rows per level show parts of ``tour`` alone: ``tour/cover`` walks the
+set-cover tour as it is (no refinement, no frontier seed), ``tour/cover+refine`` refines it, and
+``tour/frontier+refine`` refines the frontier walk only.
 
 Timing wraps each planner in a proxy, so the single RippleFront guard runs the Python planner (numpy
 sweeps over the whole grid) rather than the compiled fast path of ``guardsim play``; its steps are
@@ -30,10 +36,12 @@ from __future__ import annotations
 import argparse
 import statistics
 import time
+from collections.abc import Callable
+from functools import partial
 from pathlib import Path
 
 from guardsim.level import load_level
-from guardsim.planners import PLANNERS, EpisodeSetup, GuardState, Planner, make_planner
+from guardsim.planners import PLANNERS, EpisodeSetup, GuardState, Planner, Tour
 from guardsim.planners.viewpoint_cover import greedy_cover
 from guardsim.planners.views import view_table
 from guardsim.simulation import Scene, choose_start, episode_generator, run_team_episode, team_starts
@@ -49,7 +57,7 @@ class TimedPlanner:
         self.planner = planner
         self.name = planner.name
         self.seconds = 0.0
-        self.longest = 0.0
+        self.first = 0.0
         self.calls = 0
 
     def reset(self, setup: EpisodeSetup) -> None:
@@ -65,18 +73,29 @@ class TimedPlanner:
 
     def _add(self, seconds: float, *, decision: bool) -> None:
         self.seconds += seconds
-        self.longest = max(self.longest, seconds)
+        if decision and self.calls == 0:
+            self.first = seconds
         self.calls += decision
 
 
-def timed_episode(scene: Scene, planner: str, guards: int, seed: int, episode: int) -> tuple[Trace, float, float]:
-    """Episode ``episode`` as ``run_batch_episode`` plays it; also seconds per decision and the longest call."""
+#: The parts of ``tour`` shown by ``--tour-parts``.
+TOUR_PARTS: dict[str, Callable[[], Planner]] = {
+    "tour/cover": partial(Tour, seeds=("cover",), refine_rounds=0),
+    "tour/cover+refine": partial(Tour, seeds=("cover",)),
+    "tour/frontier+refine": partial(Tour, seeds=("frontier",)),
+}
+
+
+def timed_episode(
+    scene: Scene, planner: Callable[[], Planner], guards: int, seed: int, episode: int
+) -> tuple[Trace, float, float]:
+    """Episode ``episode`` as ``run_batch_episode`` plays it; also seconds per decision and the first one's."""
     rng = episode_generator(seed, episode)
     cells, headings = team_starts(scene, choose_start(scene, rng=rng), guards, rng=rng)
-    planners = [TimedPlanner(make_planner(planner)) for _ in range(guards)]
+    planners = [TimedPlanner(planner()) for _ in range(guards)]
     trace = run_team_episode(scene, planners, cells, headings, rng=rng, seed=seed)
     calls = max(1, sum(timed.calls for timed in planners))
-    return trace, sum(timed.seconds for timed in planners) / calls, max(timed.longest for timed in planners)
+    return trace, sum(timed.seconds for timed in planners) / calls, max(timed.first for timed in planners)
 
 
 def level_setup(scene: Scene) -> str:
@@ -96,18 +115,21 @@ def main() -> None:
     parser.add_argument("--seed", type=int, default=0)
     parser.add_argument("--planners", default=",".join(PLANNERS), help="Comma-separated planner names.")
     parser.add_argument("--guards", default="1,2,4", help="Comma-separated team sizes.")
+    parser.add_argument("--tour-parts", action="store_true", help="Also run parts of tour alone.")
     args = parser.parse_args()
-    planners = args.planners.split(",")
+    planners: dict[str, Callable[[], Planner]] = {name: PLANNERS[name] for name in args.planners.split(",")}
+    if args.tour_parts:
+        planners.update(TOUR_PARTS)
     teams = [int(size) for size in args.guards.split(",")]
     rows: dict[int, list[str]] = {size: [] for size in teams}
     for path in args.levels:
         scene = Scene.from_level(load_level(path))
         print(f"{path.stem}: level setup: {level_setup(scene)}", flush=True)
-        for planner in planners:
+        for planner, factory in planners.items():
             # One untimed episode builds whatever the planner keeps per level (e.g. tour's cover).
-            timed_episode(scene, planner, 1, args.seed, args.episodes)
+            timed_episode(scene, factory, 1, args.seed, args.episodes)
             for size in teams:
-                results = [timed_episode(scene, planner, size, args.seed, k) for k in range(args.episodes)]
+                results = [timed_episode(scene, factory, size, args.seed, k) for k in range(args.episodes)]
                 traces = [trace for trace, _, _ in results]
                 t90 = [t for t in (trace.steps_to_fraction(0.9) for trace in traces) if t is not None]
                 moves = f"{statistics.median(trace.total_moves for trace in traces):g}" if size > 1 else "-"
@@ -117,14 +139,14 @@ def main() -> None:
                     f"| {statistics.median(trace.steps for trace in traces):g} "
                     f"| {t90_median} | {moves} "
                     f"| {1e6 * statistics.mean(seconds for _, seconds, _ in results):.0f} "
-                    f"| {1e3 * statistics.median(longest for _, _, longest in results):.1f} |"
+                    f"| {1e3 * statistics.median(first for _, _, first in results):.1f} |"
                 )
                 print(rows[size][-1], flush=True)
     for size in teams:
         print(
             f"\n{size} guard{'s' if size > 1 else ''}, {args.episodes} episodes per level and planner, seed {args.seed}:\n"
         )
-        print("| level | planner | covered | median | T90 | moves | plan us/step | worst ms |")
+        print("| level | planner | covered | median | T90 | moves | plan us/step | first ms |")
         print("| --- | --- | --- | --- | --- | --- | --- | --- |")
         print("\n".join(rows[size]))
 

@@ -319,3 +319,23 @@ def test_play_team_in_a_real_process(tmp_path: Path) -> None:
     assert len(trace.guard_paths) == 4
     expected = run_batch_episode(shipped_scene(SQUARE), seed=0, episode=3, planner="tour", guards=4)
     assert trace.to_json() == expected.to_json()
+
+
+@pytest.mark.parametrize(
+    "options",
+    [{"seeds": ("cover",), "refine_rounds": 0}, {"seeds": ("cover",)}, {"seeds": ("frontier",)}],
+    ids=["cover", "cover+refine", "frontier+refine"],
+)
+def test_tour_parts_cover_alone(options: dict) -> None:
+    """Each part of tour that benchmarks/planners.py measures covers on its own, alone and in a team."""
+    scene = scene_from(TINY_LEVELS["square-with-hole"], guard={"view_range": 2.0})
+    for guards in (1, 2):
+        trace = run_team_episode(
+            scene, [Tour(**options) for _ in range(guards)], [(0, 0), (5, 5)][:guards], [0, 2][:guards]
+        )
+        assert_covered(scene, trace)
+
+
+def test_tour_rejects_unknown_seeds() -> None:
+    with pytest.raises(ValueError, match="seeds"):
+        Tour(seeds=("nearest",))

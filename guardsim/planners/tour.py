@@ -1,18 +1,24 @@
-"""Tour: cover the level from a few viewpoints, visited in a short order.
+"""Tour: cover the level from a few viewpoints, visited in a short order, planned at the first tick.
 
-Per level (once, shared by every episode): a greedy set cover of the goal by viewpoints, states whose
-cones together see every goal cell (:mod:`guardsim.planners.viewpoint_cover`), and the true steps
-between every two of them (breadth-first over connected moves; arriving in a viewpoint means arriving
-at its cell by a step in its heading).
+Per level and goal (once, shared by every episode): a greedy set cover of the goal by viewpoints, states
+whose cones together see every goal cell (:mod:`guardsim.planners.viewpoint_cover`).
 
-Per episode, at the first decision: the viewpoints that still see something unseen are ordered into an
-open travelling-salesman tour from the start (nearest neighbour, then 2-opt and Or-opt,
-:mod:`guardsim.planners.open_tour`); a team splits them into one tour per guard
-(:mod:`guardsim.planners.team_routes`). The guard then walks its tour along shortest paths, skipping
-any viewpoint whose cells have all been seen meanwhile (by it on the way or by a teammate). Among
-equally short next steps it takes the one whose arrival state would see the most unseen cells, so the
-walk sees as much as it can on the way. A guard whose tour is done while cells remain unseen (in a team)
-helps by walking to the nearest state that would see one (the frontier rule).
+Per episode, at the first decision, for the whole team at once:
+
+1. the viewpoints that still see something unseen are ordered into an open travelling-salesman tour
+   from the start with true step counts (nearest neighbour, then 2-opt and Or-opt,
+   :mod:`guardsim.planners.open_tour`), or split into one tour per guard
+   (:mod:`guardsim.planners.team_routes`);
+2. the team's walk along those tours is simulated tick for tick with the level's view table
+   (:mod:`guardsim.planners.route_walk`): viewpoints whose cells have all been seen meanwhile are
+   skipped, and a guard whose tour is done falls back to the frontier rule;
+3. the states the walk actually arrived in are routed again and walked again, as long as the walk gets
+   shorter. Steps 2-3 start from two seeds, the set-cover tour and the empty tour (the frontier walk,
+   which the refinement turns into a tour of the frontier states it used); the shorter walk wins.
+
+The guard then plays its part of that walk move by move. The view table gives the loop's own vision, so
+the walk is what the loop records; should the world ever differ from it (say a teammate running another
+planner), the guard continues with the frontier rule.
 """
 
 from __future__ import annotations
@@ -60,11 +66,25 @@ class LevelCover(NamedTuple):
 
 
 class Tour:
-    """Plan a short walk through set-cover viewpoints at the first tick, then walk it."""
+    """Plan a short walk through set-cover viewpoints at the first tick, then walk it.
+
+    Parameters
+    ----------
+    seeds
+        Which first routes to refine: ``"cover"`` (the set-cover tour) and/or ``"frontier"`` (the empty
+        route, i.e. the frontier walk); the shorter refined walk is kept. Both by default; the others
+        are for measuring what each part contributes.
+    refine_rounds
+        Most rounds of routing again through the states a walk arrived in (0: walk the seed as it is).
+    """
 
     name = "tour"
 
-    def __init__(self) -> None:
+    def __init__(self, seeds: tuple[str, ...] = ("cover", "frontier"), refine_rounds: int = REFINE_ROUNDS) -> None:
+        if not seeds or set(seeds) - {"cover", "frontier"}:
+            raise ValueError("seeds must be one or both of 'cover' and 'frontier'")
+        self.seeds = seeds
+        self.refine_rounds = refine_rounds
         self.cover = LevelCover(np.zeros(0, dtype=np.int64))
         self.walk: RouteWalk | None = None
         """The team's planned walk, made at the first decision."""
@@ -107,7 +127,7 @@ class Tour:
     def _plan(self, state: GuardState) -> RouteWalk:
         """The team's walk from this state; every guard of a team plans the same one, so it is shared."""
         team = state.team or ((state.cell, state.heading),)
-        key = (self._goal_key, team, state.seen.tobytes())
+        key = (self._goal_key, team, state.seen.tobytes(), self.seeds, self.refine_rounds)
         cached = self._memo.get("tour-walk")
         if cached is None or cached[0] != key:
             cached = (key, self._best_walk(state.seen, team))
@@ -115,13 +135,17 @@ class Tour:
         return cached[1]
 
     def _best_walk(self, seen: np.ndarray, team: Team) -> RouteWalk:
-        """The shortest of the refined walks from two seeds: the viewpoint tour and the frontier walk."""
+        """The shortest of the refined walks from each seed."""
         limit = 10 * int(self._goal.sum()) + 100
-        viewpoints = self.cover.viewpoints
-        pending = viewpoints[self._tally.counts[viewpoints] > 0]
-        seeds = [self._route(pending, team), [np.zeros(0, dtype=np.int64)] * len(team)]
-        walks = [self._refine(seen, team, routes, limit) for routes in seeds]
+        walks = [self._refine(seen, team, self._seed_routes(seed, team), limit) for seed in self.seeds]
         return min(walks, key=_walk_rank)
+
+    def _seed_routes(self, seed: str, team: Team) -> list[np.ndarray]:
+        """The set-cover tour of the viewpoints still worth visiting, or empty routes (the frontier walk)."""
+        if seed == "frontier":
+            return [np.zeros(0, dtype=np.int64)] * len(team)
+        viewpoints = self.cover.viewpoints
+        return self._route(viewpoints[self._tally.counts[viewpoints] > 0], team)
 
     def _route(self, states: np.ndarray, team: Team) -> list[np.ndarray]:
         """Per guard, an order of its share of ``states`` (state numbers)."""
@@ -132,7 +156,7 @@ class Tour:
     def _refine(self, seen: np.ndarray, team: Team, routes: list[np.ndarray], limit: int) -> RouteWalk:
         """Walk the routes; then route again through the states the walk actually arrived in, while it helps."""
         best = self._simulate(seen, team, routes, limit)
-        for _ in range(REFINE_ROUNDS):
+        for _ in range(self.refine_rounds):
             visited = np.unique(np.concatenate(best.visits))
             walk = self._simulate(seen, team, self._route(visited, team), limit)
             if _walk_rank(walk) >= _walk_rank(best):
@@ -141,6 +165,7 @@ class Tour:
         return best
 
     def _simulate(self, seen: np.ndarray, team: Team, routes: list[np.ndarray], limit: int) -> RouteWalk:
+        """The team's walk along ``routes`` from the current state."""
         return walk_routes(
             self._table, self._neighbours, self._goal, seen, self._tally.counts, team, routes, limit=limit
         )
