@@ -109,7 +109,8 @@ def plot_steps(
             figure.legend(
                 handles=[Patch(facecolor=colour, alpha=0.6, label=name) for colour, name in zip(colours, planners)],
                 loc="outside lower center",
-                ncols=min(len(planners), 6),
+                # About two inches per entry, so that long planner names stay inside a narrow figure.
+                ncols=min(len(planners), max(1, int(inches // 2))),
                 frameon=False,
             )
         for target in targets:
