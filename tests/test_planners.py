@@ -17,6 +17,7 @@ import pytest
 from click.testing import CliRunner
 
 from guardsim.cli import main
+from guardsim.cli.common import build_scene
 from guardsim.level import load_level
 from guardsim.planners import PLANNERS, EpisodeSetup, GuardState, RandomWalk, RippleFrontExact, Sweep, Tour
 from guardsim.planners.open_tour import improve_tour, nearest_neighbour_tour, tour_cost
@@ -33,7 +34,7 @@ from guardsim.simulation import (
     run_team_episode,
 )
 from guardsim.trace import Trace
-from tests.common import L_ROOM, LEVELS, TINY_LEVELS, scene_from, shipped_levels, tiny_levels, write_level
+from tests.common import L_ROOM, LEVELS, TINY_LEVELS, level_from, scene_from, shipped_levels, tiny_levels, write_level
 from tests.test_cli import guardsim_command
 
 #: Planners expected to cover a level within the loop's step limit (the random walk is not).
@@ -339,3 +340,11 @@ def test_tour_parts_cover_alone(options: dict) -> None:
 def test_tour_rejects_unknown_seeds() -> None:
     with pytest.raises(ValueError, match="seeds"):
         Tour(seeds=("nearest",))
+
+
+@pytest.mark.parametrize("planner", COVERING)
+def test_planners_work_with_the_bresenham_sight_rule(planner: str) -> None:
+    """The planners only use the episode's vision function, so Bresenham 360-degree sight just works."""
+    scene = build_scene(level_from(TINY_LEVELS["square-with-hole"]), "bresenham", 360.0)
+    for guards in (1, 2):
+        assert_covered(scene, run_batch_episode(scene, seed=0, episode=1, planner=planner, guards=guards))
