@@ -38,7 +38,7 @@ class Measurement(NamedTuple):
     cpu_seconds: float
     """User + system time of this process and its worker processes over the same span."""
     rows: list[EpisodeRecord]
-    """The rows, seconds zeroed."""
+    """The rows, wall-time columns blanked."""
 
 
 def cpu_seconds(process: psutil.Process) -> float:
@@ -71,7 +71,7 @@ def measure(
             cpu = cpu_seconds(me) - cpu_before
         assert report.not_run == 0, report.failure
         records, _ = finish_batch(batch, Path(folder))
-    return Measurement(seconds, cpu, [record._replace(seconds=0.0) for record in records])
+    return Measurement(seconds, cpu, [record._replace(seconds=0.0, plan_us_per_step=None) for record in records])
 
 
 def main() -> None:

@@ -11,7 +11,8 @@ What it does, printing each command with its wall time:
 2. runs ``guardsim bench`` with every planner on the shipped levels (``--episodes`` per planner, default
    50) and on the imported maps (``--map-episodes``, default 20), once per team size of ``--guards``
    (default 1, 2 and 4), each into its own folder under ``--out``. A folder that already holds the run
-   resumes (and so returns at once), so running the script again only rebuilds the tables and figures;
+   resumes (and returns at once; the time printed is then the resume's), so running the script again
+   only rebuilds the tables and figures;
 3. runs each planner from the six starts whose optimum under the grid solvers' sight rule
    (``--los bresenham --fov 360``) is known (MWRP-CP3, ICAPS 2026), with the Python API, as
    ``guardsim play MAP.json --los bresenham --fov 360 --start X.5,Y.5 --heading right --planner P``;
@@ -45,7 +46,7 @@ from guardsim.experiment import RESULTS_NAME, EpisodeRecord, read_results
 from guardsim.level import load_level
 from guardsim.planners import PLANNERS, make_planner
 from guardsim.plots import StepsBox, plot_steps
-from guardsim.simulation import choose_start, episode_generator, run_episode
+from guardsim.simulation import Scene, choose_start, episode_generator, run_episode
 
 REPO = Path(__file__).resolve().parent.parent
 LEVELS = sorted((REPO / "levels").glob("*.json"))
@@ -96,6 +97,9 @@ class LevelSet(NamedTuple):
     """Level files benched together."""
 
     name: str
+    """Folder name prefix."""
+    title: str
+    """Section heading."""
     files: list[Path]
     episodes: int
 
@@ -225,6 +229,12 @@ def draw_figure(
     )
 
 
+def grid_size(file: str) -> str:
+    """``rows x cols grid, N traversable cells`` of a level file."""
+    grid = Scene.from_level(load_level(file)).grid
+    return f"{grid.shape[0]} x {grid.shape[1]} grid, {int(grid.traversable.sum())} traversable cells"
+
+
 def optimum_table(maps: Path, seed: int) -> list[str]:
     """Each planner's steps from the starts with known optima, under --los bresenham --fov 360."""
     header = ["map", "start", "optimum", "best bound", *PLANNER_NAMES, "seconds"]
@@ -295,7 +305,10 @@ def main() -> None:
         command, seconds = guardsim("import", args.shared / source, "--out", path)
         commands.append(f"| `{command}` | {seconds:.1f} |")
         imported.append(path)
-    sets = [LevelSet("shipped", LEVELS, args.episodes), LevelSet("maps", imported, args.map_episodes)]
+    sets = [
+        LevelSet("shipped", "Shipped levels", LEVELS, args.episodes),
+        LevelSet("maps", "Real maps", imported, args.map_episodes),
+    ]
     records, bench_lines = run_benches(sets, teams, args.out)
     commands += bench_lines
     groups = group_rows(records)
@@ -310,18 +323,19 @@ def main() -> None:
     print("\n".join(tour_against_ripplefront(levels, groups)))
     args.figures.mkdir(parents=True, exist_ok=True)
     for level_set in sets:
-        print(f"\n## {level_set.name}: {level_set.episodes} episodes per planner and team size\n")
+        print(f"\n## {level_set.title}: {level_set.episodes} episodes per planner and team size\n")
         for file in map(os.path.normpath, map(str, level_set.files)):
             if file not in levels:
                 continue
             stem = Path(file).stem
             draw_figure(file, levels[file], records, teams, args.figures / f"{stem}.png", level_set.episodes)
-            print(f"### {levels[file]} (`{_relative(os.path.abspath(file))}`)\n")
+            print(f"### {levels[file]}\n\n`{_relative(os.path.abspath(file))}`: {grid_size(file)}.\n")
             print(f"![{levels[file]}: steps per planner and team size](images/results/{stem}.png)\n")
             print("\n".join(level_tables(file, teams, groups)) + "\n")
     if all((maps_folder / f"{stem}.json").exists() for stem, _, _ in OPTIMA):
         began_optima = time.perf_counter()
-        print("## Known optima, --los bresenham --fov 360 (steps, and steps / optimum)\n")
+        print("## Known optima\n")
+        print("One guard with `--los bresenham --fov 360`; each cell: steps (steps / optimum), best in bold.\n")
         print("\n".join(optimum_table(maps_folder, args.seed)))
         print(f"\n({time.perf_counter() - began_optima:.0f} s for the optimum table)")
     print(f"\nTotal: {time.perf_counter() - began:.0f} s.")
