@@ -202,3 +202,23 @@ def test_bresenham_rows_same_for_one_and_two_workers(tmp_path: Path) -> None:
         assert one.exit_code == two.exit_code == 0, one.output + two.output
         assert without_seconds(rows(tmp_path / f"one{guards}")) == without_seconds(rows(tmp_path / f"two{guards}"))
         assert one.stdout == two.stdout
+
+
+def test_no_bounds_leaves_the_bound_columns_empty_and_is_part_of_the_run(tmp_path: Path) -> None:
+    """--no-bounds: the same steps as with bounds, empty bound columns, and resuming with bounds is refused."""
+    options = ("--episodes", "3", "--workers", "1")
+    with_bounds = bench(SQUARE, *options, "--out", tmp_path / "with")
+    without = bench(SQUARE, *options, "--no-bounds", "--out", tmp_path / "without")
+    assert with_bounds.exit_code == 0 and without.exit_code == 0, with_bounds.output + without.output
+    bound_columns = ("best_bound", "eccentricity_bound", "cluster_bound")
+    assert all(row[column] for row in rows(tmp_path / "with") for column in bound_columns)
+    assert all(row[column] == "" for row in rows(tmp_path / "without") for column in bound_columns)
+    strip = [
+        {k: v for k, v in row.items() if k not in bound_columns} for row in without_seconds(rows(tmp_path / "with"))
+    ]
+    assert strip == [
+        {k: v for k, v in row.items() if k not in bound_columns} for row in without_seconds(rows(tmp_path / "without"))
+    ]
+    assert json.loads((tmp_path / "without" / RUN_NAME).read_text(encoding="utf-8"))["bounds"] is False
+    resumed = bench(SQUARE, *options, "--out", tmp_path / "without")
+    assert_one_line_error(resumed, tmp_path / "without")

@@ -68,6 +68,12 @@ PLOT_NAMES = ("steps.png", "steps.svg")
 @click.option("--workers", type=click.IntRange(min=1), help="Local worker processes [default: all cores]; 1 runs here.")
 @click.option("--scheduler", metavar="ADDRESS", help="Run on a dask.distributed scheduler, e.g. tcp://host:8786.")
 @click.option("--plot", is_flag=True, help="Also draw steps.png and steps.svg: a box plot of steps per level.")
+@click.option(
+    "--bounds/--no-bounds",
+    default=True,
+    show_default=True,
+    help="Compute each one-guard start's lower bounds (about 15 ms a start on a 60x60 level).",
+)
 @limit_options
 @reports_errors
 def bench(
@@ -85,6 +91,7 @@ def bench(
     workers: int | None,
     scheduler: str | None,
     plot: bool,
+    bounds: bool,
     max_cells: int,
     max_vertices: int,
     max_file_bytes: int,
@@ -108,7 +115,7 @@ def bench(
         require_matplotlib()
     limits = {"max_cells": max_cells, "max_vertices": max_vertices, "max_file_bytes": max_file_bytes}
     levels = tuple(with_vision(BatchLevel.load(path, **limits), los, fov, view_range) for path in level_paths)
-    batch = Batch(levels, planners, episodes, seed, max_steps, reference, guards, los, fov, view_range)
+    batch = Batch(levels, planners, episodes, seed, max_steps, reference, guards, los, fov, view_range, bounds)
     folder = Path(out)
     done, pending = start_batch(batch, folder)
     total = len(done) + len(pending)

@@ -32,6 +32,9 @@ __all__ = [
 #: Coverage fractions whose first tick is recorded as T50, T90 and T99.
 FRACTIONS = (0.5, 0.9, 0.99)
 
+#: Planners that read the whole view table (see :func:`guardsim.planners.views.view_table`).
+_LOOK_AHEAD = frozenset({"frontier", "tour"})
+
 #: Heading names by heading number (0 right, 1 down, 2 left, 3 up).
 HEADING_NAMES = tuple(HEADINGS)
 
@@ -58,6 +61,8 @@ class EpisodeSpec(NamedTuple):
     """Guards in the team, all running ``planner``."""
     line_of_sight: str = "pymunk"
     """``pymunk`` or ``bresenham``, as :meth:`Scene.from_level`'s ``line_of_sight``."""
+    bounds: bool = True
+    """Compute the start's lower bounds (one guard only)."""
 
     @property
     def key(self) -> tuple[str, str, int, int]:
@@ -180,10 +185,10 @@ def scene_of(level: Level, line_of_sight: str = "pymunk") -> Scene:
     """The level's scene, built once per worker thread and shared by all the episodes it runs there.
 
     One per thread, not per process, because an episode moves the guard's body in the scene's pymunk
-    space: a Dask worker with several threads must not run two episodes in one space. The scene comes
-    with its view table built (what every state sees, :func:`guardsim.planners.views.view_table`), which
-    fills the vision cache: the bounds need it, so do the planners that look ahead, and built here it
-    leaves no episode paying for the level's vision while another finds it cached.
+    space: a Dask worker with several threads must not run two episodes in one space. When the bounds
+    or a look-ahead planner need the view table (what every state sees,
+    :func:`guardsim.planners.views.view_table`), :func:`run_spec` builds it before its clock starts, so
+    that no episode pays for the level's vision while another finds it cached.
     """
     return _scene_of_thread(level, line_of_sight, threading.get_ident())
 
@@ -196,9 +201,7 @@ def forget_scenes() -> None:
 
 @functools.lru_cache(maxsize=16)
 def _scene_of_thread(level: Level, line_of_sight: str, _thread: int) -> Scene:
-    scene = Scene.from_level(level, line_of_sight=line_of_sight)
-    view_table(scene.grid, scene.vision())
-    return scene
+    return Scene.from_level(level, line_of_sight=line_of_sight)
 
 
 def bounds_of(level: Level, line_of_sight: str, start: tuple[int, int], heading: int) -> Bounds:
@@ -225,6 +228,8 @@ def run_spec(spec: EpisodeSpec) -> EpisodeRecord:
     began = time.perf_counter()
     try:
         scene = scene_of(spec.level, spec.line_of_sight)
+        if spec.bounds or spec.planner in _LOOK_AHEAD:
+            view_table(scene.grid, scene.vision())  # built once per scene, before the clock starts
         began = time.perf_counter()
         trace = run_batch_episode(
             scene,
@@ -237,7 +242,8 @@ def run_spec(spec: EpisodeSpec) -> EpisodeRecord:
         )
         seconds = time.perf_counter() - began
         col, row = trace.start
-        bounds = bounds_of(spec.level, spec.line_of_sight, (col, row), trace.headings[0]) if spec.guards == 1 else None
+        wanted = spec.bounds and spec.guards == 1
+        bounds = bounds_of(spec.level, spec.line_of_sight, (col, row), trace.headings[0]) if wanted else None
     except Exception as error:
         message = " ".join(f"{type(error).__name__}: {error}".split())
         return EpisodeRecord(

@@ -65,6 +65,8 @@ class Batch:
     line_of_sight: str = "pymunk"
     fov: float | None = None
     view_range: float | None = None
+    bounds: bool = True
+    """Compute the lower bounds of each one-guard start (``--no-bounds`` skips them)."""
 
     def __post_init__(self) -> None:
         # One order whatever the command line's, so that run.json and the plan do not depend on it.
@@ -85,6 +87,7 @@ class Batch:
             "los": self.line_of_sight,
             "fov": self.fov,
             "view_range": self.view_range,
+            **({} if self.bounds else {"bounds": False}),
         }
 
     def specs(self) -> list[EpisodeSpec]:
@@ -100,6 +103,7 @@ class Batch:
                 max_steps=self.max_steps,
                 guards=self.guards,
                 line_of_sight=self.line_of_sight,
+                bounds=self.bounds,
             )
             for level in self.levels
             for planner in self.planners
