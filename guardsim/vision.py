@@ -36,9 +36,7 @@ class VisionCone:
     offsets: tuple[np.ndarray, ...]
 
     @classmethod
-    def from_guard(
-        cls, guard: GuardSpec, cell_size: float, *, grid_shape: tuple[int, int] | None = None
-    ) -> VisionCone:
+    def from_guard(cls, guard: GuardSpec, cell_size: float, *, grid_shape: tuple[int, int] | None = None) -> VisionCone:
         """The cone of a guard on a grid of ``cell_size``.
 
         With ``grid_shape`` (``(rows, cols)``), offsets too long to land on such a grid are left out: the
