@@ -45,6 +45,12 @@ SPLIT_ROOMS: dict[str, Any] = {
     "guard": {"start": [0.5, 0.5], "heading": "right"},
 }
 
+#: The keys issue 2 requires in a trace's JSON.
+TRACE_KEYS = frozenset(
+    {"level", "planner", "seed", "cell_size", "origin", "shape", "start", "path", "steps", "covered",
+     "unseen_percent", "reachable", "unreachable"}
+)  # fmt: skip
+
 TINY_LEVELS = {
     "empty-square": EMPTY_SQUARE,
     "square-with-hole": SQUARE_WITH_HOLE,

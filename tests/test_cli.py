@@ -16,26 +16,11 @@ import pytest
 from click.testing import CliRunner, Result
 
 from guardsim.cli import main
-from tests.common import EMPTY_SQUARE, LEVELS, REPO, SQUARE_WITH_HOLE, shipped_levels, write_level
+from tests.common import EMPTY_SQUARE, LEVELS, REPO, SQUARE_WITH_HOLE, TRACE_KEYS, shipped_levels, write_level
 from tests.test_level import BAD_LEVELS, GRID_TIME_LEVELS, PILLAR, BadLevel, bad_params, changed
 
 SQUARE = REPO / "levels" / "square.json"
 ALL_BAD_LEVELS = {**BAD_LEVELS, **GRID_TIME_LEVELS}
-TRACE_KEYS = {
-    "level",
-    "planner",
-    "seed",
-    "cell_size",
-    "origin",
-    "shape",
-    "start",
-    "path",
-    "steps",
-    "covered",
-    "unseen_percent",
-    "reachable",
-    "unreachable",
-}
 
 
 def run(*args: str | Path) -> Result:
