@@ -1,0 +1,244 @@
+"""A level's stored regression references: the manifest, the level snapshot, traces and key frames.
+
+A level's references live in one folder, ``RENDERS/<level file stem>/``:
+
+- ``manifest.json``: format version, frame size, tolerance, and the episodes re-played (name, seed and,
+  for a batch episode, its number);
+- ``level.json``: the level as it was when the references were written (to draw the reference side of a
+  diff at any tick, and to say "level edited");
+- ``<episode>.trace.json``: each episode's trace (:meth:`guardsim.trace.Trace.to_json`), compared as text;
+- ``<episode>-<percent>.png``: key frames at 0, 25, 50, 75 and 100 % of the episode's steps, compared as
+  decoded images within a :class:`~guardsim.regress.frames.Tolerance`.
+"""
+
+from __future__ import annotations
+
+import json
+import math
+import re
+from dataclasses import dataclass
+from pathlib import Path
+from typing import Any
+
+import numpy as np
+
+from guardsim.errors import OutputError, RegressionError
+from guardsim.level import Level, level_to_data
+from guardsim.output import atomic_path, write_text_atomic
+from guardsim.regress.frames import Tolerance
+from guardsim.render import render_frame
+from guardsim.trace import Trace
+
+__all__ = [
+    "KEY_PERCENTS",
+    "LEVEL_SNAPSHOT",
+    "MANIFEST",
+    "REFERENCE_FRAME_SIZE",
+    "Manifest",
+    "ReplaySpec",
+    "default_specs",
+    "key_frame_path",
+    "key_tick",
+    "read_json",
+    "read_manifest",
+    "read_png",
+    "read_text",
+    "trace_path",
+    "write_png",
+    "write_references",
+]
+
+#: Version of the manifest layout.
+FORMAT = 1
+#: Longest side of a stored key frame in pixels (4 pixels per cell on the shipped 60 x 60 grids).
+REFERENCE_FRAME_SIZE = 240
+#: Key frames, as percentages of an episode's steps.
+KEY_PERCENTS = (0, 25, 50, 75, 100)
+MANIFEST = "manifest.json"
+LEVEL_SNAPSHOT = "level.json"
+_EPISODE_NAME = re.compile(r"[A-Za-z0-9][A-Za-z0-9_-]{0,63}\Z")
+
+
+@dataclass(frozen=True)
+class ReplaySpec:
+    """One reference episode: how to re-play it."""
+
+    name: str
+    """Names its files, e.g. ``level-start`` or ``seed0-episode0``."""
+    seed: int = 0
+    episode: int | None = None
+    """Batch episode number (start and heading drawn as ``guardsim bench`` does), or ``None`` for the
+    level's own start and heading, as ``guardsim play LEVEL --seed SEED`` runs it."""
+
+    @property
+    def play_options(self) -> str:
+        """The ``guardsim play`` options that re-run this episode alone."""
+        return f"--seed {self.seed}" + ("" if self.episode is None else f" --episode {self.episode}")
+
+
+@dataclass(frozen=True)
+class Manifest:
+    """What ``manifest.json`` says: how the key frames were drawn and compared, and the episodes."""
+
+    frame_size: int
+    """Longest side of a key frame in pixels."""
+    tolerance: Tolerance
+    specs: tuple[ReplaySpec, ...]
+    """The episodes re-played, in the manifest's order."""
+
+
+def default_specs(level: Level) -> tuple[ReplaySpec, ...]:
+    """The episodes stored for a new level: its own start (if it has one) and batch episode 0 of seed 0."""
+    own_start = (ReplaySpec("level-start", seed=0),) if level.guard.start is not None else ()
+    return (*own_start, ReplaySpec("seed0-episode0", seed=0, episode=0))
+
+
+def key_tick(steps: int, percent: int) -> int:
+    """The tick of a key frame: ``percent`` of the way through ``steps``, rounded half up."""
+    return math.floor(steps * percent / 100 + 0.5)
+
+
+def trace_path(folder: Path, name: str) -> Path:
+    """Where the reference trace of episode ``name`` is stored."""
+    return folder / f"{name}.trace.json"
+
+
+def key_frame_path(folder: Path, name: str, percent: int) -> Path:
+    """Where the reference key frame at ``percent`` of episode ``name`` is stored."""
+    return folder / f"{name}-{percent:03d}.png"
+
+
+def write_references(folder: Path, level: Level, manifest: Manifest, traces: list[Trace]) -> None:
+    """Write the level snapshot, each episode's trace and key frames, then the manifest, into ``folder``.
+
+    Each file is written atomically and the manifest last; files of episodes the manifest no longer
+    names are removed.
+
+    Raises
+    ------
+    OutputError
+        If ``folder`` cannot be created.
+    """
+    try:
+        folder.mkdir(parents=True, exist_ok=True)
+    except OSError as error:
+        raise OutputError(f"{folder}: cannot create: {error.strerror or error}") from None
+    write_text_atomic(folder / LEVEL_SNAPSHOT, json.dumps(level_to_data(level), indent=2) + "\n")
+    episodes = []
+    for spec, trace in zip(manifest.specs, traces, strict=True):
+        write_text_atomic(trace_path(folder, spec.name), trace.to_json())
+        ticks = [key_tick(trace.steps, percent) for percent in KEY_PERCENTS]
+        for percent, tick in zip(KEY_PERCENTS, ticks, strict=True):
+            frame = render_frame(level, trace, tick, size=manifest.frame_size)
+            write_png(key_frame_path(folder, spec.name, percent), frame)
+        episodes.append(
+            {
+                "name": spec.name,
+                "seed": spec.seed,
+                "episode": spec.episode,
+                "play_options": spec.play_options,
+                "steps": trace.steps,
+                "outcome": trace.outcome,
+                "key_ticks": ticks,
+            }
+        )
+    data = {
+        "format": FORMAT,
+        "level": level.name,
+        "frame_size": manifest.frame_size,
+        "tolerance": {"channel": manifest.tolerance.channel, "fraction": manifest.tolerance.fraction},
+        "episodes": episodes,
+    }
+    # The manifest goes last: a run stopped half-way leaves the old manifest naming the episodes.
+    write_text_atomic(folder / MANIFEST, json.dumps(data, indent=2) + "\n")
+    names = {spec.name for spec in manifest.specs}
+    for stale in folder.glob("*.trace.json"):
+        name = stale.name.removesuffix(".trace.json")
+        if name not in names:
+            for path in [stale, *(key_frame_path(folder, name, percent) for percent in KEY_PERCENTS)]:
+                path.unlink(missing_ok=True)
+
+
+def read_manifest(path: Path) -> Manifest | None:
+    """The manifest at ``path``, ``None`` if there is none, or a RegressionError saying what is wrong."""
+    if not path.exists():
+        return None
+    data = read_json(path)
+
+    def bad(message: str) -> RegressionError:
+        return RegressionError(f"{path}: {message}")
+
+    if not isinstance(data, dict) or data.get("format") != FORMAT:
+        raise bad(f"not a guardsim regress manifest of format {FORMAT}")
+    frame_size = data.get("frame_size", REFERENCE_FRAME_SIZE)
+    if not _is_count(frame_size) or not 16 <= frame_size <= 4096:
+        raise bad(f"frame_size must be a whole number of pixels from 16 to 4096, not {frame_size!r}")
+    tolerance = data.get("tolerance", {})
+    default = Tolerance()
+    channel = tolerance.get("channel", default.channel) if isinstance(tolerance, dict) else None
+    fraction = tolerance.get("fraction", default.fraction) if isinstance(tolerance, dict) else None
+    if not (_is_count(channel) and channel <= 255 and _is_number(fraction) and 0 <= fraction <= 1):
+        raise bad('tolerance must be {"channel": 0 to 255, "fraction": 0 to 1}')
+    episodes = data.get("episodes")
+    if not isinstance(episodes, list) or not episodes:
+        raise bad("episodes must be a non-empty list")
+    specs = []
+    for index, episode in enumerate(episodes):
+        name = episode.get("name") if isinstance(episode, dict) else None
+        seed = episode.get("seed", 0) if isinstance(episode, dict) else None
+        number = episode.get("episode") if isinstance(episode, dict) else None
+        if not isinstance(name, str) or not _EPISODE_NAME.match(name):
+            raise bad(f"episodes[{index}]: name must be letters, digits, - and _ (at most 64), not {name!r}")
+        if not _is_count(seed) or not (number is None or _is_count(number)):
+            raise bad(f"episodes[{index}]: seed and episode must be whole numbers from 0")
+        specs.append(ReplaySpec(name, seed, number))
+    if len({spec.name for spec in specs}) != len(specs):
+        raise bad("two episodes have the same name")
+    return Manifest(frame_size, Tolerance(channel, float(fraction)), tuple(specs))
+
+
+def _is_count(value: Any) -> bool:
+    return isinstance(value, int) and not isinstance(value, bool) and value >= 0
+
+
+def _is_number(value: Any) -> bool:
+    return isinstance(value, (int, float)) and not isinstance(value, bool)
+
+
+def read_text(path: Path) -> str:
+    """The text of a stored reference, or a RegressionError saying it is missing or unreadable."""
+    try:
+        return path.read_text(encoding="utf-8")
+    except FileNotFoundError:
+        raise RegressionError(f"{path}: missing (rewrite the references with --update)") from None
+    except (OSError, UnicodeDecodeError) as error:
+        raise RegressionError(f"{path}: cannot read: {error}") from None
+
+
+def read_json(path: Path) -> Any:
+    """A stored reference parsed as JSON, or a RegressionError saying where it is not valid."""
+    try:
+        return json.loads(read_text(path))
+    except json.JSONDecodeError as error:
+        raise RegressionError(f"{path}: not valid JSON: {error.msg} at line {error.lineno}") from None
+
+
+def read_png(path: Path) -> np.ndarray:
+    """A stored key frame decoded as RGB ``uint8``, or a RegressionError if it is missing or not a PNG."""
+    from PIL import Image
+
+    try:
+        with Image.open(path, formats=["PNG"]) as image:
+            return np.asarray(image.convert("RGB"))
+    except FileNotFoundError:
+        raise RegressionError(f"{path}: missing (rewrite the references with --update)") from None
+    except (OSError, ValueError) as error:
+        raise RegressionError(f"{path}: not a PNG image ({type(error).__name__})") from None
+
+
+def write_png(path: Path, image: np.ndarray) -> None:
+    """Write ``image`` to ``path`` as a PNG, atomically."""
+    import imageio.v3 as iio
+
+    with atomic_path(path) as temporary:
+        iio.imwrite(temporary, image, extension=".png")
