@@ -23,7 +23,7 @@ from guardsim.planners.base import EpisodeSetup, GuardState
 from guardsim.planners.shortest_paths import FAR
 from guardsim.planners.team_share import guard_share
 
-__all__ = ["FAR", "RippleFront", "ripple_sweep"]
+__all__ = ["FAR", "GreedyField", "RippleFront", "ripple_sweep"]
 
 
 def ripple_sweep(distance: np.ndarray, seen: np.ndarray, neighbours: np.ndarray) -> np.ndarray:
@@ -62,7 +62,26 @@ def ripple_sweep(distance: np.ndarray, seen: np.ndarray, neighbours: np.ndarray)
     return np.where(seen, np.minimum(nearest + 1, FAR), 0).astype(np.int32)
 
 
-class RippleFront:
+class GreedyField:
+    """What the RippleFront planners share: a field D over the grid's cells that the guard steps down.
+
+    Subclasses set :attr:`distance` in ``next_move`` and pick the step with :func:`greedy_move`.
+    """
+
+    def __init__(self) -> None:
+        self.distance = np.zeros(0, dtype=np.int32)
+        """``int32 (cells,)``: the field D of the last decision."""
+        self._neighbours = np.zeros((0, 4), dtype=np.int64)
+        self._goal = np.zeros(0, dtype=bool)
+
+    def reset(self, setup: EpisodeSetup) -> None:
+        """Start every cell at D = 0, as if all were unseen; keep the grid's connectivity and the goal."""
+        self.distance = np.zeros(setup.grid.size, dtype=np.int32)
+        self._neighbours = setup.grid.neighbours
+        self._goal = setup.goal
+
+
+class RippleFront(GreedyField):
     """The paper's planner: ripple the field, then step down it greedily.
 
     Parameters
@@ -77,16 +96,8 @@ class RippleFront:
     def __init__(self, sweeps_per_tick: int = 1) -> None:
         if sweeps_per_tick < 1:
             raise ValueError("sweeps_per_tick must be at least 1")
+        super().__init__()
         self.sweeps_per_tick = sweeps_per_tick
-        self.distance = np.zeros(0, dtype=np.int32)
-        self._neighbours = np.zeros((0, 4), dtype=np.int64)
-        self._goal = np.zeros(0, dtype=bool)
-
-    def reset(self, setup: EpisodeSetup) -> None:
-        """Start every cell at D = 0, as if all were unseen."""
-        self.distance = np.zeros(setup.grid.size, dtype=np.int32)
-        self._neighbours = setup.grid.neighbours
-        self._goal = setup.goal
 
     def next_move(self, state: GuardState) -> int | None:
         """Sweep, then return the heading toward the connected neighbour with the smallest D."""

@@ -10,32 +10,21 @@ two shows what the ripple's lag costs. In a team, each guard's sources are its s
 
 from __future__ import annotations
 
-import numpy as np
-
-from guardsim.planners.base import EpisodeSetup, GuardState
-from guardsim.planners.ripplefront import greedy_move
+from guardsim.planners.base import GuardState
+from guardsim.planners.ripplefront import GreedyField, greedy_move
 from guardsim.planners.shortest_paths import distances_from
 from guardsim.planners.team_share import guard_share
 
 __all__ = ["RippleFrontExact"]
 
 
-class RippleFrontExact:
-    """Greedy descent on the exact distance to the nearest unseen goal cell, recomputed every tick."""
+class RippleFrontExact(GreedyField):
+    """Greedy descent on the exact distance to the nearest unseen goal cell, recomputed every tick.
+
+    Its :attr:`distance` is 0 on the field's sources and ``FAR`` out of their reach.
+    """
 
     name = "ripplefront-exact"
-
-    def __init__(self) -> None:
-        self.distance = np.zeros(0, dtype=np.int32)
-        """``int32 (cells,)``: the field of the last decision (0 on its sources, ``FAR`` out of reach)."""
-        self._neighbours = np.zeros((0, 4), dtype=np.int64)
-        self._goal = np.zeros(0, dtype=bool)
-
-    def reset(self, setup: EpisodeSetup) -> None:
-        """Keep the grid's connectivity and the goal."""
-        self.distance = np.zeros(setup.grid.size, dtype=np.int32)
-        self._neighbours = setup.grid.neighbours
-        self._goal = setup.goal
 
     def next_move(self, state: GuardState) -> int | None:
         """Recompute the field, then step to the neighbour with the smallest D."""
