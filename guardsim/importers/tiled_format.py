@@ -198,6 +198,32 @@ class MapReader:
         if orientation != "orthogonal":
             raise LevelError(f"{self.source}: orientation {orientation!r} is not supported (only orthogonal maps)")
 
+    def template_error(self, where: str) -> LevelError:
+        """The error for an object that uses a template (its fields live in another file, not read)."""
+        return LevelError(f"{self.source}: {where}: uses a template; detach it in Tiled (templates are not read)")
+
+    def tileset_tile(self, properties: Properties, kind: Any) -> Properties:
+        """A tileset tile's properties with its class (``type`` before Tiled 1.9), if any, under ``class``."""
+        if kind:
+            properties["class"] = kind
+        return properties
+
+    def tiled_object(
+        self,
+        identifier: int,
+        name: str,
+        kind: Any,
+        shape: str,
+        outline: tuple[Point, ...],
+        gid: int,
+        properties: Properties,
+    ) -> TiledObject:
+        """An object whose class and properties default to its tile's: its own override them."""
+        tile = self.tiles.get(gid, {})
+        return TiledObject(
+            identifier, name, str(kind or tile.get("class", "")), shape, outline, gid, {**tile, **properties}
+        )
+
     def add_cells(
         self,
         name: str,

@@ -83,10 +83,9 @@ class JsonMapReader(MapReader):
 
     def add_tileset_tiles(self, tileset: dict[str, Any], firstgid: int, tiles: dict[int, Properties]) -> None:
         for index, tile in enumerate(self.list(tileset, "tiles", "tileset")):
-            properties = self.properties(tile, f"tiles[{index}]")
-            kind = tile.get("class", tile.get("type"))
-            if kind:
-                properties["class"] = kind
+            properties = self.tileset_tile(
+                self.properties(tile, f"tiles[{index}]"), tile.get("class", tile.get("type"))
+            )
             if properties:
                 tiles[firstgid + self.integer(tile.get("id"), f"tiles[{index}].id")] = properties
 
@@ -137,7 +136,7 @@ class JsonMapReader(MapReader):
 
     def object(self, value: dict[str, Any], offset: Point, where: str) -> TiledObject:
         if "template" in value:
-            raise LevelError(f"{self.source}: {where}: uses a template; detach it in Tiled (templates are not read)")
+            raise self.template_error(where)
         x = self.number(value.get("x"), f"{where}.x", 0.0)
         y = self.number(value.get("y"), f"{where}.y", 0.0)
         width = self.number(value.get("width"), f"{where}.width", 0.0)
@@ -162,12 +161,12 @@ class JsonMapReader(MapReader):
         for key in ("ellipse", "point", "text"):
             if value.get(key):
                 shape = key
-        return TiledObject(
+        return self.tiled_object(
             self.integer(value.get("id"), f"{where}.id", 0),
             str(value.get("name", "")),
-            str(value.get("class", value.get("type", "")) or self.tiles.get(gid, {}).get("class", "")),
+            value.get("class", value.get("type", "")),
             shape,
             object_outline(shape, x, y, width, height, rotation, points, offset),
             gid,
-            {**self.tiles.get(gid, {}), **self.properties(value, where)},
+            self.properties(value, where),
         )

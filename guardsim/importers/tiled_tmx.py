@@ -76,10 +76,7 @@ class TmxReader(MapReader):
 
     def add_tileset_tiles(self, tileset: ElementTree.Element, firstgid: int, tiles: dict[int, Properties]) -> None:
         for tile in tileset.findall("tile"):
-            properties = self.properties(tile)
-            kind = tile.get("class", tile.get("type"))
-            if kind:
-                properties["class"] = kind
+            properties = self.tileset_tile(self.properties(tile), tile.get("class", tile.get("type")))
             if properties:
                 tiles[firstgid + self.integer(tile.get("id"), "tile id")] = properties
 
@@ -132,7 +129,7 @@ class TmxReader(MapReader):
         identifier = self.integer(element.get("id"), f"{where} id", 0)
         where = f"{where} {identifier}"
         if element.get("template"):
-            raise LevelError(f"{self.source}: {where}: uses a template; detach it in Tiled (templates are not read)")
+            raise self.template_error(where)
         x = self.number(element.get("x"), f"{where} x", 0.0)
         y = self.number(element.get("y"), f"{where} y", 0.0)
         width = self.number(element.get("width"), f"{where} width", 0.0)
@@ -148,14 +145,14 @@ class TmxReader(MapReader):
                 if tag in ("polygon", "polyline"):
                     points = [self.point(pair, f"{where} {tag}") for pair in child.get("points", "").split()]
         outline = object_outline(shape, x, y, width, height, rotation, points, offset)
-        return TiledObject(
+        return self.tiled_object(
             identifier,
             element.get("name", ""),
-            element.get("class", element.get("type", "")) or str(self.tiles.get(gid, {}).get("class", "")),
+            element.get("class", element.get("type", "")),
             shape,
             outline,
             gid,
-            {**self.tiles.get(gid, {}), **self.properties(element)},
+            self.properties(element),
         )
 
     def point(self, pair: str, where: str) -> Point:
