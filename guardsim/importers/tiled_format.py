@@ -242,7 +242,9 @@ class MapReader:
         joined = [np.concatenate(part) if part else np.zeros(0, dtype=np.int64) for part in (cols, rows, gids)]
         self.tile_layers.append(TileLayer(name, path, properties, offset, *joined))
 
-    def result(self, tile_width: float, tile_height: float) -> TiledMap:
+    def result(self, tilewidth: Any, tileheight: Any) -> TiledMap:
+        """The map read, with the tile size given by the map's ``tilewidth`` and ``tileheight`` values."""
+        tile_width, tile_height = self.number(tilewidth, "tilewidth"), self.number(tileheight, "tileheight")
         if tile_width <= 0 or tile_height <= 0:
             raise LevelError(
                 f"{self.source}: tilewidth and tileheight must be positive, not {tile_width:g} x {tile_height:g}"

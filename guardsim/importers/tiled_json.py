@@ -63,9 +63,7 @@ class JsonMapReader(MapReader):
             else:
                 self.add_tileset_tiles(tileset, firstgid, self.tiles)
         self.layers(self.list(root, "layers", "map"), (), {}, (0.0, 0.0), "layers")
-        return self.result(
-            self.number(root.get("tilewidth"), "tilewidth"), self.number(root.get("tileheight"), "tileheight")
-        )
+        return self.result(root.get("tilewidth"), root.get("tileheight"))
 
     def list(self, value: Any, key: str, where: str) -> list[dict[str, Any]]:
         items = value.get(key, []) if isinstance(value, dict) else None

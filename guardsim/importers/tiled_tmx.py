@@ -58,9 +58,7 @@ class TmxReader(MapReader):
             else:
                 self.add_tileset_tiles(tileset, firstgid, self.tiles)
         self.layers(root, (), {}, (0.0, 0.0))
-        return self.result(
-            self.number(root.get("tilewidth"), "tilewidth"), self.number(root.get("tileheight"), "tileheight")
-        )
+        return self.result(root.get("tilewidth"), root.get("tileheight"))
 
     def properties(self, element: ElementTree.Element) -> Properties:
         values: Properties = {}
