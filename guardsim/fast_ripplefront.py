@@ -18,14 +18,14 @@ import numba
 import numpy as np
 
 from guardsim.planners.ripplefront import FAR
-from guardsim.vision_cache import VisionCache
+from guardsim.vision_cache import VisionCache, try_fill
 
 __all__ = ["COVERED", "NEED_VISION", "PAUSED", "STEP_LIMIT", "STUCK", "EpisodeArrays", "run_compiled"]
 
 COVERED, STEP_LIMIT, STUCK, NEED_VISION, PAUSED = 0, 1, 2, 3, 4
 
 # Slots of the loop's saved state, so a return for a missing vision state can resume exactly.
-_TICK, _CELL, _HEADING, _UNSEEN, _PHASE, _PENDING, _STAMP, _STATE = range(8)
+_TICK, _CELL, _HEADING, _UNSEEN, _PHASE, _PENDING, _STAMP, _STATE, _USED = range(9)
 _LOOK, _DECIDE = 0, 1
 
 
@@ -51,6 +51,19 @@ def _advance(
     limit: int,
     far: int,
     tick_budget: int,
+    compiled_fill: bool,
+    offsets_all: np.ndarray,
+    offsets_start: np.ndarray,
+    traversable: np.ndarray,
+    dims: np.ndarray,
+    geometry: np.ndarray,
+    segments: np.ndarray,
+    bucket_start: np.ndarray,
+    bucket_walls: np.ndarray,
+    wall_stamp: np.ndarray,
+    fill_candidates: np.ndarray,
+    fill_targets: np.ndarray,
+    fill_verdicts: np.ndarray,
 ) -> int:
     tick = saved[_TICK]
     cell = saved[_CELL]
@@ -63,6 +76,15 @@ def _advance(
         if phase == _LOOK:
             state = cell * 4 + heading
             length = cache_length[state]
+            if length < 0 and compiled_fill:
+                stored = try_fill(
+                    state, offsets_all, offsets_start, traversable, dims, geometry, segments, bucket_start,
+                    bucket_walls, wall_stamp, fill_candidates, fill_targets, fill_verdicts, cache_data,
+                    saved[_USED], cache_start, cache_length,
+                )  # fmt: skip
+                if stored >= 0:
+                    saved[_USED] += stored
+                    length = stored
             if length < 0:
                 saved[_TICK], saved[_CELL], saved[_HEADING] = tick, cell, heading
                 saved[_UNSEEN], saved[_PHASE], saved[_PENDING], saved[_STAMP] = unseen_left, phase, n_pending, stamp
@@ -190,9 +212,10 @@ def run_compiled(
     path = np.zeros(limit + 1, dtype=np.int64)
     headings = np.zeros(limit + 1, dtype=np.int64)
     unseen_counts = np.zeros(limit + 1, dtype=np.int64)
-    saved = np.zeros(8, dtype=np.int64)
+    saved = np.zeros(9, dtype=np.int64)
     saved[_CELL], saved[_HEADING], saved[_UNSEEN] = start_cell, heading, int(goal.sum())
     while True:
+        saved[_USED] = cache.used
         outcome = _advance(
             neighbours,
             goal,
@@ -214,7 +237,10 @@ def run_compiled(
             limit,
             int(FAR),
             budget,
+            cache.compiled_fill,
+            *cache.fill_arrays,
         )
+        cache.used = int(saved[_USED])
         if outcome == NEED_VISION:
             cache.fill(int(saved[_STATE]))
             continue

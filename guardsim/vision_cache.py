@@ -86,6 +86,60 @@ def _screen_state(
     return count
 
 
+@numba.njit(cache=True, nogil=True)
+def try_fill(
+    state: int,
+    offsets_all: np.ndarray,
+    offsets_start: np.ndarray,
+    traversable: np.ndarray,
+    dims: np.ndarray,
+    geometry: np.ndarray,
+    segments: np.ndarray,
+    bucket_start: np.ndarray,
+    bucket_walls: np.ndarray,
+    stamp: np.ndarray,
+    candidates: np.ndarray,
+    targets: np.ndarray,
+    verdicts: np.ndarray,
+    data: np.ndarray,
+    used: int,
+    start: np.ndarray,
+    length: np.ndarray,
+) -> int:
+    """Fill ``state`` without leaving compiled code when the screen settles every ray.
+
+    Returns how many cells were stored at ``data[used:]``; -1 when a ray is a close call (pymunk must
+    decide: fill it from Python) and -2 when ``data`` has no room (grow it from Python).
+    """
+    cell = state // 4
+    heading = state % 4
+    rows, cols = dims[0], dims[1]
+    offsets = offsets_all[offsets_start[heading] : offsets_start[heading + 1]]
+    count = _screen_state(
+        cell % cols, cell // cols, offsets, traversable, rows, cols, geometry[0], geometry[1], geometry[2],
+        segments, bucket_start, bucket_walls, geometry[3], geometry[4], geometry[5], dims[2], dims[3],
+        geometry[6], stamp, candidates, targets, verdicts,
+    )  # fmt: skip
+    visible = 1
+    for index in range(count):
+        if verdicts[index] == CLOSE_CALL:
+            return -1
+        if verdicts[index] == CLEAR:
+            visible += 1
+    if used + visible > data.shape[0]:
+        return -2
+    data[used] = cell
+    position = used + 1
+    for index in range(count):
+        if verdicts[index] == CLEAR:
+            data[position] = candidates[index]
+            position += 1
+    data[used : used + visible] = np.sort(data[used : used + visible])
+    start[state] = used
+    length[state] = visible
+    return visible
+
+
 class VisionCache:
     """Visible cells per state, filled on first use.
 
@@ -125,6 +179,24 @@ class VisionCache:
         )
         self._stamp = np.zeros(len(world.walls) + 1, dtype=np.int64)
         self._traversable = np.ascontiguousarray(grid.traversable.ravel())
+        walls = self._walls
+        widest = max(len(offsets) for offsets in cone.offsets)
+        # What try_fill needs, packed so that the compiled loop can fill states itself.
+        self.compiled_fill = line_of_sight == "pymunk"
+        self.fill_arrays = (
+            np.ascontiguousarray(np.concatenate(cone.offsets).astype(np.int64).reshape(-1, 2)),
+            np.cumsum([0, *(len(offsets) for offsets in cone.offsets)]).astype(np.int64),
+            self._traversable,
+            np.array([rows, cols, walls.columns, walls.rows], dtype=np.int64),
+            np.array([*grid.origin, grid.cell_size, *walls.origin, walls.bucket, walls.margin], dtype=np.float64),
+            walls.segments,
+            walls.start,
+            walls.walls,
+            self._stamp,
+            np.zeros(widest, dtype=np.int64),
+            np.zeros((widest, 2), dtype=np.float64),
+            np.zeros(widest, dtype=np.int8),
+        )
 
     @property
     def computed(self) -> int:
