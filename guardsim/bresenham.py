@@ -14,6 +14,8 @@ from __future__ import annotations
 import numba
 import numpy as np
 
+from guardsim.vision import cone_target
+
 __all__ = ["bresenham_clear", "bresenham_line", "bresenham_visible"]
 
 
@@ -69,14 +71,11 @@ def bresenham_clear(
     out[count] = row * cols + col
     count += 1
     for index in range(offsets.shape[0]):
-        target_col = col + offsets[index, 0]
-        target_row = row + offsets[index, 1]
-        if target_col < 0 or target_col >= cols or target_row < 0 or target_row >= rows:
+        flat = cone_target(col, row, offsets, index, rows, cols, traversable)
+        if flat < 0:
             continue
-        if target_col == col and target_row == row:
-            continue
-        if not traversable[target_row * cols + target_col]:
-            continue
+        target_col = flat % cols
+        target_row = flat // cols
         dx = abs(target_col - col)
         dy = abs(target_row - row)
         step_x = 1 if target_col > col else -1

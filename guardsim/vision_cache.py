@@ -16,7 +16,7 @@ import numpy as np
 from guardsim.bresenham import bresenham_clear
 from guardsim.grid import CoverageGrid
 from guardsim.sight_screen import CLEAR, CLOSE_CALL, WallIndex, screen
-from guardsim.vision import VisionCone
+from guardsim.vision import VisionCone, cone_target
 from guardsim.world import World
 
 __all__ = ["LINES_OF_SIGHT", "VisionCache"]
@@ -53,15 +53,11 @@ def _screen_state(
     """The traversable cells in the cone (the guard's own excluded), their centres and ray verdicts."""
     count = 0
     for index in range(offsets.shape[0]):
-        target_col = col + offsets[index, 0]
-        target_row = row + offsets[index, 1]
-        if target_col < 0 or target_col >= cols or target_row < 0 or target_row >= rows:
+        flat = cone_target(col, row, offsets, index, rows, cols, traversable)
+        if flat < 0:
             continue
-        if target_col == col and target_row == row:
-            continue
-        flat = target_row * cols + target_col
-        if not traversable[flat]:
-            continue
+        target_col = flat % cols
+        target_row = flat // cols
         candidates[count] = flat
         targets[count, 0] = origin_x + (target_col + 0.5) * cell_size
         targets[count, 1] = origin_y + (target_row + 0.5) * cell_size
