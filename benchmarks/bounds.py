@@ -39,7 +39,7 @@ def load_scene(path: Path):
 def measure(path: Path, starts: int) -> str:
     """One table row for a level."""
     from guardsim.bounds import lower_bounds
-    from guardsim.planners.views import view_table
+    from guardsim.vision.table import view_table
     from guardsim.simulation import choose_start, episode_generator
 
     began = time.perf_counter()

@@ -43,7 +43,7 @@ from pathlib import Path
 from guardsim.level import load_level
 from guardsim.planners import PLANNERS, EpisodeSetup, GuardState, Planner, Tour
 from guardsim.planners.viewpoint_cover import greedy_cover
-from guardsim.planners.views import view_table
+from guardsim.vision.table import view_table
 from guardsim.simulation import Scene, choose_start, episode_generator, run_team_episode, team_starts
 from guardsim.trace import Trace
 

@@ -1,3 +1,78 @@
-"""guardsim: coverage path planning for guards in games."""
+"""guardsim: coverage path planning for guards in games.
+
+Load a level, build its scene (the pymunk world, the coverage grid and the vision), and walk a guard
+over it tick by tick until it has seen every reachable cell::
+
+    import guardsim
+
+    scene = guardsim.Scene.from_level(guardsim.load_level("levels/square.json"))
+    simulation = guardsim.Simulation(scene, "ripplefront")
+    simulation.reset(seed=0)
+    while not simulation.done:
+        simulation.step()
+    trace = simulation.trace()
+
+See docs/api.md. Names are imported on first use, so ``import guardsim`` (and the command line's
+``--help`` and ``validate``) stays quick and does not load the compiled kernels.
+"""
+
+from __future__ import annotations
+
+import importlib
+from typing import TYPE_CHECKING, Any
 
 __version__ = "0.1.0"
+
+# Public name -> the module that defines it.
+_SOURCES = {
+    "GuardsimError": "guardsim.errors",
+    "LevelError": "guardsim.errors",
+    "LimitError": "guardsim.errors",
+    "OutputError": "guardsim.errors",
+    "GuardSpec": "guardsim.level",
+    "Level": "guardsim.level",
+    "load_level": "guardsim.level",
+    "parse_level": "guardsim.level",
+    "World": "guardsim.world",
+    "CoverageGrid": "guardsim.grid",
+    "LineOfSight": "guardsim.vision",
+    "VisionCone": "guardsim.vision",
+    "Scene": "guardsim.scene",
+    "episode_generator": "guardsim.starts",
+    "PLANNERS": "guardsim.planners",
+    "Planner": "guardsim.planners",
+    "make_planner": "guardsim.planners",
+    "Simulation": "guardsim.simulation",
+    "run_episode": "guardsim.simulation",
+    "run_team_episode": "guardsim.simulation",
+    "run_batch_episode": "guardsim.simulation",
+    "Trace": "guardsim.trace",
+}
+
+__all__ = ["__version__", *_SOURCES]
+
+
+def __getattr__(name: str) -> Any:
+    source = _SOURCES.get(name)
+    if source is None:
+        raise AttributeError(f"module 'guardsim' has no attribute {name!r}")
+    value = getattr(importlib.import_module(source), name)
+    globals()[name] = value
+    return value
+
+
+def __dir__() -> list[str]:
+    return sorted(__all__)
+
+
+if TYPE_CHECKING:
+    from guardsim.errors import GuardsimError, LevelError, LimitError, OutputError
+    from guardsim.grid import CoverageGrid
+    from guardsim.level import GuardSpec, Level, load_level, parse_level
+    from guardsim.planners import PLANNERS, Planner, make_planner
+    from guardsim.scene import Scene
+    from guardsim.simulation import Simulation, run_batch_episode, run_episode, run_team_episode
+    from guardsim.starts import episode_generator
+    from guardsim.trace import Trace
+    from guardsim.vision import LineOfSight, VisionCone
+    from guardsim.world import World

@@ -10,6 +10,7 @@ from __future__ import annotations
 from collections import deque
 from dataclasses import dataclass
 from functools import cached_property
+from typing import TypeVar
 
 import numpy as np
 import shapely
@@ -18,11 +19,45 @@ from guardsim.errors import LevelError
 from guardsim.level import Level
 from guardsim.world import World
 
-__all__ = ["DIRECTIONS", "CoverageGrid", "build_grid"]
+__all__ = [
+    "DIRECTIONS",
+    "HEADINGS_PER_CELL",
+    "CoverageGrid",
+    "build_grid",
+    "cell_of_state",
+    "heading_of_state",
+    "state_of",
+]
 
 #: The four moves as (dcol, drow), indexed by heading number: 0 right, 1 down, 2 left, 3 up.
 #: Heading number k points at 90*k degrees with y down (clockwise on screen).
 DIRECTIONS: tuple[tuple[int, int], ...] = ((1, 0), (0, 1), (-1, 0), (0, -1))
+
+#: A state is a cell and one of the four headings; states are numbered cell by cell.
+HEADINGS_PER_CELL = 4
+
+_Index = TypeVar("_Index", int, np.ndarray)
+
+
+def state_of(cell: _Index, heading: _Index) -> _Index:
+    """The state number of a flat cell index and a heading number (also elementwise on arrays).
+
+    Examples
+    --------
+    >>> state_of(3, 2), cell_of_state(14), heading_of_state(14)
+    (14, 3, 2)
+    """
+    return cell * HEADINGS_PER_CELL + heading
+
+
+def cell_of_state(state: _Index) -> _Index:
+    """The flat cell index of a state number."""
+    return state // HEADINGS_PER_CELL
+
+
+def heading_of_state(state: _Index) -> _Index:
+    """The heading number of a state number."""
+    return state % HEADINGS_PER_CELL
 
 
 @dataclass(frozen=True, eq=False)
@@ -98,6 +133,20 @@ class CoverageGrid:
                         queue.append(other)
             next_label += 1
         return labels
+
+    @cached_property
+    def entry_cells(self) -> np.ndarray:
+        """``int64 (rows * cols * 4,)``: per state, the cell a guard steps from to arrive in it (-1: none).
+
+        That is the connected neighbour of the state's cell opposite its heading.
+
+        Examples
+        --------
+        >>> grid = CoverageGrid((0.0, 0.0), 1.0, np.ones((1, 2), dtype=bool), np.array([[1, -1, -1, -1], [-1, -1, 0, -1]]))
+        >>> grid.entry_cells.reshape(2, 4).tolist()
+        [[-1, -1, 1, -1], [0, -1, -1, -1]]
+        """
+        return np.asarray(self.neighbours, dtype=np.int64)[:, [2, 3, 0, 1]].ravel()
 
     def component(self, col: int, row: int) -> np.ndarray:
         """``bool (rows, cols)``: the cells reachable from ``(col, row)`` through connected moves."""

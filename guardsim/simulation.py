@@ -1,31 +1,55 @@
-"""The simulation loop: a guard, its vision and a planner, tick by tick until the level is seen.
+"""The simulation loop: guards, their vision and their planners, tick by tick until the level is seen.
 
-The loop owns the limits and termination; vision and planner are handed in. Nothing here draws.
+One tick, for every guard at once: each planner decides on the same state, every guard moves (guards
+may share a cell), then every guard looks and the cells it sees are marked seen. The start is tick 0 and
+has only the look. The loop owns the limits and termination; a planner that offers an
+:class:`~guardsim.planners.base.Accelerator` (RippleFront does) advances the same state by whole ticks
+in compiled code. Nothing here draws.
+
+Examples
+--------
+Step a guard tick by tick from a game loop, reading its position in world coordinates:
+
+>>> from guardsim.level import parse_level
+>>> from guardsim.scene import Scene
+>>> scene = Scene.from_level(parse_level({"outer": [[0, 0], [6, 0], [6, 4], [0, 4]]}))
+>>> sim = Simulation(scene)
+>>> sim.reset(starts=[(0, 0)], headings=[0])
+>>> while not sim.done:
+...     sim.step()
+>>> sim.tick, sim.outcome, sim.positions[0]
+(3, 'covered', (0.5, 2.5))
 """
 
 from __future__ import annotations
 
 from collections.abc import Sequence
-from dataclasses import dataclass
+from typing import Any
 
 import numpy as np
 
-from guardsim.bresenham import bresenham_visible
-from guardsim.errors import LevelError
-from guardsim.fast_ripplefront import run_compiled
-from guardsim.grid import CoverageGrid, build_grid, start_cell
-from guardsim.level import HEADINGS, Level
+from guardsim.grid import CoverageGrid
 from guardsim.planners import make_planner
-from guardsim.planners.base import STAY, EpisodeSetup, GuardState, Planner, VisionFunction
-from guardsim.planners.ripplefront import RippleFront
+from guardsim.planners.base import (
+    OUTCOME,
+    RUNNING,
+    STAY,
+    TICK,
+    UNSEEN,
+    Accelerator,
+    EpisodeArrays,
+    EpisodeSetup,
+    GuardState,
+    Planner,
+)
+from guardsim.scene import Scene
+from guardsim.starts import choose_start, episode_generator, episode_start, team_starts
 from guardsim.trace import OUTCOMES, Trace
-from guardsim.vision import VisionCone, visible_cells
-from guardsim.vision_cache import VisionCache
-from guardsim.world import World
+from guardsim.vision.rules import VisionFunction
 
 __all__ = [
     "Scene",
-    "VisionFunction",
+    "Simulation",
     "choose_start",
     "default_max_steps",
     "episode_generator",
@@ -35,70 +59,7 @@ __all__ = [
     "team_starts",
 ]
 
-
-@dataclass(frozen=True, eq=False)
-class Scene:
-    """A level with everything built from it once and shared by its episodes."""
-
-    level: Level
-    world: World
-    grid: CoverageGrid
-    cone: VisionCone
-    vision_cache: VisionCache
-    """Visible cells per state, filled as episodes meet them and shared by all of them."""
-
-    @classmethod
-    def from_level(cls, level: Level, *, line_of_sight: str = "pymunk") -> Scene:
-        """Build the physics world, the grid and the cone of a level.
-
-        ``line_of_sight`` is ``"pymunk"`` (rays against the walls) or ``"bresenham"`` (grid lines; see
-        :mod:`guardsim.bresenham`).
-        """
-        world = World(level)
-        grid = build_grid(level, world)
-        cone = VisionCone.from_guard(level.guard, level.cell_size, grid_shape=grid.shape)
-        return cls(level, world, grid, cone, VisionCache(world, grid, cone, line_of_sight=line_of_sight))
-
-    def vision(self, *, reference: bool = False) -> VisionFunction:
-        """The vision to use: the shared cache by default, the per-cell-ray reference on request.
-
-        Both give the same cells for every state (tested on every state of the shipped levels).
-        """
-        return self.reference_vision() if reference else self.vision_cache
-
-    @property
-    def line_of_sight(self) -> str:
-        """The line-of-sight rule, ``"pymunk"`` or ``"bresenham"``."""
-        return self.vision_cache.line_of_sight
-
-    def reference_vision(self) -> VisionFunction:
-        """The reference vision: one pymunk ray (or Bresenham line) per cell in the cone, every tick."""
-        if self.line_of_sight == "bresenham":
-
-            def see_on_grid(col: int, row: int, heading: int) -> np.ndarray:
-                return bresenham_visible(self.grid.traversable, col, row, self.cone.offsets[heading])
-
-            return see_on_grid
-
-        def see(col: int, row: int, heading: int) -> np.ndarray:
-            return visible_cells(self.world, self.grid, self.cone, col, row, heading)
-
-        return see
-
-
-def episode_generator(seed: int, episode: int) -> np.random.Generator:
-    """The generator of episode ``episode`` in a batch seeded with ``seed``.
-
-    It is the ``episode``-th child of ``SeedSequence(seed).spawn(...)``, built directly, so an episode
-    draws the same numbers whether it runs alone, in a batch, or on any worker.
-
-    Examples
-    --------
-    >>> children = np.random.SeedSequence(5).spawn(3)
-    >>> bool(episode_generator(5, 2).integers(1000) == np.random.default_rng(children[2]).integers(1000))
-    True
-    """
-    return np.random.default_rng(np.random.SeedSequence(seed, spawn_key=(episode,)))
+_HEADING_DEGREES = (0.0, 90.0, 180.0, 270.0)
 
 
 def default_max_steps(grid: CoverageGrid) -> int:
@@ -106,74 +67,347 @@ def default_max_steps(grid: CoverageGrid) -> int:
     return max(100, 10 * int(grid.traversable.sum()))
 
 
-def choose_start(
-    scene: Scene,
-    *,
-    rng: np.random.Generator,
-    point: tuple[float, float] | None = None,
-    heading: str | None = None,
-) -> tuple[tuple[int, int], int]:
-    """The start cell and heading number of an episode.
+class Simulation:
+    """One episode of a guard (or a team) on a scene, advanced by :meth:`step` or run by :meth:`run`.
 
-    The start is ``point`` if given, else drawn uniformly from the largest connected area; the heading
-    is ``heading`` if given, else drawn uniformly from the four. The draws happen in that order, start
-    first, so a given seed always gives the same episode.
+    Parameters
+    ----------
+    scene
+        The level, world, grid and vision.
+    planner
+        A planner name from :data:`guardsim.planners.PLANNERS` (one fresh planner per guard, made with
+        ``planner_options``), or planner objects, one per guard.
+    guards
+        Team size, with a planner name; with planner objects, their number.
+    max_steps
+        Step limit in ticks; :func:`default_max_steps` by default.
+    vision
+        Which cells a state sees; the scene's cache by default.
+    reference
+        Use the reference vision and no accelerator: the plain loop, for checking the fast path.
+    planner_options
+        Options for :func:`~guardsim.planners.make_planner`.
     """
-    grid = scene.grid
-    if point is not None:
-        cell = start_cell(scene.level, grid, point)
-    else:
-        candidates = np.flatnonzero(grid.largest_component())
-        if candidates.size == 0:
-            raise LevelError(f"{scene.level.source}: no cell where the guard fits; nothing to cover")
-        cell = grid.unflat(int(candidates[rng.integers(candidates.size)]))
-    heading_number = HEADINGS[heading] // 90 if heading is not None else int(rng.integers(4))
-    return cell, heading_number
+
+    def __init__(
+        self,
+        scene: Scene,
+        planner: str | Sequence[Planner] = "ripplefront",
+        *,
+        guards: int = 1,
+        max_steps: int | None = None,
+        vision: VisionFunction | None = None,
+        reference: bool = False,
+        **planner_options: Any,
+    ) -> None:
+        if isinstance(planner, str):
+            if guards < 1:
+                raise ValueError("a team needs at least one guard")
+            self.planners: list[Planner] = [make_planner(planner, **planner_options) for _ in range(guards)]
+        else:
+            self.planners = list(planner)
+            if not self.planners:
+                raise ValueError("a team needs at least one guard")
+        self.scene = scene
+        self.limit = default_max_steps(scene.grid) if max_steps is None else int(max_steps)
+        self.vision: VisionFunction = vision or scene.vision(reference=reference)
+        self.reference = reference
+        self.seed: int | None = None
+        self._episode: EpisodeArrays | None = None
+        self._accelerator: Accelerator | None = None
+        self._setup_done = False
+
+    # -- starting -------------------------------------------------------------------------------
+
+    def reset(
+        self,
+        *,
+        seed: int | None = None,
+        episode: int | None = None,
+        starts: Sequence[tuple[int, int]] | None = None,
+        headings: Sequence[int] | None = None,
+        rng: np.random.Generator | None = None,
+    ) -> None:
+        """Start a new episode and look from the start (tick 0).
+
+        Without ``starts``, guard 0 starts as ``guardsim play --seed SEED [--episode K]`` would (the
+        level's start, or one drawn from the seed), and teammates are drawn after it. With ``starts``
+        (``(col, row)`` cells, one per guard) and ``headings`` (heading numbers, 0 right, 1 down, 2
+        left, 3 up), those are used, and ``rng`` (or a generator from ``seed``) feeds the planners.
+        """
+        guards = len(self.planners)
+        self.seed = seed
+        if starts is None:
+            generator, cell, heading = episode_start(self.scene, seed=seed or 0, episode=episode)
+            cells, facing = team_starts(self.scene, (cell, heading), guards, rng=generator)
+            if headings is not None:
+                facing = list(headings)
+        else:
+            if len(starts) != guards:
+                raise ValueError(f"{len(starts)} starts for {guards} guards")
+            cells = [(int(col), int(row)) for col, row in starts]
+            if headings is None:
+                raise ValueError("starts need headings")
+            facing = [int(heading) for heading in headings]
+            generator = rng if rng is not None else np.random.default_rng(seed or 0)
+            for col, row in cells:
+                if not (0 <= row < self.scene.grid.shape[0] and 0 <= col < self.scene.grid.shape[1]):
+                    raise ValueError(f"start cell ({col}, {row}) is off the grid")
+                if not self.scene.grid.traversable[row, col]:
+                    raise ValueError(f"start cell ({col}, {row}) is not traversable")
+        if rng is not None:
+            generator = rng
+        grid = self.scene.grid
+        goal = np.zeros(grid.size, dtype=bool)
+        for col, row in cells:
+            goal |= grid.component(col, row).ravel()
+        episode_arrays = EpisodeArrays(
+            seen=np.zeros(grid.size, dtype=bool),
+            first_seen=np.full(grid.size, -1, dtype=np.int64),
+            goal=goal,
+            cells=np.zeros((guards, self.limit + 1), dtype=np.int64),
+            headings=np.zeros((guards, self.limit + 1), dtype=np.int64),
+            unseen_counts=np.zeros(self.limit + 1, dtype=np.int64),
+            counters=np.array([0, int(goal.sum()), RUNNING], dtype=np.int64),
+        )
+        for number, ((col, row), heading) in enumerate(zip(cells, facing)):
+            episode_arrays.cells[number, 0] = grid.flat(col, row)
+            episode_arrays.headings[number, 0] = heading
+        self._episode = episode_arrays
+        self._seen_view = episode_arrays.seen.view()
+        self._seen_view.flags.writeable = False
+        self._goal_view = goal.view()
+        self._goal_view.flags.writeable = False
+        self._accelerator = None
+        for number, planner in enumerate(self.planners):
+            planner.reset(EpisodeSetup(grid, self._goal_view, self.vision, generator, number, guards))
+        if guards == 1 and not self.reference:
+            offer = getattr(self.planners[0], "accelerator", None)
+            if offer is not None:
+                self._accelerator = offer(EpisodeSetup(grid, self._goal_view, self.vision, generator, 0, 1))
+        self._look(0)
+        self._check_end()
+
+    # -- the tick -------------------------------------------------------------------------------
+
+    def step(self) -> None:
+        """Advance every guard by one tick: decide, move, look. Does nothing once the episode is done."""
+        episode = self._require()
+        if self.done:
+            return
+        if self._accelerator is not None:
+            self._accelerator.advance(episode, self.limit, 1)
+            return
+        tick = int(episode.counters[TICK])
+        grid = self.scene.grid
+        guards = len(self.planners)
+        cells = episode.cells[:, tick].tolist()
+        facing = episode.headings[:, tick].tolist()
+        team = tuple(zip(cells, facing)) if guards > 1 else ()
+        moves = [
+            planner.next_move(
+                GuardState(tick, cells[number], facing[number], self._seen_view, self._goal_view, number, team)
+            )
+            for number, planner in enumerate(self.planners)
+        ]
+        if all(move is None for move in moves):
+            episode.counters[OUTCOME] = OUTCOMES.index("stuck")
+            return
+        for number, move in enumerate(moves):
+            if move is not None and move != STAY:
+                target = int(grid.neighbours[cells[number], move])
+                if target < 0:
+                    raise RuntimeError(
+                        f"planner {self.planners[number].name} chose a move into a wall from cell "
+                        f"{grid.unflat(cells[number])}"
+                    )
+                cells[number], facing[number] = target, move
+        tick += 1
+        episode.cells[:, tick] = cells
+        episode.headings[:, tick] = facing
+        episode.counters[TICK] = tick
+        self._look(tick)
+        self._check_end()
+
+    def run(self) -> Trace:
+        """Run the episode to its end (covered, step limit or stuck) and return its trace."""
+        episode = self._require()
+        if not self.done:
+            if self._accelerator is not None:
+                self._accelerator.advance(episode, self.limit, -1)
+            while not self.done:
+                self.step()
+        return self.trace()
+
+    def _look(self, tick: int) -> None:
+        """Every guard looks from where it stands at ``tick``; the cells it sees are marked seen."""
+        episode = self._require()
+        grid = self.scene.grid
+        seen, first_seen = episode.seen, episode.first_seen
+        newly_goal = 0
+        for number in range(len(self.planners)):
+            col, row = grid.unflat(int(episode.cells[number, tick]))
+            visible = self.vision(col, row, int(episode.headings[number, tick]))
+            new = visible[~seen[visible]]
+            seen[new] = True
+            first_seen[new] = tick
+            newly_goal += int(episode.goal[new].sum())
+        episode.counters[UNSEEN] -= newly_goal
+        episode.unseen_counts[tick] = episode.counters[UNSEEN]
+        if len(self.planners) == 1:
+            self.scene.world.place_guard(grid.centre(col, row))
+
+    def _check_end(self) -> None:
+        episode = self._require()
+        if episode.counters[UNSEEN] == 0:
+            episode.counters[OUTCOME] = OUTCOMES.index("covered")
+        elif episode.counters[TICK] >= self.limit:
+            episode.counters[OUTCOME] = OUTCOMES.index("step_limit")
+
+    def _require(self) -> EpisodeArrays:
+        if self._episode is None:
+            raise RuntimeError("call reset() before stepping the simulation")
+        return self._episode
+
+    # -- what a game reads ----------------------------------------------------------------------
+
+    @property
+    def tick(self) -> int:
+        """Ticks elapsed since the start."""
+        return int(self._require().counters[TICK])
+
+    @property
+    def done(self) -> bool:
+        """Whether the episode has ended."""
+        return int(self._require().counters[OUTCOME]) != RUNNING
+
+    @property
+    def outcome(self) -> str | None:
+        """``"covered"``, ``"step_limit"`` or ``"stuck"`` once done; ``None`` while running."""
+        code = int(self._require().counters[OUTCOME])
+        return None if code == RUNNING else OUTCOMES[code]
+
+    @property
+    def cells(self) -> list[tuple[int, int]]:
+        """``(col, row)`` of every guard now."""
+        episode = self._require()
+        grid = self.scene.grid
+        return [grid.unflat(int(cell)) for cell in episode.cells[:, self.tick]]
+
+    @property
+    def positions(self) -> list[tuple[float, float]]:
+        """World position of every guard now (its cell's centre)."""
+        grid = self.scene.grid
+        return [grid.centre(col, row) for col, row in self.cells]
+
+    @property
+    def headings(self) -> list[int]:
+        """Heading number of every guard now (0 right, 1 down, 2 left, 3 up; y down)."""
+        return [int(heading) for heading in self._require().headings[:, self.tick]]
+
+    @property
+    def heading_degrees(self) -> list[float]:
+        """Heading of every guard now in degrees (0 along +x, 90 along +y)."""
+        return [_HEADING_DEGREES[heading] for heading in self.headings]
+
+    @property
+    def seen(self) -> np.ndarray:
+        """``bool (rows, cols)``, read-only: cells seen so far."""
+        return self._seen_view.reshape(self.scene.grid.shape)
+
+    @property
+    def goal(self) -> np.ndarray:
+        """``bool (rows, cols)``, read-only: the cells the episode must see (reachable from the starts)."""
+        return self._goal_view.reshape(self.scene.grid.shape)
+
+    @property
+    def unseen(self) -> int:
+        """Goal cells not yet seen."""
+        return int(self._require().counters[UNSEEN])
+
+    @property
+    def coverage(self) -> float:
+        """Fraction of the goal cells seen so far (1.0 for an empty goal)."""
+        total = int(self._goal_view.sum())
+        return 1.0 if total == 0 else 1.0 - self.unseen / total
+
+    def visible_cells(self, guard: int = 0) -> list[tuple[int, int]]:
+        """``(col, row)`` of the cells guard ``guard`` sees from where it stands now."""
+        episode = self._require()
+        grid = self.scene.grid
+        col, row = grid.unflat(int(episode.cells[guard, self.tick]))
+        return [grid.unflat(int(cell)) for cell in self.vision(col, row, int(episode.headings[guard, self.tick]))]
+
+    def newly_seen(self) -> list[tuple[int, int]]:
+        """``(col, row)`` of the cells first seen at this tick, by any guard."""
+        episode = self._require()
+        grid = self.scene.grid
+        return [grid.unflat(int(cell)) for cell in np.flatnonzero(episode.first_seen == self.tick)]
+
+    def trace(self) -> Trace:
+        """The record of the episode so far (complete once :attr:`done`)."""
+        episode = self._require()
+        scene, grid = self.scene, self.scene.grid
+        ticks = self.tick + 1
+        cols = grid.shape[1]
+        paths = [
+            tuple(zip((row_cells % cols).tolist(), (row_cells // cols).tolist()))
+            for row_cells in episode.cells[:, :ticks]
+        ]
+        headings = [tuple(row.tolist()) for row in episode.headings[:, :ticks]]
+        goal = episode.goal
+        goal_count = int(goal.sum())
+        traversable = grid.traversable
+        single = len(self.planners) == 1
+        planner = self.planners[0]
+        return Trace(
+            level=scene.level.name,
+            planner=planner.name,
+            seed=self.seed,
+            cell_size=grid.cell_size,
+            origin=grid.origin,
+            shape=grid.shape,
+            path=paths[0],
+            headings=headings[0],
+            unseen_percent=tuple(
+                round(100.0 * count / goal_count, 4) for count in episode.unseen_counts[:ticks].tolist()
+            ),
+            outcome=self.outcome or "running",
+            reachable=goal_count,
+            unreachable=int(traversable.sum()) - goal_count,
+            first_seen=episode.first_seen.reshape(grid.shape).copy(),
+            goal=goal.reshape(grid.shape).copy(),
+            traversable=traversable.copy(),
+            guard_paths=() if single else tuple(paths),
+            guard_headings=() if single else tuple(headings),
+            guard_radius=scene.level.guard.radius,
+            view_range=scene.cone.view_range,
+            fov_degrees=scene.cone.fov_degrees,
+            line_of_sight=scene.line_of_sight.value,
+            planner_options=dict(getattr(planner, "options", {})),
+        )
 
 
-def team_starts(
+def run_team_episode(
     scene: Scene,
-    first: tuple[tuple[int, int], int],
-    guards: int,
+    planners: Sequence[Planner],
+    starts: Sequence[tuple[int, int]],
+    headings: Sequence[int],
     *,
-    rng: np.random.Generator,
-) -> tuple[list[tuple[int, int]], list[int]]:
-    """Starts and headings of a team: ``first`` for guard 0, the others drawn from its connected area.
-
-    Each further guard draws a cell uniformly from the cells reachable from guard 0, then a heading,
-    in guard order, after guard 0's own draws, so one guard's episode is the same with or without
-    this call.
-    """
-    cells, headings = [first[0]], [first[1]]
-    area = np.flatnonzero(scene.grid.component(*first[0]))
-    for _ in range(guards - 1):
-        cells.append(scene.grid.unflat(int(area[rng.integers(area.size)])))
-        headings.append(int(rng.integers(4)))
-    return cells, headings
-
-
-def run_batch_episode(
-    scene: Scene,
-    *,
-    seed: int,
-    episode: int,
-    planner: str = "ripplefront",
-    guards: int = 1,
+    vision: VisionFunction | None = None,
     reference: bool = False,
     max_steps: int | None = None,
-    **planner_options: object,
+    seed: int | None = None,
+    rng: np.random.Generator | None = None,
 ) -> Trace:
-    """Episode ``episode`` of a batch seeded with ``seed``: starts and headings drawn from its generator.
+    """Walk a team of guards, one planner each, from ``starts`` facing ``headings``, to the end.
 
-    This is what ``guardsim bench`` runs for each episode and ``guardsim play --seed S --episode K``
-    re-runs alone; the trace is the same either way. The same generator then feeds the planners.
+    A :class:`Simulation` run to its end; ``rng`` (a fresh one from ``seed``, or 0, by default) feeds
+    the planners and ``seed`` is recorded in the trace.
     """
-    rng = episode_generator(seed, episode)
-    cells, headings = team_starts(scene, choose_start(scene, rng=rng), guards, rng=rng)
-    planners = [make_planner(planner, **planner_options) for _ in range(guards)]
-    return run_team_episode(
-        scene, planners, cells, headings, rng=rng, reference=reference, max_steps=max_steps, seed=seed
-    )
+    simulation = Simulation(scene, planners, max_steps=max_steps, vision=vision, reference=reference)
+    simulation.reset(seed=seed, starts=starts, headings=headings, rng=rng)
+    return simulation.run()
 
 
 def run_episode(
@@ -190,191 +424,31 @@ def run_episode(
 ) -> Trace:
     """One guard walks from ``start`` until every reachable cell is seen or a limit stops it.
 
-    See :func:`run_team_episode` for the parameters; this is the team of one.
+    See :func:`run_team_episode`; this is the team of one.
     """
     return run_team_episode(
-        scene,
-        [planner],
-        [start],
-        [heading],
-        vision=vision,
-        reference=reference,
-        max_steps=max_steps,
-        seed=seed,
-        rng=rng,
+        scene, [planner], [start], [heading], vision=vision, reference=reference, max_steps=max_steps, seed=seed, rng=rng
     )
 
 
-def run_team_episode(
+def run_batch_episode(
     scene: Scene,
-    planners: Sequence[Planner],
-    starts: Sequence[tuple[int, int]],
-    headings: Sequence[int],
     *,
-    vision: VisionFunction | None = None,
+    seed: int,
+    episode: int,
+    planner: str = "ripplefront",
+    guards: int = 1,
     reference: bool = False,
     max_steps: int | None = None,
-    seed: int | None = None,
-    rng: np.random.Generator | None = None,
+    **planner_options: Any,
 ) -> Trace:
-    """Walk a team of guards, one planner each, until every reachable cell is seen or a limit stops them.
+    """Episode ``episode`` of a batch seeded with ``seed``: starts and headings drawn from its generator.
 
-    Each tick every planner decides on the same state, then all guards move at once (guards may share a
-    cell), then all look. A single :class:`RippleFront` guard with the default vision runs on the
-    compiled fast path (:mod:`guardsim.fast_ripplefront`); ``reference=True`` runs this loop with the
-    reference vision and the planner's full-grid sweeps instead. Both give the same trace.
-
-    Parameters
-    ----------
-    scene
-        The level, world, grid and cone.
-    planners, starts, headings
-        One planner, ``(col, row)`` start cell and first heading number per guard.
-    vision
-        Which cells a state sees; :meth:`Scene.vision` by default.
-    reference
-        Use the reference vision, for checking the fast path.
-    max_steps
-        Step limit (ticks); :func:`default_max_steps` by default.
-    seed
-        Recorded in the trace only.
-    rng
-        The generator handed to the planners; a fresh one from ``seed`` (or 0) by default.
-
-    Returns
-    -------
-    Trace
-        Guard 0's path as ``path``; with several guards, every guard's in ``guard_paths``.
+    This is what ``guardsim bench`` runs for each episode and ``guardsim play --seed S --episode K``
+    re-runs alone; the trace is the same either way. The same generator then feeds the planners.
     """
-    grid = scene.grid
-    limit = default_max_steps(grid) if max_steps is None else max_steps
-    goal = np.zeros(grid.size, dtype=bool)
-    for start in starts:
-        goal |= grid.component(*start).ravel()
-    single = len(planners) == 1
-    if single and vision is None and not reference and type(planners[0]) is RippleFront:
-        arrays = run_compiled(
-            scene.vision_cache,
-            grid.neighbours,
-            goal,
-            grid.flat(*starts[0]),
-            headings[0],
-            sweeps_per_tick=planners[0].sweeps_per_tick,
-            limit=limit,
-        )
-        path = list(zip((arrays.path % grid.shape[1]).tolist(), (arrays.path // grid.shape[1]).tolist()))
-        return _trace(
-            scene,
-            planners[0].name,
-            seed,
-            goal,
-            paths=[path],
-            headings=[arrays.headings.tolist()],
-            unseen_counts=arrays.unseen_counts.tolist(),
-            first_seen=arrays.first_seen,
-            outcome=OUTCOMES[arrays.outcome],
-        )
-    see = vision or scene.vision(reference=reference)
-    generator = rng if rng is not None else np.random.default_rng(seed or 0)
-    seen = np.zeros(grid.size, dtype=bool)
-    first_seen = np.full(grid.size, -1, dtype=np.int64)
-    cells = [grid.flat(*start) for start in starts]
-    facing = list(headings)
-    unseen_left = int(goal.sum())
-    paths = [[tuple(start)] for start in starts]
-    heading_log = [[heading] for heading in headings]
-    unseen_counts: list[int] = []
-    seen_view = seen.view()
-    seen_view.flags.writeable = False
-    goal.flags.writeable = False
-    for number, planner in enumerate(planners):
-        planner.reset(EpisodeSetup(grid, goal, see, generator, number, len(planners)))
-
-    def look(tick: int) -> int:
-        newly_goal = 0
-        for cell, heading in zip(cells, facing):
-            col, row = grid.unflat(cell)
-            scene.world.place_guard(grid.centre(col, row))
-            visible = see(col, row, heading)
-            new = visible[~seen[visible]]
-            seen[new] = True
-            first_seen[new] = tick
-            newly_goal += int(goal[new].sum())
-        unseen_counts.append(unseen_left - newly_goal)
-        return newly_goal
-
-    unseen_left -= look(0)
-    outcome = "covered"
-    tick = 0
-    while unseen_left > 0:
-        if tick >= limit:
-            outcome = "step_limit"
-            break
-        team = tuple(zip(cells, facing)) if not single else ()
-        moves = [
-            planner.next_move(GuardState(tick, cells[number], facing[number], seen_view, goal, number, team))
-            for number, planner in enumerate(planners)
-        ]
-        if all(move is None for move in moves):
-            outcome = "stuck"
-            break
-        tick += 1
-        for number, move in enumerate(moves):
-            if move is not None and move != STAY:
-                target = int(grid.neighbours[cells[number], move])
-                if target < 0:
-                    raise RuntimeError(
-                        f"planner {planners[number].name} chose a move into a wall from cell {grid.unflat(cells[number])}"
-                    )
-                cells[number], facing[number] = target, move
-            paths[number].append(grid.unflat(cells[number]))
-            heading_log[number].append(facing[number])
-        unseen_left -= look(tick)
-    return _trace(
-        scene,
-        planners[0].name,
-        seed,
-        goal,
-        paths=paths,
-        headings=heading_log,
-        unseen_counts=unseen_counts,
-        first_seen=first_seen,
-        outcome=outcome,
+    simulation = Simulation(
+        scene, planner, guards=guards, max_steps=max_steps, reference=reference, **planner_options
     )
-
-
-def _trace(
-    scene: Scene,
-    planner: str,
-    seed: int | None,
-    goal: np.ndarray,
-    *,
-    paths: list[list[tuple[int, int]]],
-    headings: list[list[int]],
-    unseen_counts: list[int],
-    first_seen: np.ndarray,
-    outcome: str,
-) -> Trace:
-    """Assemble a trace; both loops share it so their traces agree to the byte."""
-    grid = scene.grid
-    goal_count = int(goal.sum())
-    traversable = grid.traversable
-    return Trace(
-        level=scene.level.name,
-        planner=planner,
-        seed=seed,
-        cell_size=grid.cell_size,
-        origin=grid.origin,
-        shape=grid.shape,
-        path=tuple(paths[0]),
-        headings=tuple(headings[0]),
-        unseen_percent=tuple(round(100.0 * count / goal_count, 4) for count in unseen_counts),
-        outcome=outcome,
-        reachable=goal_count,
-        unreachable=int(traversable.sum()) - goal_count,
-        first_seen=first_seen.reshape(grid.shape),
-        goal=goal.reshape(grid.shape).copy(),
-        traversable=traversable.copy(),
-        guard_paths=tuple(tuple(path) for path in paths) if len(paths) > 1 else (),
-        guard_headings=tuple(tuple(log) for log in headings) if len(paths) > 1 else (),
-    )
+    simulation.reset(seed=seed, episode=episode)
+    return simulation.run()

@@ -4,7 +4,8 @@ from __future__ import annotations
 
 import itertools
 import json
-from dataclasses import dataclass
+from collections.abc import Mapping
+from dataclasses import dataclass, field
 from typing import Any
 
 import numpy as np
@@ -52,6 +53,16 @@ class Trace:
     """With several guards, every guard's path (guard 0's is also :attr:`path`); empty for one guard."""
     guard_headings: tuple[tuple[int, ...], ...] = ()
     """With several guards, every guard's headings; empty for one guard."""
+    guard_radius: float | None = None
+    """Radius of the guard's circle in world units (``None`` in traces written before it was recorded)."""
+    view_range: float | None = None
+    """How far the guard saw, in world units, as simulated (overrides included)."""
+    fov_degrees: float | None = None
+    """The guard's field of view in degrees, as simulated."""
+    line_of_sight: str | None = None
+    """The line-of-sight rule simulated: ``"pymunk"`` or ``"bresenham"``."""
+    planner_options: Mapping[str, Any] = field(default_factory=dict)
+    """The options the planner was made with (``make_planner(planner, **planner_options)``)."""
 
     @property
     def guards(self) -> int:
@@ -127,6 +138,11 @@ class Trace:
                 if self.guard_paths
                 else {}
             ),
+            "guard_radius": self.guard_radius,
+            "view_range": self.view_range,
+            "fov_degrees": self.fov_degrees,
+            "line_of_sight": self.line_of_sight,
+            "planner_options": dict(self.planner_options),
         }
 
     def to_json(self) -> str:
@@ -157,4 +173,13 @@ class Trace:
             traversable=np.asarray(data["traversable"], dtype=bool),
             guard_paths=tuple(tuple((int(c), int(r)) for c, r in path) for path in data.get("guard_paths", ())),
             guard_headings=tuple(tuple(int(h) for h in log) for log in data.get("guard_headings", ())),
+            guard_radius=_optional_float(data.get("guard_radius")),
+            view_range=_optional_float(data.get("view_range")),
+            fov_degrees=_optional_float(data.get("fov_degrees")),
+            line_of_sight=data.get("line_of_sight"),
+            planner_options=dict(data.get("planner_options") or {}),
         )
+
+
+def _optional_float(value: Any) -> float | None:
+    return None if value is None else float(value)

@@ -19,6 +19,8 @@ WALL_CATEGORY = 0b01
 GUARD_CATEGORY = 0b10
 # Queries see walls and never the guard's own circle.
 _WALLS_ONLY = pymunk.ShapeFilter(mask=WALL_CATEGORY)
+# In a caller's space the walls keep the caller's filters: query everything, keep the walls.
+_ANYTHING = pymunk.ShapeFilter()
 
 
 class World:
@@ -28,6 +30,13 @@ class World:
     ----------
     level
         The level whose rings become wall segments.
+    space
+        A space the caller owns (a game's own), to build in instead of a new one. The level's walls are
+        added to it as static segments on its static body, unless ``walls_in_space`` is true.
+    walls_in_space
+        With ``space``: the space already holds the walls as static segment shapes; take those (every
+        static :class:`pymunk.Segment` of the space) instead of adding the level's. Other shapes in the
+        space (the game's own bodies) never block the guard's sight or moves.
 
     Examples
     --------
@@ -37,17 +46,29 @@ class World:
     (4, True, False)
     """
 
-    def __init__(self, level: Level) -> None:
+    def __init__(self, level: Level, *, space: pymunk.Space | None = None, walls_in_space: bool = False) -> None:
         self.level = level
-        self.space = pymunk.Space()
+        self.space = pymunk.Space() if space is None else space
         self.walls: list[pymunk.Segment] = []
-        for ring in (level.outer, *level.holes):
-            for index, start in enumerate(ring):
-                end = ring[(index + 1) % len(ring)]
-                segment = pymunk.Segment(self.space.static_body, start, end, 0.0)
-                segment.filter = pymunk.ShapeFilter(categories=WALL_CATEGORY)
-                self.walls.append(segment)
-        self.space.add(*self.walls)
+        # In a space of guardsim's own, walls and the guard are all there is, so a first hit is a wall.
+        self._shared = space is not None
+        if walls_in_space:
+            if space is None:
+                raise ValueError("walls_in_space needs the space that holds the walls")
+            self.walls = [
+                shape
+                for shape in space.shapes
+                if isinstance(shape, pymunk.Segment) and shape.body.body_type == pymunk.Body.STATIC
+            ]
+        else:
+            for ring in (level.outer, *level.holes):
+                for index, start in enumerate(ring):
+                    end = ring[(index + 1) % len(ring)]
+                    segment = pymunk.Segment(self.space.static_body, start, end, 0.0)
+                    segment.filter = pymunk.ShapeFilter(categories=WALL_CATEGORY)
+                    self.walls.append(segment)
+            self.space.add(*self.walls)
+        self._wall_set = set(self.walls)
         self.guard_body = pymunk.Body(body_type=pymunk.Body.KINEMATIC)
         self.guard_shape = pymunk.Circle(self.guard_body, max(level.guard.radius, 1e-6))
         self.guard_shape.filter = pymunk.ShapeFilter(categories=GUARD_CATEGORY)
@@ -59,13 +80,19 @@ class World:
         A ray that passes exactly through a wall vertex counts as blocked; a ray running along a wall
         edge (collinear with it) does not, as pymunk reports no hit for it.
         """
-        return self.space.segment_query_first(eye, target, 0.0, _WALLS_ONLY) is None
+        if not self._shared:
+            return self.space.segment_query_first(eye, target, 0.0, _WALLS_ONLY) is None
+        return not any(hit.shape in self._wall_set for hit in self.space.segment_query(eye, target, 0.0, _ANYTHING))
 
     def fits(self, point: tuple[float, float], radius: float) -> bool:
         """Whether a circle of ``radius`` at ``point`` overlaps no wall (touching one is allowed)."""
         if radius <= 0:
             return True
-        return self.space.point_query_nearest(point, radius, _WALLS_ONLY) is None
+        if not self._shared:
+            return self.space.point_query_nearest(point, radius, _WALLS_ONLY) is None
+        return not any(
+            hit.shape in self._wall_set and hit.distance < radius for hit in self.space.point_query(point, radius, _ANYTHING)
+        )
 
     def sweep_clear(self, start: tuple[float, float], end: tuple[float, float], radius: float) -> bool:
         """Whether a circle of ``radius`` can slide from ``start`` to ``end`` overlapping no wall.
@@ -81,7 +108,9 @@ class World:
             max(start[0], end[0]) + radius,
             max(start[1], end[1]) + radius,
         )
-        for wall in self.space.bb_query(box, _WALLS_ONLY):
+        for wall in self.space.bb_query(box, _ANYTHING if self._shared else _WALLS_ONLY):
+            if wall not in self._wall_set or not isinstance(wall, pymunk.Segment):
+                continue
             if _segments_cross(start, end, wall.a, wall.b) or _segment_distance(start, end, wall.a, wall.b) < radius:
                 return False
         return True

@@ -9,7 +9,7 @@ import numpy as np
 import pytest
 from click.testing import CliRunner
 
-from guardsim.bresenham import bresenham_line
+from guardsim.vision.bresenham import bresenham_line
 from guardsim.cli import main
 from guardsim.cli.common import build_scene
 from guardsim.importers import import_map

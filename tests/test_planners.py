@@ -24,7 +24,7 @@ from guardsim.planners.open_tour import improve_tour, nearest_neighbour_tour, to
 from guardsim.planners.ripplefront import FAR, ripple_sweep
 from guardsim.planners.team_share import guard_share
 from guardsim.planners.viewpoint_cover import greedy_cover
-from guardsim.planners.views import view_table
+from guardsim.vision.table import view_table
 from guardsim.simulation import (
     Scene,
     choose_start,

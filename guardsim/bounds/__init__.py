@@ -12,7 +12,7 @@ a watcher of each, which gives two bounds (why each is a lower bound: ``docs/bou
   of them plus a minimum spanning tree over them, weighted by the distances between watcher sets.
 
 Who sees each cell depends only on the level and the vision: it is the level's
-:class:`~guardsim.planners.views.ViewTable`, built once per grid and vision and shared with the planners.
+:class:`~guardsim.vision.table.ViewTable`, built once per grid and vision and shared with the planners.
 Per start, :mod:`~guardsim.bounds.watchers` finds state distances, :mod:`~guardsim.bounds.clusters`
 chooses the cells and :mod:`~guardsim.bounds.trees` weighs spanning trees over their watchers, all in a
 few linear passes over the state graph in compiled code.
@@ -27,8 +27,8 @@ import numpy as np
 
 from guardsim.bounds.clusters import cluster_bound
 from guardsim.bounds.watchers import nearest_watchers, state_distances
-from guardsim.planners.base import VisionFunction
-from guardsim.planners.views import view_table
+from guardsim.vision.rules import VisionFunction
+from guardsim.vision.table import view_table
 
 if TYPE_CHECKING:
     from guardsim.simulation import Scene

@@ -14,7 +14,7 @@ import numba
 import numpy as np
 
 from guardsim.bounds.trees import cluster_distances, spanning_tree_weight, subset_tree_weight
-from guardsim.planners.views import ViewTable
+from guardsim.vision.table import ViewTable
 
 __all__ = ["FAR_FRACTIONS", "MOST_CLUSTERS", "MOST_TRIALS", "choose_clusters", "cluster_bound", "spread_picks"]
 

@@ -2,7 +2,7 @@
 
 A state is ``cell * 4 + heading``; one step goes from ``(c, h)`` to ``(neighbours[c, d], d)`` for each
 connected direction ``d``. The watchers of a cell are the states that see it, as listed by the level's
-:class:`~guardsim.planners.views.ViewTable` (built once per grid and vision, shared with the planners).
+:class:`~guardsim.vision.table.ViewTable` (built once per grid and vision, shared with the planners).
 """
 
 from __future__ import annotations

@@ -9,7 +9,7 @@ import click
 from guardsim.bounds import lower_bounds
 from guardsim.cli.common import build_scene, cli_start, limit_options, load, parse_point, reports_errors, vision_options
 from guardsim.level import HEADINGS
-from guardsim.planners.views import view_table
+from guardsim.vision.table import view_table
 
 __all__ = ["bounds"]
 

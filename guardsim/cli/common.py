@@ -14,8 +14,9 @@ import numpy as np
 
 from guardsim.errors import GuardsimError
 from guardsim.level import DEFAULT_MAX_CELLS, DEFAULT_MAX_FILE_BYTES, DEFAULT_MAX_VERTICES, Level, load_level
-from guardsim.simulation import Scene, choose_start, episode_generator
-from guardsim.vision_cache import LINES_OF_SIGHT
+from guardsim.scene import Scene
+from guardsim.starts import episode_start
+from guardsim.vision.rules import LineOfSight
 
 __all__ = ["build_scene", "cli_start", "limit_options", "load", "parse_point", "reports_errors", "vision_options"]
 
@@ -102,7 +103,7 @@ def vision_options(command: F) -> F:
     )(command)
     command = click.option(
         "--los",
-        type=click.Choice(LINES_OF_SIGHT),
+        type=click.Choice(LineOfSight.names()),
         default="pymunk",
         show_default=True,
         help="Line of sight: pymunk rays against the walls, or Bresenham lines over free cells (grid solvers' rule).",
@@ -134,18 +135,6 @@ def cli_start(
     start: tuple[float, float] | None,
     heading: str | None,
 ) -> tuple[np.random.Generator, tuple[int, int], int]:
-    """The generator, start cell and heading the way `play` and `bounds` choose them.
-
-    --start, else the level's guard.start, else drawn from --seed; likewise the heading. With --episode
-    K both are drawn from episode K's generator (as `bench` does) unless given with --start/--heading.
-    The generator is returned so that later draws (other guards, the planners) follow on from it.
-    """
-    level = scene.level
-    if episode is not None:
-        rng = episode_generator(seed, episode)
-        point, first = start, heading
-    else:
-        rng = np.random.default_rng(seed)
-        point, first = start or level.guard.start, heading or level.guard.heading
-    cell, first_heading = choose_start(scene, rng=rng, point=point, heading=first)
-    return rng, cell, first_heading
+    """The generator, start cell and heading the way `play` and `bounds` choose them
+    (:func:`guardsim.starts.episode_start`)."""
+    return episode_start(scene, seed=seed, episode=episode, point=start, heading=heading)

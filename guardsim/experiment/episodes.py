@@ -14,7 +14,7 @@ from typing import NamedTuple
 
 from guardsim.bounds import Bounds, lower_bounds
 from guardsim.level import HEADINGS, Level
-from guardsim.planners.views import view_table
+from guardsim.vision.table import view_table
 from guardsim.simulation import Scene, run_batch_episode
 
 __all__ = [
@@ -32,7 +32,7 @@ __all__ = [
 #: Coverage fractions whose first tick is recorded as T50, T90 and T99.
 FRACTIONS = (0.5, 0.9, 0.99)
 
-#: Planners that read the whole view table (see :func:`guardsim.planners.views.view_table`).
+#: Planners that read the whole view table (see :func:`guardsim.vision.table.view_table`).
 _LOOK_AHEAD = frozenset({"frontier", "tour"})
 
 #: Heading names by heading number (0 right, 1 down, 2 left, 3 up).
@@ -187,7 +187,7 @@ def scene_of(level: Level, line_of_sight: str = "pymunk") -> Scene:
     One per thread, not per process, because an episode moves the guard's body in the scene's pymunk
     space: a Dask worker with several threads must not run two episodes in one space. When the bounds
     or a look-ahead planner need the view table (what every state sees,
-    :func:`guardsim.planners.views.view_table`), :func:`run_spec` builds it before its clock starts, so
+    :func:`guardsim.vision.table.view_table`), :func:`run_spec` builds it before its clock starts, so
     that no episode pays for the level's vision while another finds it cached.
     """
     return _scene_of_thread(level, line_of_sight, threading.get_ident())

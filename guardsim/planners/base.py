@@ -2,17 +2,14 @@
 
 from __future__ import annotations
 
-from collections.abc import Callable
 from typing import NamedTuple, Protocol
 
 import numpy as np
 
 from guardsim.grid import CoverageGrid
+from guardsim.vision.rules import VisionFunction
 
-__all__ = ["STAY", "EpisodeSetup", "GuardState", "Planner", "VisionFunction"]
-
-#: ``(col, row, heading) -> flat indices of the cells seen``, ascending.
-VisionFunction = Callable[[int, int, int], np.ndarray]
+__all__ = ["STAY", "Accelerator", "EpisodeArrays", "EpisodeSetup", "GuardState", "Planner", "VisionFunction"]
 
 #: A move that keeps the guard where it is (and facing as it was) for one tick.
 STAY = -1
@@ -52,6 +49,47 @@ class GuardState(NamedTuple):
     """This guard's number."""
     team: tuple[tuple[int, int], ...] = ()
     """``(cell, heading)`` of every guard, this one included, in guard order (empty for one guard)."""
+
+
+class EpisodeArrays(NamedTuple):
+    """The episode's state as the loop keeps it: arrays an :class:`Accelerator` advances in place.
+
+    Ticks are numbered from 0 (the start); the logs hold one entry per tick up to the limit.
+    """
+
+    seen: np.ndarray
+    """``bool (cells,)``: cells seen so far, by any guard."""
+    first_seen: np.ndarray
+    """``int64 (cells,)``: tick each cell was first seen, -1 if never."""
+    goal: np.ndarray
+    """``bool (cells,)``: the cells the episode must see."""
+    cells: np.ndarray
+    """``int64 (guards, limit + 1)``: each guard's flat cell per tick."""
+    headings: np.ndarray
+    """``int64 (guards, limit + 1)``: each guard's heading number per tick."""
+    unseen_counts: np.ndarray
+    """``int64 (limit + 1,)``: goal cells still unseen after each tick's look."""
+    counters: np.ndarray
+    """``int64 (3,)``: the current tick, the goal cells still unseen, the outcome (:data:`RUNNING` or an
+    index into :data:`guardsim.trace.OUTCOMES`)."""
+
+
+#: ``EpisodeArrays.counters`` slots, and the outcome of an episode still running.
+TICK, UNSEEN, OUTCOME = 0, 1, 2
+RUNNING = -1
+
+
+class Accelerator(Protocol):
+    """A planner's own fast path: it advances the loop's state by whole ticks, exactly as the loop would.
+
+    A planner offers one through ``accelerator(setup)`` (returning ``None`` when it cannot serve that
+    episode); the loop then asks it to advance instead of calling ``next_move`` tick by tick. The
+    result must be the loop's, tick for tick: same looks, same decisions, same termination.
+    """
+
+    def advance(self, episode: EpisodeArrays, limit: int, ticks: int) -> None:
+        """Run up to ``ticks`` ticks (-1: until the episode ends) and leave ``episode`` at a tick boundary,
+        its outcome set when the episode ended (covered, ``limit`` reached, or stuck)."""
 
 
 class Planner(Protocol):

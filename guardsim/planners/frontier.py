@@ -17,7 +17,7 @@ import numpy as np
 from guardsim.planners.base import EpisodeSetup, GuardState
 from guardsim.planners.ripplefront import greedy_move
 from guardsim.planners.shortest_paths import FAR, distances_from
-from guardsim.planners.views import UnseenTally, ViewTable, view_table
+from guardsim.vision.table import UnseenTally, ViewTable, view_table
 
 __all__ = ["Frontier", "nearest_frontier", "nearest_frontier_kernel"]
 

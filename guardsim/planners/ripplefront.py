@@ -19,9 +19,13 @@ from __future__ import annotations
 
 import numpy as np
 
+from typing import Any
+
 from guardsim.planners.base import EpisodeSetup, GuardState
+from guardsim.planners.ripplefront_compiled import CompiledRippleFront
 from guardsim.planners.shortest_paths import FAR
 from guardsim.planners.team_share import guard_share
+from guardsim.vision.cache import VisionCache
 
 __all__ = ["FAR", "GreedyField", "RippleFront", "ripple_sweep"]
 
@@ -98,14 +102,41 @@ class RippleFront(GreedyField):
             raise ValueError("sweeps_per_tick must be at least 1")
         super().__init__()
         self.sweeps_per_tick = sweeps_per_tick
+        self._accelerator: CompiledRippleFront | None = None
+
+    @property
+    def options(self) -> dict[str, Any]:
+        """The options this planner was made with."""
+        return {"sweeps_per_tick": self.sweeps_per_tick}
+
+    def reset(self, setup: EpisodeSetup) -> None:
+        """Start every cell at D = 0; see :meth:`GreedyField.reset`."""
+        super().reset(setup)
+        self._accelerator = None
+
+    def accelerator(self, setup: EpisodeSetup) -> CompiledRippleFront | None:
+        """The compiled tick (:mod:`guardsim.planners.ripplefront_compiled`) for a lone guard seeing
+        through the level's vision cache; ``None`` otherwise, and for subclasses that decide differently.
+
+        Call after :meth:`reset`; the accelerator and :meth:`next_move` share the field.
+        """
+        if setup.guards != 1 or not isinstance(setup.vision, VisionCache):
+            return None
+        if type(self).next_move is not RippleFront.next_move:
+            return None
+        self._accelerator = CompiledRippleFront(setup.grid.neighbours, setup.vision, self.distance, self.sweeps_per_tick)
+        return self._accelerator
 
     def next_move(self, state: GuardState) -> int | None:
         """Sweep, then return the heading toward the connected neighbour with the smallest D."""
+        if self._accelerator is not None:
+            self._accelerator.stale = True
         done = state.seen
         if state.team:
             done = ~guard_share(self._neighbours, self._goal & ~state.seen, state.team, state.guard)
         for _ in range(self.sweeps_per_tick):
-            self.distance = ripple_sweep(self.distance, done, self._neighbours)
+            # In place: an accelerator shares this array.
+            self.distance[:] = ripple_sweep(self.distance, done, self._neighbours)
         return greedy_move(self.distance, self._neighbours[state.cell], state.heading)
 
 

@@ -24,7 +24,7 @@ import numpy as np
 
 from guardsim.planners.frontier import nearest_frontier_kernel
 from guardsim.planners.shortest_paths import FAR, fill_distances
-from guardsim.planners.views import ViewTable
+from guardsim.vision.table import ViewTable
 
 __all__ = ["RouteWalk", "walk_routes"]
 

@@ -4,7 +4,7 @@ Moves cost one step each and connectivity is symmetric, so the distance from a s
 is also the distance from that cell to the set. Heading does not constrain moves (a guard may step in
 any of the four directions), so the steps from a cell to a state ``(cell b, heading h)`` are one more
 than the steps to the cell behind ``b`` in heading ``h`` (the one a guard steps from to arrive facing
-``h``): see :func:`entry_cells`.
+``h``): see :attr:`guardsim.grid.CoverageGrid.entry_cells`.
 """
 
 from __future__ import annotations
@@ -12,7 +12,7 @@ from __future__ import annotations
 import numba
 import numpy as np
 
-__all__ = ["FAR", "distance_fields", "distances_between", "distances_from", "entry_cells", "fill_distances"]
+__all__ = ["FAR", "distance_fields", "distances_between", "distances_from", "fill_distances"]
 
 #: Distance of a cell no source reaches: farther than any real distance, with room to add to it.
 FAR = np.int32(np.iinfo(np.int32).max // 2)
@@ -115,20 +115,3 @@ def distances_between(neighbours: np.ndarray, sources: np.ndarray, targets: np.n
     _between(np.ascontiguousarray(neighbours, dtype=np.int64), sources, targets, int(FAR), out)
     return out
 
-
-def entry_cells(neighbours: np.ndarray) -> np.ndarray:
-    """The cell a guard steps from to arrive in each state, -1 where no step arrives.
-
-    Returns
-    -------
-    numpy.ndarray
-        ``int64 (n * 4,)``: for state ``cell * 4 + heading``, the connected neighbour of ``cell`` in
-        the direction opposite ``heading``.
-
-    Examples
-    --------
-    >>> neighbours = np.array([[1, -1, -1, -1], [-1, -1, 0, -1]])
-    >>> entry_cells(neighbours).reshape(2, 4).tolist()
-    [[-1, -1, 1, -1], [0, -1, -1, -1]]
-    """
-    return np.asarray(neighbours, dtype=np.int64)[:, [2, 3, 0, 1]].ravel()

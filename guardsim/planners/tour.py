@@ -33,7 +33,7 @@ from guardsim.planners.route_walk import RouteWalk, walk_routes
 from guardsim.planners.shortest_paths import distances_between
 from guardsim.planners.team_routes import plan_routes
 from guardsim.planners.viewpoint_cover import greedy_cover
-from guardsim.planners.views import UnseenTally, level_memo, view_table
+from guardsim.vision.table import UnseenTally, level_memo, view_table
 
 __all__ = ["LevelCover", "Tour", "route_costs"]
 
@@ -88,6 +88,11 @@ class Tour:
         self.cover = LevelCover(np.zeros(0, dtype=np.int64))
         self.walk: RouteWalk | None = None
         """The team's planned walk, made at the first decision."""
+
+    @property
+    def options(self) -> dict[str, object]:
+        """The options this planner was made with."""
+        return {"seeds": list(self.seeds), "refine_rounds": self.refine_rounds}
 
     def reset(self, setup: EpisodeSetup) -> None:
         """Load (or build, once per level and goal) the viewpoint cover; the walk waits for the start."""

@@ -12,7 +12,7 @@ from __future__ import annotations
 import numba
 import numpy as np
 
-from guardsim.planners.views import ViewTable
+from guardsim.vision.table import ViewTable
 
 __all__ = ["greedy_cover"]
 
@@ -82,7 +82,7 @@ def greedy_cover(table: ViewTable, goal: np.ndarray) -> np.ndarray:
     Parameters
     ----------
     table
-        The level's :class:`~guardsim.planners.views.ViewTable`.
+        The level's :class:`~guardsim.vision.table.ViewTable`.
     goal
         ``bool (cells,)``: the cells to cover.
 

@@ -1,6 +1,6 @@
 """What every state of a level sees, and which states see each cell, computed once per level.
 
-A state is a cell and a heading, numbered ``cell * 4 + heading``. The table asks the episode's vision
+A state is a cell and a heading, numbered by :func:`guardsim.grid.state_of`. The table asks the episode's vision
 function about every state of every traversable cell once; it depends only on the grid and the vision,
 so it is kept for as long as both exist and shared by every episode and planner of the level.
 Planners that look ahead (frontier, tour) read it; they never look at the line-of-sight rule itself.
@@ -9,22 +9,22 @@ Planners that look ahead (frontier, tour) read it; they never look at the line-o
 from __future__ import annotations
 
 import weakref
-from dataclasses import dataclass
-from typing import Any
+from typing import Any, NamedTuple
 
 import numba
 import numpy as np
 
-from guardsim.grid import CoverageGrid
-from guardsim.planners.base import VisionFunction
-from guardsim.planners.shortest_paths import entry_cells
+from guardsim.grid import HEADINGS_PER_CELL, CoverageGrid, state_of
+from guardsim.vision.rules import VisionFunction
 
 __all__ = ["UnseenTally", "ViewTable", "level_memo", "view_table"]
 
 
-@dataclass(frozen=True, eq=False)
-class ViewTable:
-    """Visible cells per state and watching states per cell, as flat (CSR) arrays."""
+class ViewTable(NamedTuple):
+    """Visible cells per state and watching states per cell, as flat (CSR) arrays.
+
+    A NamedTuple of arrays, so compiled code takes it whole.
+    """
 
     sight_start: np.ndarray
     """``int64 (states + 1,)``: state ``s`` sees ``sight[sight_start[s]:sight_start[s + 1]]``."""
@@ -44,21 +44,21 @@ class ViewTable:
 
 def build_view_table(grid: CoverageGrid, vision: VisionFunction) -> ViewTable:
     """Ask ``vision`` about every state of every traversable cell; states of other cells see nothing."""
-    states = grid.size * 4
+    states = state_of(grid.size, 0)
     lengths = np.zeros(states, dtype=np.int64)
     parts: list[np.ndarray] = []
     for cell in np.flatnonzero(grid.traversable.ravel()).tolist():
         col, row = grid.unflat(cell)
-        for heading in range(4):
+        for heading in range(HEADINGS_PER_CELL):
             cells = np.asarray(vision(col, row, heading), dtype=np.int32)
-            lengths[cell * 4 + heading] = cells.size
+            lengths[state_of(cell, heading)] = cells.size
             parts.append(cells)
     sight = np.concatenate(parts) if parts else np.zeros(0, dtype=np.int32)
     del parts
     sight_start = np.zeros(states + 1, dtype=np.int64)
     np.cumsum(lengths, out=sight_start[1:])
     watch_start, watchers = _invert(sight_start, sight, grid.size)
-    return ViewTable(sight_start, sight, watch_start, watchers, entry_cells(grid.neighbours))
+    return ViewTable(sight_start, sight, watch_start, watchers, grid.entry_cells)
 
 
 @numba.njit(cache=True, nogil=True)

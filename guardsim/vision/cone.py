@@ -1,9 +1,4 @@
-"""Vision: which cells a guard at a cell centre, facing one of the four headings, can see.
-
-A traversable cell is seen when its centre is within ``view_range`` of the eye, within
-``fov_degrees / 2`` of the heading, and the segment from the eye to the centre touches no wall
-(:meth:`guardsim.world.World.line_of_sight`). The guard's own cell is always seen.
-"""
+"""The vision cone: which cell offsets lie within a guard's view range and field of view, per heading."""
 
 from __future__ import annotations
 
@@ -15,9 +10,8 @@ import numpy as np
 
 from guardsim.grid import DIRECTIONS, CoverageGrid
 from guardsim.level import GuardSpec
-from guardsim.world import World
 
-__all__ = ["VisionCone", "cone_target", "cone_targets", "visible_cells"]
+__all__ = ["VisionCone", "cone_target", "cone_targets"]
 
 # Cells exactly on the cone's edge or range are in; this absorbs float noise in that comparison.
 _EDGE_TOLERANCE = 1e-9
@@ -83,23 +77,6 @@ def cone_targets(
     target_cols, target_rows = target_cols[on_grid], target_rows[on_grid]
     candidates = grid.traversable[target_rows, target_cols]
     return target_cols[candidates], target_rows[candidates]
-
-
-def visible_cells(world: World, grid: CoverageGrid, cone: VisionCone, col: int, row: int, heading: int) -> np.ndarray:
-    """Flat indices of the cells seen from cell ``(col, row)`` facing ``heading``, sorted ascending.
-
-    This is the reference: one pymunk segment query per traversable cell in the cone.
-    """
-    cols = grid.shape[1]
-    target_cols, target_rows = cone_targets(grid, cone, col, row, heading)
-    eye = grid.centre(col, row)
-    seen = [row * cols + col]
-    for target_col, target_row in zip(target_cols.tolist(), target_rows.tolist()):
-        if target_col == col and target_row == row:
-            continue
-        if world.line_of_sight(eye, grid.centre(target_col, target_row)):
-            seen.append(target_row * cols + target_col)
-    return np.unique(np.asarray(seen, dtype=np.int64))
 
 
 @numba.njit(cache=True, nogil=True)

@@ -1,0 +1,94 @@
+"""A level with everything built from it once: the physics world, the coverage grid and the vision.
+
+A :class:`Scene` is what every episode on a level shares; it sits upstream of the planners and the
+simulation loop, so tools that only need the grid or the vision (validation, bounds) need neither.
+"""
+
+from __future__ import annotations
+
+from dataclasses import dataclass
+
+import numpy as np
+import pymunk
+
+from guardsim.grid import CoverageGrid, build_grid
+from guardsim.level import Level
+from guardsim.vision.bresenham import bresenham_visible
+from guardsim.vision.cache import VisionCache
+from guardsim.vision.cone import VisionCone
+from guardsim.vision.rays import visible_cells
+from guardsim.vision.rules import LineOfSight, VisionFunction
+from guardsim.world import World
+
+__all__ = ["Scene"]
+
+
+@dataclass(frozen=True, eq=False)
+class Scene:
+    """A level with its world, grid, cone and vision cache, built once and shared by its episodes.
+
+    Examples
+    --------
+    >>> from guardsim.level import parse_level
+    >>> scene = Scene.from_level(parse_level({"outer": [[0, 0], [4, 0], [4, 3], [0, 3]]}))
+    >>> scene.grid.shape, scene.line_of_sight.value, scene.vision()(0, 0, 0).tolist()
+    ((3, 4), 'pymunk', [0, 1, 2, 3, 5, 6, 9])
+    """
+
+    level: Level
+    world: World
+    grid: CoverageGrid
+    cone: VisionCone
+    vision_cache: VisionCache
+    """Visible cells per state, filled as episodes meet them and shared by all of them."""
+
+    @classmethod
+    def from_level(
+        cls,
+        level: Level,
+        *,
+        line_of_sight: LineOfSight | str = LineOfSight.PYMUNK,
+        space: pymunk.Space | None = None,
+        walls_in_space: bool = False,
+    ) -> Scene:
+        """Build the physics world, the grid and the cone of a level.
+
+        Parameters
+        ----------
+        level
+            The level.
+        line_of_sight
+            :attr:`LineOfSight.PYMUNK` (rays against the walls) or :attr:`LineOfSight.BRESENHAM` (grid lines).
+        space, walls_in_space
+            A :class:`pymunk.Space` of the caller's to build the world in; see :class:`~guardsim.world.World`.
+        """
+        world = World(level, space=space, walls_in_space=walls_in_space)
+        grid = build_grid(level, world)
+        cone = VisionCone.from_guard(level.guard, level.cell_size, grid_shape=grid.shape)
+        return cls(level, world, grid, cone, VisionCache(world, grid, cone, line_of_sight=line_of_sight))
+
+    @property
+    def line_of_sight(self) -> LineOfSight:
+        """The line-of-sight rule."""
+        return self.vision_cache.line_of_sight
+
+    def vision(self, *, reference: bool = False) -> VisionFunction:
+        """The vision to use: the shared cache by default, the per-cell-ray reference on request.
+
+        Both give the same cells for every state (tested on every state of the shipped levels).
+        """
+        return self.reference_vision() if reference else self.vision_cache
+
+    def reference_vision(self) -> VisionFunction:
+        """The reference vision: one pymunk ray (or Bresenham line) per cell in the cone, every tick."""
+        if self.line_of_sight is LineOfSight.BRESENHAM:
+
+            def see_on_grid(col: int, row: int, heading: int) -> np.ndarray:
+                return bresenham_visible(self.grid.traversable, col, row, self.cone.offsets[heading])
+
+            return see_on_grid
+
+        def see(col: int, row: int, heading: int) -> np.ndarray:
+            return visible_cells(self.world, self.grid, self.cone, col, row, heading)
+
+        return see
