@@ -2,8 +2,9 @@
 
 :func:`import_map` picks the reader by file type: Moving AI grid maps (``.map``), Tiled maps (``.tmx``,
 ``.tmj`` and Tiled JSON ``.json``) and images (``.png``). Every reader returns an
-:class:`ImportedLevel`: a level :func:`guardsim.level.parse_level` accepts, and the list of what the
-import changed (holes merged, rings split, vertices snapped).
+:class:`ImportedLevel`: a level :func:`guardsim.level.parse_level` accepts, the list of what the import
+found and changed (floor and wall layers, holes merged, vertices snapped) and its warnings.
+:func:`load_any` loads a guardsim level file or any of these maps, for every command.
 """
 
 from __future__ import annotations
@@ -15,11 +16,23 @@ from pathlib import Path
 from guardsim.errors import LevelError
 from guardsim.importers.image import DEFAULT_THRESHOLD, import_image
 from guardsim.importers.imported import ImportedLevel
+from guardsim.importers.loading import ImportOptions, ImportSummary, load_any
 from guardsim.importers.movingai import import_movingai
+from guardsim.importers.source import display_name
 from guardsim.importers.tiled import import_tiled
 from guardsim.level import DEFAULT_MAX_CELLS, DEFAULT_MAX_FILE_BYTES, DEFAULT_MAX_VERTICES
 
-__all__ = ["FORMATS", "ImportedLevel", "import_image", "import_map", "import_movingai", "import_tiled"]
+__all__ = [
+    "FORMATS",
+    "ImportOptions",
+    "ImportSummary",
+    "ImportedLevel",
+    "import_image",
+    "import_map",
+    "import_movingai",
+    "import_tiled",
+    "load_any",
+]
 
 #: File suffix -> the kind of map read from it.
 FORMATS = {
@@ -37,6 +50,9 @@ def import_map(
     cell_size: float | None = None,
     threshold: int = DEFAULT_THRESHOLD,
     spawn_tiles: Iterable[int] = (),
+    wall_layers: Iterable[str] = (),
+    floor_layers: Iterable[str] = (),
+    wall_tiles: Iterable[int] = (),
     max_cells: int = DEFAULT_MAX_CELLS,
     max_vertices: int = DEFAULT_MAX_VERTICES,
     max_file_bytes: int = DEFAULT_MAX_FILE_BYTES,
@@ -51,6 +67,8 @@ def import_map(
         Images only: pixels darker than this grey level (0-255) are walls.
     spawn_tiles
         Tiled only: global tile ids that mark guard spawns.
+    wall_layers, floor_layers, wall_tiles
+        Tiled only: layers that are walls or floor and tile ids that are walls, replacing the guesses.
 
     Raises
     ------
@@ -60,13 +78,21 @@ def import_map(
     suffix = Path(path).suffix.lower()
     limits = {"max_cells": max_cells, "max_vertices": max_vertices, "max_file_bytes": max_file_bytes}
     size = 1.0 if cell_size is None else cell_size
-    if not size > 0:
-        raise LevelError(f"{path}: cell size must be positive, not {size:g}")
+    if not 0 < size < float("inf"):
+        raise LevelError(f"{display_name(path)}: cell size must be a positive number, not {size:g}")
     if suffix == ".map":
         return import_movingai(path, cell_size=size, **limits)
     if suffix in (".tmx", ".tmj", ".json"):
-        return import_tiled(path, cell_size=size, spawn_tiles=spawn_tiles, **limits)
+        return import_tiled(
+            path,
+            cell_size=size,
+            spawn_tiles=spawn_tiles,
+            wall_layers=wall_layers,
+            floor_layers=floor_layers,
+            wall_tiles=wall_tiles,
+            **limits,
+        )
     if suffix == ".png":
         return import_image(path, cell_size=size, threshold=threshold, **limits)
     known = ", ".join(sorted(FORMATS))
-    raise LevelError(f"{path}: unknown map type {suffix or '(no suffix)'!r}; guardsim imports {known}")
+    raise LevelError(f"{display_name(path)}: unknown map type {suffix or '(no suffix)'!r}; guardsim imports {known}")

@@ -9,11 +9,13 @@ from __future__ import annotations
 
 import io
 import os
+import warnings
 
 import numpy as np
 
 from guardsim.errors import LevelError
 from guardsim.importers.imported import ImportedLevel, level_from_blocked_cells, read_source_bytes
+from guardsim.importers.source import display_name, excerpt
 from guardsim.level import DEFAULT_MAX_CELLS, DEFAULT_MAX_FILE_BYTES, DEFAULT_MAX_VERTICES
 
 __all__ = ["DEFAULT_THRESHOLD", "import_image", "read_image"]
@@ -40,7 +42,10 @@ def read_image(
     if not 0 <= threshold <= 256:
         raise LevelError(f"{source}: threshold must be between 0 and 256, not {threshold}")
     try:
-        image = Image.open(io.BytesIO(data))
+        with warnings.catch_warnings():
+            # The size check below replaces Pillow's own bomb warning, which would print a second line.
+            warnings.simplefilter("ignore", Image.DecompressionBombWarning)
+            image = Image.open(io.BytesIO(data))
         width, height = image.size
         if width * height > max_pixels:
             raise LevelError(
@@ -51,7 +56,7 @@ def read_image(
     except UnidentifiedImageError:
         raise LevelError(f"{source}: not an image Pillow can read") from None
     except (OSError, SyntaxError, ValueError, Image.DecompressionBombError) as error:
-        raise LevelError(f"{source}: broken image: {error}") from None
+        raise LevelError(f"{source}: broken image: {excerpt(str(error), 80)}") from None
     if image.mode in ("RGBA", "LA", "PA") or (image.mode == "P" and "transparency" in image.info):
         rgba = image.convert("RGBA")
         white = Image.new("RGBA", rgba.size, (255, 255, 255, 255))
@@ -70,7 +75,7 @@ def import_image(
     max_file_bytes: int = DEFAULT_MAX_FILE_BYTES,
 ) -> ImportedLevel:
     """Convert an image to a level: pixels darker than ``threshold`` are walls."""
-    source = str(path)
+    source = display_name(path)
     blocked = read_image(
         read_source_bytes(path, max_file_bytes), source=source, threshold=threshold, max_pixels=max_cells
     )

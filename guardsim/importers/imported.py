@@ -14,6 +14,7 @@ import shapely
 from shapely.geometry import box
 
 from guardsim.errors import LevelError
+from guardsim.importers.source import display_name, read_capped_bytes
 from guardsim.importers.walls import WallReport, blocked_cell_walls, hole_rings, ring_vertex_count
 from guardsim.level import (
     DEFAULT_MAX_CELLS,
@@ -22,11 +23,11 @@ from guardsim.level import (
     Level,
     level_to_data,
     parse_level,
-    read_limited_bytes,
 )
 
 __all__ = [
     "ImportedLevel",
+    "check_raster_limits",
     "compact_numbers",
     "level_from_blocked_cells",
     "level_from_walls",
@@ -49,7 +50,9 @@ class ImportedLevel:
     map_size: tuple[int, int]
     """``(width, height)`` of the source in its own units: cells, tiles or pixels."""
     changes: tuple[str, ...]
-    """What the import changed or left out, one phrase each (merged holes, split rings, snapped vertices)."""
+    """What the import found, changed or left out, one phrase each (floor and wall layers, merged holes, ...)."""
+    warnings: tuple[str, ...] = ()
+    """Signs that the result is not the level the map's author drew (no walls found, ...), one phrase each."""
 
     @property
     def vertices(self) -> int:
@@ -104,7 +107,7 @@ def level_from_walls(
 
 def read_source_bytes(path: str | os.PathLike[str], max_file_bytes: int = DEFAULT_MAX_FILE_BYTES) -> bytes:
     """A map file's bytes, every way of failing a :class:`LevelError` naming the file."""
-    return read_limited_bytes(path, max_file_bytes=max_file_bytes, kind="map")
+    return read_capped_bytes(path, max_file_bytes=max_file_bytes, kind="map")
 
 
 def read_source_text(path: str | os.PathLike[str], max_file_bytes: int = DEFAULT_MAX_FILE_BYTES) -> str:
@@ -112,7 +115,7 @@ def read_source_text(path: str | os.PathLike[str], max_file_bytes: int = DEFAULT
     try:
         return read_source_bytes(path, max_file_bytes).decode("utf-8")
     except UnicodeDecodeError as error:
-        raise LevelError(f"{path}: not a text file (byte {error.start} is not UTF-8)") from None
+        raise LevelError(f"{display_name(path)}: not a text file (byte {error.start} is not UTF-8)") from None
 
 
 def level_from_blocked_cells(
@@ -129,6 +132,7 @@ def level_from_blocked_cells(
     """
     if blocked.all():
         raise LevelError(f"{source}: every cell is blocked: no free area")
+    check_raster_limits(blocked, source=source, max_vertices=max_vertices)
     height, width = blocked.shape
     return level_from_walls(
         blocked_cell_walls(blocked),
@@ -139,6 +143,33 @@ def level_from_blocked_cells(
         max_cells=max_cells,
         max_vertices=max_vertices,
     )
+
+
+def raster_vertex_count(blocked: np.ndarray) -> int:
+    """Corners of the outline of the ``True`` cells: the vertices their holes will have, give or take cuts.
+
+    Each grid point where one or three of the four cells around it are blocked is one corner; where two
+    diagonal cells are, two. Counting costs one pass over the mask, so a limit trips before any geometry.
+
+    >>> raster_vertex_count(np.array([[True, False], [False, True]]))
+    8
+    """
+    mask = np.pad(np.asarray(blocked, dtype=bool), 1)
+    a, b, c, d = mask[:-1, :-1], mask[:-1, 1:], mask[1:, :-1], mask[1:, 1:]
+    count = a.astype(np.int8) + b + c + d
+    diagonal = (count == 2) & (a == d)
+    return int(np.count_nonzero((count == 1) | (count == 3)) + 2 * np.count_nonzero(diagonal))
+
+
+def check_raster_limits(blocked: np.ndarray, *, source: str, max_vertices: int) -> None:
+    """A :class:`LevelError` naming ``--max-vertices`` if the blocked cells' outline needs more vertices."""
+    vertices = raster_vertex_count(blocked) + 4
+    if vertices > max_vertices:
+        rows, cols = blocked.shape
+        raise LevelError(
+            f"{source}: the walls of this {cols} x {rows} map need about {vertices} vertices, over the limit of "
+            f"{max_vertices} (raise it with --max-vertices)"
+        )
 
 
 def level_json_text(data: dict[str, Any]) -> str:

@@ -18,6 +18,7 @@ import numpy as np
 
 from guardsim.errors import LevelError
 from guardsim.importers.imported import ImportedLevel, level_from_blocked_cells, read_source_text
+from guardsim.importers.source import display_name, excerpt
 from guardsim.level import DEFAULT_MAX_CELLS, DEFAULT_MAX_FILE_BYTES, DEFAULT_MAX_VERTICES
 
 __all__ = ["BLOCKED", "PASSABLE", "import_movingai", "read_movingai"]
@@ -30,7 +31,7 @@ BLOCKED = frozenset("@OTW")
 _HEADER_KEYS = ("type", "height", "width")
 
 
-def read_movingai(text: str, *, source: str = "<map>") -> np.ndarray:
+def read_movingai(text: str, *, source: str = "<map>", max_cells: int = DEFAULT_MAX_CELLS) -> np.ndarray:
     """The passable cells of a Moving AI map as ``bool (height, width)``.
 
     Raises
@@ -57,7 +58,7 @@ def read_movingai(text: str, *, source: str = "<map>") -> np.ndarray:
             words = ["type", words[0]]
         if len(words) != 2 or words[0] not in _HEADER_KEYS:
             raise LevelError(
-                f"{source}: line {number}: unexpected header line {line.strip()[:40]!r} "
+                f"{source}: line {number}: unexpected header line {excerpt(line.strip())} "
                 "(expected 'type octile', 'height H', 'width W', then 'map')"
             )
         key, value = words
@@ -67,8 +68,8 @@ def read_movingai(text: str, *, source: str = "<map>") -> np.ndarray:
             if value != "octile":
                 raise LevelError(f"{source}: line {number}: map type {value!r} is not supported (only octile)")
             header[key] = value
-        elif not value.isdigit() or int(value) < 1:
-            raise LevelError(f"{source}: line {number}: {key} must be a positive whole number, not {value!r}")
+        elif not (value.isascii() and value.isdigit()) or len(value) > 12 or int(value) < 1:
+            raise LevelError(f"{source}: line {number}: {key} must be a positive whole number, not {excerpt(value)}")
         else:
             header[key] = int(value)
     if grid_line is None:
@@ -77,6 +78,11 @@ def read_movingai(text: str, *, source: str = "<map>") -> np.ndarray:
         if key not in header:
             raise LevelError(f"{source}: the header has no {key} line")
     height, width = int(header["height"]), int(header["width"])
+    if height * width > max_cells:
+        raise LevelError(
+            f"{source}: the map is {width} x {height} = {width * height} cells, over the limit of {max_cells} "
+            "(raise it with --max-cells)"
+        )
     rows = lines[grid_line:]
     while rows and not rows[-1].strip():
         rows.pop()
@@ -108,8 +114,8 @@ def import_movingai(
     max_file_bytes: int = DEFAULT_MAX_FILE_BYTES,
 ) -> ImportedLevel:
     """Read a ``.map`` file and convert it to a level (one map cell = one world unit)."""
-    source = str(path)
-    passable = read_movingai(read_source_text(path, max_file_bytes), source=source)
+    source = display_name(path)
+    passable = read_movingai(read_source_text(path, max_file_bytes), source=source, max_cells=max_cells)
     level, report = level_from_blocked_cells(
         ~passable, source=source, cell_size=cell_size, max_cells=max_cells, max_vertices=max_vertices
     )

@@ -1,22 +1,18 @@
-"""Tiled maps (TMX and Tiled JSON) into levels: which layers are floor, walls, boundary and spawns.
+"""Tiled maps (TMX and Tiled JSON) into levels: floor minus walls, the spawns, and what was guessed.
 
-One tile is one world unit. What each part of a map means is marked in Tiled with custom properties,
-and where a map has none (as most game maps do), with layer names (``docs/authoring.md``):
+One tile is one world unit. The roles of the map's layers, tiles and objects come from
+:func:`guardsim.importers.tiled_roles.assign_roles`; this module turns them into geometry:
 
-* **Floor**: tile layers with the boolean property ``floor``; else tile layers whose name contains
-  "floor" or "ground"; else the first tile layer. Every non-empty tile of a floor layer is free area.
-* **Boundary**: objects of class ``boundary`` or with the boolean property ``boundary`` (or in a layer
-  with it, or named "boundary"). When a map has one, the free area is the boundary, not the floor.
-* **Walls**: closed objects (rectangles, polygons, ellipses, tile objects) with the boolean property
-  ``collision``, or in an object layer with it or whose name contains "wall" or "collision"
-  (``collision: false`` opts one out); and tiles whose tileset tile has ``collision``, or every tile of
-  a tile layer with it. The free area is floor (or boundary) minus walls.
-* **Guard spawns**: objects of class ``guard`` or with the boolean property ``guard_spawn`` (or in a
-  layer with it), tiles whose tileset tile has class ``guard`` or ``guard_spawn``, and tiles whose
-  global id is passed as ``spawn_tiles`` (for maps whose tilesets carry no properties).
+* the **free area** is the boundary objects if there are any, else the cells of the floor layers, minus
+  every wall (wall tiles as whole cells, tile collision shapes and wall objects as drawn);
+* vertices within ``snap_tolerance`` of the half-tile grid are snapped onto it, so hand-placed walls
+  that were meant to meet do; the outer ring is the free area's bounding box on whole tiles;
+* when the map has guard spawns, parts of the free area that hold none (the painted void around a
+  dungeon, a closed room) are left out, so the guard walks the level its author drew;
+* size limits are checked on the tile grid before any geometry is built.
 
-Vertices within ``snap_tolerance`` of the half-tile grid are snapped onto it, so hand-placed walls that
-were meant to meet do. The outer ring is the free area's bounding box on whole tiles.
+Every guess is named in the summary, and a result that looks wrong (no walls, a free area open to the
+map edge all round, a start area much smaller than the free area) is a warning.
 """
 
 from __future__ import annotations
@@ -32,10 +28,11 @@ from shapely.geometry import Point as ShapelyPoint
 from shapely.geometry import Polygon, box
 
 from guardsim.errors import LevelError
-from guardsim.importers.imported import ImportedLevel, level_from_walls, read_source_bytes
-from guardsim.importers.tiled_format import ObjectLayer, Properties, TiledMap, TiledObject, TileLayer
-from guardsim.importers.tiled_json import JsonMapReader, parse_json, read_tsj_tiles
-from guardsim.importers.tiled_tmx import TmxReader, parse_xml, read_tsx_tiles
+from guardsim.importers.imported import ImportedLevel, check_raster_limits, level_from_walls
+from guardsim.importers.source import display_name
+from guardsim.importers.tiled_data import TiledMap, TiledObject, TileLayer
+from guardsim.importers.tiled_read import read_tiled
+from guardsim.importers.tiled_roles import Guesses, RoleOptions, assign_roles, names
 from guardsim.importers.walls import snap_points
 from guardsim.level import (
     DEFAULT_MAX_CELLS,
@@ -53,21 +50,8 @@ __all__ = ["DEFAULT_SNAP_STEP", "DEFAULT_SNAP_TOLERANCE", "import_tiled", "read_
 DEFAULT_SNAP_STEP = 0.5
 #: ...when they are this close (in tiles: 2.56 pixels on 64-pixel tiles).
 DEFAULT_SNAP_TOLERANCE = 0.04
-
-_FLOOR_WORDS = ("floor", "ground")
-_WALL_WORDS = ("wall", "collision")
-_CLOSED_SHAPES = ("rectangle", "polygon", "ellipse", "tile")
-_TILESET_READERS = {".tsx": read_tsx_tiles, ".tsj": read_tsj_tiles, ".json": read_tsj_tiles}
-
-
-def read_tiled(path: str | os.PathLike[str], *, max_file_bytes: int = DEFAULT_MAX_FILE_BYTES) -> TiledMap:
-    """Read a TMX (``.tmx``) or Tiled JSON (``.json``, ``.tmj``) map, with its external tilesets."""
-    source = str(path)
-    folder = Path(path).parent
-    data = read_source_bytes(path, max_file_bytes)
-    if Path(path).suffix.lower() == ".tmx":
-        return TmxReader(source, folder, _TILESET_READERS).map(parse_xml(data, source))
-    return JsonMapReader(source, folder, _TILESET_READERS).map(parse_json(data, source))
+#: A start area smaller than this share of the free area is a warning.
+SMALL_START_SHARE = 0.5
 
 
 def import_tiled(
@@ -75,78 +59,106 @@ def import_tiled(
     *,
     cell_size: float = 1.0,
     spawn_tiles: Iterable[int] = (),
+    wall_layers: Iterable[str] = (),
+    floor_layers: Iterable[str] = (),
+    wall_tiles: Iterable[int] = (),
     snap_step: float = DEFAULT_SNAP_STEP,
     snap_tolerance: float = DEFAULT_SNAP_TOLERANCE,
     max_cells: int = DEFAULT_MAX_CELLS,
     max_vertices: int = DEFAULT_MAX_VERTICES,
     max_file_bytes: int = DEFAULT_MAX_FILE_BYTES,
 ) -> ImportedLevel:
-    """Convert a Tiled map to a level (one tile = one world unit; see the module notes for the roles).
+    """Convert a Tiled map to a level (one tile = one world unit; see the module notes).
 
     Parameters
     ----------
     spawn_tiles
         Global tile ids that mark a guard spawn, for maps whose tilesets do not say which tile that is.
+    wall_layers, floor_layers
+        Layer names (or ``group/layer`` paths) that replace the guesses of which layers are walls and floor.
+    wall_tiles
+        Global tile ids that are walls wherever they are drawn.
     snap_step, snap_tolerance
         Wall and boundary vertices within ``snap_tolerance`` tiles of a multiple of ``snap_step`` tiles are
         moved onto it.
     """
-    source = str(path)
-    tiled = read_tiled(path, max_file_bytes=max_file_bytes)
-    scale = np.array([tiled.tile_width, tiled.tile_height])
+    source = display_name(path)
+    options = RoleOptions(tuple(wall_layers), tuple(floor_layers), tuple(wall_tiles), tuple(spawn_tiles))
+    tiled = read_tiled(path, max_file_bytes=max_file_bytes, max_cells=max_cells, cells_per_tile=cell_size**-2)
+    roles = assign_roles(tiled, options)
+    geometry = _Geometry(tiled, snap_step, snap_tolerance)
     changes: list[str] = []
+    warnings = list(roles.warnings)
 
-    def tiles_of(outline: Iterable[tuple[float, float]]) -> np.ndarray:
-        return np.asarray(list(outline), dtype=float) / scale
-
-    snapped = 0
-
-    def snapped_polygon(item: TiledObject) -> Polygon:
-        nonlocal snapped
-        points, moved = snap_points(tiles_of(item.outline), snap_step, snap_tolerance)
-        snapped += moved
-        return Polygon(points)
-
-    boundary = [
-        (layer, item) for layer, item in _objects(tiled.object_layers) if _is_boundary(layer, item) and _closed(item)
-    ]
-    if boundary:
-        free = shapely.union_all([shapely.make_valid(snapped_polygon(item)) for _, item in boundary])
-        changes.append(f"free area from {len(boundary)} boundary object{'s' if len(boundary) != 1 else ''}")
+    if roles.boundary_objects:
+        free = shapely.union_all([shapely.make_valid(geometry.polygon(item)) for _, item in roles.boundary_objects])
+        changes.append(f"free area from {_count(len(roles.boundary_objects), 'boundary object')}")
+        floor_boxes: list[Polygon] = []
     else:
-        floor_layers, rule = _floor_layers(tiled.tile_layers)
-        if not floor_layers:
+        if not roles.floor_layers:
             raise LevelError(
-                f"{source}: no floor: give a tile layer the boolean property 'floor', or draw a boundary object"
+                f"{source}: no floor layer: every tile layer is named or marked as walls, spawns or drawn above "
+                "the player; pass --floor-layer NAME or give a layer the boolean property 'floor'"
             )
-        free = shapely.union_all([piece for layer in floor_layers for piece in _tile_boxes(layer, scale)])
-        changes.append(f"floor from {_names(floor_layers)} ({rule})")
-    if free.is_empty:
-        raise LevelError(f"{source}: the floor (or boundary) is empty")
+        floor_cells = sum(layer.gids.size for layer in roles.floor_layers)
+        if not floor_cells:
+            raise LevelError(f"{source}: the floor layers {names(roles.floor_layers)} are empty")
+        floor_boxes = [
+            piece
+            for index, layer in enumerate(roles.floor_layers)
+            for piece in geometry.tile_boxes(layer, _not_void(layer, roles.void_gid if index == 0 else 0))
+        ]
+        if not floor_boxes:
+            raise LevelError(f"{source}: the floor layers {names(roles.floor_layers)} hold only the void tile")
+        free = None
+        changes.append(f"floor from {names(roles.floor_layers)} ({roles.floor_rule})")
+        if roles.void_gid:
+            changes.append(
+                f"tile {roles.void_gid} fills the edge of {names(roles.floor_layers[:1])}: taken as the void around "
+                "the level, not floor"
+            )
 
-    wall_layers = [layer for layer in tiled.object_layers if _is_wall_layer(layer)]
-    wall_objects = [
-        item
-        for layer, item in _objects(tiled.object_layers)
-        if _is_wall(layer, item) and not _is_boundary(layer, item) and not _is_spawn(layer, item)
+    bounds = _tile_bounds(free.bounds if free is not None else shapely.total_bounds(floor_boxes))
+    width, height = bounds[2] - bounds[0], bounds[3] - bounds[1]
+    cells = width * height / cell_size**2
+    if cells > max_cells:
+        raise LevelError(
+            f"{source}: the level spans {width:g} x {height:g} tiles = {cells:.0f} cells at cell size {cell_size:g}, "
+            f"over the limit of {max_cells} (raise it with --max-cells)"
+        )
+
+    wall_tiles_found = [
+        (layer, gids) for layer in tiled.tile_layers if (gids := _wall_gids_in(layer, roles)) is None or gids.size
     ]
-    walls: list[shapely.Geometry] = [snapped_polygon(item) for item in wall_objects if _closed(item)]
-    open_walls = sum(1 for item in wall_objects if not _closed(item))
-    wall_tiles = [piece for layer in tiled.tile_layers for piece in _tile_boxes(layer, scale, _wall_gids(layer, tiled))]
-    walls += wall_tiles
-    changes.append(
-        f"walls from {len(walls) - len(wall_tiles)} objects"
-        + (f" in {_names(wall_layers)}" if wall_layers else "")
-        + (f" and {len(wall_tiles)} collision tile runs" if wall_tiles else "")
+    wall_boxes = [
+        piece for layer, gids in wall_tiles_found for piece in geometry.tile_boxes(layer, None if gids is None else gids)
+    ]
+    shape_walls = [shape for layer in tiled.tile_layers for shape in geometry.tile_shapes(layer, roles.shaped_gids)]
+    wall_objects = [item for _, item in roles.wall_objects]
+    object_walls = [geometry.object_wall(item) for item in wall_objects if item.closed]
+    object_walls = [wall for wall in object_walls if wall is not None]
+    open_walls = sum(1 for item in wall_objects if not item.closed)
+    check_raster_limits(
+        _blocked_mask(bounds, floor_boxes if free is None else [], wall_boxes),
+        source=source,
+        max_vertices=max_vertices,
     )
 
-    min_x, min_y, max_x, max_y = free.bounds
-    bounds = (float(math.floor(min_x)), float(math.floor(min_y)), float(math.ceil(max_x)), float(math.ceil(max_y)))
+    if free is None:
+        free = shapely.union_all(floor_boxes)
+    walls: list[shapely.Geometry] = [*object_walls, *shape_walls, *wall_boxes]
+    changes.append(_walls_phrase(roles, wall_tiles_found, len(object_walls), len(shape_walls), len(wall_boxes)))
+    if not walls:
+        warnings.append(
+            "no walls found: no collision objects, no collision-marked tiles, no layer named like walls; "
+            "mark a layer with a `collision` property or pass --wall-layer"
+        )
+
     off_floor = box(*bounds).difference(free)
     level, report = level_from_walls(
         [*walls, *([] if off_floor.is_empty else [off_floor])],
         bounds,
-        name=Path(source).stem,
+        name=Path(path).stem,
         source=source,
         cell_size=cell_size,
         cut_step=snap_step,
@@ -154,144 +166,206 @@ def import_tiled(
         max_vertices=max_vertices,
     )
     changes.append(report.describe("wall pieces"))
-    changes.append(f"snapped {snapped} vertices to the {snap_step:g}-tile grid")
+    if geometry.snapped:
+        changes.append(f"snapped {geometry.snapped} vertices to the {snap_step:g}-tile grid")
     if open_walls:
-        changes.append(f"ignored {open_walls} open wall polylines or points (walls must be closed shapes)")
+        changes.append(f"ignored {_count(open_walls, 'open wall polyline')} or points (walls must be closed shapes)")
 
-    spawns = _spawns(tiled, scale, set(spawn_tiles))
+    spawns, spawn_source = _spawns(tiled, roles, geometry)
+    if options.spawn_tiles:
+        drawn = {int(gid) for layer in tiled.tile_layers for gid in np.unique(layer.gids)}
+        for gid in sorted(set(options.spawn_tiles) - drawn):
+            warnings.append(f"--spawn-tile {gid} matches no tile in the map: no spawns from it")
     starts, dropped = _usable_starts(level, spawns)
-    changes.append(f"{len(starts)} guard spawn{'s' if len(starts) != 1 else ''}")
-    changes += [f"dropped spawn ({x:g}, {y:g}): {why}" for (x, y), why in dropped]
+    changes.append(f"{_count(len(starts), 'guard spawn')}" + (f" from {spawn_source}" if spawn_source else ""))
+    changes += [f"dropped spawn ({x:g}, {y:g}): {why}" for (x, y), why in dropped[:5]]
+    if len(dropped) > 5:
+        changes.append(f"dropped {len(dropped) - 5} more spawns")
+    if spawns and not starts:
+        warnings.append(f"none of the {len(spawns)} spawns is a place the guard fits: the start is left to the command")
     changes += list(tiled.notes)
+
+    level, left_out = _keep_spawn_areas(level, starts, source=source, max_cells=max_cells, max_vertices=max_vertices)
+    if left_out:
+        changes.append(left_out)
+    warnings += _look_warnings(level, bool(starts))
     if starts:
         data = level_to_data(level)
         data["guard"]["start"] = list(starts[0])
         data["starts"] = [list(point) for point in starts]
         level = parse_level(data, source=source, max_cells=max_cells, max_vertices=max_vertices)
-    width, height = bounds[2] - bounds[0], bounds[3] - bounds[1]
-    return ImportedLevel(level, "Tiled map", (int(width), int(height)), tuple(changes))
+    return ImportedLevel(level, "Tiled map", (int(width), int(height)), tuple(changes), tuple(warnings))
 
 
-def _flag(properties: Properties, key: str) -> bool | None:
-    """A boolean property: ``True``, ``False`` or ``None`` when absent."""
-    value = properties.get(key)
-    if value is None:
+def _count(number: int, noun: str) -> str:
+    return f"{number} {noun}{'' if number == 1 else 's'}"
+
+
+def _tile_bounds(bounds: Iterable[float]) -> tuple[float, float, float, float]:
+    min_x, min_y, max_x, max_y = (float(value) for value in bounds)
+    if not all(math.isfinite(value) for value in (min_x, min_y, max_x, max_y)):
+        raise LevelError("the map's free area is empty")
+    return float(math.floor(min_x)), float(math.floor(min_y)), float(math.ceil(max_x)), float(math.ceil(max_y))
+
+
+class _Geometry:
+    """Pixel shapes to tile units, with vertex snapping counted."""
+
+    def __init__(self, tiled: TiledMap, snap_step: float, snap_tolerance: float) -> None:
+        self.tiled = tiled
+        self.scale = np.array([tiled.tile_width, tiled.tile_height])
+        self.snap_step = snap_step
+        self.snap_tolerance = snap_tolerance
+        self.snapped = 0
+
+    def polygon(self, item: TiledObject) -> Polygon:
+        points, moved = snap_points(
+            np.asarray(item.outline, dtype=float) / self.scale, self.snap_step, self.snap_tolerance
+        )
+        self.snapped += moved
+        return Polygon(points)
+
+    def object_wall(self, item: TiledObject) -> shapely.Geometry | None:
+        """A wall object's area; a tile object of a tile with collision shapes is those shapes."""
+        info = self.tiled.tiles.get(item.gid) if item.gid else None
+        if info is None or not info.shapes:
+            return self.polygon(item)
+        # Tile objects hang from their bottom-left corner and may be scaled from the tile's size.
+        (left, top), (right, _), _, (_, bottom) = item.outline[:4]
+        sx = (right - left) / info.size[0] if info.size[0] else 1.0
+        sy = (bottom - top) / info.size[1] if info.size[1] else 1.0
+        pieces = []
+        for shape in info.shapes:
+            if not shape.closed:
+                continue
+            points = np.asarray(shape.outline, dtype=float) * (sx, sy) + (left, top)
+            pieces.append(shapely.make_valid(Polygon(points / self.scale)))
+        return shapely.union_all(pieces) if pieces else None
+
+    def tile_boxes(self, layer: TileLayer, gids: np.ndarray | None = None) -> list[Polygon]:
+        """Rectangles (in tiles) covering the layer's tiles whose id is in ``gids`` (all tiles for ``None``)."""
+        keep = np.ones(layer.gids.size, dtype=bool) if gids is None else np.isin(layer.gids, gids)
+        if not keep.any():
+            return []
+        cols, rows = layer.cols[keep], layer.rows[keep]
+        # Runs of consecutive tiles in a row, found from the sorted tiles rather than a dense mask.
+        order = np.lexsort((cols, rows))
+        cols, rows = cols[order], rows[order]
+        starts = np.flatnonzero(np.r_[True, (rows[1:] != rows[:-1]) | (cols[1:] != cols[:-1] + 1)])
+        ends = np.r_[starts[1:], cols.size] - 1
+        dx, dy = layer.offset[0] / self.scale[0], layer.offset[1] / self.scale[1]
+        return list(shapely.box(cols[starts] + dx, rows[starts] + dy, cols[ends] + 1 + dx, rows[starts] + 1 + dy))
+
+    def tile_shapes(self, layer: TileLayer, gids: set[int]) -> list[shapely.Geometry]:
+        """The collision shapes of the layer's tiles in ``gids``, placed at their cells (in tiles)."""
+        keep = np.isin(layer.gids, list(gids)) if gids else np.zeros(layer.gids.size, dtype=bool)
+        pieces: list[shapely.Geometry] = []
+        for col, row, gid in zip(layer.cols[keep].tolist(), layer.rows[keep].tolist(), layer.gids[keep].tolist()):
+            info = self.tiled.tiles[gid]
+            # A tile taller than the grid is drawn from the cell's bottom-left corner, as Tiled does.
+            left = col * self.scale[0] + layer.offset[0]
+            top = (row + 1) * self.scale[1] - (info.size[1] or self.scale[1]) + layer.offset[1]
+            for shape in info.shapes:
+                if shape.closed:
+                    points = (np.asarray(shape.outline, dtype=float) + (left, top)) / self.scale
+                    pieces.append(shapely.make_valid(Polygon(points)))
+        return pieces
+
+
+def _not_void(layer: TileLayer, void_gid: int) -> np.ndarray | None:
+    """The layer's tile ids other than ``void_gid`` (``None``: all of them)."""
+    if not void_gid:
         return None
-    if isinstance(value, str):
-        return value.strip().lower() in ("true", "1", "yes")
-    return bool(value)
+    return np.setdiff1d(np.unique(layer.gids), [void_gid])
 
 
-def _named(path: tuple[str, ...], words: tuple[str, ...]) -> bool:
-    return any(word in part.lower() for part in path for word in words)
+def _wall_gids_in(layer: TileLayer, roles: Guesses) -> np.ndarray | None:
+    """The wall tile ids drawn in this layer; ``None`` means every tile of it."""
+    from guardsim.importers.tiled_roles import flag
+
+    if flag(layer.properties, "collision", "collides", "collidable", "solid") is False:
+        return np.zeros(0, dtype=np.int64)
+    if layer in roles.wall_tile_layers:
+        return None
+    return np.intersect1d(np.unique(layer.gids), np.fromiter(roles.wall_gids, dtype=np.int64))
 
 
-def _names(layers: Iterable[TileLayer | ObjectLayer]) -> str:
-    return ", ".join(repr(layer.name) for layer in layers)
-
-
-def _objects(layers: Iterable[ObjectLayer]) -> Iterable[tuple[ObjectLayer, TiledObject]]:
-    return ((layer, item) for layer in layers for item in layer.objects)
-
-
-def _closed(item: TiledObject) -> bool:
-    return item.shape in _CLOSED_SHAPES and len(item.outline) >= 3
-
-
-def _floor_layers(layers: tuple[TileLayer, ...]) -> tuple[list[TileLayer], str]:
-    """The floor layers and the rule that chose them."""
-    marked = [layer for layer in layers if _flag(layer.properties, "floor")]
-    if marked:
-        return marked, "property floor"
-    candidates = [layer for layer in layers if _flag(layer.properties, "floor") is not False]
-    named = [layer for layer in candidates if _named(layer.path, _FLOOR_WORDS)]
-    if named:
-        return named, "named floor or ground"
-    return candidates[:1], "the first tile layer"
-
-
-def _is_boundary(layer: ObjectLayer, item: TiledObject) -> bool:
-    own = _flag(item.properties, "boundary")
-    if own is not None:
-        return own
-    return (
-        item.kind.lower() == "boundary"
-        or bool(_flag(layer.properties, "boundary"))
-        or _named(layer.path, ("boundary",))
+def _walls_phrase(
+    roles: Guesses, tiles: list[tuple[TileLayer, np.ndarray | None]], objects: int, shapes: int, boxes: int
+) -> str:
+    parts = []
+    object_layers = {"/".join(layer.path) for layer, _ in roles.wall_objects}
+    parts.append(
+        f"{_count(objects, 'wall object')}" + (f" in {', '.join(map(repr, sorted(object_layers)))}" if objects else "")
     )
+    whole = [layer for layer, gids in tiles if gids is None]
+    if whole:
+        parts.append(f"every tile of {names(whole)}")
+    marked = sorted({int(gid) for _, gids in tiles if gids is not None for gid in gids})
+    if marked:
+        shown = ", ".join(map(str, marked[:8])) + (" ..." if len(marked) > 8 else "")
+        parts.append(f"{_count(len(marked), 'collision-marked tile')} (gids {shown})")
+    if shapes:
+        parts.append(f"{_count(shapes, 'tile collision shape')}")
+    return f"walls from {', '.join(parts)} ({_count(boxes, 'wall tile run')})"
 
 
-def _is_wall_layer(layer: ObjectLayer) -> bool:
-    marked = _flag(layer.properties, "collision")
-    return marked if marked is not None else _named(layer.path, _WALL_WORDS)
+def _blocked_mask(
+    bounds: tuple[float, float, float, float], floor_boxes: list[Polygon], wall_boxes: list[Polygon]
+) -> np.ndarray:
+    """Cells of the level's tile grid that no floor covers or a wall tile covers, for the vertex estimate."""
+    min_x, min_y, max_x, max_y = bounds
+    rows, cols = int(max_y - min_y), int(max_x - min_x)
+    blocked = np.zeros((rows, cols), dtype=bool)
+    if floor_boxes:
+        blocked[:] = True
+        for box_bounds in shapely.bounds(np.asarray(floor_boxes, dtype=object)):
+            x0, y0, x1, y1 = (int(round(v)) for v in box_bounds)
+            blocked[y0 - int(min_y) : y1 - int(min_y), max(0, x0 - int(min_x)) : max(0, x1 - int(min_x))] = False
+    if wall_boxes:
+        for box_bounds in shapely.bounds(np.asarray(wall_boxes, dtype=object)):
+            x0, y0, x1, y1 = (int(round(v)) for v in box_bounds)
+            r0, r1 = max(0, y0 - int(min_y)), max(0, y1 - int(min_y))
+            blocked[r0:r1, max(0, x0 - int(min_x)) : max(0, x1 - int(min_x))] = True
+    return blocked
 
 
-def _is_wall(layer: ObjectLayer, item: TiledObject) -> bool:
-    own = _flag(item.properties, "collision")
-    return own if own is not None else _is_wall_layer(layer)
-
-
-def _is_spawn(layer: ObjectLayer, item: TiledObject) -> bool:
-    own = _flag(item.properties, "guard_spawn")
-    if own is not None:
-        return own
-    return item.kind.lower() == "guard" or bool(_flag(layer.properties, "guard_spawn"))
-
-
-def _wall_gids(layer: TileLayer, tiled: TiledMap) -> set[int] | None:
-    """Tile ids that are walls in this layer; ``None`` means every tile."""
-    if _flag(layer.properties, "collision"):
-        return None
-    return {gid for gid, properties in tiled.tiles.items() if _flag(properties, "collision")}
-
-
-def _tile_boxes(layer: TileLayer, scale: np.ndarray, gids: set[int] | None = None) -> list[Polygon]:
-    """Rectangles (in tiles) covering the layer's tiles whose id is in ``gids`` (all tiles for ``None``)."""
-    keep = np.ones(layer.gids.size, dtype=bool) if gids is None else np.isin(layer.gids, list(gids))
-    if not keep.any():
-        return []
-    cols, rows = layer.cols[keep], layer.rows[keep]
-    # Runs of consecutive tiles in a row, found from the sorted tiles rather than a dense mask, so that
-    # one stray tile far away costs nothing here (the grid size limit reports it later).
-    order = np.lexsort((cols, rows))
-    cols, rows = cols[order], rows[order]
-    starts = np.flatnonzero(np.r_[True, (rows[1:] != rows[:-1]) | (cols[1:] != cols[:-1] + 1)])
-    ends = np.r_[starts[1:], cols.size] - 1
-    dx, dy = layer.offset[0] / scale[0], layer.offset[1] / scale[1]
-    return list(shapely.box(cols[starts] + dx, rows[starts] + dy, cols[ends] + 1 + dx, rows[starts] + 1 + dy))
-
-
-def _spawns(tiled: TiledMap, scale: np.ndarray, spawn_tiles: set[int]) -> list[tuple[float, float]]:
-    """Guard spawn points in tiles: spawn objects first (layer order), then spawn tiles (row by row)."""
+def _spawns(tiled: TiledMap, roles: Guesses, geometry: _Geometry) -> tuple[list[tuple[float, float]], str]:
+    """Guard spawn points in tiles (spawn objects in layer order, then spawn tiles row by row), and their source."""
     points: list[tuple[float, float]] = []
-    for layer, item in _objects(tiled.object_layers):
-        if _is_spawn(layer, item):
-            outline = np.asarray(item.outline, dtype=float) / scale
-            centre = Polygon(outline).centroid if _closed(item) else ShapelyPoint(outline.mean(axis=0))
-            points.append((round(centre.x, 6), round(centre.y, 6)))
-    tile_ids = spawn_tiles | {
-        gid
-        for gid, properties in tiled.tiles.items()
-        if str(properties.get("class", "")).lower() == "guard" or _flag(properties, "guard_spawn")
-    }
+    sources = []
+    layers: dict[str, int] = {}
+    for layer, item in roles.spawn_objects:
+        outline = np.asarray(item.outline, dtype=float) / geometry.scale
+        centre = Polygon(outline).centroid if item.closed else ShapelyPoint(outline.mean(axis=0))
+        points.append((round(centre.x, 6), round(centre.y, 6)))
+        layers["/".join(layer.path)] = layers.get("/".join(layer.path), 0) + 1
+    sources += [f"{count} objects in {name!r}" for name, count in layers.items()]
+    tile_count = 0
     for layer in tiled.tile_layers:
-        keep = np.isin(layer.gids, list(tile_ids))
+        keep = np.isin(layer.gids, list(roles.spawn_gids))
         order = np.lexsort((layer.cols[keep], layer.rows[keep]))
-        for col, row in zip(layer.cols[keep][order].tolist(), layer.rows[keep][order].tolist(), strict=False):
-            points.append((col + 0.5 + layer.offset[0] / scale[0], row + 0.5 + layer.offset[1] / scale[1]))
-    return points
+        for col, row in zip(layer.cols[keep][order].tolist(), layer.rows[keep][order].tolist()):
+            points.append((col + 0.5 + layer.offset[0] / geometry.scale[0], row + 0.5 + layer.offset[1] / geometry.scale[1]))
+            tile_count += 1
+    if tile_count:
+        sources.append(f"{_count(tile_count, 'spawn tile')} (gids {', '.join(map(str, sorted(roles.spawn_gids)))})")
+    return points, ", ".join(sources)
 
 
 def _usable_starts(
     level: Level, points: list[tuple[float, float]]
 ) -> tuple[list[tuple[float, float]], list[tuple[tuple[float, float], str]]]:
     """Spawns whose grid cell the guard can stand in, and the others with the reason."""
+    if not points:
+        return [], []
     world = World(level)
     free = level.free_area()
     min_x, min_y, _, _ = level.bounds
     rows, cols = level.grid_shape()
     size = level.cell_size
-    usable, dropped = [], []
+    usable: list[tuple[float, float]] = []
+    dropped = []
     for point in points:
         col, row = math.floor((point[0] - min_x) / size), math.floor((point[1] - min_y) / size)
         centre = (min_x + (col + 0.5) * size, min_y + (row + 0.5) * size)
@@ -302,3 +376,59 @@ def _usable_starts(
         elif point not in usable:
             usable.append(point)
     return usable, dropped
+
+
+def _keep_spawn_areas(
+    level: Level, starts: list[tuple[float, float]], *, source: str, max_cells: int, max_vertices: int
+) -> tuple[Level, str]:
+    """The level without the parts of its free area that hold no start (when there are starts)."""
+    parts = list(shapely.get_parts(level.free_area()))
+    if not starts or len(parts) < 2:
+        return level, ""
+    points = [ShapelyPoint(point) for point in starts]
+    drop = [part for part in parts if not any(part.intersects(point) for point in points)]
+    if not drop:
+        return level, ""
+    area = sum(part.area for part in drop)
+    data = level_to_data(level)
+    data["holes"] = [list(map(list, ring)) for ring in level.holes]
+    walls = [Polygon(ring) for ring in level.holes] + drop
+    new_level, _ = level_from_walls(
+        walls,
+        level.bounds,
+        name=level.name,
+        source=source,
+        cell_size=level.cell_size,
+        max_cells=max_cells,
+        max_vertices=max_vertices,
+    )
+    phrase = f"left out {_count(len(drop), 'free part')} holding no spawn ({area:g} square tiles)"
+    return new_level, phrase
+
+
+def _look_warnings(level: Level, has_starts: bool) -> list[str]:
+    """Warnings about a level that looks unlike a drawn level."""
+    warnings = []
+    free = level.free_area()
+    if free.is_empty or free.area <= 0:
+        return ["the free area is empty"]
+    min_x, min_y, max_x, max_y = level.bounds
+    edges = [
+        shapely.LineString([(min_x, min_y), (max_x, min_y)]),
+        shapely.LineString([(max_x, min_y), (max_x, max_y)]),
+        shapely.LineString([(max_x, max_y), (min_x, max_y)]),
+        shapely.LineString([(min_x, max_y), (min_x, min_y)]),
+    ]
+    boundary = free.boundary
+    if all(boundary.intersection(edge).length > 0.5 * edge.length for edge in edges):
+        warnings.append(
+            "the free area runs along more than half of every edge of the map: walls may be missing "
+            "(mark a layer with a `collision` property or pass --wall-layer)"
+        )
+    parts = sorted((part.area for part in shapely.get_parts(free)), reverse=True)
+    if not has_starts and len(parts) > 1 and parts[0] < SMALL_START_SHARE * free.area:
+        warnings.append(
+            f"the free area is in {len(parts)} separate parts and the largest holds only "
+            f"{100 * parts[0] / free.area:.0f}% of it: the guard starts in one part and never sees the others"
+        )
+    return warnings

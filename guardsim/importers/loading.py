@@ -1,0 +1,100 @@
+"""One entry point for every command: a guardsim level file or any map, loaded in memory.
+
+:func:`load_any` is what ``guardsim play``, ``render``, ``validate``, ``bench`` and ``regress`` call on
+their LEVEL argument. A ``.json`` file is a guardsim level when it has an ``outer`` ring and a Tiled map
+when it has an ``orientation`` (or ``"type": "map"``); ``.tmx``/``.tmj``, ``.map`` and ``.png`` are
+imported with :func:`guardsim.importers.import_map` and the options of :class:`ImportOptions`.
+"""
+
+from __future__ import annotations
+
+import dataclasses
+import os
+from pathlib import Path
+
+import shapely.errors
+
+from guardsim.errors import LevelError
+from guardsim.importers.image import DEFAULT_THRESHOLD
+from guardsim.importers.imported import ImportedLevel
+from guardsim.importers.source import display_name, parse_json_bytes, quiet, read_capped_bytes
+from guardsim.level import DEFAULT_MAX_CELLS, DEFAULT_MAX_FILE_BYTES, DEFAULT_MAX_VERTICES, Level, parse_level
+
+__all__ = ["ImportOptions", "ImportSummary", "load_any"]
+
+#: What an import reports besides its level (the summary line, the changes and the warnings).
+ImportSummary = ImportedLevel
+
+
+@dataclasses.dataclass(frozen=True)
+class ImportOptions:
+    """How maps are imported; the defaults are what ``guardsim import`` does without options."""
+
+    cell_size: float | None = None
+    threshold: int = DEFAULT_THRESHOLD
+    spawn_tiles: tuple[int, ...] = ()
+    wall_layers: tuple[str, ...] = ()
+    floor_layers: tuple[str, ...] = ()
+    wall_tiles: tuple[int, ...] = ()
+
+
+def _is_tiled_json(data: object) -> bool:
+    return isinstance(data, dict) and ("orientation" in data or data.get("type") == "map") and "outer" not in data
+
+
+def load_any(
+    path: str | os.PathLike[str],
+    *,
+    options: ImportOptions = ImportOptions(),
+    max_cells: int = DEFAULT_MAX_CELLS,
+    max_vertices: int = DEFAULT_MAX_VERTICES,
+    max_file_bytes: int = DEFAULT_MAX_FILE_BYTES,
+) -> tuple[Level, ImportedLevel | None]:
+    """A level from a guardsim level file, or from a map imported in memory.
+
+    Returns the level and, for an imported map, the import's record (``None`` for a level file).
+
+    Raises
+    ------
+    LevelError
+        One line naming the file for every way the file or the map can be wrong, including a file that
+        is not a regular file, more than ``max_file_bytes`` bytes, or limits that would be passed.
+    """
+    from guardsim.importers import FORMATS, import_map
+
+    source = display_name(path)
+    suffix = Path(path).suffix.lower()
+    if suffix in (".json", "") or suffix not in FORMATS:
+        data = read_capped_bytes(path, max_file_bytes=max_file_bytes, kind="level file")
+        head = data.lstrip()[:1]
+        if suffix not in FORMATS and head not in (b"{", b"["):
+            known = ", ".join(sorted(FORMATS))
+            raise LevelError(f"{source}: not a guardsim level (JSON) and not a map guardsim imports ({known})")
+        value = parse_json_bytes(data, source)
+        if not _is_tiled_json(value):
+            return parse_level(value, source=source, max_cells=max_cells, max_vertices=max_vertices), None
+    notes: list[str] = []
+    try:
+        with quiet(notes):
+            imported = import_map(
+                path,
+                cell_size=options.cell_size,
+                threshold=options.threshold,
+                spawn_tiles=options.spawn_tiles,
+                wall_layers=options.wall_layers,
+                floor_layers=options.floor_layers,
+                wall_tiles=options.wall_tiles,
+                max_cells=max_cells,
+                max_vertices=max_vertices,
+                max_file_bytes=max_file_bytes,
+            )
+    except MemoryError:
+        raise LevelError(
+            f"{source}: out of memory while importing it; lower --max-cells ({max_cells}) or --max-vertices "
+            f"({max_vertices})"
+        ) from None
+    except shapely.errors.GEOSException as error:
+        raise LevelError(f"{source}: the map's geometry cannot be built ({str(error)[:80]})") from None
+    if notes:
+        imported = dataclasses.replace(imported, changes=(*imported.changes, *notes))
+    return imported.level, imported

@@ -1,0 +1,206 @@
+"""The parts of a Tiled map a level is built from, in pixels, checked and flattened.
+
+:mod:`guardsim.importers.tiled_read` fills these from pytiled-parser's objects; deciding which layers
+are floor, walls and spawns is :mod:`guardsim.importers.tiled_roles`' job. Group layers are flattened:
+each layer keeps the names of its groups (``path``), their properties merged under its own, the sum of
+their offsets, and whether it and every group around it are visible.
+"""
+
+from __future__ import annotations
+
+import base64
+import math
+import zlib
+from dataclasses import dataclass, field
+from typing import Any
+
+import numpy as np
+
+from guardsim.errors import LevelError
+from guardsim.importers.source import excerpt
+
+__all__ = [
+    "GID_MASK",
+    "MAX_COORDINATE",
+    "ObjectLayer",
+    "TileInfo",
+    "TileLayer",
+    "TiledMap",
+    "TiledObject",
+    "decode_tile_data",
+    "object_outline",
+]
+
+Point = tuple[float, float]
+Properties = dict[str, Any]
+
+#: The flip and rotation flags in the top bits of a global tile id.
+GID_MASK = 0x0FFFFFFF
+#: Largest pixel coordinate or size read (far past any real map; keeps geometry libraries finite).
+MAX_COORDINATE = 1e9
+
+
+@dataclass(frozen=True)
+class TiledObject:
+    """One object of an object layer (or of a tile's collision shapes), in pixels."""
+
+    id: int
+    name: str
+    kind: str
+    """The object's class (``type`` before Tiled 1.9), or its tile's class."""
+    shape: str
+    """``rectangle``, ``polygon``, ``polyline``, ``ellipse``, ``point``, ``tile`` or ``text``."""
+    outline: tuple[Point, ...]
+    """Absolute pixel vertices after rotation and layer offset (the position alone for a point)."""
+    gid: int = 0
+    properties: Properties = field(default_factory=dict)
+
+    @property
+    def closed(self) -> bool:
+        """Whether the object encloses an area (rectangle, polygon, ellipse, tile)."""
+        return self.shape in ("rectangle", "polygon", "ellipse", "tile") and len(self.outline) >= 3
+
+
+@dataclass(frozen=True)
+class TileInfo:
+    """What a tileset says about one tile."""
+
+    kind: str
+    """The tile's class (``type`` before Tiled 1.9)."""
+    properties: Properties
+    shapes: tuple[TiledObject, ...]
+    """Collision shapes drawn in the tile (Tiled's tile collision editor), relative to its top-left corner."""
+    tileset: str
+    size: tuple[float, float] = (0.0, 0.0)
+    """The tileset's tile width and height in pixels."""
+
+
+@dataclass(frozen=True)
+class TileLayer:
+    """A tile layer: which global tile id sits in which cell."""
+
+    name: str
+    path: tuple[str, ...]
+    """Names of the enclosing group layers and this layer, outermost first."""
+    properties: Properties
+    kind: str
+    offset: Point
+    visible: bool
+    cols: np.ndarray
+    rows: np.ndarray
+    gids: np.ndarray
+    """Column, row and global tile id (flip flags cleared) of every non-empty cell."""
+
+
+@dataclass(frozen=True)
+class ObjectLayer:
+    """An object layer."""
+
+    name: str
+    path: tuple[str, ...]
+    properties: Properties
+    kind: str
+    visible: bool
+    objects: tuple[TiledObject, ...]
+
+
+@dataclass(frozen=True)
+class TiledMap:
+    """The parts of a Tiled map a level is built from."""
+
+    tile_width: float
+    tile_height: float
+    size: tuple[int, int]
+    """``(width, height)`` in tiles as the map declares it (nominal for an infinite map)."""
+    tile_layers: tuple[TileLayer, ...]
+    object_layers: tuple[ObjectLayer, ...]
+    tiles: dict[int, TileInfo]
+    """Tiles the tilesets say something about, by global id."""
+    notes: tuple[str, ...] = ()
+    """Things the reader could not use (a missing tileset file), for the summary."""
+
+
+def check_number(value: Any, where: str, *, limit: float = MAX_COORDINATE) -> float:
+    """``value`` as a float, or a :class:`LevelError` if it is not a finite number within ``limit``."""
+    if isinstance(value, bool) or not isinstance(value, (int, float)):
+        try:
+            value = float(value)
+        except (TypeError, ValueError, OverflowError):
+            raise LevelError(f"{where} must be a number, not {excerpt(value)}") from None
+    try:
+        number = float(value)
+    except OverflowError:
+        number = math.inf
+    if not math.isfinite(number) or abs(number) > limit:
+        raise LevelError(f"{where} must be a finite number within +-{limit:g}, not {excerpt(value)}")
+    return number
+
+
+def _rotated(points: list[Point], x: float, y: float, degrees: float, offset: Point) -> tuple[Point, ...]:
+    """Object-relative points rotated clockwise on screen (y down) about the object's origin, made absolute."""
+    # Quarter turns are exact, so rectangles on the tile grid stay on it.
+    quarter = {0: (1.0, 0.0), 90: (0.0, 1.0), 180: (-1.0, 0.0), 270: (0.0, -1.0)}.get(int(degrees) % 360)
+    if quarter is not None and float(degrees).is_integer():
+        cos, sin = quarter
+    else:
+        cos, sin = math.cos(math.radians(degrees)), math.sin(math.radians(degrees))
+    return tuple((x + dx * cos - dy * sin + offset[0], y + dx * sin + dy * cos + offset[1]) for dx, dy in points)
+
+
+def _relative_outline(shape: str, width: float, height: float, points: list[Point]) -> list[Point]:
+    """Object-relative outline of a shape before rotation."""
+    if shape in ("polygon", "polyline"):
+        return points
+    if shape == "point":
+        return [(0.0, 0.0)]
+    if shape == "tile":
+        # Tile objects hang from their bottom-left corner.
+        return [(0.0, -height), (width, -height), (width, 0.0), (0.0, 0.0)]
+    if shape == "ellipse":
+        steps = 32
+        return [
+            (width / 2 * (1 + math.cos(2 * math.pi * k / steps)), height / 2 * (1 + math.sin(2 * math.pi * k / steps)))
+            for k in range(steps)
+        ]
+    return [(0.0, 0.0), (width, 0.0), (width, height), (0.0, height)]
+
+
+def object_outline(
+    shape: str, x: float, y: float, width: float, height: float, rotation: float, points: list[Point], offset: Point
+) -> tuple[Point, ...]:
+    """Absolute pixel outline of an object: its shape, rotated about its origin, moved by the layer offset."""
+    return _rotated(_relative_outline(shape, width, height, points), x, y, rotation, offset)
+
+
+def decode_tile_data(raw: Any, encoding: str | None, compression: str | None, count: int, where: str) -> np.ndarray:
+    """Global tile ids (flags cleared) of one layer's or chunk's data, as ``int64 (count,)``.
+
+    ``encoding`` is ``csv`` (text or, in JSON, a list of numbers), ``base64`` or ``None`` (a list of ids:
+    TMX ``<tile gid>`` elements or a JSON array). Compressed data is inflated no further than ``count``
+    tiles, so a tiny file cannot unpack to gigabytes.
+    """
+    try:
+        if encoding == "csv" and isinstance(raw, str):
+            text = raw.strip().rstrip(",")
+            values = np.array([int(value) for value in text.split(",")], dtype=np.int64) if text else np.zeros(0)
+        elif encoding == "base64":
+            if not isinstance(raw, str):
+                raise LevelError(f"{where}: base64 tile data must be a string, not a {type(raw).__name__}")
+            packed = base64.b64decode(raw.strip(), validate=True)
+            if compression in ("zlib", "gzip"):
+                inflater = zlib.decompressobj(wbits=15 if compression == "zlib" else 31)
+                packed = inflater.decompress(packed, count * 4 + 4)
+            if len(packed) % 4:
+                raise ValueError("not whole 32-bit tile ids")
+            values = np.frombuffer(packed, dtype="<u4").astype(np.int64)
+        elif isinstance(raw, list) and all(isinstance(value, int) and not isinstance(value, bool) for value in raw):
+            values = np.array(raw, dtype=np.int64) if raw else np.zeros(0, dtype=np.int64)
+        else:
+            raise ValueError("not a list of tile ids")
+    except (ValueError, TypeError, OverflowError, zlib.error, EOFError):
+        raise LevelError(f"{where}: tile data is not valid {encoding or 'tile id list'} data") from None
+    if values.size and (values.min() < 0 or values.max() >= 2**32):
+        raise LevelError(f"{where}: tile ids must be between 0 and 2**32 - 1")
+    if values.size != count:
+        raise LevelError(f"{where}: tile data has {values.size} tiles, expected {count}")
+    return (values & GID_MASK).astype(np.int64)
