@@ -24,8 +24,8 @@ from typing import Any, NamedTuple
 import shapely
 from shapely.geometry import LinearRing, Polygon
 
-from guardsim.importers.imported import compact_numbers
 from guardsim.importers.walls import hole_rings
+from guardsim.level import compact_numbers
 
 __all__ = ["Repair", "repair_level_data"]
 

@@ -99,7 +99,7 @@ BAD_LEVELS: dict[str, BadLevel] = {
     "not-utf8": BadLevel(b'{"name": "caf\xe9", "outer": []}', ("not UTF-8", "byte 13")),
     "not-json": BadLevel('{"outer": [[0, 0], [4, 0]', ("not valid JSON", "line 1")),
     "empty-file": BadLevel("", ("not valid JSON",)),
-    "file-too-big": BadLevel(EMPTY_SQUARE, ("over the limit of 10", "--max-file-bytes"), {"max_file_bytes": 10}),
+    "file-too-big": BadLevel(EMPTY_SQUARE, ("over the limit of 10", "max_file_bytes"), {"max_file_bytes": 10}),
     # Structure and types.
     "top-level-list": BadLevel([EMPTY_SQUARE], ("top level must be a JSON object", "not a list")),
     "top-level-number": BadLevel("42", ("top level must be a JSON object", "not a number")),
@@ -190,14 +190,12 @@ BAD_LEVELS: dict[str, BadLevel] = {
     "cell-size-negative": BadLevel(changed(EMPTY_SQUARE, cell_size=-1), ("cell_size", "must be positive", "-1")),
     "grid-too-large": BadLevel(
         changed(EMPTY_SQUARE, cell_size=0.001),
-        ("cell_size", "4000 x 4000", f"limit of {DEFAULT_MAX_CELLS}", "--max-cells"),
+        ("cell_size", "4000 x 4000", f"limit of {DEFAULT_MAX_CELLS}", "max_cells"),
     ),
     "grid-over-max-cells": BadLevel(
-        changed(EMPTY_SQUARE, cell_size=0.5), ("cell_size", "64 cells", "limit of 10", "--max-cells"), {"max_cells": 10}
+        changed(EMPTY_SQUARE, cell_size=0.5), ("cell_size", "64 cells", "limit of 10", "max_cells"), {"max_cells": 10}
     ),
-    "too-many-vertices": BadLevel(
-        SQUARE_WITH_HOLE, ("8 vertices", "limit of 5", "--max-vertices"), {"max_vertices": 5}
-    ),
+    "too-many-vertices": BadLevel(SQUARE_WITH_HOLE, ("8 vertices", "limit of 5", "max_vertices"), {"max_vertices": 5}),
     "cell-size-subnormal": BadLevel(changed(EMPTY_SQUARE, cell_size=1e-320), ("cell_size",)),
     "coordinates-span-overflows": BadLevel(
         changed(EMPTY_SQUARE, outer=[[-1e308, 0], [1e308, 0], [1e308, 1], [-1e308, 1]], guard={}), ()
@@ -266,11 +264,15 @@ def test_start_where_guard_does_not_fit_fails_when_grid_is_built(tmp_path: Path,
 
 @pytest.mark.parametrize("key", ["max_cells", "max_vertices", "max_file_bytes"])
 def test_limits_are_inclusive_and_can_be_raised(tmp_path: Path, key: str) -> None:
-    """A level exactly at a limit loads; lowering the limit by one makes it a LevelError naming the option."""
+    """A level exactly at a limit loads; lowering the limit by one makes it a LevelError naming the keyword
+    (the library's name for it; the command line adds its option)."""
     path = write_level(tmp_path, changed(SQUARE_WITH_HOLE, cell_size=0.1))
     size = {"max_cells": 60 * 60, "max_vertices": 8, "max_file_bytes": path.stat().st_size}[key]
     assert load_level(path, **{key: size}).grid_shape() == (60, 60)
-    with pytest.raises(LevelError, match=f"{path}: .*--{key.replace('_', '-')}"):
+    with pytest.raises(LevelError, match=f"{path}: .*over the limit of {size - 1}.*\\({key}\\)") as caught:
+        load_level(path, **{key: size - 1})
+    assert "--" not in str(caught.value)
+    with pytest.raises(LevelError):
         load_level(path, **{key: size - 1})
 
 

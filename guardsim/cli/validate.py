@@ -9,14 +9,15 @@ from typing import Any
 import click
 import numpy as np
 
-from guardsim.cli.common import limit_options, reports_errors
+from guardsim.cli.common import limit_options, reports_errors, with_options
 from guardsim.diagnostics import DEFAULT_MAX_RAYS, DesignerWarning, level_warnings
 from guardsim.errors import GuardsimError
-from guardsim.importers.imported import level_json_text
-from guardsim.level import Level, check_level_data, read_level_json
+from guardsim.level import Level, check_level_data, level_json_text, read_level_json
 from guardsim.output import write_text_atomic
+from guardsim.reading import captured_warnings, display_path, warning_note
 from guardsim.repair import repair_level_data
-from guardsim.simulation import Scene, choose_start
+from guardsim.scene import Scene
+from guardsim.starts import choose_start
 
 __all__ = ["validate"]
 
@@ -66,13 +67,14 @@ def validate(
     if fix_path is not None and len(level_paths) != 1:
         click.echo(f"guardsim: error: --fix {fix_path} takes exactly one LEVEL, not {len(level_paths)}", err=True)
         sys.exit(2)
-    invalid = 0
-    for path in level_paths:
+    invalid: list[str] = []
+    for given in level_paths:
+        path = display_path(given)
         try:
-            data = read_level_json(path, max_file_bytes=max_file_bytes)
+            data = read_level_json(given, max_file_bytes=max_file_bytes)
         except GuardsimError as error:
-            click.echo(str(error))
-            invalid += 1
+            click.echo(with_options(str(error)))
+            invalid.append(path)
             continue
         if fix_path is not None:
             data, repairs = repair_level_data(data)
@@ -82,23 +84,28 @@ def validate(
         scene = None
         if level is not None:
             try:
-                scene, reachable = _scene_and_reachable(level)
+                with captured_warnings() as caught:
+                    scene, reachable = _scene_and_reachable(level)
             except GuardsimError as error:
-                click.echo(str(error))
-                invalid += 1
+                click.echo(with_options(f"{error}{warning_note(caught)}"))
+                invalid.append(path)
                 continue
         for problem in problems:
-            click.echo(f"{path}: {problem}")
+            click.echo(with_options(f"{path}: {problem}"))
         if problems:
-            invalid += 1
+            invalid.append(path)
         else:
             click.echo(f"{path}: ok")
         if scene is not None and show_warnings:
-            _echo_warnings(path, level_warnings(scene, reachable, max_rays=max_rays))
+            with captured_warnings():
+                found = level_warnings(scene, reachable, max_rays=max_rays)
+            _echo_warnings(path, found)
         if fix_path is not None:
             _write_fixed(path, fix_path, data, written=not problems and level is not None)
     if invalid:
-        click.echo(f"{invalid} of {len(level_paths)} level(s) invalid", err=True)
+        # One line on stderr naming the files, whatever the number of problems listed above.
+        names = ", ".join(invalid[:3]) + (f" and {len(invalid) - 3} more" if len(invalid) > 3 else "")
+        click.echo(f"guardsim: error: {len(invalid)} of {len(level_paths)} level(s) invalid: {names}", err=True)
         sys.exit(2)
 
 

@@ -1,0 +1,106 @@
+"""The level model: a 2D polygon with holes, a cell size and the guard's parameters.
+
+Coordinates are world units with x to the right and y down, as in Tiled and image editors.
+"""
+
+from __future__ import annotations
+
+import math
+from dataclasses import dataclass, field
+from typing import NamedTuple
+
+import shapely
+from shapely.geometry import Polygon
+
+__all__ = ["HEADINGS", "GuardSpec", "Level", "Point", "Problem", "Ring", "free_area_of", "grid_shape_of"]
+
+#: Heading names and their angle in degrees; y points down, so 90 degrees is "down" on screen.
+HEADINGS = {"right": 0, "down": 90, "left": 180, "up": 270}
+
+Point = tuple[float, float]
+Ring = tuple[Point, ...]
+
+
+class Problem(NamedTuple):
+    """One thing wrong with a level."""
+
+    where: str
+    """Location in the file, e.g. ``holes[1] point 4 (25, 30)``; empty for the whole file."""
+    message: str
+    """What is wrong."""
+    hint: str = ""
+    """How to fix it, when there is an obvious fix."""
+
+    def __str__(self) -> str:
+        text = f"{self.where}: {self.message}" if self.where else self.message
+        return f"{text} ({self.hint})" if self.hint else text
+
+
+@dataclass(frozen=True)
+class GuardSpec:
+    """The guard's body and vision cone."""
+
+    view_range: float = 8.0
+    """How far the guard sees, in world units."""
+    fov_degrees: float = 90.0
+    """Full opening angle of the vision cone."""
+    radius: float = 0.3
+    """Radius of the guard's circle; a cell is traversable only where the circle fits."""
+    start: Point | None = None
+    """Start position in world units; ``None`` lets the caller draw one."""
+    heading: str | None = None
+    """First heading (``right``, ``down``, ``left`` or ``up``); ``None`` draws one."""
+
+
+@dataclass(frozen=True)
+class Level:
+    """A validated level."""
+
+    name: str
+    cell_size: float
+    outer: Ring
+    """Outer boundary, counter-clockwise on screen is not required: any orientation."""
+    holes: tuple[Ring, ...] = ()
+    """Walls inside the outer ring, each a closed ring."""
+    guard: GuardSpec = field(default_factory=GuardSpec)
+    starts: tuple[Point, ...] = ()
+    """Designer-marked spawn points (optional)."""
+    source: str = "<level>"
+    """Where the level was read from, for messages."""
+
+    @property
+    def bounds(self) -> tuple[float, float, float, float]:
+        """``(min_x, min_y, max_x, max_y)`` of the outer ring."""
+        xs = [p[0] for p in self.outer]
+        ys = [p[1] for p in self.outer]
+        return min(xs), min(ys), max(xs), max(ys)
+
+    def free_area(self) -> shapely.Geometry:
+        """The free area (outer ring minus holes) as a valid shapely geometry.
+
+        Holes may touch the outer ring or each other (walls attached to walls); the difference keeps
+        the result valid where ``Polygon(outer, holes)`` would not be.
+        """
+        return free_area_of(self.outer, self.holes)
+
+    def grid_shape(self) -> tuple[int, int]:
+        """``(rows, cols)`` of the coverage grid this level produces."""
+        return grid_shape_of(self.bounds, self.cell_size)
+
+
+def free_area_of(outer: Ring, holes: tuple[Ring, ...] | list[Ring]) -> shapely.Geometry:
+    """The outer ring's polygon minus the union of the holes' polygons."""
+    walls = shapely.union_all([Polygon(hole) for hole in holes]) if holes else None
+    area = Polygon(outer)
+    return area.difference(walls) if walls is not None else area
+
+
+def grid_shape_of(bounds: tuple[float, float, float, float], cell_size: float) -> tuple[int, int]:
+    """``(rows, cols)``; a span too large for a float gives a huge count, which the cell cap rejects."""
+    min_x, min_y, max_x, max_y = bounds
+    counts = []
+    for span in (max_y - min_y, max_x - min_x):
+        cells = span / cell_size
+        # A small epsilon keeps a 60-unit level at cell size 1 at 60 columns despite float noise.
+        counts.append(max(1, math.ceil(cells - 1e-9)) if math.isfinite(cells) and cells < 1e18 else 10**18)
+    return counts[0], counts[1]
