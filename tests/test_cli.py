@@ -64,7 +64,7 @@ def test_validate_bad_level_reports_it(tmp_path: Path, case: BadLevel) -> None:
     assert all(str(path) in line for line in problem_lines)
     for fragment in case.fragments:
         assert fragment in result.stdout
-    assert result.stderr == "1 of 1 level(s) invalid\n"
+    assert result.stderr == f"guardsim: error: 1 of 1 level(s) invalid: {path}\n"
 
 
 def test_validate_prints_every_problem_of_every_file(tmp_path: Path) -> None:
@@ -84,7 +84,7 @@ def test_validate_prints_every_problem_of_every_file(tmp_path: Path) -> None:
         f"{good}: ok",
         f"{one}: key 'colour': unknown key (known keys: cell_size, guard, holes, name, outer, starts)",
     ]
-    assert result.stderr == "2 of 3 level(s) invalid\n"
+    assert result.stderr == f"guardsim: error: 2 of 3 level(s) invalid: {two}, {one}\n"
 
 
 def test_validate_goes_on_after_an_unreadable_file(tmp_path: Path) -> None:

@@ -84,5 +84,5 @@ def test_cells_limit_raised_past_memory_is_one_line(tmp_path: Path) -> None:
     assert "--max-cells" in assert_one_line_error(refused, path)
     unbounded = run("play", path, "--gif", tmp_path / "out.gif", "--max-cells", str(10**31))
     assert unbounded.exit_code == 2
-    assert unbounded.stderr == "guardsim: error: out of memory; lower --max-cells or --max-vertices\n"
+    assert unbounded.stderr == f"guardsim: error: {path}: out of memory; lower --max-cells or --max-vertices\n"
     assert "Traceback" not in unbounded.output

@@ -286,7 +286,7 @@ def test_huge_coordinates_fail_fast_on_the_cells_limit() -> None:
     ring = np.stack([5e14 * (1 + np.cos(angles)), 5e14 * (1 + np.sin(angles))], axis=1).tolist()
     tracemalloc.start()
     try:
-        with pytest.raises(LevelError, match=r"cells is over the limit of 1000000 .*--max-cells"):
+        with pytest.raises(LevelError, match=r"cells is over the limit of 1000000 .*max_cells"):
             parse_level({"outer": ring}, source="huge.json")
         _, peak = tracemalloc.get_traced_memory()
     finally:

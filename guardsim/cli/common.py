@@ -5,6 +5,7 @@ from __future__ import annotations
 import dataclasses
 import functools
 import math
+import re
 import sys
 from collections.abc import Callable
 from typing import Any, TypeVar
@@ -14,35 +15,88 @@ import numpy as np
 
 from guardsim.errors import GuardsimError
 from guardsim.level import DEFAULT_MAX_CELLS, DEFAULT_MAX_FILE_BYTES, DEFAULT_MAX_VERTICES, Level, load_level
+from guardsim.reading import display_path
 from guardsim.scene import Scene
 from guardsim.starts import episode_start
 from guardsim.vision.rules import LineOfSight
 
-__all__ = ["build_scene", "cli_start", "limit_options", "load", "parse_point", "reports_errors", "vision_options"]
+__all__ = [
+    "LIMIT_OPTIONS",
+    "FiniteFloatRange",
+    "build_scene",
+    "cli_start",
+    "limit_options",
+    "load",
+    "one_line",
+    "parse_point",
+    "reports_errors",
+    "vision_options",
+    "with_options",
+]
 
 F = TypeVar("F", bound=Callable[..., Any])
 
 
+#: The library names a limit by its keyword; the command line says which option raises it.
+LIMIT_OPTIONS = {
+    "max_cells": "--max-cells",
+    "max_vertices": "--max-vertices",
+    "max_file_bytes": "--max-file-bytes",
+    "max_rays": "--max-rays",
+    "max_frames": "--max-frames",
+    "max_frame_pixels": "--max-frame-pixels",
+}
+_LIMIT_KEYWORD = re.compile(r"\((" + "|".join(LIMIT_OPTIONS) + r")\b([^()]*)\)")
+
+
+def with_options(message: str) -> str:
+    """A library message with each limit keyword, ``(max_cells)``, followed by the option that raises it.
+
+    >>> with_options("over the limit of 10 cells (max_cells)")
+    'over the limit of 10 cells (max_cells: raise it with --max-cells)'
+    """
+    return _LIMIT_KEYWORD.sub(lambda m: f"({m[1]}{m[2]}: raise it with {LIMIT_OPTIONS[m[1]]})", message)
+
+
+def _inputs() -> str:
+    """The files the running command was given, for a message that has no file of its own."""
+    context = click.get_current_context(silent=True)
+    if context is None:
+        return ""
+    given = [
+        str(item)
+        for name, value in context.params.items()
+        if name.endswith(("path", "paths")) and value
+        for item in (value if isinstance(value, (tuple, list)) else (value,))
+    ]
+    return f"{', '.join(display_path(item) for item in given[:3])}: " if given else ""
+
+
 def reports_errors(command: F) -> F:
     """Turn guardsim's own errors (and running out of memory) into one line on stderr and exit status 2;
-    Ctrl-C into status 130."""
+    Ctrl-C into status 130. Limit keywords in the message gain the option that raises them."""
 
     @functools.wraps(command)
     def wrapper(*args: Any, **kwargs: Any) -> Any:
         try:
             return command(*args, **kwargs)
         except GuardsimError as error:
-            click.echo(f"guardsim: error: {error}", err=True)
+            click.echo(f"guardsim: error: {one_line(with_options(str(error)))}", err=True)
             sys.exit(2)
         except MemoryError:
             # Only reachable when a size limit was raised past what this machine holds.
-            click.echo("guardsim: error: out of memory; lower --max-cells or --max-vertices", err=True)
+            click.echo(f"guardsim: error: {_inputs()}out of memory; lower --max-cells or --max-vertices", err=True)
             sys.exit(2)
         except KeyboardInterrupt:
             click.echo("guardsim: interrupted", err=True)
             sys.exit(130)
 
     return wrapper  # type: ignore[return-value]
+
+
+def one_line(text: str) -> str:
+    """``text`` with line breaks turned into spaces, so that a message stays one line."""
+    return " ".join(text.splitlines()) if "\n" in text or "\r" in text else text
 
 
 def parse_point(_ctx: click.Context, param: click.Parameter, value: str | None) -> tuple[float, float] | None:
@@ -89,16 +143,27 @@ def load(path: str, max_cells: int, max_vertices: int, max_file_bytes: int) -> L
     return load_level(path, max_cells=max_cells, max_vertices=max_vertices, max_file_bytes=max_file_bytes)
 
 
+class FiniteFloatRange(click.FloatRange):
+    """A float option within a range that also refuses ``nan`` and ``inf`` (every comparison with NaN is
+    false, so a plain :class:`click.FloatRange` lets it through)."""
+
+    def convert(self, value: Any, param: click.Parameter | None, ctx: click.Context | None) -> Any:
+        number = super().convert(value, param, ctx)
+        if not math.isfinite(number):
+            self.fail(f"{value!r} is not a finite number.", param, ctx)
+        return number
+
+
 def vision_options(command: F) -> F:
     """Options that change how the guard sees: --los, --fov, --view-range."""
     command = click.option(
         "--view-range",
-        type=click.FloatRange(min=0, min_open=True),
+        type=FiniteFloatRange(min=0, min_open=True),
         help="Override the guard's view range (world units) [default: the level's; unlimited with --los bresenham].",
     )(command)
     command = click.option(
         "--fov",
-        type=click.FloatRange(min=0, max=360, min_open=True),
+        type=FiniteFloatRange(min=0, max=360, min_open=True),
         help="Override the guard's field of view in degrees.",
     )(command)
     command = click.option(
