@@ -24,7 +24,7 @@ import numpy as np
 import shapely
 
 from guardsim.grid import DIRECTIONS, CoverageGrid
-from guardsim.simulation import Scene
+from guardsim.scene import Scene
 
 __all__ = ["DEFAULT_MAX_RAYS", "DesignerWarning", "free_cells", "level_warnings"]
 

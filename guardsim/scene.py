@@ -7,18 +7,21 @@ simulation loop, so tools that only need the grid or the vision (validation, bou
 from __future__ import annotations
 
 from dataclasses import dataclass
+from functools import cached_property
+from typing import TYPE_CHECKING
 
 import numpy as np
 import pymunk
 
 from guardsim.grid import CoverageGrid, build_grid
 from guardsim.level import Level
-from guardsim.vision.bresenham import bresenham_visible
-from guardsim.vision.cache import VisionCache
 from guardsim.vision.cone import VisionCone
 from guardsim.vision.rays import visible_cells
 from guardsim.vision.rules import LineOfSight, VisionFunction
 from guardsim.world import World
+
+if TYPE_CHECKING:
+    from guardsim.vision.cache import VisionCache
 
 __all__ = ["Scene"]
 
@@ -39,8 +42,18 @@ class Scene:
     world: World
     grid: CoverageGrid
     cone: VisionCone
-    vision_cache: VisionCache
-    """Visible cells per state, filled as episodes meet them and shared by all of them."""
+    rule: LineOfSight = LineOfSight.PYMUNK
+    """The line-of-sight rule."""
+
+    @cached_property
+    def vision_cache(self) -> VisionCache:
+        """Visible cells per state, filled as episodes meet them and shared by all of them.
+
+        Built on first use: the cache is compiled code, which validation and previews never need.
+        """
+        from guardsim.vision.cache import VisionCache
+
+        return VisionCache(self.world, self.grid, self.cone, line_of_sight=self.rule)
 
     @classmethod
     def from_level(
@@ -65,12 +78,12 @@ class Scene:
         world = World(level, space=space, walls_in_space=walls_in_space)
         grid = build_grid(level, world)
         cone = VisionCone.from_guard(level.guard, level.cell_size, grid_shape=grid.shape)
-        return cls(level, world, grid, cone, VisionCache(world, grid, cone, line_of_sight=line_of_sight))
+        return cls(level, world, grid, cone, LineOfSight(line_of_sight))
 
     @property
     def line_of_sight(self) -> LineOfSight:
-        """The line-of-sight rule."""
-        return self.vision_cache.line_of_sight
+        """The line-of-sight rule (the same as :attr:`rule`)."""
+        return self.rule
 
     def vision(self, *, reference: bool = False) -> VisionFunction:
         """The vision to use: the shared cache by default, the per-cell-ray reference on request.
@@ -82,6 +95,7 @@ class Scene:
     def reference_vision(self) -> VisionFunction:
         """The reference vision: one pymunk ray (or Bresenham line) per cell in the cone, every tick."""
         if self.line_of_sight is LineOfSight.BRESENHAM:
+            from guardsim.vision.bresenham import bresenham_visible
 
             def see_on_grid(col: int, row: int, heading: int) -> np.ndarray:
                 return bresenham_visible(self.grid.traversable, col, row, self.cone.offsets[heading])

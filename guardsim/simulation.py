@@ -127,6 +127,7 @@ class Simulation:
         starts: Sequence[tuple[int, int]] | None = None,
         headings: Sequence[int] | None = None,
         rng: np.random.Generator | None = None,
+        seen: np.ndarray | None = None,
     ) -> None:
         """Start a new episode and look from the start (tick 0).
 
@@ -134,6 +135,8 @@ class Simulation:
         level's start, or one drawn from the seed), and teammates are drawn after it. With ``starts``
         (``(col, row)`` cells, one per guard) and ``headings`` (heading numbers, 0 right, 1 down, 2
         left, 3 up), those are used, and ``rng`` (or a generator from ``seed``) feeds the planners.
+        ``seen`` (``bool (rows, cols)``) marks cells already seen before the start (first seen at tick
+        0), so an episode can carry on from another one's coverage.
         """
         guards = len(self.planners)
         self.seed = seed
@@ -170,6 +173,13 @@ class Simulation:
             unseen_counts=np.zeros(self.limit + 1, dtype=np.int64),
             counters=np.array([0, int(goal.sum()), RUNNING], dtype=np.int64),
         )
+        if seen is not None:
+            known = np.asarray(seen, dtype=bool).ravel()
+            if known.size != grid.size:
+                raise ValueError(f"seen has {known.size} cells; the grid has {grid.size}")
+            episode_arrays.seen[known] = True
+            episode_arrays.first_seen[known] = 0
+            episode_arrays.counters[UNSEEN] -= int((goal & known).sum())
         for number, ((col, row), heading) in enumerate(zip(cells, facing)):
             episode_arrays.cells[number, 0] = grid.flat(col, row)
             episode_arrays.headings[number, 0] = heading

@@ -1,30 +1,55 @@
 """The ``guardsim`` command line.
 
-Each command lives in its own module and is registered here. Every error a user can cause is printed as
-one line on standard error, with exit status 2 (see :func:`guardsim.cli.common.reports_errors`).
+Each command lives in its own module, listed in :data:`COMMANDS` and imported only when it runs (or
+when its own ``--help`` is asked for), so ``guardsim --help`` and ``guardsim validate`` start without
+loading the compiled simulation. Every error a user can cause is printed as one line on standard error,
+with exit status 2 (see :func:`guardsim.cli.common.reports_errors`).
 """
 
 from __future__ import annotations
 
+import importlib
+
 import click
 
-from guardsim.cli.bench import bench
-from guardsim.cli.bounds import bounds
-from guardsim.cli.importing import import_command
-from guardsim.cli.play import play
-from guardsim.cli.regress import regress
-from guardsim.cli.render import render
-from guardsim.cli.schema import schema
-from guardsim.cli.validate import validate
+__all__ = ["COMMANDS", "main"]
 
-__all__ = ["main"]
+#: Command name -> (module, the click command's name in it, one-line help for ``guardsim --help``).
+COMMANDS: dict[str, tuple[str, str, str]] = {
+    "bench": ("guardsim.cli.bench", "bench", "Run many episodes from random starts and summarise them."),
+    "bounds": ("guardsim.cli.bounds", "bounds", "Lower bounds on the steps needed to see every reachable cell."),
+    "import": ("guardsim.cli.importing", "import_command", "Convert a Tiled, Moving AI or image map to a level."),
+    "play": ("guardsim.cli.play", "play", "Walk a guard over LEVEL until it has seen every reachable cell."),
+    "regress": ("guardsim.cli.regress", "regress", "Re-play levels and compare them with stored references."),
+    "render": ("guardsim.cli.render", "render", "Draw a level preview as a PNG."),
+    "schema": ("guardsim.cli.schema", "schema", "Print the level format's JSON Schema."),
+    "validate": ("guardsim.cli.validate", "validate", "Check level files and warn about designer problems."),
+}
 
 
-@click.group()
+class _LazyGroup(click.Group):
+    """A group whose commands are imported when used; the listing reads :data:`COMMANDS` alone."""
+
+    def list_commands(self, ctx: click.Context) -> list[str]:
+        return sorted(COMMANDS)
+
+    def get_command(self, ctx: click.Context, cmd_name: str) -> click.Command | None:
+        entry = COMMANDS.get(cmd_name)
+        if entry is None:
+            return None
+        module, name, _ = entry
+        command = getattr(importlib.import_module(module), name)
+        if not isinstance(command, click.Command):
+            raise TypeError(f"{module}.{name} is not a click command")
+        return command
+
+    def format_commands(self, ctx: click.Context, formatter: click.HelpFormatter) -> None:
+        rows = [(name, COMMANDS[name][2]) for name in self.list_commands(ctx)]
+        with formatter.section("Commands"):
+            formatter.write_dl(rows)
+
+
+@click.group(cls=_LazyGroup)
 @click.version_option(package_name="guardsim")
 def main() -> None:
     """Coverage path planning for guards in games."""
-
-
-for command in (bench, bounds, import_command, play, regress, render, schema, validate):
-    main.add_command(command)

@@ -10,7 +10,8 @@ from guardsim.errors import LevelError
 from guardsim.level import HEADINGS
 from guardsim.output import atomic_path
 from guardsim.render import draw_cone_overlay, render_preview
-from guardsim.simulation import Scene, choose_start
+from guardsim.scene import Scene
+from guardsim.starts import choose_start
 
 __all__ = ["render"]
 

@@ -4,6 +4,7 @@
 - :mod:`~guardsim.vision.cone`: the cone's cell offsets per heading (:class:`VisionCone`);
 - :mod:`~guardsim.vision.rays`: the reference, one pymunk ray per cell (:func:`visible_cells`);
 - :mod:`~guardsim.vision.screen`: the compiled wall screen that settles most rays without pymunk;
+- :mod:`~guardsim.vision.targets`: the compiled twin of the cone's targets;
 - :mod:`~guardsim.vision.bresenham`: the Bresenham rule of grid watchman-route solvers;
 - :mod:`~guardsim.vision.cache`: every state's cells, computed once per level (:class:`VisionCache`);
 - :mod:`~guardsim.vision.table`: the per-level view table, what each state sees and who sees each cell.
@@ -11,10 +12,10 @@
 
 from __future__ import annotations
 
-from guardsim.vision.cache import VisionCache
 from guardsim.vision.cone import VisionCone
 from guardsim.vision.rays import visible_cells
 from guardsim.vision.rules import LineOfSight, VisionFunction
-from guardsim.vision.table import ViewTable, view_table
 
-__all__ = ["LineOfSight", "ViewTable", "VisionCache", "VisionCone", "VisionFunction", "view_table", "visible_cells"]
+# The cache, the table and the Bresenham rule are compiled with numba: import them from their modules,
+# so that what only needs the cone and the rays (validation, previews) starts without the compiler.
+__all__ = ["LineOfSight", "VisionCone", "VisionFunction", "visible_cells"]

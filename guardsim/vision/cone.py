@@ -5,13 +5,12 @@ from __future__ import annotations
 import math
 from dataclasses import dataclass
 
-import numba
 import numpy as np
 
 from guardsim.grid import DIRECTIONS, CoverageGrid
 from guardsim.level import GuardSpec
 
-__all__ = ["VisionCone", "cone_target", "cone_targets"]
+__all__ = ["VisionCone", "cone_targets"]
 
 # Cells exactly on the cone's edge or range are in; this absorbs float noise in that comparison.
 _EDGE_TOLERANCE = 1e-9
@@ -77,19 +76,3 @@ def cone_targets(
     target_cols, target_rows = target_cols[on_grid], target_rows[on_grid]
     candidates = grid.traversable[target_rows, target_cols]
     return target_cols[candidates], target_rows[candidates]
-
-
-@numba.njit(cache=True, nogil=True)
-def cone_target(
-    col: int, row: int, offsets: np.ndarray, index: int, rows: int, cols: int, traversable: np.ndarray
-) -> int:
-    """Compiled twin of :func:`cone_targets` for one offset: the flat index of the traversable cell
-    ``offsets[index]`` away from ``(col, row)``, or -1 if it is off the grid, a wall or the guard's own cell."""
-    target_col = col + offsets[index, 0]
-    target_row = row + offsets[index, 1]
-    if target_col < 0 or target_col >= cols or target_row < 0 or target_row >= rows:
-        return -1
-    if target_col == col and target_row == row:
-        return -1
-    flat = target_row * cols + target_col
-    return flat if traversable[flat] else -1
