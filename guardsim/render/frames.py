@@ -1,0 +1,341 @@
+"""Episode frames: the level, what is still unseen, each guard's cone, trail, start and body, a caption bar
+and a legend, drawn from the trace as arrays of indices into the fixed palette.
+
+Frames are drawn in tick order by one :class:`FrameDrawer`, which keeps what does not change (the level,
+the legend, the unreachable cells) and updates the rest incrementally: cells newly seen since the last
+frame are repainted, trail segments walked since then are added to a layer that stores, per pixel, the
+tick it was last walked, and only the cones are recomputed. The trail fades in whole blocks of ticks, so
+between two block boundaries a frame differs from the previous one only near the guards and in the
+caption, which keeps the GIF's per-frame rectangles small.
+"""
+
+from __future__ import annotations
+
+import math
+from dataclasses import dataclass
+
+import numpy as np
+from PIL import Image, ImageDraw
+
+from guardsim.level import Level
+from guardsim.render.legend import draw_legend
+from guardsim.render.palette import Index, guard_index, palette_rgb, text_index
+from guardsim.render.sight import SightCaster
+from guardsim.render.text import Typesetter
+from guardsim.trace import Trace
+from guardsim.world import World
+
+__all__ = ["DEFAULT_FRAME_SIZE", "FrameDrawer", "Layout", "VisionSettings", "pixels_per_cell", "render_frame"]
+
+#: Longest side of the play area in pixels, before rounding to whole pixels per cell.
+DEFAULT_FRAME_SIZE = 480
+#: Narrowest frame: the caption and legend need this much room even for a small level.
+MIN_FRAME_WIDTH = 400
+#: The guard's disc is never smaller than this radius in pixels, whatever the cell size.
+MIN_GUARD_RADIUS = 7
+#: Wall-coloured margin round the grid, so the level's outer boundary is drawn on every side.
+PLAY_PAD = 4
+#: The trail fades over about this many blocks of ticks per episode.
+TRAIL_BLOCKS = 24
+#: Age in blocks at which the trail steps down to each fainter level.
+_TRAIL_AGES = np.asarray([1, 2, 4, 8])
+_CAPTION_SIZE = 13
+_CAPTION_LINE = 17
+
+
+def pixels_per_cell(shape: tuple[int, int], size: int) -> int:
+    """Whole pixels per cell so that the longer side is about ``size`` pixels (at least 1)."""
+    return max(1, size // max(shape))
+
+
+@dataclass(frozen=True)
+class VisionSettings:
+    """The guard's vision as simulated: from the trace, or the level's guard for traces that lack it."""
+
+    view_range: float
+    fov_degrees: float
+
+    @classmethod
+    def of(cls, level: Level, trace: Trace) -> VisionSettings:
+        return cls(
+            view_range=level.guard.view_range if trace.view_range is None else trace.view_range,
+            fov_degrees=level.guard.fov_degrees if trace.fov_degrees is None else trace.fov_degrees,
+        )
+
+
+@dataclass(frozen=True)
+class Layout:
+    """Where things go in a frame, in pixels."""
+
+    scale: int
+    """Pixels per cell."""
+    play: tuple[int, int]
+    """``(width, height)`` of the play area."""
+    left: int
+    """Left edge of the play area."""
+    top: int
+    """Height of the caption bar above the play area (also the play area's top edge)."""
+    legend: int
+    """Height of the legend bar below it."""
+    width: int
+    """Width of the whole frame."""
+
+    @property
+    def height(self) -> int:
+        """Height of the whole frame."""
+        return self.top + self.play[1] + self.legend
+
+
+class FrameDrawer:
+    """Draws an episode's frames; fastest when asked for ticks in increasing order.
+
+    Parameters
+    ----------
+    level
+        The level the trace was played on (its walls and outline are drawn; its guard is used only when
+        the trace does not record the vision simulated).
+    trace
+        The episode.
+    size
+        Longest side of the play area in pixels (approximate: cells are whole pixels).
+    """
+
+    def __init__(self, level: Level, trace: Trace, *, size: int = DEFAULT_FRAME_SIZE) -> None:
+        self.level = level
+        self.trace = trace
+        self.vision = VisionSettings.of(level, trace)
+        self.sight = SightCaster(World(level))
+        self.paths = trace.team_paths()
+        self.headings = trace.team_headings()
+        self.guards = len(self.paths)
+        rows, cols = trace.shape
+        scale = pixels_per_cell(trace.shape, size)
+        self.pixels_per_unit = scale / trace.cell_size
+        self.caption_setter = Typesetter(_CAPTION_SIZE)
+        width = max(cols * scale, MIN_FRAME_WIDTH)
+        legend = draw_legend(width, guards=self.guards, unreachable=bool(trace.unreachable))
+        play = (cols * scale + 2 * PLAY_PAD, rows * scale + 2 * PLAY_PAD)
+        width = max(width, play[0])
+        legend = draw_legend(width, guards=self.guards, unreachable=bool(trace.unreachable))
+        self.layout = Layout(scale, play, (width - play[0]) // 2, 2 * _CAPTION_LINE + 8, legend.shape[0], width)
+        self.template = np.full((self.layout.height, width), Index.BAR, dtype=np.uint8)
+        self.template[self.layout.height - legend.shape[0] :] = legend
+        self.static = self._draw_level()
+        self.free = self.static == Index.FREE
+        # Cells in first-seen order, to repaint only those newly seen between two frames.
+        flat = np.flatnonzero(trace.goal & (trace.first_seen >= 0))
+        ticks = trace.first_seen.ravel()[flat]
+        order = np.argsort(ticks, kind="stable")
+        self._seen_cells, self._seen_ticks = flat[order], ticks[order]
+        self.trail_block = max(1, math.ceil(trace.steps / TRAIL_BLOCKS))
+        self.trail_width = max(1, round(scale / 3))
+        self._reset()
+
+    # -- static parts ------------------------------------------------------------------------------
+
+    def to_pixels(self, point: tuple[float, float]) -> tuple[float, float]:
+        """A world point in play-area pixels."""
+        origin = self.trace.origin
+        return (
+            PLAY_PAD + (point[0] - origin[0]) * self.pixels_per_unit,
+            PLAY_PAD + (point[1] - origin[1]) * self.pixels_per_unit,
+        )
+
+    def cell_centre(self, cell: tuple[int, int]) -> tuple[float, float]:
+        """A cell's centre in play-area pixels."""
+        scale = self.layout.scale
+        return (PLAY_PAD + (cell[0] + 0.5) * scale, PLAY_PAD + (cell[1] + 0.5) * scale)
+
+    def _upscale(self, cells: np.ndarray) -> np.ndarray:
+        scale = self.layout.scale
+        return np.pad(np.repeat(np.repeat(cells, scale, axis=0), scale, axis=1), PLAY_PAD)
+
+    def _draw_level(self) -> np.ndarray:
+        """Walls, floor, unreachable cells hatched, the outline of every wall ring."""
+        image = Image.new("L", self.layout.play, Index.WALL)
+        draw = ImageDraw.Draw(image)
+        draw.polygon([self.to_pixels(p) for p in self.level.outer], fill=Index.FREE)
+        for hole in self.level.holes:
+            draw.polygon([self.to_pixels(p) for p in hole], fill=Index.WALL)
+        static = np.asarray(image).copy()
+        unreachable = self._upscale(self.trace.traversable & ~self.trace.goal) & (static == Index.FREE)
+        rows, cols = np.indices(static.shape)
+        static[unreachable] = Index.UNREACHABLE
+        static[unreachable & ((rows + cols) % 6 == 0)] = Index.HATCH
+        image = Image.fromarray(static)
+        draw = ImageDraw.Draw(image)
+        width = 2 if self.layout.scale >= 4 else 1
+        for ring in (self.level.outer, *self.level.holes):
+            points = [self.to_pixels(p) for p in ring]
+            draw.line([*points, points[0]], fill=Index.OUTLINE, width=width)
+        return np.asarray(image).copy()
+
+    # -- what changes with the tick ---------------------------------------------------------------
+
+    def _reset(self) -> None:
+        self._tick = 0
+        unseen = self.trace.goal & ((self.trace.first_seen < 0) | (self.trace.first_seen > 0))
+        self._background = np.where(self._upscale(unseen) & self.free, Index.UNSEEN, self.static).astype(np.uint8)
+        self._walked = np.full(self.static.shape, -1, dtype=np.int64)
+        self._trail = np.zeros(self.static.shape, dtype=np.uint8)
+        self._trail_box: tuple[int, int, int, int] | None = None
+
+    def _trail_level(self, walked: np.ndarray | int, tick: int) -> np.ndarray:
+        age = tick // self.trail_block - np.asarray(walked) // self.guards // self.trail_block
+        return np.searchsorted(_TRAIL_AGES, age, side="right")
+
+    def _trail_colour(self, walked: np.ndarray, tick: int) -> np.ndarray:
+        guard = walked % self.guards % 8
+        return (Index.GUARD_BASE + 8 * guard + self._trail_level(walked, tick)).astype(np.uint8)
+
+    def _segment_box(self, a: tuple[int, int], b: tuple[int, int]) -> tuple[int, int, int, int]:
+        """The band of trail pixels between two cells' centres: ``(x0, y0, x1, y1)``, ends exclusive."""
+        scale, width = self.layout.scale, self.trail_width
+        inset = PLAY_PAD + (scale - width) // 2
+        xa, ya, xb, yb = a[0] * scale + inset, a[1] * scale + inset, b[0] * scale + inset, b[1] * scale + inset
+        return min(xa, xb), min(ya, yb), max(xa, xb) + width, max(ya, yb) + width
+
+    def _advance(self, tick: int) -> None:
+        """Bring the background and the trail layers from the current tick to ``tick``."""
+        if tick < self._tick:
+            self._reset()
+        start, stop = np.searchsorted(self._seen_ticks, [self._tick, tick], side="right")
+        if stop > start:
+            cols, scale = self.trace.shape[1], self.layout.scale
+            cells = self._seen_cells[start:stop]
+            offsets = PLAY_PAD + np.arange(scale)
+            rows = ((cells // cols) * scale)[:, None, None] + offsets[None, :, None]
+            columns = ((cells % cols) * scale)[:, None, None] + offsets[None, None, :]
+            self._background[rows, columns] = self.static[rows, columns]
+        box = self._trail_box
+        for step in range(self._tick + 1, tick + 1):
+            for guard, path in enumerate(self.paths):
+                if path[step - 1] == path[step]:
+                    continue
+                x0, y0, x1, y1 = self._segment_box(path[step - 1], path[step])
+                code = step * self.guards + guard
+                self._walked[y0:y1, x0:x1] = code
+                self._trail[y0:y1, x0:x1] = self._trail_colour(np.asarray(code), tick)
+                box = (
+                    (x0, y0, x1, y1)
+                    if box is None
+                    else (min(box[0], x0), min(box[1], y0), max(box[2], x1), max(box[3], y1))
+                )
+        self._trail_box = box
+        if box is not None and tick // self.trail_block != self._tick // self.trail_block:
+            x0, y0, x1, y1 = box
+            walked = self._walked[y0:y1, x0:x1]
+            drawn = walked >= 0
+            self._trail[y0:y1, x0:x1][drawn] = self._trail_colour(walked[drawn], tick)
+        self._tick = tick
+
+    def cone_polygon(self, guard: int, tick: int) -> list[tuple[float, float]]:
+        """What guard ``guard`` sees at ``tick``, as a ring of play-area pixel points."""
+        cell = self.paths[guard][tick]
+        origin, size = self.trace.origin, self.trace.cell_size
+        eye = (origin[0] + (cell[0] + 0.5) * size, origin[1] + (cell[1] + 0.5) * size)
+        heading = 90.0 * self.headings[guard][tick]
+        ring = self.sight.polygon(eye, heading, self.vision.fov_degrees, self.vision.view_range)
+        return [self.to_pixels(point) for point in ring]
+
+    @staticmethod
+    def _tint_cone(play: np.ndarray, ring: list[tuple[float, float]]) -> None:
+        height, width = play.shape
+        xs, ys = [p[0] for p in ring], [p[1] for p in ring]
+        x0, y0 = max(0, math.floor(min(xs))), max(0, math.floor(min(ys)))
+        x1, y1 = min(width, math.ceil(max(xs)) + 1), min(height, math.ceil(max(ys)) + 1)
+        if x1 <= x0 or y1 <= y0:
+            return
+        mask_image = Image.new("L", (x1 - x0, y1 - y0), 0)
+        ImageDraw.Draw(mask_image).polygon([(x - x0, y - y0) for x, y in ring], fill=1)
+        region = play[y0:y1, x0:x1]
+        # Only floor entries are tinted: never walls or outlines, nor a cone another guard already tinted.
+        mask = (np.asarray(mask_image) > 0) & (region >= Index.FREE) & (region <= Index.HATCH)
+        region[mask] += Index.CONE_BASE
+
+    def _paint_trail(self, play: np.ndarray) -> None:
+        if self._trail_box is None:
+            return
+        x0, y0, x1, y1 = self._trail_box
+        trail = self._trail[y0:y1, x0:x1]
+        drawn = trail > 0
+        play[y0:y1, x0:x1][drawn] = trail[drawn]
+
+    def _draw_markers(self, play: np.ndarray, tick: int, rings: list[list[tuple[float, float]]]) -> np.ndarray:
+        image = Image.fromarray(play)
+        draw = ImageDraw.Draw(image)
+        radius = max(MIN_GUARD_RADIUS, 0.45 * self.layout.scale)
+        for guard, path in enumerate(self.paths):
+            x, y = self.cell_centre(path[0])
+            half = max(radius + 2, 0.5 * self.layout.scale)
+            draw.rectangle((x - half, y - half, x + half, y + half), outline=guard_index(guard), width=2)
+        for guard, ring in enumerate(rings):
+            draw.line([*ring, ring[0]], fill=guard_index(guard), width=1)
+        # Guards sharing a cell are spread round its centre so that each stays visible.
+        sharing: dict[tuple[int, int], list[int]] = {}
+        for guard, path in enumerate(self.paths):
+            sharing.setdefault(path[tick], []).append(guard)
+        for cell, guards in sharing.items():
+            cx, cy = self.cell_centre(cell)
+            for place, guard in enumerate(guards):
+                angle = 2 * math.pi * place / len(guards) - math.pi / 2
+                spread = 0.9 * radius if len(guards) > 1 else 0.0
+                centre = (cx + spread * math.cos(angle), cy + spread * math.sin(angle))
+                _draw_guard(draw, centre, self.headings[guard][tick], radius, guard)
+        return np.asarray(image)
+
+    def caption(self, tick: int) -> tuple[str, str]:
+        """The two caption lines at ``tick``."""
+        trace = self.trace
+        team = f"{self.guards} guards" if self.guards > 1 else "1 guard"
+        first = f"{trace.level}  |  tick {tick} / {trace.steps}  |  {trace.planner}, {team}"
+        second = f"{trace.unseen_percent[tick]:.1f}% of {trace.reachable} reachable cells unseen"
+        if trace.unreachable:
+            second += f"  |  {trace.unreachable} unreachable cells (not counted)"
+        return first, second
+
+    def frame(self, tick: int) -> np.ndarray:
+        """The frame at ``tick`` as a ``uint8 (height, width)`` array of palette indices."""
+        if not 0 <= tick <= self.trace.steps:
+            raise ValueError(f"tick {tick} is outside the episode (0 to {self.trace.steps})")
+        self._advance(tick)
+        play = self._background.copy()
+        rings = [self.cone_polygon(guard, tick) for guard in range(self.guards)]
+        for ring in rings:
+            self._tint_cone(play, ring)
+        self._paint_trail(play)
+        play = self._draw_markers(play, tick, rings)
+        layout = self.layout
+        canvas = self.template.copy()
+        canvas[layout.top : layout.top + layout.play[1], layout.left : layout.left + layout.play[0]] = play
+        first, second = self.caption(tick)
+        coverage = self.caption_setter.mask(
+            (layout.width, layout.top), [((8, 4), first), ((8, 4 + _CAPTION_LINE), second)]
+        )
+        inked = coverage > 0
+        canvas[: layout.top][inked] = text_index(coverage[inked])
+        return canvas
+
+
+def _draw_guard(
+    draw: ImageDraw.ImageDraw, centre: tuple[float, float], heading: int, radius: float, guard: int
+) -> None:
+    """A disc in the guard's colour with a pointed nose towards its heading and a white eye."""
+    angle = math.radians(90 * heading)
+    dx, dy = math.cos(angle), math.sin(angle)
+    x, y = centre
+    tip = (x + dx * radius * 1.9, y + dy * radius * 1.9)
+    side = radius * 0.85
+    draw.polygon(
+        [tip, (x - dy * side, y + dx * side), (x + dy * side, y - dx * side)],
+        fill=guard_index(guard),
+        outline=Index.OUTLINE,
+    )
+    draw.ellipse((x - radius, y - radius, x + radius, y + radius), fill=guard_index(guard), outline=Index.OUTLINE)
+    eye = (x + dx * radius * 0.35, y + dy * radius * 0.35)
+    draw.ellipse((eye[0] - 1.5, eye[1] - 1.5, eye[0] + 1.5, eye[1] + 1.5), fill=Index.WHITE)
+
+
+def render_frame(level: Level, trace: Trace, tick: int, *, size: int = DEFAULT_FRAME_SIZE) -> np.ndarray:
+    """The frame at ``tick`` as an RGB ``uint8 (height, width, 3)`` array."""
+    return palette_rgb()[FrameDrawer(level, trace, size=size).frame(tick)]

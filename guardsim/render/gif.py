@@ -1,0 +1,143 @@
+"""Episodes as animated GIFs, streamed: each frame is encoded and written as soon as it is drawn.
+
+Every frame uses the one fixed palette (:mod:`guardsim.render.palette`), written once as the GIF's global
+colour table, so nothing is quantised. After the first frame only the rectangle that changed since the
+previous frame is encoded (GIF frames are composed over the previous one), which keeps files small and
+encoding fast. Pillow's GIF encoder does the LZW compression, one frame at a time.
+"""
+
+from __future__ import annotations
+
+import io
+import math
+from dataclasses import dataclass
+from pathlib import Path
+from typing import BinaryIO
+
+import numpy as np
+from PIL import GifImagePlugin, Image
+
+from guardsim.errors import LimitError
+from guardsim.level import Level
+from guardsim.output import atomic_path
+from guardsim.render.frames import DEFAULT_FRAME_SIZE, FrameDrawer
+from guardsim.render.palette import PALETTE
+from guardsim.trace import Trace
+
+__all__ = ["DEFAULT_MAX_FRAMES", "FRAME_CEILING", "GifOptions", "GifStream", "encode_gif", "frame_ticks", "write_gif"]
+
+#: Frames in a GIF unless the caller asks for more; the stride grows to stay under it.
+DEFAULT_MAX_FRAMES = 200
+#: Hard ceiling on frames, whatever the options, to keep GIFs bounded.
+FRAME_CEILING = 5000
+
+_PALETTE_BYTES = bytes(channel for colour in PALETTE for channel in colour)
+
+
+@dataclass(frozen=True)
+class GifOptions:
+    """How an episode becomes a GIF."""
+
+    stride: int | None = None
+    """Ticks between frames; ``None`` picks the smallest stride that keeps under ``max_frames``."""
+    frame_ms: int = 60
+    """Duration of each frame in milliseconds."""
+    hold_ms: int = 2000
+    """Duration of the last frame, so the final coverage stays on screen."""
+    max_frames: int = DEFAULT_MAX_FRAMES
+    """Most frames the GIF may have."""
+    size: int = DEFAULT_FRAME_SIZE
+    """Longest side of the play area in pixels (approximate: cells are whole pixels)."""
+
+
+def frame_ticks(steps: int, options: GifOptions) -> list[int]:
+    """The ticks drawn: every ``stride``-th from 0, and always the last.
+
+    Raises
+    ------
+    LimitError
+        If an explicit stride would exceed ``max_frames``.
+    """
+    if options.max_frames < 1 or options.max_frames > FRAME_CEILING:
+        raise LimitError(f"--max-frames must be from 1 to {FRAME_CEILING} (the GIF ceiling), not {options.max_frames}")
+    if options.max_frames == 1:
+        return [steps]
+    if options.stride is None:
+        # The last tick is always added, so leave room for it.
+        stride = max(1, math.ceil(steps / (options.max_frames - 1)))
+    else:
+        if options.stride < 1:
+            raise LimitError(f"frame stride must be at least 1, not {options.stride}")
+        stride = options.stride
+    ticks = list(range(0, steps + 1, stride))
+    if ticks[-1] != steps:
+        ticks.append(steps)
+    if len(ticks) > options.max_frames:
+        raise LimitError(
+            f"{len(ticks)} frames at stride {stride} is over the limit of {options.max_frames} "
+            "(raise --stride or --max-frames)"
+        )
+    return ticks
+
+
+def _palette_image(frame: np.ndarray) -> Image.Image:
+    image = Image.frombytes("P", (frame.shape[1], frame.shape[0]), np.ascontiguousarray(frame).tobytes())
+    image.putpalette(_PALETTE_BYTES)
+    return image
+
+
+class GifStream:
+    """Writes palette-index frames to a binary file as an animated GIF that loops forever.
+
+    Call :meth:`add` once per frame and :meth:`close` at the end; only the previous frame is kept.
+    """
+
+    def __init__(self, file: BinaryIO) -> None:
+        self.file = file
+        self.previous: np.ndarray | None = None
+
+    def add(self, frame: np.ndarray, duration_ms: int) -> None:
+        """Append ``frame`` (``uint8 (height, width)`` palette indices) shown for ``duration_ms``."""
+        if self.previous is None:
+            header, _ = GifImagePlugin.getheader(_palette_image(frame), None, {"loop": 0, "optimize": False})
+            self.file.write(b"".join(header))
+            box = (0, 0, frame.shape[1], frame.shape[0])
+        else:
+            if frame.shape != self.previous.shape:
+                raise ValueError(f"frame shape {frame.shape} differs from the first frame's {self.previous.shape}")
+            changed = frame != self.previous
+            rows, cols = np.flatnonzero(changed.any(axis=1)), np.flatnonzero(changed.any(axis=0))
+            # An unchanged frame still needs an image: one pixel, redrawn as it was.
+            box = (0, 0, 1, 1) if not rows.size else (int(cols[0]), int(rows[0]), int(cols[-1]) + 1, int(rows[-1]) + 1)
+        x0, y0, x1, y1 = box
+        part = _palette_image(frame[y0:y1, x0:x1])
+        self.file.write(b"".join(GifImagePlugin.getdata(part, (x0, y0), duration=duration_ms, disposal=1)))
+        self.previous = frame
+
+    def close(self) -> None:
+        """Write the GIF trailer."""
+        self.file.write(b";")
+
+
+def _stream(level: Level, trace: Trace, options: GifOptions, file: BinaryIO) -> int:
+    ticks = frame_ticks(trace.steps, options)
+    drawer = FrameDrawer(level, trace, size=options.size)
+    stream = GifStream(file)
+    for number, tick in enumerate(ticks):
+        last = number == len(ticks) - 1
+        stream.add(drawer.frame(tick), max(options.frame_ms, options.hold_ms) if last else options.frame_ms)
+    stream.close()
+    return len(ticks)
+
+
+def write_gif(path: str | Path, level: Level, trace: Trace, options: GifOptions | None = None) -> int:
+    """Write the episode to ``path`` as an animated GIF (atomically); return the number of frames."""
+    with atomic_path(path) as temporary, open(temporary, "wb") as file:
+        return _stream(level, trace, options or GifOptions(), file)
+
+
+def encode_gif(level: Level, trace: Trace, options: GifOptions | None = None) -> bytes:
+    """The episode as animated GIF bytes (loops forever; the last frame is held ``hold_ms``)."""
+    buffer = io.BytesIO()
+    _stream(level, trace, options or GifOptions(), buffer)
+    return buffer.getvalue()

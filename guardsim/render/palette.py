@@ -1,0 +1,135 @@
+"""The one fixed palette every episode frame is drawn in.
+
+Frames are arrays of palette indices, not RGB: the GIF writer never quantises, every frame of every GIF
+shares the same global colour table, and equal inputs give byte-identical files. Translucent effects (the
+cone's tint, the trail's fading, antialiased caption text) are precomputed blends with their own entries.
+"""
+
+from __future__ import annotations
+
+import numpy as np
+
+__all__ = [
+    "COLOURS",
+    "GUARD_COLOURS",
+    "PALETTE",
+    "TRAIL_LEVELS",
+    "Index",
+    "guard_index",
+    "palette_rgb",
+    "text_index",
+    "trail_index",
+]
+
+#: Named colours, as RGB.
+COLOURS: dict[str, tuple[int, int, int]] = {
+    "wall": (118, 122, 134),
+    "free": (250, 250, 246),
+    "unseen": (30, 34, 62),
+    "unreachable": (196, 150, 212),
+    "hatch": (140, 84, 162),
+    "outline": (24, 26, 32),
+    "cone": (255, 196, 40),
+    "bar": (28, 30, 38),
+    "text": (246, 246, 246),
+    "white": (255, 255, 255),
+    # Preview-only colours (guardsim render), kept for the level designer's preview.
+    "blocked": (236, 222, 196),
+    "reachable": (206, 236, 210),
+    "grid": (222, 224, 228),
+    "ruler": (90, 90, 100),
+    "guard": (214, 40, 40),
+}
+
+#: One colour per guard of a team, in order; a ninth guard takes the first colour again. Chosen to stand
+#: apart from each other and from the floor, the unseen dark, the walls and the cone's yellow.
+GUARD_COLOURS: tuple[tuple[int, int, int], ...] = (
+    (214, 40, 40),
+    (0, 104, 200),
+    (0, 150, 90),
+    (230, 110, 0),
+    (200, 40, 160),
+    (0, 170, 190),
+    (120, 80, 30),
+    (90, 90, 90),
+)
+
+#: Opacities of the trail over the floor, newest first: recent steps strong, old steps faint.
+TRAIL_LEVELS: tuple[float, ...] = (1.0, 0.72, 0.5, 0.34, 0.22)
+
+#: Strength of the cone's tint over what lies under it.
+CONE_ALPHA = 0.42
+#: Antialiasing levels of caption text over the bar.
+TEXT_LEVELS = 8
+
+
+class Index:
+    """Palette indices of the fixed entries."""
+
+    WALL = 0
+    FREE = 1
+    UNSEEN = 2
+    UNREACHABLE = 3
+    HATCH = 4
+    OUTLINE = 5
+    BAR = 6
+    WHITE = 7
+    CONE_BASE = 8
+    """``CONE_BASE + i`` is base entry ``i`` (``FREE`` .. ``HATCH``) under the cone's tint."""
+    TEXT_BASE = 16
+    """``TEXT_BASE + k``: caption text at coverage ``k / (TEXT_LEVELS - 1)`` over the bar."""
+    GUARD_BASE = 32
+    """Each guard colour takes eight entries: the trail levels, then the solid colour, then a dark one."""
+
+
+def _blend(top: tuple[int, int, int], under: tuple[int, int, int], alpha: float) -> tuple[int, int, int]:
+    return tuple(round(alpha * t + (1 - alpha) * u) for t, u in zip(top, under))  # type: ignore[return-value]
+
+
+def _build() -> list[tuple[int, int, int]]:
+    entries = [(0, 0, 0)] * 256
+    for name, index in (
+        ("wall", Index.WALL),
+        ("free", Index.FREE),
+        ("unseen", Index.UNSEEN),
+        ("unreachable", Index.UNREACHABLE),
+        ("hatch", Index.HATCH),
+        ("outline", Index.OUTLINE),
+        ("bar", Index.BAR),
+        ("white", Index.WHITE),
+    ):
+        entries[index] = COLOURS[name]
+    for base in range(Index.WALL, Index.HATCH + 1):
+        entries[Index.CONE_BASE + base] = _blend(COLOURS["cone"], entries[base], CONE_ALPHA)
+    for level in range(TEXT_LEVELS):
+        entries[Index.TEXT_BASE + level] = _blend(COLOURS["text"], COLOURS["bar"], level / (TEXT_LEVELS - 1))
+    for guard, colour in enumerate(GUARD_COLOURS):
+        base = Index.GUARD_BASE + 8 * guard
+        for level, alpha in enumerate(TRAIL_LEVELS):
+            entries[base + level] = _blend(colour, COLOURS["free"], alpha)
+        entries[base + 6] = colour
+        entries[base + 7] = _blend(colour, (0, 0, 0), 0.55)
+    return entries
+
+
+PALETTE: tuple[tuple[int, int, int], ...] = tuple(_build())
+
+
+def palette_rgb() -> np.ndarray:
+    """The palette as a ``uint8 (256, 3)`` array: ``palette_rgb()[frame]`` turns indices into RGB."""
+    return np.asarray(PALETTE, dtype=np.uint8)
+
+
+def guard_index(guard: int, *, dark: bool = False) -> int:
+    """The solid (or dark) colour of guard ``guard``."""
+    return Index.GUARD_BASE + 8 * (guard % len(GUARD_COLOURS)) + (7 if dark else 6)
+
+
+def trail_index(guard: int, level: int) -> int:
+    """Guard ``guard``'s trail at fading level ``level`` (0 newest)."""
+    return Index.GUARD_BASE + 8 * (guard % len(GUARD_COLOURS)) + level
+
+
+def text_index(coverage: np.ndarray) -> np.ndarray:
+    """Palette indices of antialiased text, from an ``uint8`` coverage mask (0 bar, 255 full text)."""
+    return (Index.TEXT_BASE + (coverage.astype(np.uint16) * (TEXT_LEVELS - 1) + 127) // 255).astype(np.uint8)
