@@ -11,7 +11,8 @@ from typing import TextIO
 
 import click
 
-from guardsim.cli.common import build_scene, limit_options, reports_errors, vision_options
+from guardsim.cli.common import build_scene, limit_options, load, reports_errors, vision_options
+from guardsim.cli.map_options import MapImport, map_options
 from guardsim.errors import GuardsimError
 from guardsim.executors import make_executor
 from guardsim.experiment import (
@@ -74,6 +75,7 @@ PLOT_NAMES = ("steps.png", "steps.svg")
     show_default=True,
     help="Compute each one-guard start's lower bounds (about 15 ms a start on a 60x60 level).",
 )
+@map_options
 @limit_options
 @reports_errors
 def bench(
@@ -95,6 +97,7 @@ def bench(
     max_cells: int,
     max_vertices: int,
     max_file_bytes: int,
+    map_import: MapImport,
 ) -> None:
     """Run --episodes episodes of each planner on each LEVEL and summarise the steps they took.
 
@@ -114,7 +117,10 @@ def bench(
 
         require_matplotlib()
     limits = {"max_cells": max_cells, "max_vertices": max_vertices, "max_file_bytes": max_file_bytes}
-    levels = tuple(with_vision(BatchLevel.load(path, **limits), los, fov, view_range) for path in level_paths)
+    levels = tuple(
+        with_vision(BatchLevel.load(path, level=load(path, **limits, map_import=map_import)), los, fov, view_range)
+        for path in level_paths
+    )
     batch = Batch(levels, planners, episodes, seed, max_steps, reference, guards, los, fov, view_range, bounds)
     folder = Path(out)
     done, pending = start_batch(batch, folder)

@@ -14,7 +14,7 @@ import click
 import numpy as np
 
 from guardsim.errors import GuardsimError
-from guardsim.level import DEFAULT_MAX_CELLS, DEFAULT_MAX_FILE_BYTES, DEFAULT_MAX_VERTICES, Level, load_level
+from guardsim.level import DEFAULT_MAX_CELLS, DEFAULT_MAX_FILE_BYTES, DEFAULT_MAX_VERTICES, Level
 from guardsim.reading import display_path
 from guardsim.scene import Scene
 from guardsim.starts import episode_start
@@ -138,9 +138,18 @@ def limit_options(command: F) -> F:
     return command
 
 
-def load(path: str, max_cells: int, max_vertices: int, max_file_bytes: int) -> Level:
-    """Load a level with the limits given on the command line."""
-    return load_level(path, max_cells=max_cells, max_vertices=max_vertices, max_file_bytes=max_file_bytes)
+def load(path: str, max_cells: int, max_vertices: int, max_file_bytes: int, map_import: Any = None) -> Level:
+    """Load a level, or import a map in memory (its summary and warnings on stderr), within the limits given."""
+    from guardsim.cli.map_options import MapImport, report_import
+    from guardsim.importers import load_any
+
+    map_import = map_import or MapImport()
+    level, imported = load_any(
+        path, options=map_import.options, max_cells=max_cells, max_vertices=max_vertices, max_file_bytes=max_file_bytes
+    )
+    if imported is not None:
+        report_import(imported, map_import.strict)
+    return level
 
 
 class FiniteFloatRange(click.FloatRange):

@@ -2,11 +2,14 @@
 
 from __future__ import annotations
 
+import sys
+
 import click
 
 from guardsim.cli.common import limit_options, reports_errors
-from guardsim.importers import import_map
-from guardsim.importers.image import DEFAULT_THRESHOLD
+from guardsim.cli.map_options import STRICT_EXIT, MapImport, map_options
+from guardsim.errors import LevelError
+from guardsim.importers import load_any
 from guardsim.output import write_text_atomic
 
 __all__ = ["import_command"]
@@ -15,51 +18,41 @@ __all__ = ["import_command"]
 @click.command("import")
 @click.argument("source", metavar="SOURCE")
 @click.option("--out", "out_path", required=True, type=str, help="Where to write the level.")
-@click.option(
-    "--cell-size",
-    type=click.FloatRange(min=0, min_open=True),
-    help="The level's cell_size in world units; one map cell, tile or pixel is one unit. [default: 1]",
-)
-@click.option(
-    "--threshold",
-    type=click.IntRange(0, 256),
-    default=DEFAULT_THRESHOLD,
-    show_default=True,
-    help="Images: pixels darker than this grey level (0-255) are walls.",
-)
-@click.option(
-    "--spawn-tile",
-    "spawn_tiles",
-    type=click.IntRange(min=1),
-    multiple=True,
-    metavar="GID",
-    help="Tiled: a global tile id that marks a guard spawn (repeatable), for tilesets without a 'guard' class.",
-)
+@map_options
 @limit_options
 @reports_errors
 def import_command(
     source: str,
     out_path: str,
-    cell_size: float | None,
-    threshold: int,
-    spawn_tiles: tuple[int, ...],
+    map_import: MapImport,
     max_cells: int,
     max_vertices: int,
     max_file_bytes: int,
 ) -> None:
-    """Convert SOURCE to a level file and print what the import changed.
+    """Convert SOURCE to a level file and print what the import found, guessed and changed.
 
-    The reader is chosen by SOURCE's suffix: .map (Moving AI), .tmx/.tmj/.json (Tiled), .png (image).
-    See docs/authoring.md for how to mark floor, walls, boundary and guard spawns in Tiled.
+    SOURCE is a .map (Moving AI), .tmx/.tmj/.json (Tiled) or .png (image) file. Warnings (no walls
+    found, a free area open to the map's edge, ...) go to stderr; with --strict they fail the import
+    with exit status 1 and nothing is written. See docs/authoring.md for how walls, floor and spawns
+    are found in Tiled maps and how to mark them.
     """
-    imported = import_map(
+    level, imported = load_any(
         source,
-        cell_size=cell_size,
-        threshold=threshold,
-        spawn_tiles=spawn_tiles,
+        options=map_import.options,
         max_cells=max_cells,
         max_vertices=max_vertices,
         max_file_bytes=max_file_bytes,
     )
+    if imported is None:
+        raise LevelError(f"{level.source}: already a guardsim level, not a map to import")
+    for warning in imported.warnings:
+        click.echo(f"guardsim: warning: {level.source}: {warning}", err=True)
+    if map_import.strict and imported.warnings:
+        click.echo(
+            f"guardsim: error: {level.source}: {len(imported.warnings)} import warning(s) and --strict; "
+            f"{out_path} not written",
+            err=True,
+        )
+        sys.exit(STRICT_EXIT)
     write_text_atomic(out_path, imported.to_json())
     click.echo(f"{imported.summary()} -> {out_path}")

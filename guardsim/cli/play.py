@@ -7,6 +7,7 @@ import time
 import click
 
 from guardsim.cli.common import build_scene, cli_start, limit_options, load, parse_point, reports_errors, vision_options
+from guardsim.cli.map_options import MapImport, map_options
 from guardsim.level import HEADINGS
 from guardsim.output import atomic_path, write_text_atomic
 from guardsim.planners import PLANNERS, make_planner
@@ -47,6 +48,7 @@ __all__ = ["play"]
 @click.option("--frame-ms", type=click.IntRange(min=10), default=60, show_default=True, help="GIF frame duration.")
 @click.option("--max-frames", type=click.IntRange(min=1), default=DEFAULT_MAX_FRAMES, show_default=True)
 @vision_options
+@map_options
 @limit_options
 @reports_errors
 def play(
@@ -71,6 +73,7 @@ def play(
     max_cells: int,
     max_vertices: int,
     max_file_bytes: int,
+    map_import: MapImport,
 ) -> None:
     """Walk a guard over LEVEL until it has seen every reachable cell.
 
@@ -79,7 +82,7 @@ def play(
     With --guards K, the other guards' starts and headings are drawn next from the same generator, which
     then feeds the planners, as in `guardsim bench`.
     """
-    level = load(level_path, max_cells, max_vertices, max_file_bytes)
+    level = load(level_path, max_cells, max_vertices, max_file_bytes, map_import)
     began = time.perf_counter()
     scene = build_scene(level, los, fov, view_range)
     rng, cell, first_heading = cli_start(scene, seed=seed, episode=episode, start=start, heading=heading)

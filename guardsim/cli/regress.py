@@ -8,6 +8,7 @@ from pathlib import Path
 import click
 
 from guardsim.cli.common import limit_options, load, reports_errors
+from guardsim.cli.map_options import MapImport, map_options
 from guardsim.errors import GuardsimError, LevelError, OutputError
 from guardsim.regress import regress_level
 
@@ -63,6 +64,7 @@ def level_files(paths: tuple[str, ...]) -> list[Path]:
     type=click.Path(file_okay=False),
     help="Write diff images here as LEVEL.diff.png [default: diff.png in each level's reference folder].",
 )
+@map_options
 @limit_options
 @reports_errors
 def regress(
@@ -73,6 +75,7 @@ def regress(
     max_cells: int,
     max_vertices: int,
     max_file_bytes: int,
+    map_import: MapImport,
 ) -> None:
     """Re-play each level (files, or folders of *.json) and compare it with its references.
 
@@ -93,7 +96,7 @@ def regress(
     differing = invalid = 0
     for path in files:
         try:
-            level = load(str(path), max_cells, max_vertices, max_file_bytes)
+            level = load(str(path), max_cells, max_vertices, max_file_bytes, map_import)
             result = regress_level(level, renders_folder, update=update, diff_dir=diff_folder)
         except GuardsimError as error:
             # One bad level must not hide the results of the others: report it and go on.

@@ -6,6 +6,7 @@ import click
 import numpy as np
 
 from guardsim.cli.common import limit_options, load, parse_point, reports_errors
+from guardsim.cli.map_options import MapImport, map_options
 from guardsim.errors import LevelError
 from guardsim.level import HEADINGS
 from guardsim.output import atomic_path
@@ -43,6 +44,7 @@ def parse_cone(
     help="Overlay what a guard standing at X,Y facing HEADING (right, down, left, up) sees.",
 )
 @click.option("--size", type=click.IntRange(min=64, max=8192), default=640, show_default=True, help="Image size.")
+@map_options
 @limit_options
 @reports_errors
 def render(
@@ -54,6 +56,7 @@ def render(
     max_cells: int,
     max_vertices: int,
     max_file_bytes: int,
+    map_import: MapImport,
 ) -> None:
     """Draw a preview of LEVEL: walls, grid, reachable and unreachable cells, coordinate rulers.
 
@@ -61,7 +64,7 @@ def render(
     """
     import imageio.v3 as iio
 
-    level = load(level_path, max_cells, max_vertices, max_file_bytes)
+    level = load(level_path, max_cells, max_vertices, max_file_bytes, map_import)
     scene = Scene.from_level(level)
     point = start or level.guard.start
     cell = None

@@ -10,9 +10,10 @@ import click
 import numpy as np
 
 from guardsim.cli.common import limit_options, reports_errors, with_options
+from guardsim.cli.map_options import STRICT_EXIT, MapImport, level_data, map_options
 from guardsim.diagnostics import DEFAULT_MAX_RAYS, DesignerWarning, level_warnings
 from guardsim.errors import GuardsimError
-from guardsim.level import Level, check_level_data, level_json_text, read_level_json
+from guardsim.level import Level, check_level_data, level_json_text
 from guardsim.output import write_text_atomic
 from guardsim.reading import captured_warnings, display_path, warning_note
 from guardsim.repair import repair_level_data
@@ -48,6 +49,7 @@ WARNINGS_PER_KIND = 5
     show_default=True,
     help="Sight rays the hidden-area warning may cast before it stops.",
 )
+@map_options
 @limit_options
 @reports_errors
 def validate(
@@ -58,6 +60,7 @@ def validate(
     max_cells: int,
     max_vertices: int,
     max_file_bytes: int,
+    map_import: MapImport,
 ) -> None:
     """Report every problem in each LEVEL, then warnings; exit 0 only if all are valid.
 
@@ -68,10 +71,13 @@ def validate(
         click.echo(f"guardsim: error: --fix {fix_path} takes exactly one LEVEL, not {len(level_paths)}", err=True)
         sys.exit(2)
     invalid: list[str] = []
+    warned = False  # with --strict, designer warnings fail the run (exit status 1)
     for given in level_paths:
         path = display_path(given)
         try:
-            data = read_level_json(given, max_file_bytes=max_file_bytes)
+            data = level_data(
+                given, map_import, max_cells=max_cells, max_vertices=max_vertices, max_file_bytes=max_file_bytes
+            )
         except GuardsimError as error:
             click.echo(with_options(str(error)))
             invalid.append(path)
@@ -100,6 +106,7 @@ def validate(
             with captured_warnings():
                 found = level_warnings(scene, reachable, max_rays=max_rays)
             _echo_warnings(path, found)
+            warned = warned or bool(found)
         if fix_path is not None:
             _write_fixed(path, fix_path, data, written=not problems and level is not None)
     if invalid:
@@ -107,6 +114,9 @@ def validate(
         names = ", ".join(invalid[:3]) + (f" and {len(invalid) - 3} more" if len(invalid) > 3 else "")
         click.echo(f"guardsim: error: {len(invalid)} of {len(level_paths)} level(s) invalid: {names}", err=True)
         sys.exit(2)
+    if warned and map_import.strict:
+        click.echo(f"guardsim: error: warnings in {len(level_paths)} level(s) and --strict", err=True)
+        sys.exit(STRICT_EXIT)
 
 
 def _scene_and_reachable(level: Level) -> tuple[Scene, np.ndarray]:

@@ -39,9 +39,9 @@ class BatchLevel(NamedTuple):
     level: Level
 
     @classmethod
-    def load(cls, path: str, **limits: int) -> BatchLevel:
-        """Load and validate a level file; raises :class:`~guardsim.errors.LevelError`."""
-        level = load_level(path, **limits)
+    def load(cls, path: str, level: Level | None = None, **limits: int) -> BatchLevel:
+        """Load and validate a level file (or take ``level``, loaded from it); raises :class:`~guardsim.errors.LevelError`."""
+        level = level if level is not None else load_level(path, **limits)
         digest = hashlib.sha256(Path(path).read_bytes()).hexdigest()
         return cls(os.path.normpath(path), digest, level)
 

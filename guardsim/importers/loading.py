@@ -20,7 +20,7 @@ from guardsim.importers.imported import ImportedLevel
 from guardsim.importers.source import display_name, parse_json_bytes, quiet, read_capped_bytes
 from guardsim.level import DEFAULT_MAX_CELLS, DEFAULT_MAX_FILE_BYTES, DEFAULT_MAX_VERTICES, Level, parse_level
 
-__all__ = ["ImportOptions", "ImportSummary", "load_any"]
+__all__ = ["ImportOptions", "ImportSummary", "is_tiled_json", "load_any"]
 
 #: What an import reports besides its level (the summary line, the changes and the warnings).
 ImportSummary = ImportedLevel
@@ -38,14 +38,15 @@ class ImportOptions:
     wall_tiles: tuple[int, ...] = ()
 
 
-def _is_tiled_json(data: object) -> bool:
+def is_tiled_json(data: object) -> bool:
+    """Whether decoded JSON is a Tiled map (an ``orientation`` or ``"type": "map"``), not a guardsim level."""
     return isinstance(data, dict) and ("orientation" in data or data.get("type") == "map") and "outer" not in data
 
 
 def load_any(
     path: str | os.PathLike[str],
     *,
-    options: ImportOptions = ImportOptions(),
+    options: ImportOptions | None = None,
     max_cells: int = DEFAULT_MAX_CELLS,
     max_vertices: int = DEFAULT_MAX_VERTICES,
     max_file_bytes: int = DEFAULT_MAX_FILE_BYTES,
@@ -62,6 +63,7 @@ def load_any(
     """
     from guardsim.importers import FORMATS, import_map
 
+    options = options or ImportOptions()
     source = display_name(path)
     suffix = Path(path).suffix.lower()
     if suffix in (".json", "") or suffix not in FORMATS:
@@ -71,7 +73,7 @@ def load_any(
             known = ", ".join(sorted(FORMATS))
             raise LevelError(f"{source}: not a guardsim level (JSON) and not a map guardsim imports ({known})")
         value = parse_json_bytes(data, source)
-        if not _is_tiled_json(value):
+        if not is_tiled_json(value):
             return parse_level(value, source=source, max_cells=max_cells, max_vertices=max_vertices), None
     notes: list[str] = []
     try:

@@ -131,7 +131,9 @@ def import_tiled(
         (layer, gids) for layer in tiled.tile_layers if (gids := _wall_gids_in(layer, roles)) is None or gids.size
     ]
     wall_boxes = [
-        piece for layer, gids in wall_tiles_found for piece in geometry.tile_boxes(layer, None if gids is None else gids)
+        piece
+        for layer, gids in wall_tiles_found
+        for piece in geometry.tile_boxes(layer, None if gids is None else gids)
     ]
     shape_walls = [shape for layer in tiled.tile_layers for shape in geometry.tile_shapes(layer, roles.shaped_gids)]
     wall_objects = [item for _, item in roles.wall_objects]
@@ -267,7 +269,7 @@ class _Geometry:
             top = (row + 1) * self.scale[1] - (info.size[1] or self.scale[1]) + layer.offset[1]
             for shape in info.shapes:
                 if shape.closed:
-                    points = (np.asarray(shape.outline, dtype=float) + (left, top)) / self.scale
+                    points = (np.asarray(shape.outline, dtype=float) + np.array([left, top])) / self.scale
                     pieces.append(shapely.make_valid(Polygon(points)))
         return pieces
 
@@ -320,11 +322,11 @@ def _blocked_mask(
     if floor_boxes:
         blocked[:] = True
         for box_bounds in shapely.bounds(np.asarray(floor_boxes, dtype=object)):
-            x0, y0, x1, y1 = (int(round(v)) for v in box_bounds)
+            x0, y0, x1, y1 = (round(v) for v in box_bounds)
             blocked[y0 - int(min_y) : y1 - int(min_y), max(0, x0 - int(min_x)) : max(0, x1 - int(min_x))] = False
     if wall_boxes:
         for box_bounds in shapely.bounds(np.asarray(wall_boxes, dtype=object)):
-            x0, y0, x1, y1 = (int(round(v)) for v in box_bounds)
+            x0, y0, x1, y1 = (round(v) for v in box_bounds)
             r0, r1 = max(0, y0 - int(min_y)), max(0, y1 - int(min_y))
             blocked[r0:r1, max(0, x0 - int(min_x)) : max(0, x1 - int(min_x))] = True
     return blocked
@@ -346,7 +348,9 @@ def _spawns(tiled: TiledMap, roles: Guesses, geometry: _Geometry) -> tuple[list[
         keep = np.isin(layer.gids, list(roles.spawn_gids))
         order = np.lexsort((layer.cols[keep], layer.rows[keep]))
         for col, row in zip(layer.cols[keep][order].tolist(), layer.rows[keep][order].tolist()):
-            points.append((col + 0.5 + layer.offset[0] / geometry.scale[0], row + 0.5 + layer.offset[1] / geometry.scale[1]))
+            points.append(
+                (col + 0.5 + layer.offset[0] / geometry.scale[0], row + 0.5 + layer.offset[1] / geometry.scale[1])
+            )
             tile_count += 1
     if tile_count:
         sources.append(f"{_count(tile_count, 'spawn tile')} (gids {', '.join(map(str, sorted(roles.spawn_gids)))})")

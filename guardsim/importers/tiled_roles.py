@@ -49,12 +49,35 @@ __all__ = [
 
 #: Whole words in a layer, class or property name that say "wall".
 WALL_WORDS = frozenset(
-    ["wall", "walls", "collision", "collisions", "collide", "collides", "collider", "colliders", "collidable", "solid", "solids", "obstacle", "obstacles", "blocked", "blocking", "blocker", "blockers", "impassable", "barrier", "barriers"]
+    [
+        "wall",
+        "walls",
+        "collision",
+        "collisions",
+        "collide",
+        "collides",
+        "collider",
+        "colliders",
+        "collidable",
+        "solid",
+        "solids",
+        "obstacle",
+        "obstacles",
+        "blocked",
+        "blocking",
+        "blocker",
+        "blockers",
+        "impassable",
+        "barrier",
+        "barriers",
+    ]
 )
 #: Whole words in a layer name that say it is drawn above the player (roofs, tree tops), so not floor.
 ABOVE_WORDS = frozenset(["above", "over", "overhead", "overlay", "roof", "roofs", "fringe", "canopy"])
 #: Whole words in a layer, class or name that say guard spawn.
-SPAWN_WORDS = frozenset(["spawn", "spawns", "spawner", "spawners", "guard", "guards", "start", "starts", "patrol", "patrols"])
+SPAWN_WORDS = frozenset(
+    ["spawn", "spawns", "spawner", "spawners", "guard", "guards", "start", "starts", "patrol", "patrols"]
+)
 #: Boolean properties that mark walls.
 _WALL_FLAGS = ("collision", "collides", "collide", "collidable", "solid", "blocked", "obstacle", "wall")
 
@@ -154,7 +177,9 @@ def _object_boundary(layer: ObjectLayer, item: TiledObject) -> bool:
     own = flag(item.properties, "boundary")
     if own is not None:
         return own
-    return item.kind.lower() == "boundary" or bool(flag(layer.properties, "boundary")) or _says(layer.name, {"boundary"})
+    return (
+        item.kind.lower() == "boundary" or bool(flag(layer.properties, "boundary")) or _says(layer.name, {"boundary"})
+    )
 
 
 def assign_roles(tiled: TiledMap, options: RoleOptions) -> Guesses:

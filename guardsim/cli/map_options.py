@@ -1,0 +1,140 @@
+"""The import options every command that reads a level shares, so a map can stand wherever a level can.
+
+``@map_options`` adds ``--cell-size``, ``--threshold``, ``--spawn-tile``, ``--wall-tile``,
+``--wall-layer``, ``--floor-layer`` and ``--strict`` to a command and hands it one ``map_import``
+argument (a :class:`MapImport`) to pass to :func:`guardsim.cli.common.load`.
+"""
+
+from __future__ import annotations
+
+import dataclasses
+import functools
+import sys
+from collections.abc import Callable
+from typing import Any, TypeVar
+
+import click
+
+from guardsim.importers import FORMATS, ImportedLevel, ImportOptions, load_any
+from guardsim.importers.image import DEFAULT_THRESHOLD
+from guardsim.importers.loading import is_tiled_json
+from guardsim.level import level_to_data, read_level_json
+
+__all__ = ["STRICT_EXIT", "MapImport", "level_data", "map_options", "report_import"]
+
+F = TypeVar("F", bound=Callable[..., Any])
+#: Exit status of a command run with --strict whose map import warned.
+STRICT_EXIT = 1
+
+
+@dataclasses.dataclass(frozen=True)
+class MapImport:
+    """How a map given in place of a level is imported, and whether its warnings fail the command."""
+
+    options: ImportOptions = dataclasses.field(default_factory=ImportOptions)
+    strict: bool = False
+
+
+def report_import(imported: ImportedLevel, strict: bool) -> None:
+    """The import's summary and warnings on stderr; with ``strict``, warnings end the command with status 1."""
+    click.echo(imported.summary(), err=True)
+    for warning in imported.warnings:
+        click.echo(f"guardsim: warning: {imported.level.source}: {warning}", err=True)
+    if strict and imported.warnings:
+        click.echo(
+            f"guardsim: error: {imported.level.source}: {len(imported.warnings)} import warning(s) and --strict",
+            err=True,
+        )
+        sys.exit(STRICT_EXIT)
+
+
+def level_data(path: str, map_import: MapImport, *, max_cells: int, max_vertices: int, max_file_bytes: int) -> Any:
+    """The level JSON of a level file as read (for ``validate``), or of a map imported in memory.
+
+    A map's summary and warnings go to stderr (see :func:`report_import`).
+    """
+    suffix = path.lower().rsplit(".", 1)[-1] if "." in path else ""
+    if f".{suffix}" != ".json" and f".{suffix}" in FORMATS:
+        data = None
+    else:
+        data = read_level_json(path, max_file_bytes=max_file_bytes)
+        if not is_tiled_json(data):
+            return data
+    level, imported = load_any(
+        path, options=map_import.options, max_cells=max_cells, max_vertices=max_vertices, max_file_bytes=max_file_bytes
+    )
+    if imported is not None:
+        report_import(imported, map_import.strict)
+    return level_to_data(level)
+
+
+def map_options(command: F) -> F:
+    """Add the import options; the command receives them as one ``map_import: MapImport`` argument."""
+
+    @functools.wraps(command)
+    def wrapper(*args: Any, **kwargs: Any) -> Any:
+        options = ImportOptions(
+            cell_size=kwargs.pop("cell_size"),
+            threshold=kwargs.pop("threshold"),
+            spawn_tiles=tuple(kwargs.pop("spawn_tiles")),
+            wall_tiles=tuple(kwargs.pop("wall_tiles")),
+            wall_layers=tuple(kwargs.pop("wall_layers")),
+            floor_layers=tuple(kwargs.pop("floor_layers")),
+        )
+        return command(*args, map_import=MapImport(options, kwargs.pop("strict")), **kwargs)
+
+    decorated: Any = wrapper
+    for option in reversed(_OPTIONS):
+        decorated = option(decorated)
+    return decorated  # type: ignore[no-any-return]
+
+
+_OPTIONS = [
+    click.option(
+        "--cell-size",
+        type=click.FloatRange(min=0, min_open=True, max=1e6),
+        help="Maps: the level's cell_size in world units; one map cell, tile or pixel is one unit. [default: 1]",
+    ),
+    click.option(
+        "--threshold",
+        type=click.IntRange(0, 256),
+        default=DEFAULT_THRESHOLD,
+        show_default=True,
+        help="Images: pixels darker than this grey level (0-255) are walls.",
+    ),
+    click.option(
+        "--spawn-tile",
+        "spawn_tiles",
+        type=click.IntRange(min=1, max=2**32 - 1),
+        multiple=True,
+        metavar="GID",
+        help="Tiled: a global tile id that marks a guard spawn (repeatable).",
+    ),
+    click.option(
+        "--wall-tile",
+        "wall_tiles",
+        type=click.IntRange(min=1, max=2**32 - 1),
+        multiple=True,
+        metavar="GID",
+        help="Tiled: a global tile id that is a wall wherever it is drawn (repeatable).",
+    ),
+    click.option(
+        "--wall-layer",
+        "wall_layers",
+        multiple=True,
+        metavar="NAME",
+        help="Tiled: a layer (or group/layer) whose tiles or objects are walls, replacing the guess (repeatable).",
+    ),
+    click.option(
+        "--floor-layer",
+        "floor_layers",
+        multiple=True,
+        metavar="NAME",
+        help="Tiled: a tile layer whose tiles are floor, replacing the guess (repeatable).",
+    ),
+    click.option(
+        "--strict",
+        is_flag=True,
+        help=f"Maps: import warnings (no walls found, ...) end the command with exit status {STRICT_EXIT}.",
+    ),
+]
