@@ -19,12 +19,16 @@ from typing import NamedTuple
 import numba
 import numpy as np
 
-from guardsim.grid import state_of
+from guardsim.grid import CoverageGrid, state_of
 from guardsim.planners.base import OUTCOME, TICK, UNSEEN, EpisodeArrays
 from guardsim.planners.shortest_paths import FAR
 from guardsim.vision.cache import FillArrays, VisionCache, try_fill
 
-__all__ = ["CompiledRippleFront"]
+__all__ = ["COLD_START_CELLS", "CompiledRippleFront", "compiling_pays", "is_compiled"]
+
+#: Traversable cells up to which one episode on the plain loop (about 1 s at this size) is quicker than
+#: compiling the fast path on a fresh install (about 4 s; measured by benchmarks/cold_start.py).
+COLD_START_CELLS = 10_000
 
 # Kernel returns besides the outcomes (0 covered, 1 step limit, 2 stuck).
 _NEED_VISION, _PAUSED = 3, 4
@@ -224,3 +228,22 @@ class CompiledRippleFront:
             cache.fill(int(field.resume[3]))
             used[0] = cache.used
         self._known[:] = episode.seen
+
+
+def is_compiled() -> bool:
+    """Whether the compiled tick is ready without compiling: built in this process, or in numba's cache."""
+    if _advance.signatures:
+        return True
+    try:
+        # numba keeps no public way to ask; its cache index is empty (or absent) until a run has saved
+        # the compiled tick for this very source.
+        return bool(_advance._cache._cache_file._load_index())
+    except (AttributeError, OSError):
+        # A numba whose cache is laid out otherwise: assume ready, i.e. keep the fast path.
+        return True
+
+
+def compiling_pays(grid: CoverageGrid) -> bool:
+    """Whether one RippleFront episode on ``grid`` should take the compiled tick: it is ready, or the
+    grid is too large for the plain loop to beat the compiler."""
+    return is_compiled() or int(grid.traversable.sum()) > COLD_START_CELLS
