@@ -48,6 +48,10 @@ class World:
 
     def __init__(self, level: Level, *, space: pymunk.Space | None = None, walls_in_space: bool = False) -> None:
         self.level = level
+        min_x, min_y, max_x, max_y = level.bounds
+        # Touching a wall is allowed; a gap this much (relative to the level's size) short of the radius is
+        # rounding in decimal coordinates (5.5 - 5.2 = 0.29999999999999982), so it counts as touching.
+        self.touch = 1e-9 * max(1.0, max_x - min_x, max_y - min_y)
         self.space = pymunk.Space() if space is None else space
         self.walls: list[pymunk.Segment] = []
         # In a space of guardsim's own, walls and the guard are all there is, so a first hit is a wall.
@@ -89,9 +93,10 @@ class World:
         if radius <= 0:
             return True
         if not self._shared:
-            return self.space.point_query_nearest(point, radius, _WALLS_ONLY) is None
+            return self.space.point_query_nearest(point, radius - self.touch, _WALLS_ONLY) is None
         return not any(
-            hit.shape in self._wall_set and hit.distance < radius for hit in self.space.point_query(point, radius, _ANYTHING)
+            hit.shape in self._wall_set and hit.distance < radius - self.touch
+            for hit in self.space.point_query(point, radius, _ANYTHING)
         )
 
     def sweep_clear(self, start: tuple[float, float], end: tuple[float, float], radius: float) -> bool:
@@ -111,7 +116,10 @@ class World:
         for wall in self.space.bb_query(box, _ANYTHING if self._shared else _WALLS_ONLY):
             if wall not in self._wall_set or not isinstance(wall, pymunk.Segment):
                 continue
-            if _segments_cross(start, end, wall.a, wall.b) or _segment_distance(start, end, wall.a, wall.b) < radius:
+            if (
+                _segments_cross(start, end, wall.a, wall.b)
+                or _segment_distance(start, end, wall.a, wall.b) < radius - self.touch
+            ):
                 return False
         return True
 
