@@ -1,9 +1,15 @@
-"""Writing files so that an interruption never leaves a half-written one behind."""
+"""Writing files so that an interruption never leaves a half-written one behind.
+
+A target that exists and is not a regular file is never renamed over: a character device (``/dev/null``,
+a terminal) is written in place, which is what a user naming it means, and anything else (a FIFO, a
+socket, a block device) is refused, since writing to it could block or destroy data.
+"""
 
 from __future__ import annotations
 
 import contextlib
 import os
+import stat
 import tempfile
 from collections.abc import Iterator
 from pathlib import Path
@@ -21,6 +27,16 @@ def atomic_path(target: str | os.PathLike[str]) -> Iterator[Path]:
     A reader of ``target`` sees the old file or the new one, never a partial one.
     """
     target = Path(target)
+    special = _special_kind(target)
+    if special == "a character device":
+        # Written in place: renaming over /dev/null would replace the device with a regular file.
+        try:
+            yield target
+        except OSError as error:
+            raise OutputError(f"{target}: cannot write: {error.strerror or error}") from None
+        return
+    if special:
+        raise OutputError(f"{target}: is {special}, not a regular file; guardsim writes outputs to files only")
     folder = target.parent if str(target.parent) else Path(".")
     if not folder.is_dir():
         raise OutputError(f"{target}: folder {folder} does not exist")
@@ -40,6 +56,26 @@ def atomic_path(target: str | os.PathLike[str]) -> Iterator[Path]:
     finally:
         with contextlib.suppress(FileNotFoundError):
             temporary.unlink()
+
+
+def _special_kind(target: Path) -> str:
+    """What ``target`` is when it exists and is neither a regular file nor a folder; ``""`` otherwise.
+
+    A folder is left to the rename, which fails with a clear "is a directory".
+    """
+    try:
+        mode = os.stat(target).st_mode
+    except OSError:
+        return ""
+    if stat.S_ISREG(mode) or stat.S_ISDIR(mode):
+        return ""
+    if stat.S_ISCHR(mode):
+        return "a character device"
+    if stat.S_ISFIFO(mode):
+        return "a FIFO"
+    if stat.S_ISSOCK(mode):
+        return "a socket"
+    return "a block device" if stat.S_ISBLK(mode) else "a special file"
 
 
 def _umask() -> int:

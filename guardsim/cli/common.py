@@ -37,14 +37,15 @@ __all__ = [
 F = TypeVar("F", bound=Callable[..., Any])
 
 
-#: The library names a limit by its keyword; the command line says which option raises it.
+#: The library names a limit (or a setting) by its keyword; the command line says which option changes it.
 LIMIT_OPTIONS = {
-    "max_cells": "--max-cells",
-    "max_vertices": "--max-vertices",
-    "max_file_bytes": "--max-file-bytes",
-    "max_rays": "--max-rays",
-    "max_frames": "--max-frames",
-    "max_frame_pixels": "--max-frame-pixels",
+    "max_cells": "raise it with --max-cells",
+    "max_vertices": "raise it with --max-vertices",
+    "max_file_bytes": "raise it with --max-file-bytes",
+    "max_rays": "raise it with --max-rays",
+    "max_frames": "raise it with --max-frames",
+    "max_frame_size": "raise it with --max-frame-size",
+    "update": "run with --update",
 }
 _LIMIT_KEYWORD = re.compile(r"\((" + "|".join(LIMIT_OPTIONS) + r")\b([^()]*)\)")
 
@@ -55,7 +56,7 @@ def with_options(message: str) -> str:
     >>> with_options("over the limit of 10 cells (max_cells)")
     'over the limit of 10 cells (max_cells: raise it with --max-cells)'
     """
-    return _LIMIT_KEYWORD.sub(lambda m: f"({m[1]}{m[2]}: raise it with {LIMIT_OPTIONS[m[1]]})", message)
+    return _LIMIT_KEYWORD.sub(lambda m: f"({m[1]}{m[2]}: {LIMIT_OPTIONS[m[1]]})", message)
 
 
 def _inputs() -> str:

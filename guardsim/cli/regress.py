@@ -7,10 +7,12 @@ from pathlib import Path
 
 import click
 
-from guardsim.cli.common import limit_options, load, reports_errors
+from guardsim.cli.common import limit_options, load, one_line, reports_errors, with_options
 from guardsim.cli.map_options import MapImport, map_options
 from guardsim.errors import GuardsimError, LevelError, OutputError
+from guardsim.reading import display_path
 from guardsim.regress import regress_level
+from guardsim.regress.references import DEFAULT_MAX_FRAME_SIZE
 
 __all__ = ["level_files", "regress"]
 
@@ -35,17 +37,19 @@ def level_files(paths: tuple[str, ...]) -> list[Path]:
         if path.is_dir():
             found = sorted(path.glob("*.json"))
             if not found:
-                raise LevelError(f"{path}: folder holds no .json level files")
+                raise LevelError(f"{display_path(path)}: folder holds no .json level files")
             files += found
         elif path.exists():
             files.append(path)
         else:
-            raise LevelError(f"{path}: no such file or folder")
+            raise LevelError(f"{display_path(path)}: no such file or folder")
     by_stem: dict[str, Path] = {}
     for path in files:
         other = by_stem.setdefault(path.stem, path)
         if other != path:
-            raise LevelError(f"{path}: same file name as {other}; their references would share a folder")
+            raise LevelError(
+                f"{display_path(path)}: same file name as {display_path(other)}; their references would share a folder"
+            )
     return files
 
 
@@ -65,6 +69,13 @@ def level_files(paths: tuple[str, ...]) -> list[Path]:
     help="Write diff images here as LEVEL.diff.png [default: diff.png in each level's reference folder].",
 )
 @map_options
+@click.option(
+    "--max-frame-size",
+    type=click.IntRange(min=16),
+    default=DEFAULT_MAX_FRAME_SIZE,
+    show_default=True,
+    help="Largest frame_size (pixels a side) a reference manifest may ask for.",
+)
 @limit_options
 @reports_errors
 def regress(
@@ -72,6 +83,7 @@ def regress(
     renders: str,
     update: bool,
     diff_dir: str | None,
+    max_frame_size: int,
     max_cells: int,
     max_vertices: int,
     max_file_bytes: int,
@@ -97,10 +109,18 @@ def regress(
     for path in files:
         try:
             level = load(str(path), max_cells, max_vertices, max_file_bytes, map_import)
-            result = regress_level(level, renders_folder, update=update, diff_dir=diff_folder)
+            result = regress_level(
+                level,
+                renders_folder,
+                update=update,
+                diff_dir=diff_folder,
+                max_frame_size=max_frame_size,
+                max_cells=max_cells,
+                max_file_bytes=max_file_bytes,
+            )
         except GuardsimError as error:
             # One bad level must not hide the results of the others: report it and go on.
-            click.echo(f"guardsim: error: {error}", err=True)
+            click.echo(f"guardsim: error: {one_line(with_options(str(error)))}", err=True)
             invalid += 1
             continue
         click.echo(result.line())

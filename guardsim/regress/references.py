@@ -13,6 +13,7 @@ A level's references live in one folder, ``RENDERS/<level file stem>/``:
 
 from __future__ import annotations
 
+import io
 import json
 import math
 import re
@@ -23,13 +24,22 @@ from typing import Any
 import numpy as np
 
 from guardsim.errors import OutputError, RegressionError
-from guardsim.level import Level, level_to_data
+from guardsim.level import DEFAULT_MAX_FILE_BYTES, Level, level_json_text
 from guardsim.output import atomic_path, write_text_atomic
+from guardsim.reading import (
+    captured_warnings,
+    display_path,
+    excerpt,
+    parse_json,
+    read_limited_bytes,
+    read_text_file,
+)
 from guardsim.regress.frames import Tolerance
 from guardsim.render import render_frame
 from guardsim.trace import Trace
 
 __all__ = [
+    "DEFAULT_MAX_FRAME_SIZE",
     "KEY_PERCENTS",
     "LEVEL_SNAPSHOT",
     "MANIFEST",
@@ -52,6 +62,17 @@ __all__ = [
 FORMAT = 1
 #: Longest side of a stored key frame in pixels (4 pixels per cell on the shipped 60 x 60 grids).
 REFERENCE_FRAME_SIZE = 240
+#: Largest frame_size a manifest may ask for unless the caller raises it: a 1024-pixel frame draws in
+#: about a second; 4096 took a minute and 5 GB.
+DEFAULT_MAX_FRAME_SIZE = 1024
+#: How much larger than frame_size a stored frame may be (the renderer adds captions and margins).
+FRAME_SLACK = 4
+#: Smallest frame_size.
+MIN_FRAME_SIZE = 16
+#: Most episodes one manifest lists.
+MAX_EPISODES = 1000
+#: Largest seed or episode number (numpy seeds are unbounded, but a 5,000-digit seed is not a test).
+MAX_SEED = 2**63 - 1
 #: Key frames, as percentages of an episode's steps.
 KEY_PERCENTS = (0, 25, 50, 75, 100)
 MANIFEST = "manifest.json"
@@ -123,7 +144,7 @@ def write_references(folder: Path, level: Level, manifest: Manifest, traces: lis
         folder.mkdir(parents=True, exist_ok=True)
     except OSError as error:
         raise OutputError(f"{folder}: cannot create: {error.strerror or error}") from None
-    write_text_atomic(folder / LEVEL_SNAPSHOT, json.dumps(level_to_data(level), indent=2) + "\n")
+    write_text_atomic(folder / LEVEL_SNAPSHOT, level_json_text(level))
     episodes = []
     for spec, trace in zip(manifest.specs, traces, strict=True):
         write_text_atomic(trace_path(folder, spec.name), trace.to_json())
@@ -159,20 +180,28 @@ def write_references(folder: Path, level: Level, manifest: Manifest, traces: lis
                 path.unlink(missing_ok=True)
 
 
-def read_manifest(path: Path) -> Manifest | None:
-    """The manifest at ``path``, ``None`` if there is none, or a RegressionError saying what is wrong."""
-    if not path.exists():
+def read_manifest(
+    path: Path, *, max_frame_size: int = DEFAULT_MAX_FRAME_SIZE, max_file_bytes: int = DEFAULT_MAX_FILE_BYTES
+) -> Manifest | None:
+    """The manifest at ``path``, ``None`` if there is none, or a RegressionError saying what is wrong.
+
+    A ``frame_size`` over ``max_frame_size`` is refused here, before any frame is drawn: a frame's cost
+    grows with its area (4096 pixels a side took a minute and 5 GB).
+    """
+    if not path.exists() and not path.is_symlink():
         return None
-    data = read_json(path)
+    data = read_json(path, max_file_bytes=max_file_bytes)
 
     def bad(message: str) -> RegressionError:
-        return RegressionError(f"{path}: {message}")
+        return RegressionError(f"{display_path(path)}: {message}")
 
     if not isinstance(data, dict) or data.get("format") != FORMAT:
         raise bad(f"not a guardsim regress manifest of format {FORMAT}")
     frame_size = data.get("frame_size", REFERENCE_FRAME_SIZE)
-    if not _is_count(frame_size) or not 16 <= frame_size <= 4096:
-        raise bad(f"frame_size must be a whole number of pixels from 16 to 4096, not {frame_size!r}")
+    if not _is_count(frame_size) or frame_size < MIN_FRAME_SIZE:
+        raise bad(f"frame_size must be a whole number of pixels from {MIN_FRAME_SIZE}, not {excerpt(frame_size, 40)}")
+    if frame_size > max_frame_size:
+        raise bad(f"frame_size {frame_size} is over the limit of {max_frame_size} pixels (max_frame_size)")
     tolerance = data.get("tolerance", {})
     default = Tolerance()
     channel = tolerance.get("channel", default.channel) if isinstance(tolerance, dict) else None
@@ -182,15 +211,17 @@ def read_manifest(path: Path) -> Manifest | None:
     episodes = data.get("episodes")
     if not isinstance(episodes, list) or not episodes:
         raise bad("episodes must be a non-empty list")
+    if len(episodes) > MAX_EPISODES:
+        raise bad(f"{len(episodes)} episodes, more than the {MAX_EPISODES} a manifest may list")
     specs = []
     for index, episode in enumerate(episodes):
         name = episode.get("name") if isinstance(episode, dict) else None
         seed = episode.get("seed", 0) if isinstance(episode, dict) else None
         number = episode.get("episode") if isinstance(episode, dict) else None
         if not isinstance(name, str) or not _EPISODE_NAME.match(name):
-            raise bad(f"episodes[{index}]: name must be letters, digits, - and _ (at most 64), not {name!r}")
-        if not _is_count(seed) or not (number is None or _is_count(number)):
-            raise bad(f"episodes[{index}]: seed and episode must be whole numbers from 0")
+            raise bad(f"episodes[{index}]: name must be letters, digits, - and _ (at most 64), not {excerpt(name, 40)}")
+        if not _is_seed(seed) or not (number is None or _is_seed(number)):
+            raise bad(f"episodes[{index}]: seed and episode must be whole numbers from 0 to {MAX_SEED}")
         specs.append(ReplaySpec(name, seed, number))
     if len({spec.name for spec in specs}) != len(specs):
         raise bad("two episodes have the same name")
@@ -201,39 +232,61 @@ def _is_count(value: Any) -> bool:
     return isinstance(value, int) and not isinstance(value, bool) and value >= 0
 
 
+def _is_seed(value: Any) -> bool:
+    return _is_count(value) and value <= MAX_SEED
+
+
 def _is_number(value: Any) -> bool:
     return isinstance(value, (int, float)) and not isinstance(value, bool)
 
 
-def read_text(path: Path) -> str:
+def read_text(path: Path, *, max_file_bytes: int = DEFAULT_MAX_FILE_BYTES) -> str:
     """The text of a stored reference, or a RegressionError saying it is missing or unreadable."""
-    try:
-        return path.read_text(encoding="utf-8")
-    except FileNotFoundError:
-        raise RegressionError(f"{path}: missing (rewrite the references with --update)") from None
-    except (OSError, UnicodeDecodeError) as error:
-        raise RegressionError(f"{path}: cannot read: {error}") from None
+    if not path.exists() and not path.is_symlink():
+        raise RegressionError(f"{display_path(path)}: missing: the references need rewriting (update)")
+    return read_text_file(path, max_file_bytes=max_file_bytes, kind="reference file", error=RegressionError)
 
 
-def read_json(path: Path) -> Any:
+def read_json(path: Path, *, max_file_bytes: int = DEFAULT_MAX_FILE_BYTES) -> Any:
     """A stored reference parsed as JSON, or a RegressionError saying where it is not valid."""
-    try:
-        return json.loads(read_text(path))
-    except json.JSONDecodeError as error:
-        raise RegressionError(f"{path}: not valid JSON: {error.msg} at line {error.lineno}") from None
+    text = read_text(path, max_file_bytes=max_file_bytes)
+    return parse_json(text, source=display_path(path), error=RegressionError)
 
 
-def read_png(path: Path) -> np.ndarray:
-    """A stored key frame decoded as RGB ``uint8``, or a RegressionError if it is missing or not a PNG."""
+def read_png(
+    path: Path, *, max_size: int = DEFAULT_MAX_FRAME_SIZE, max_file_bytes: int = DEFAULT_MAX_FILE_BYTES
+) -> np.ndarray:
+    """A stored key frame decoded as RGB ``uint8``, or a RegressionError if it is missing, not a PNG, or
+    declares a side longer than :data:`FRAME_SLACK` times ``max_size`` pixels (checked from the header,
+    before decoding: a 20,000 x 20,000 PNG of a few kilobytes would decode to 1.2 GB)."""
+    import struct
+    import zlib
+
     from PIL import Image
 
+    source = display_path(path)
+    if not path.exists() and not path.is_symlink():
+        raise RegressionError(f"{source}: missing: the references need rewriting (update)")
+    data = read_limited_bytes(path, max_file_bytes=max_file_bytes, kind="reference file", error=RegressionError)
     try:
-        with Image.open(path, formats=["PNG"]) as image:
+        with captured_warnings(), Image.open(io.BytesIO(data), formats=["PNG"]) as image:
+            width, height = image.size
+            if max(width, height) > FRAME_SLACK * max_size:
+                raise RegressionError(
+                    f"{source}: a key frame of {width} x {height} pixels, larger than any frame drawn at "
+                    f"frame_size {max_size}"
+                )
             return np.asarray(image.convert("RGB"))
-    except FileNotFoundError:
-        raise RegressionError(f"{path}: missing (rewrite the references with --update)") from None
-    except (OSError, ValueError) as error:
-        raise RegressionError(f"{path}: not a PNG image ({type(error).__name__})") from None
+    except (
+        OSError,
+        ValueError,
+        SyntaxError,
+        EOFError,
+        struct.error,
+        zlib.error,
+        Image.DecompressionBombError,
+    ) as error:
+        raise RegressionError(f"{source}: not a PNG image ({type(error).__name__})") from None
 
 
 def write_png(path: Path, image: np.ndarray) -> None:

@@ -5,7 +5,6 @@
 
 from __future__ import annotations
 
-import json
 from collections.abc import Sequence
 from dataclasses import dataclass
 from pathlib import Path
@@ -14,10 +13,12 @@ from typing import NamedTuple
 import numpy as np
 
 from guardsim.errors import RegressionError
-from guardsim.level import Level, level_to_data, parse_level
+from guardsim.level import DEFAULT_MAX_CELLS, DEFAULT_MAX_FILE_BYTES, Level, level_to_data, parse_level
 from guardsim.planners import make_planner
+from guardsim.reading import display_path, excerpt, parse_json
 from guardsim.regress.frames import DiffRow, Tolerance, compare_frames, diff_image
 from guardsim.regress.references import (
+    DEFAULT_MAX_FRAME_SIZE,
     KEY_PERCENTS,
     LEVEL_SNAPSHOT,
     MANIFEST,
@@ -35,6 +36,7 @@ from guardsim.regress.references import (
     write_png,
     write_references,
 )
+from guardsim.regress.stored_trace import trace_from_stored
 from guardsim.render import render_frame
 from guardsim.simulation import Scene, choose_start, run_batch_episode, run_episode
 from guardsim.trace import Trace
@@ -129,6 +131,9 @@ def regress_level(
     *,
     update: bool = False,
     diff_dir: Path | None = None,
+    max_frame_size: int = DEFAULT_MAX_FRAME_SIZE,
+    max_cells: int = DEFAULT_MAX_CELLS,
+    max_file_bytes: int = DEFAULT_MAX_FILE_BYTES,
 ) -> LevelResult:
     """Re-play ``level`` and compare it with its references in ``renders/<file stem>/``, or rewrite them.
 
@@ -143,6 +148,9 @@ def regress_level(
     diff_dir
         Where to write the diff image of a level that differs, as ``<stem>.diff.png``; by default it is
         ``diff.png`` in the level's reference folder.
+    max_frame_size, max_cells, max_file_bytes
+        Limits on what the stored references may ask for: the manifest's frame size, a stored trace's
+        grid, and the size of each stored file. Each is checked before the work it would cost.
 
     Raises
     ------
@@ -151,7 +159,8 @@ def regress_level(
     """
     stem = Path(level.source).stem
     folder = renders / stem
-    manifest = read_manifest(folder / MANIFEST)
+    limits = Limits(max_frame_size, max_cells, max_file_bytes)
+    manifest = read_manifest(folder / MANIFEST, max_frame_size=max_frame_size, max_file_bytes=max_file_bytes)
     if manifest is None and not update:
         return LevelResult(level.source, folder, "missing")
     if manifest is None:
@@ -164,11 +173,12 @@ def regress_level(
         default_diff.unlink(missing_ok=True)
         steps = tuple(EpisodeResult(spec, t.steps, t.steps) for spec, t in zip(manifest.specs, traces, strict=True))
         return LevelResult(level.source, folder, "written", steps)
-    snapshot = parse_level(read_json(folder / LEVEL_SNAPSHOT), source=str(folder / LEVEL_SNAPSHOT))
+    snapshot_path = folder / LEVEL_SNAPSHOT
+    snapshot = parse_level(read_json(snapshot_path, max_file_bytes=max_file_bytes), source=display_path(snapshot_path))
     results: list[EpisodeResult] = []
     rows: list[DiffRow] = []
     for spec, trace in zip(manifest.specs, traces, strict=True):
-        result, episode_rows = _compare_episode(folder, level, snapshot, spec, trace, manifest)
+        result, episode_rows = _compare_episode(folder, level, snapshot, spec, trace, manifest, limits)
         results.append(result)
         rows += episode_rows
     edited = level_to_data(level) != level_to_data(snapshot)
@@ -180,15 +190,22 @@ def regress_level(
     return LevelResult(level.source, folder, "differs", tuple(results), edited, diff_path)
 
 
+class Limits(NamedTuple):
+    """What the stored references may ask for (see :func:`regress_level`)."""
+
+    max_frame_size: int
+    max_cells: int
+    max_file_bytes: int
+
+
 def _compare_episode(
-    folder: Path, level: Level, snapshot: Level, spec: ReplaySpec, trace: Trace, manifest: Manifest
+    folder: Path, level: Level, snapshot: Level, spec: ReplaySpec, trace: Trace, manifest: Manifest, limits: Limits
 ) -> tuple[EpisodeResult, list[DiffRow]]:
     stored_trace = trace_path(folder, spec.name)
-    reference_text = read_text(stored_trace)
-    try:
-        reference = Trace.from_data(json.loads(reference_text))
-    except (ValueError, KeyError, TypeError, IndexError) as error:
-        raise RegressionError(f"{stored_trace}: not a trace ({type(error).__name__}: {error})") from None
+    source = display_path(stored_trace)
+    reference_text = read_text(stored_trace, max_file_bytes=limits.max_file_bytes)
+    data = parse_json(reference_text, source=source, error=RegressionError)
+    reference = trace_from_stored(data, source=source, max_cells=limits.max_cells)
     size = manifest.frame_size
     rows = []
     changes: tuple[str, ...] = ()
@@ -205,7 +222,9 @@ def _compare_episode(
     frames = []
     last: DiffRow | None = None
     for percent in KEY_PERCENTS:
-        stored = read_png(key_frame_path(folder, spec.name, percent))
+        stored = read_png(
+            key_frame_path(folder, spec.name, percent), max_size=size, max_file_bytes=limits.max_file_bytes
+        )
         before, after = key_tick(reference.steps, percent), key_tick(trace.steps, percent)
         frame = render_frame(level, trace, after, size=size)
         differing, channel = compare_frames(stored, frame, manifest.tolerance)
@@ -245,8 +264,13 @@ def _trace_changes(reference: Trace, current: Trace) -> tuple[tuple[str, ...], i
     said = {"path", "headings", "unseen_percent", "first_seen", "steps", "covered", "start", "outcome"}
     if old["reachable"] != new["reachable"]:
         said.add("goal")
+    # A key only the reference has (a stored team trace against a one-guard run) is a change; a key only
+    # the current trace has is a field added since the reference was written, and is not.
     for key in old:
-        if key not in said and old[key] != new[key]:
-            plain = isinstance(old[key], (int, float, str))
-            changes.append(f"{key} {old[key]} -> {new[key]}" if plain else _FIELD_WORDS.get(key, key))
+        before, after = old[key], new.get(key)
+        if key not in said and before != after:
+            plain = isinstance(before, (int, float, str)) and isinstance(after, (int, float, str))
+            changes.append(
+                f"{key} {excerpt(before, 40)} -> {excerpt(after, 40)}" if plain else _FIELD_WORDS.get(key, key)
+            )
     return tuple(changes or ["trace text"]), moved if moved is not None else coverage
