@@ -71,7 +71,7 @@ def diff_image(rows: list[DiffRow], tolerance: Tolerance) -> np.ndarray:
 
     font = ImageFont.load_default()
     gap, label_height = 4, 14
-    strips = [("reference | current | pixels that differ (magenta)", None)]
+    strips: list[tuple[str, np.ndarray | None]] = [("reference | current | pixels that differ (magenta)", None)]
     for label, reference, current in rows:
         height = max(reference.shape[0], current.shape[0])
         width = max(reference.shape[1], current.shape[1])

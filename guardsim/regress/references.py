@@ -204,8 +204,8 @@ def read_manifest(
         raise bad(f"frame_size {frame_size} is over the limit of {max_frame_size} pixels (max_frame_size)")
     tolerance = data.get("tolerance", {})
     default = Tolerance()
-    channel = tolerance.get("channel", default.channel) if isinstance(tolerance, dict) else None
-    fraction = tolerance.get("fraction", default.fraction) if isinstance(tolerance, dict) else None
+    channel: Any = tolerance.get("channel", default.channel) if isinstance(tolerance, dict) else None
+    fraction: Any = tolerance.get("fraction", default.fraction) if isinstance(tolerance, dict) else None
     if not (_is_count(channel) and channel <= 255 and _is_number(fraction) and 0 <= fraction <= 1):
         raise bad('tolerance must be {"channel": 0 to 255, "fraction": 0 to 1}')
     episodes = data.get("episodes")
@@ -216,8 +216,8 @@ def read_manifest(
     specs = []
     for index, episode in enumerate(episodes):
         name = episode.get("name") if isinstance(episode, dict) else None
-        seed = episode.get("seed", 0) if isinstance(episode, dict) else None
-        number = episode.get("episode") if isinstance(episode, dict) else None
+        seed: Any = episode.get("seed", 0) if isinstance(episode, dict) else None
+        number: Any = episode.get("episode") if isinstance(episode, dict) else None
         if not isinstance(name, str) or not _EPISODE_NAME.match(name):
             raise bad(f"episodes[{index}]: name must be letters, digits, - and _ (at most 64), not {excerpt(name, 40)}")
         if not _is_seed(seed) or not (number is None or _is_seed(number)):

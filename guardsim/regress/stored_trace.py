@@ -35,7 +35,7 @@ def trace_from_stored(data: Any, *, source: str, max_cells: int) -> Trace:
         raise bad(f"outcome must be one of {', '.join(OUTCOMES)}, not {excerpt(data['outcome'], 40)}")
     if data.get("seed") is not None and not _is_int(data.get("seed")):
         raise bad("seed must be a whole number or null")
-    cell_size = data.get("cell_size")
+    cell_size: Any = data.get("cell_size")
     if not (_is_number(cell_size) and math.isfinite(cell_size) and cell_size > 0):
         raise bad(f"cell_size must be a positive number, not {excerpt(cell_size, 40)}")
     origin = data.get("origin")
