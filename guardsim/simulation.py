@@ -207,6 +207,7 @@ class Simulation:
             return
         if self._accelerator is not None:
             self._accelerator.advance(episode, self.limit, 1)
+            self._place_guard()
             return
         tick = int(episode.counters[TICK])
         grid = self.scene.grid
@@ -245,6 +246,7 @@ class Simulation:
         if not self.done:
             if self._accelerator is not None:
                 self._accelerator.advance(episode, self.limit, -1)
+                self._place_guard()
             while not self.done:
                 self.step()
         return self.trace()
@@ -264,8 +266,11 @@ class Simulation:
             newly_goal += int(episode.goal[new].sum())
         episode.counters[UNSEEN] -= newly_goal
         episode.unseen_counts[tick] = episode.counters[UNSEEN]
-        if len(self.planners) == 1:
-            self.scene.world.place_guard(grid.centre(col, row))
+        self._place_guard()
+
+    def _place_guard(self) -> None:
+        """Put guard 0's body in the physics space where the guard now stands (the world has one body)."""
+        self.scene.world.place_guard(self.positions[0])
 
     def _check_end(self) -> None:
         episode = self._require()

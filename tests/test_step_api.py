@@ -1,0 +1,158 @@
+"""The public step API: a guard stepped tick by tick, inside a caller's own pymunk space."""
+
+from __future__ import annotations
+
+import subprocess
+import sys
+
+import numpy as np
+import pymunk
+import pytest
+
+import guardsim
+from guardsim import Scene, Simulation, load_level, run_batch_episode
+from guardsim.planners import RippleFront
+from guardsim.planners.base import GuardState
+from tests.common import LEVELS, REPO, SQUARE_WITH_HOLE, level_from, scene_from, shipped_levels
+
+
+def _stepped(simulation: Simulation) -> guardsim.Trace:
+    while not simulation.done:
+        simulation.step()
+    return simulation.trace()
+
+
+@shipped_levels
+def test_stepping_gives_the_trace_of_run_and_of_the_reference(level_path) -> None:
+    scene = Scene.from_level(load_level(level_path))
+    runs = []
+    for reference, step in ((False, False), (False, True), (True, False)):
+        simulation = Simulation(scene, "ripplefront", reference=reference)
+        simulation.reset(seed=3, episode=5)
+        runs.append((_stepped(simulation) if step else simulation.run()).to_json())
+    assert runs[0] == runs[1] == runs[2]
+    assert runs[0] == run_batch_episode(scene, seed=3, episode=5).to_json()
+
+
+def test_what_a_game_reads_each_tick_agrees_with_the_trace() -> None:
+    scene = Scene.from_level(load_level(LEVELS[0]))
+    simulation = Simulation(scene)
+    simulation.reset(seed=0)
+    first_seen_by_tick: dict[int, set[tuple[int, int]]] = {0: set(simulation.newly_seen())}
+    positions = [simulation.positions[0]]
+    while not simulation.done:
+        simulation.step()
+        first_seen_by_tick[simulation.tick] = set(simulation.newly_seen())
+        positions.append(simulation.positions[0])
+        # The body in the physics space follows the guard.
+        assert tuple(scene.world.guard_body.position) == pytest.approx(positions[-1])
+        assert set(simulation.visible_cells()) >= first_seen_by_tick[simulation.tick]
+    trace = simulation.trace()
+    assert positions == [scene.grid.centre(col, row) for col, row in trace.path]
+    for tick, cells in first_seen_by_tick.items():
+        assert all(trace.first_seen[row, col] == tick for col, row in cells)
+    assert simulation.coverage == 1.0 and simulation.outcome == "covered" and simulation.unseen == 0
+    assert simulation.heading_degrees[0] == 90.0 * trace.headings[-1]
+
+
+def test_a_subclass_that_decides_otherwise_is_not_run_on_the_compiled_tick() -> None:
+    class AlwaysRight(RippleFront):
+        name = "always-right"
+
+        def next_move(self, state: GuardState) -> int | None:
+            right = int(self._neighbours[state.cell, 0])
+            return 0 if right >= 0 else super().next_move(state)
+
+    class Renamed(RippleFront):
+        name = "renamed"
+
+    scene = scene_from(SQUARE_WITH_HOLE)
+    plain = Simulation(scene, [RippleFront()])
+    plain.reset(starts=[(0, 0)], headings=[1])
+    changed = Simulation(scene, [AlwaysRight()])
+    changed.reset(starts=[(0, 0)], headings=[1])
+    renamed = Simulation(scene, [Renamed()])
+    renamed.reset(starts=[(0, 0)], headings=[1])
+    assert changed._accelerator is None and renamed._accelerator is not None
+    first, second, third = plain.run(), changed.run(), renamed.run()
+    assert list(second.path[:6]) == [(col, 0) for col in range(6)] and first.path != second.path
+    assert third.path == first.path
+
+
+def test_reset_starts_again_and_carries_on_from_cells_already_seen() -> None:
+    scene = scene_from(SQUARE_WITH_HOLE)
+    simulation = Simulation(scene)
+    simulation.reset(starts=[(0, 0)], headings=[0])
+    whole = simulation.run()
+    simulation.reset(starts=[(0, 0)], headings=[0])
+    assert simulation.tick == 0 and not simulation.done
+    assert simulation.run().to_json() == whole.to_json()
+    seen = np.zeros(scene.grid.shape, dtype=bool)
+    seen[:, 3:] = True
+    simulation.reset(starts=[(0, 0)], headings=[0], seen=seen)
+    assert simulation.run().steps < whole.steps
+
+
+def test_bad_starts_are_refused() -> None:
+    simulation = Simulation(scene_from(SQUARE_WITH_HOLE))
+    with pytest.raises(ValueError, match="not traversable"):
+        simulation.reset(starts=[(2, 2)], headings=[0])
+    with pytest.raises(ValueError, match="off the grid"):
+        simulation.reset(starts=[(9, 0)], headings=[0])
+    with pytest.raises(RuntimeError, match="reset"):
+        Simulation(scene_from(SQUARE_WITH_HOLE)).step()
+
+
+def test_a_world_built_in_the_callers_space_adds_walls_there() -> None:
+    level = level_from(SQUARE_WITH_HOLE)
+    space = pymunk.Space()
+    crate = pymunk.Body(1.0, 1.0)
+    crate.position = (1.0, 5.0)
+    space.add(crate, pymunk.Poly.create_box(crate, (1.0, 1.0)))
+    scene = Scene.from_level(level, space=space)
+    assert scene.world.space is space
+    assert len([s for s in space.shapes if isinstance(s, pymunk.Segment)]) == 8
+    # The game's crate is not a wall: it blocks neither sight nor the grid.
+    plain = Scene.from_level(level)
+    assert (scene.grid.traversable == plain.grid.traversable).all()
+    assert scene.world.line_of_sight((0.5, 5.0), (1.5, 5.0))
+
+
+def test_walls_already_in_the_space_give_the_same_guard() -> None:
+    level = load_level(REPO / "levels" / "passages.json")
+    space = pymunk.Space()
+    for ring in (level.outer, *level.holes):
+        for index, start in enumerate(ring):
+            space.add(pymunk.Segment(space.static_body, start, ring[(index + 1) % len(ring)], 0.0))
+    player = pymunk.Body(1.0, 1.0)
+    player.position = (30.0, 30.0)
+    space.add(player, pymunk.Circle(player, 0.5))
+    own = Scene.from_level(level, space=space, walls_in_space=True)
+    assert len(own.world.walls) == sum(len(ring) for ring in (level.outer, *level.holes))
+    standalone = Scene.from_level(level)
+    first, second = Simulation(own), Simulation(standalone)
+    first.reset(seed=1, episode=2)
+    second.reset(seed=1, episode=2)
+    assert first.run().to_json() == second.run().to_json()
+
+
+def test_the_game_loop_example_runs() -> None:
+    result = subprocess.run(
+        [sys.executable, str(REPO / "examples" / "game_loop.py"), str(REPO / "levels" / "square.json"), "--frames", "400"],
+        capture_output=True,
+        text=True,
+        timeout=120,
+        check=True,
+    )
+    lines = result.stdout.splitlines()
+    assert len(lines) == 101
+    assert lines[-1].startswith("after 400 frames: guard still patrolling at tick 100")
+    # The guard walks: its position changes over the run.
+    assert lines[0].split(" sees ")[0].split(": ")[1] != lines[-2].split(" sees ")[0].split(": ")[1]
+
+
+def test_public_names_resolve_and_import_guardsim_loads_no_compiler() -> None:
+    for name in guardsim.__all__:
+        assert getattr(guardsim, name) is not None
+    code = "import sys, guardsim; guardsim.Level; guardsim.load_level; print('numba' in sys.modules)"
+    assert subprocess.run([sys.executable, "-c", code], capture_output=True, text=True, check=True).stdout == "False\n"
