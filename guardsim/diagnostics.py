@@ -54,7 +54,7 @@ def free_cells(scene: Scene) -> np.ndarray:
     rows, cols = grid.shape
     xs = grid.origin[0] + (np.arange(cols) + 0.5) * grid.cell_size
     ys = grid.origin[1] + (np.arange(rows) + 0.5) * grid.cell_size
-    return shapely.contains_xy(scene.level.free_area(), *np.meshgrid(xs, ys))
+    return np.asarray(shapely.contains_xy(scene.level.free_area(), *np.meshgrid(xs, ys)), dtype=bool)
 
 
 def level_warnings(scene: Scene, reachable: np.ndarray, *, max_rays: int = DEFAULT_MAX_RAYS) -> list[DesignerWarning]:

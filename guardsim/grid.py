@@ -79,7 +79,8 @@ class CoverageGrid:
     @property
     def shape(self) -> tuple[int, int]:
         """``(rows, cols)``."""
-        return self.traversable.shape  # type: ignore[return-value]
+        rows, cols = self.traversable.shape
+        return rows, cols
 
     @property
     def size(self) -> int:

@@ -62,7 +62,9 @@ class World:
             self.walls = [
                 shape
                 for shape in space.shapes
-                if isinstance(shape, pymunk.Segment) and shape.body.body_type == pymunk.Body.STATIC
+                if isinstance(shape, pymunk.Segment)
+                and shape.body is not None
+                and shape.body.body_type == pymunk.Body.STATIC
             ]
         else:
             for ring in (level.outer, *level.holes):

@@ -14,7 +14,8 @@ It advances the loop's own :class:`~guardsim.planners.base.EpisodeArrays` exactl
 
 from __future__ import annotations
 
-from typing import NamedTuple
+from collections.abc import Callable
+from typing import Any, NamedTuple
 
 import numba
 import numpy as np
@@ -36,7 +37,7 @@ _COVERED, _STEP_LIMIT, _STUCK = 0, 1, 2
 # The phases of a tick: the loop returns for a missing vision state between the move and the look.
 _LOOK, _DECIDE = 0, 1
 
-_state_of = numba.njit(inline="always")(state_of)
+_state_of: Callable[[int, int], int] = numba.njit(inline="always")(state_of)
 
 
 class FieldState(NamedTuple):
@@ -237,7 +238,8 @@ def is_compiled() -> bool:
     try:
         # numba keeps no public way to ask; its cache index is empty (or absent) until a run has saved
         # the compiled tick for this very source.
-        return bool(_advance._cache._cache_file._load_index())
+        kernel: Any = _advance
+        return bool(kernel._cache._cache_file._load_index())
     except (AttributeError, OSError):
         # A numba whose cache is laid out otherwise: assume ready, i.e. keep the fast path.
         return True

@@ -11,6 +11,7 @@ the compiled episode loop reads directly.
 
 from __future__ import annotations
 
+from collections.abc import Callable
 from typing import NamedTuple
 
 import numba
@@ -26,8 +27,9 @@ from guardsim.world import World
 
 __all__ = ["FillArrays", "VisionCache", "try_fill"]
 
-_cell_of_state = numba.njit(inline="always")(cell_of_state)
-_heading_of_state = numba.njit(inline="always")(heading_of_state)
+# The grid's own state numbering, compiled for the kernels below.
+_cell_of_state: Callable[[int], int] = numba.njit(inline="always")(cell_of_state)
+_heading_of_state: Callable[[int], int] = numba.njit(inline="always")(heading_of_state)
 
 
 class FillArrays(NamedTuple):

@@ -46,8 +46,8 @@ class VisionCone:
         half_angle = math.radians(guard.fov_degrees) / 2
         cos_half = math.cos(half_angle)
         span = math.floor(min(reach + _EDGE_TOLERANCE, math.inf if grid_shape is None else max(grid_shape) - 1))
-        dcol, drow = np.meshgrid(np.arange(-span, span + 1), np.arange(-span, span + 1))
-        dcol, drow = dcol.ravel(), drow.ravel()
+        grid_cols, grid_rows = np.meshgrid(np.arange(-span, span + 1), np.arange(-span, span + 1))
+        dcol, drow = grid_cols.ravel(), grid_rows.ravel()
         distance = np.hypot(dcol, drow)
         in_range = distance <= reach + _EDGE_TOLERANCE
         offsets = []
