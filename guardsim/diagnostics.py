@@ -63,32 +63,12 @@ def level_warnings(scene: Scene, reachable: np.ndarray, *, max_rays: int = DEFAU
     Pockets and passages come largest first; hidden areas last.
     """
     grid = scene.grid
-    areas = _connected_areas(grid)
+    areas = grid.component_labels.reshape(grid.shape)
     free = free_cells(scene)
     warnings = _pockets(grid, areas, reachable)
     warnings += _narrow_passages(scene, areas, free)
     warnings += _hidden_areas(scene, reachable, free, max_rays)
     return warnings
-
-
-def _connected_areas(grid: CoverageGrid) -> np.ndarray:
-    """``int (rows, cols)``: a label per connected area of traversable cells (by the grid's moves), -1 elsewhere."""
-    labels = np.full(grid.size, -1, dtype=np.int64)
-    neighbours = grid.neighbours
-    count = 0
-    for start in np.flatnonzero(grid.traversable).tolist():
-        if labels[start] >= 0:
-            continue
-        labels[start] = count
-        queue = deque([start])
-        while queue:
-            cell = queue.popleft()
-            for other in neighbours[cell].tolist():
-                if other >= 0 and labels[other] < 0:
-                    labels[other] = count
-                    queue.append(other)
-        count += 1
-    return labels.reshape(grid.shape)
 
 
 def _clusters(mask: np.ndarray) -> list[np.ndarray]:
