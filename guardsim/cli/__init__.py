@@ -24,6 +24,7 @@ COMMANDS: dict[str, tuple[str, str, str]] = {
     "render": ("guardsim.cli.render", "render", "Draw a level preview as a PNG."),
     "schema": ("guardsim.cli.schema", "schema", "Print the level format's JSON Schema."),
     "validate": ("guardsim.cli.validate", "validate", "Check level files and warn about designer problems."),
+    "view": ("guardsim.cli.view", "view", "Write a saved trace as an interactive HTML page."),
 }
 
 

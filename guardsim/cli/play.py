@@ -9,9 +9,9 @@ import click
 from guardsim.cli.common import build_scene, cli_start, limit_options, load, parse_point, reports_errors, vision_options
 from guardsim.cli.map_options import MapImport, map_options
 from guardsim.level import HEADINGS
-from guardsim.output import atomic_path, write_text_atomic
+from guardsim.output import write_text_atomic
 from guardsim.planners import PLANNERS, make_planner
-from guardsim.render import DEFAULT_MAX_FRAMES, GifOptions, encode_gif
+from guardsim.render.timeline import DEFAULT_MAX_FRAMES, GifOptions
 from guardsim.simulation import run_team_episode, team_starts
 
 __all__ = ["play"]
@@ -20,6 +20,7 @@ __all__ = ["play"]
 @click.command()
 @click.argument("level_path", metavar="LEVEL")
 @click.option("--gif", "gif_path", type=str, help="Write the episode as an animated GIF.")
+@click.option("--html", "html_path", type=str, help="Write the episode as an interactive page (one offline file).")
 @click.option("--trace", "trace_path", type=str, help="Write the episode as JSON.")
 @click.option("--seed", type=click.IntRange(min=0), default=0, show_default=True, help="Seed for random choices.")
 @click.option("--start", callback=parse_point, metavar="X,Y", help="Start position in world units.")
@@ -54,6 +55,7 @@ __all__ = ["play"]
 def play(
     level_path: str,
     gif_path: str | None,
+    html_path: str | None,
     trace_path: str | None,
     seed: int,
     start: tuple[float, float] | None,
@@ -96,10 +98,15 @@ def play(
     options = GifOptions(stride=stride, frame_ms=frame_ms, max_frames=max_frames)
     written = []
     if gif_path:
-        gif = encode_gif(level, trace, options)
-        with atomic_path(gif_path) as temporary:
-            temporary.write_bytes(gif)
+        from guardsim.render.gif import write_gif
+
+        write_gif(gif_path, level, trace, options)
         written.append(gif_path)
+    if html_path:
+        from guardsim.viewer import write_viewer
+
+        write_viewer(html_path, level, trace)
+        written.append(html_path)
     if trace_path:
         write_text_atomic(trace_path, trace.to_json())
         written.append(trace_path)

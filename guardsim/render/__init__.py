@@ -2,29 +2,51 @@
 
 - :mod:`~guardsim.render.palette`: the one fixed palette frames are drawn in.
 - :mod:`~guardsim.render.sight`: what a guard sees, as a visibility polygon from pymunk ray casts.
-- :mod:`~guardsim.render.frames`: one episode frame (level, unseen cells, cones, trails, guards, caption,
-  legend) as palette indices.
+- :mod:`~guardsim.render.text` and :mod:`~guardsim.render.legend`: caption text and the legend bar.
+- :mod:`~guardsim.render.frames`: one episode frame as palette indices.
+- :mod:`~guardsim.render.timeline`: which ticks become frames (no drawing library needed).
 - :mod:`~guardsim.render.gif`: frames streamed into an animated GIF.
 - :mod:`~guardsim.render.preview`: the level designer's preview (``guardsim render``).
 
-See ``docs/rendering.md``.
+Names are loaded from their module when first used, so that reading :data:`DEFAULT_MAX_FRAMES` (a
+command-line default) does not import Pillow. See ``docs/rendering.md``.
 """
 
 from __future__ import annotations
 
-from guardsim.render.frames import DEFAULT_FRAME_SIZE, FrameDrawer, pixels_per_cell, render_frame
-from guardsim.render.gif import (
-    DEFAULT_MAX_FRAMES,
-    FRAME_CEILING,
-    GifOptions,
-    GifStream,
-    encode_gif,
-    frame_ticks,
-    write_gif,
-)
-from guardsim.render.palette import COLOURS, GUARD_COLOURS, PALETTE, Index, palette_rgb
-from guardsim.render.preview import draw_cone_overlay, render_preview
-from guardsim.render.sight import SightCaster
+import importlib
+from typing import TYPE_CHECKING, Any
+
+if TYPE_CHECKING:
+    from guardsim.render.frames import FrameDrawer, pixels_per_cell, render_frame
+    from guardsim.render.gif import GifStream, encode_gif, write_gif
+    from guardsim.render.palette import COLOURS, GUARD_COLOURS, PALETTE, Index, palette_rgb
+    from guardsim.render.preview import draw_cone_overlay, render_preview
+    from guardsim.render.sight import SightCaster
+    from guardsim.render.timeline import DEFAULT_FRAME_SIZE, DEFAULT_MAX_FRAMES, FRAME_CEILING, GifOptions, frame_ticks
+
+#: Public name -> the module that defines it.
+_HOMES = {
+    "COLOURS": "palette",
+    "GUARD_COLOURS": "palette",
+    "PALETTE": "palette",
+    "Index": "palette",
+    "palette_rgb": "palette",
+    "SightCaster": "sight",
+    "FrameDrawer": "frames",
+    "pixels_per_cell": "frames",
+    "render_frame": "frames",
+    "DEFAULT_FRAME_SIZE": "timeline",
+    "DEFAULT_MAX_FRAMES": "timeline",
+    "FRAME_CEILING": "timeline",
+    "GifOptions": "timeline",
+    "frame_ticks": "timeline",
+    "GifStream": "gif",
+    "encode_gif": "gif",
+    "write_gif": "gif",
+    "draw_cone_overlay": "preview",
+    "render_preview": "preview",
+}
 
 __all__ = [
     "COLOURS",
@@ -47,3 +69,14 @@ __all__ = [
     "render_preview",
     "write_gif",
 ]
+
+
+def __getattr__(name: str) -> Any:
+    home = _HOMES.get(name)
+    if home is None:
+        raise AttributeError(f"module 'guardsim.render' has no attribute {name!r}")
+    return getattr(importlib.import_module(f"guardsim.render.{home}"), name)
+
+
+def __dir__() -> list[str]:
+    return __all__

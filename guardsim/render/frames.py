@@ -17,18 +17,17 @@ from dataclasses import dataclass
 import numpy as np
 from PIL import Image, ImageDraw
 
-from guardsim.level import Level
+from guardsim.level import GuardSpec, Level
 from guardsim.render.legend import draw_legend
 from guardsim.render.palette import Index, guard_index, palette_rgb, text_index
 from guardsim.render.sight import SightCaster
 from guardsim.render.text import Typesetter
+from guardsim.render.timeline import DEFAULT_FRAME_SIZE
 from guardsim.trace import Trace
 from guardsim.world import World
 
 __all__ = ["DEFAULT_FRAME_SIZE", "FrameDrawer", "Layout", "VisionSettings", "pixels_per_cell", "render_frame"]
 
-#: Longest side of the play area in pixels, before rounding to whole pixels per cell.
-DEFAULT_FRAME_SIZE = 480
 #: Narrowest frame: the caption and legend need this much room even for a small level.
 MIN_FRAME_WIDTH = 400
 #: The guard's disc is never smaller than this radius in pixels, whatever the cell size.
@@ -57,9 +56,15 @@ class VisionSettings:
 
     @classmethod
     def of(cls, level: Level, trace: Trace) -> VisionSettings:
+        """The trace's vision, else the level's guard's."""
+        return cls.of_guard(level.guard, trace)
+
+    @classmethod
+    def of_guard(cls, guard: GuardSpec, trace: Trace) -> VisionSettings:
+        """The trace's vision, else ``guard``'s."""
         return cls(
-            view_range=level.guard.view_range if trace.view_range is None else trace.view_range,
-            fov_degrees=level.guard.fov_degrees if trace.fov_degrees is None else trace.fov_degrees,
+            view_range=guard.view_range if trace.view_range is None else trace.view_range,
+            fov_degrees=guard.fov_degrees if trace.fov_degrees is None else trace.fov_degrees,
         )
 
 

@@ -9,75 +9,22 @@ encoding fast. Pillow's GIF encoder does the LZW compression, one frame at a tim
 from __future__ import annotations
 
 import io
-import math
-from dataclasses import dataclass
 from pathlib import Path
 from typing import BinaryIO
 
 import numpy as np
 from PIL import GifImagePlugin, Image
 
-from guardsim.errors import LimitError
 from guardsim.level import Level
 from guardsim.output import atomic_path
-from guardsim.render.frames import DEFAULT_FRAME_SIZE, FrameDrawer
+from guardsim.render.frames import FrameDrawer
 from guardsim.render.palette import PALETTE
+from guardsim.render.timeline import GifOptions, frame_ticks
 from guardsim.trace import Trace
 
-__all__ = ["DEFAULT_MAX_FRAMES", "FRAME_CEILING", "GifOptions", "GifStream", "encode_gif", "frame_ticks", "write_gif"]
-
-#: Frames in a GIF unless the caller asks for more; the stride grows to stay under it.
-DEFAULT_MAX_FRAMES = 200
-#: Hard ceiling on frames, whatever the options, to keep GIFs bounded.
-FRAME_CEILING = 5000
+__all__ = ["GifStream", "encode_gif", "write_gif"]
 
 _PALETTE_BYTES = bytes(channel for colour in PALETTE for channel in colour)
-
-
-@dataclass(frozen=True)
-class GifOptions:
-    """How an episode becomes a GIF."""
-
-    stride: int | None = None
-    """Ticks between frames; ``None`` picks the smallest stride that keeps under ``max_frames``."""
-    frame_ms: int = 60
-    """Duration of each frame in milliseconds."""
-    hold_ms: int = 2000
-    """Duration of the last frame, so the final coverage stays on screen."""
-    max_frames: int = DEFAULT_MAX_FRAMES
-    """Most frames the GIF may have."""
-    size: int = DEFAULT_FRAME_SIZE
-    """Longest side of the play area in pixels (approximate: cells are whole pixels)."""
-
-
-def frame_ticks(steps: int, options: GifOptions) -> list[int]:
-    """The ticks drawn: every ``stride``-th from 0, and always the last.
-
-    Raises
-    ------
-    LimitError
-        If an explicit stride would exceed ``max_frames``.
-    """
-    if options.max_frames < 1 or options.max_frames > FRAME_CEILING:
-        raise LimitError(f"--max-frames must be from 1 to {FRAME_CEILING} (the GIF ceiling), not {options.max_frames}")
-    if options.max_frames == 1:
-        return [steps]
-    if options.stride is None:
-        # The last tick is always added, so leave room for it.
-        stride = max(1, math.ceil(steps / (options.max_frames - 1)))
-    else:
-        if options.stride < 1:
-            raise LimitError(f"frame stride must be at least 1, not {options.stride}")
-        stride = options.stride
-    ticks = list(range(0, steps + 1, stride))
-    if ticks[-1] != steps:
-        ticks.append(steps)
-    if len(ticks) > options.max_frames:
-        raise LimitError(
-            f"{len(ticks)} frames at stride {stride} is over the limit of {options.max_frames} "
-            "(raise --stride or --max-frames)"
-        )
-    return ticks
 
 
 def _palette_image(frame: np.ndarray) -> Image.Image:

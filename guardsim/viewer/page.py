@@ -1,0 +1,136 @@
+"""The interactive episode viewer: one self-contained HTML page built from a trace.
+
+The page carries the trace, not pictures: each cell's first-seen tick, its kind (goal, unreachable,
+neither), every guard's path and headings, the wall rings and the vision simulated, packed as base64
+typed arrays inside a JSON block. The page's own script (``viewer.js``, inlined) draws any tick from
+that: a 512 x 512 episode stays near 2 MB. Nothing is fetched from the network.
+"""
+
+from __future__ import annotations
+
+import base64
+import json
+from importlib import resources
+from pathlib import Path
+from typing import Any
+
+import numpy as np
+
+from guardsim.errors import GuardsimError
+from guardsim.level import GuardSpec, Level
+from guardsim.output import write_text_atomic
+from guardsim.render.frames import VisionSettings
+from guardsim.render.palette import COLOURS, GUARD_COLOURS
+from guardsim.trace import Trace
+from guardsim.viewer.walls import rings_from_grid
+
+__all__ = ["FIELD_BUDGET_BYTES", "build_page", "page_data", "write_viewer"]
+
+#: Most bytes of D-field snapshots a page carries; longer episodes keep every k-th tick's field.
+FIELD_BUDGET_BYTES = 1_500_000
+
+#: Cell kinds in the page's ``kinds`` array.
+_OTHER, _GOAL, _UNREACHABLE = 0, 1, 2
+
+
+def _hex(colour: tuple[int, int, int]) -> str:
+    return "#" + "".join(f"{channel:02x}" for channel in colour)
+
+
+def _b64(array: Any, dtype: str) -> str:
+    return base64.b64encode(np.ascontiguousarray(array, dtype=np.dtype(dtype).newbyteorder("<")).tobytes()).decode(
+        "ascii"
+    )
+
+
+def _field_snapshots(field: np.ndarray, steps: int, shape: tuple[int, int]) -> dict[str, Any]:
+    """Snapshots of the planner's field (``(ticks, rows, cols)``, one per tick) within the byte budget."""
+    if field.ndim != 3 or field.shape[1:] != shape or field.shape[0] < steps + 1:
+        raise GuardsimError(
+            f"the recorded field has shape {field.shape}, expected ({steps + 1}, {shape[0]}, {shape[1]}) "
+            "(one grid per tick, the start included)"
+        )
+    per_tick = shape[0] * shape[1] * 4
+    every = max(1, -(-per_tick * (steps + 1) // FIELD_BUDGET_BYTES))
+    ticks = list(range(0, steps + 1, every))
+    values = np.asarray(field[ticks], dtype=np.float64)
+    finite = np.isfinite(values) & (values >= 0)
+    top = float(values[finite].max()) if finite.any() else 1.0
+    # Unreached or infinite entries become -1, drawn as no value.
+    packed = np.where(finite, values, -1.0).astype(np.float32)
+    return {"ticks": ticks, "max": top, "data": _b64(packed, "f4")}
+
+
+def page_data(level: Level | None, trace: Trace, *, field: np.ndarray | None = None) -> dict[str, Any]:
+    """Everything the page needs, as JSON-ready data.
+
+    With ``level`` ``None`` the walls are rebuilt from the trace's grid (see
+    :func:`guardsim.viewer.walls.rings_from_grid`) and vision the trace does not record takes the
+    default guard's.
+
+    ``unseen_text`` holds each tick's ``unseen_percent`` formatted with one decimal by Python, so the
+    page's readout is exactly the trace's figure (JavaScript's rounding of ties differs from Python's).
+    """
+    rows, cols = trace.shape
+    kinds = np.where(trace.goal, _GOAL, np.where(trace.traversable, _UNREACHABLE, _OTHER))
+    vision = VisionSettings.of(level, trace) if level is not None else VisionSettings.of_guard(GuardSpec(), trace)
+    rings = [list(ring) for ring in (level.outer, *level.holes)] if level is not None else rings_from_grid(trace)
+    paths = trace.team_paths()
+    data: dict[str, Any] = {
+        "level": trace.level,
+        "planner": trace.planner,
+        "seed": trace.seed,
+        "outcome": trace.outcome,
+        "steps": trace.steps,
+        "rows": rows,
+        "cols": cols,
+        "cell_size": trace.cell_size,
+        "origin": list(trace.origin),
+        "reachable": trace.reachable,
+        "unreachable": trace.unreachable,
+        "view_range": vision.view_range,
+        "fov_degrees": vision.fov_degrees,
+        "line_of_sight": trace.line_of_sight,
+        "unseen_text": [f"{percent:.1f}" for percent in trace.unseen_percent],
+        "first_seen": _b64(trace.first_seen.ravel(), "i4"),
+        "kinds": _b64(kinds.ravel(), "u1"),
+        "paths": [_b64([row * cols + col for col, row in path], "i4") for path in paths],
+        "headings": [_b64(list(headings), "u1") for headings in trace.team_headings()],
+        "rings": [[[float(x), float(y)] for x, y in ring] for ring in rings],
+        "walls_from_grid": level is None,
+        "colours": {name: _hex(COLOURS[name]) for name in ("wall", "free", "unseen", "unreachable", "outline", "cone")},
+        "guard_colours": [_hex(GUARD_COLOURS[guard % len(GUARD_COLOURS)]) for guard in range(len(paths))],
+    }
+    if field is not None:
+        data["field"] = _field_snapshots(np.asarray(field), trace.steps, trace.shape)
+    return data
+
+
+def _asset(name: str) -> str:
+    return resources.files("guardsim.viewer").joinpath(name).read_text(encoding="utf-8")
+
+
+def build_page(level: Level | None, trace: Trace, *, field: np.ndarray | None = None) -> str:
+    """The viewer page for ``trace`` as HTML text (self-contained: script and data inline)."""
+    data = json.dumps(page_data(level, trace, field=field), separators=(",", ":"))
+    # Inside <script>, "</" would end the element early; JSON allows the escaped form.
+    data = data.replace("</", "<\\/")
+    title = f"{trace.level}: {trace.planner}, {trace.steps} ticks"
+    page = _asset("template.html")
+    page = page.replace("__TITLE__", _escape(title))
+    page = page.replace("/*__DATA__*/", data)
+    return page.replace("/*__SCRIPT__*/", _asset("viewer.js"))
+
+
+def _escape(text: str) -> str:
+    return text.replace("&", "&amp;").replace("<", "&lt;").replace(">", "&gt;").replace('"', "&quot;")
+
+
+def write_viewer(path: str | Path, level: Level | None, trace: Trace, *, field: np.ndarray | None = None) -> None:
+    """Write the viewer page for ``trace`` to ``path`` (atomically).
+
+    ``field`` defaults to the trace's recorded planner field (``trace.field``) when it has one.
+    """
+    if field is None:
+        field = getattr(trace, "field", None)
+    write_text_atomic(path, build_page(level, trace, field=field))
