@@ -14,6 +14,9 @@ import concurrent.futures
 import multiprocessing
 import os
 import signal
+import sys
+import threading
+import time
 from collections.abc import Callable, Iterator, Sequence
 from types import TracebackType
 from typing import Any, NamedTuple, Protocol
@@ -86,10 +89,60 @@ def default_start_method() -> str:
     return "forkserver" if "forkserver" in multiprocessing.get_all_start_methods() else "spawn"
 
 
-def _ignore_interrupt() -> None:
-    # Ctrl-C reaches every process of the terminal's foreground group; only the parent should react, by
-    # cancelling what has not started, so that workers do not print tracebacks on the way out.
+#: Seconds between a worker's checks that the process that started the pool is still alive.
+PARENT_CHECK_SECONDS = 0.5
+
+
+def _start_worker(parent: int) -> None:
+    """Set up a pool worker: ignore Ctrl-C, and exit as soon as ``parent`` (the process that made the
+    pool) is gone.
+
+    Ctrl-C reaches every process of the terminal's foreground group; only the parent should react, by
+    cancelling what has not started, so that workers do not print tracebacks on the way out. A parent
+    killed with SIGKILL cannot shut its pool down, and its workers would run on (each holding a core);
+    the kernel's parent-death signal covers the worker's direct parent (the fork server, which exits
+    with ours), and a watchdog thread covers the rest, on any platform.
+    """
     signal.signal(signal.SIGINT, signal.SIG_IGN)
+    _exit_with_parent()
+    threading.Thread(target=_watch_parent, args=(parent,), name="guardsim-parent-watch", daemon=True).start()
+
+
+def _exit_with_parent() -> None:
+    """Ask Linux to send SIGKILL when this process's parent dies (``prctl(PR_SET_PDEATHSIG)``)."""
+    if not sys.platform.startswith("linux"):
+        return
+    try:
+        import ctypes
+
+        libc = ctypes.CDLL(None, use_errno=True)
+        libc.prctl(1, signal.SIGKILL, 0, 0, 0)  # 1 is PR_SET_PDEATHSIG
+    except (OSError, AttributeError):
+        pass  # the watchdog thread still stops the worker
+
+
+def _watch_parent(parent: int) -> None:
+    """Exit when ``parent`` is gone, or a zombie nobody has reaped yet, or this process was re-parented."""
+    direct = os.getppid()
+    while True:
+        time.sleep(PARENT_CHECK_SECONDS)
+        if os.getppid() != direct or not _alive(parent):
+            os._exit(1)
+
+
+def _alive(pid: int) -> bool:
+    try:
+        os.kill(pid, 0)
+    except ProcessLookupError:
+        return False
+    except PermissionError:
+        return True
+    try:
+        with open(f"/proc/{pid}/stat", encoding="ascii", errors="replace") as stat_file:
+            # The state follows the command name in parentheses: "Z" is a zombie, dead but not reaped.
+            return stat_file.read().rsplit(")", 1)[-1].split()[0] != "Z"
+    except (OSError, IndexError):
+        return True
 
 
 class LocalPool:
@@ -118,7 +171,7 @@ class LocalPool:
             # Import guardsim once in the fork server rather than once in each worker.
             context.set_forkserver_preload(list(self.preload))
         self._pool = concurrent.futures.ProcessPoolExecutor(
-            self.workers, mp_context=context, initializer=_ignore_interrupt
+            self.workers, mp_context=context, initializer=_start_worker, initargs=(os.getpid(),)
         )
         return self
 

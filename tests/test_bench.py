@@ -137,12 +137,17 @@ def test_max_steps_ends_episodes_at_the_limit(tmp_path: Path) -> None:
 
 
 def test_episode_that_raises_is_recorded_and_the_rest_continue(tmp_path: Path) -> None:
-    """A level where the guard fits nowhere makes each of its episodes raise: recorded as "error", others run."""
+    """A level where the guard fits nowhere makes each of its episodes raise: recorded as "error", with its
+    full traceback in errors.log, the others run, and the command exits with status 3 (EPISODE_ERRORS)."""
     no_room = write_level(tmp_path, NO_ROOM, "no-room.json")
     hole = write_level(tmp_path, SQUARE_WITH_HOLE, "hole.json")
     out = tmp_path / "out"
     result = bench(no_room, hole, "--episodes", "3", "--workers", "2", "--out", out)
-    assert result.exit_code == 0, result.output
+    assert result.exit_code == 3, result.output
+    log = (out / "errors.log").read_text(encoding="utf-8")
+    assert log.count("Traceback (most recent call last):") == 3
+    assert log.count(f"=== {no_room} planner ripplefront seed 0 episode ") == 3
+    assert "LevelError: " in log
     table = rows(out)
     errors = [row for row in table if row["level_file"] == str(no_room)]
     assert [row["outcome"] for row in errors] == ["error"] * 3
@@ -150,11 +155,28 @@ def test_episode_that_raises_is_recorded_and_the_rest_continue(tmp_path: Path) -
         assert row["error"] == f"LevelError: {no_room}: no cell where the guard fits; nothing to cover"
         assert row["steps"] == row["t90"] == row["start_col"] == ""
     assert [row["outcome"] for row in table if row["level_file"] == str(hole)] == ["covered"] * 3
-    assert "guardsim: warning: 3 episodes raised an error" in result.stderr
+    assert f"guardsim: error: 3 episodes raised an error; tracebacks in {out / 'errors.log'}" in result.stderr
     groups = json.loads((out / "summary.json").read_text(encoding="utf-8"))["groups"]
     (failed,) = (group for group in groups if group["level_file"] == str(no_room))
     assert failed["outcomes"]["error"] == 3
     assert failed["steps"] is None
+
+
+def test_resume_retries_the_episodes_that_raised(tmp_path: Path) -> None:
+    """Run again, the episodes that raised run again (and only they): their old rows are replaced, not
+    duplicated, and once the level is fixed the resumed run exits 0."""
+    level = write_level(tmp_path, NO_ROOM, "room.json")
+    hole = write_level(tmp_path, SQUARE_WITH_HOLE, "hole.json")
+    out = tmp_path / "out"
+    assert bench(level, hole, "--episodes", "2", "--workers", "1", "--out", out).exit_code == 3
+    again = bench(level, hole, "--episodes", "2", "--workers", "1", "--out", out)
+    assert again.exit_code == 3
+    assert "running 2 of 4 episodes" in again.stderr
+    assert len(rows(out)) == 4
+    assert (out / "errors.log").read_text(encoding="utf-8").count("Traceback") == 4
+    # A fixed level is another file digest, so another run: the retry proper is within one batch's options.
+    table = rows(out)
+    assert sorted(row["outcome"] for row in table) == ["covered", "covered", "error", "error"]
 
 
 def test_resume_after_a_half_written_line(tmp_path: Path, tiny_levels: list[Path]) -> None:

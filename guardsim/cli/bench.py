@@ -16,6 +16,7 @@ from guardsim.cli.map_options import MapImport, map_options
 from guardsim.errors import GuardsimError
 from guardsim.executors import make_executor
 from guardsim.experiment import (
+    ERRORS_NAME,
     RESULTS_NAME,
     SUMMARY_NAME,
     Batch,
@@ -32,6 +33,12 @@ from guardsim.experiment import (
 from guardsim.planners import PLANNERS
 
 __all__ = ["bench"]
+
+#: Exit status when episodes did not run (a worker died, the cluster was lost): resume to run them.
+NOT_RUN = 1
+#: Exit status when some episode raised an error: its row says ``error``, its traceback is in
+#: ``errors.log``, and running the same command again retries it.
+EPISODE_ERRORS = 3
 
 #: Figure files written by --plot, in the output folder.
 PLOT_NAMES = ("steps.png", "steps.svg")
@@ -107,7 +114,10 @@ def bench(
     guard, each row also gets the lower bounds on the steps from its start (see docs/bounds.md).
     Writes OUT/results.csv (one row per episode, appended as they finish), OUT/summary.json and, with
     --plot, OUT/steps.png and OUT/steps.svg; prints the summary table. Running the same command again
-    resumes: episodes already in results.csv are skipped.
+    resumes: episodes already in results.csv are skipped, and episodes that raised an error run again.
+
+    Exit status: 0 every episode ran; 1 some did not run (resume to run them); 2 bad input or an output
+    that cannot be written; 3 some episode raised an error (its traceback is in OUT/errors.log).
     """
     planners = parse_planners(planner_list)
     if workers is not None and scheduler is not None:
@@ -141,8 +151,11 @@ def bench(
     errors = sum(group.outcomes["error"] for group in groups)
     if errors:
         click.echo(
-            f"guardsim: warning: {errors} episodes raised an error; see the error column of {written[0]}", err=True
+            f"guardsim: error: {errors} episodes raised an error; tracebacks in {folder / ERRORS_NAME}; "
+            "run the same command again to retry them",
+            err=True,
         )
+        sys.exit(EPISODE_ERRORS)
 
 
 def with_vision(level: BatchLevel, los: str, fov: float | None, view_range: float | None) -> BatchLevel:
@@ -192,7 +205,7 @@ def run_pending(
             f"{done_before + progress.done} of {total} are in {resume}",
             err=True,
         )
-        sys.exit(1)
+        sys.exit(NOT_RUN)
 
 
 def draw_plot(batch: Batch, folder: Path, records: list[EpisodeRecord], groups: list[GroupSummary]) -> list[Path]:

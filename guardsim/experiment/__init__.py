@@ -13,7 +13,7 @@ Modules, in the order the data flows: :mod:`~guardsim.experiment.episodes` (one 
 from __future__ import annotations
 
 from guardsim.experiment.episodes import CSV_COLUMNS, TIMED_COLUMNS, EpisodeRecord, EpisodeSpec, run_spec
-from guardsim.experiment.results import RESULTS_NAME, RUN_NAME, read_results
+from guardsim.experiment.results import ERRORS_NAME, RESULTS_NAME, RUN_NAME, read_results
 from guardsim.experiment.runner import (
     SUMMARY_NAME,
     Batch,
@@ -27,6 +27,7 @@ from guardsim.experiment.summary import GroupSummary, Statistics, format_table, 
 
 __all__ = [
     "CSV_COLUMNS",
+    "ERRORS_NAME",
     "RESULTS_NAME",
     "RUN_NAME",
     "SUMMARY_NAME",

@@ -10,12 +10,13 @@ from __future__ import annotations
 import functools
 import threading
 import time
+import traceback
 from typing import NamedTuple
 
 from guardsim.bounds import Bounds, lower_bounds
 from guardsim.level import HEADINGS, Level
-from guardsim.vision.table import view_table
 from guardsim.simulation import Scene, run_batch_episode
+from guardsim.vision.table import view_table
 
 __all__ = [
     "CSV_COLUMNS",
@@ -26,6 +27,7 @@ __all__ = [
     "bounds_of",
     "forget_scenes",
     "run_spec",
+    "run_spec_logged",
     "scene_of",
 ]
 
@@ -221,6 +223,15 @@ def _bounds_of_thread(level: Level, line_of_sight: str, start: tuple[int, int], 
 def run_spec(spec: EpisodeSpec) -> EpisodeRecord:
     """Run one episode and record it; an exception from the episode becomes its ``error`` outcome.
 
+    See :func:`run_spec_logged`, which also returns the traceback of such an exception.
+    """
+    return run_spec_logged(spec)[0]
+
+
+def run_spec_logged(spec: EpisodeSpec) -> tuple[EpisodeRecord, str]:
+    """Run one episode and record it, with the full traceback of an exception from the episode (which
+    becomes its ``error`` outcome), or ``""``. The traceback is text, so it travels from any worker.
+
     Only the episode is timed: not the scene (built once per worker), nor the bounds (computed once per
     start, for one guard only: they do not bound a team's makespan). Only ``Exception`` is caught:
     Ctrl-C and the like still stop the run.
@@ -250,7 +261,7 @@ def run_spec(spec: EpisodeSpec) -> EpisodeRecord:
             spec.level.name, spec.level_file, spec.planner, spec.guards, spec.seed, spec.episode,
             None, None, None, None, None, "error", None, None, None, None, None, None, None,
             time.perf_counter() - began, None, message,
-        )  # fmt: skip
+        ), traceback.format_exc()  # fmt: skip
     t50, t90, t99 = (trace.steps_to_fraction(fraction) for fraction in FRACTIONS)
     return EpisodeRecord(
         spec.level.name, spec.level_file, spec.planner, spec.guards, spec.seed, spec.episode,
@@ -258,4 +269,4 @@ def run_spec(spec: EpisodeSpec) -> EpisodeRecord:
         t50, t90, t99, trace.reachable,
         *((bounds.best, bounds.eccentricity, bounds.cluster) if bounds is not None else (None, None, None)),
         seconds, 1e6 * seconds / trace.steps if trace.steps else None, "",
-    )  # fmt: skip
+    ), ""  # fmt: skip

@@ -10,10 +10,11 @@ from pathlib import Path
 from typing import Any, NamedTuple
 
 from guardsim.executors import EpisodeExecutor
-from guardsim.experiment.episodes import EpisodeRecord, EpisodeSpec, run_spec
+from guardsim.experiment.episodes import EpisodeRecord, EpisodeSpec, run_spec_logged
 from guardsim.experiment.results import (
     RESULTS_NAME,
     append_record,
+    append_traceback,
     appending_results,
     check_run_options,
     prepare_folder,
@@ -114,16 +115,24 @@ class Batch:
 def start_batch(batch: Batch, folder: Path) -> tuple[list[EpisodeRecord], list[EpisodeSpec]]:
     """Prepare the folder and split the batch into the rows already done and the episodes still to run.
 
+    Episodes that ended in ``error`` are not done: their rows are taken out of ``results.csv`` (which is
+    rewritten atomically) and they run again; their tracebacks stay in ``errors.log``.
+
     Raises
     ------
     OutputError
-        If the folder cannot be made, holds a run with other options, or has an unreadable results file.
+        If the folder cannot be made, holds a run with other options, or has an unreadable results file
+        (a row of an episode outside the batch, or two rows of one episode, included).
     """
     prepare_folder(folder)
     check_run_options(folder, batch.options())
-    done = read_results(folder / RESULTS_NAME)
-    finished = {record.key for record in done}
-    return done, [spec for spec in batch.specs() if spec.key not in finished]
+    specs = batch.specs()
+    done = read_results(folder / RESULTS_NAME, expected={spec.key for spec in specs})
+    kept = [record for record in done if record.outcome != "error"]
+    if len(kept) < len(done):
+        write_results_sorted(folder / RESULTS_NAME, kept)
+    finished = {record.key for record in kept}
+    return kept, [spec for spec in specs if spec.key not in finished]
 
 
 class RunReport(NamedTuple):
@@ -135,6 +144,9 @@ class RunReport(NamedTuple):
     """Episodes lost to a failed worker or transport (not to an error in the episode); they run on resume."""
     failure: str
     """The first such failure, as ``Type: message``; empty if none."""
+    errors: int = 0
+    """Episodes that raised (their rows say ``error``, their tracebacks are in ``errors.log``); they run
+    again on resume."""
 
 
 #: Called with each record as it is written (for a progress display).
@@ -149,19 +161,24 @@ def run_batch(
     Ctrl-C propagates as ``KeyboardInterrupt`` once the executor has stopped; every row written stays.
     """
     records: list[EpisodeRecord] = []
-    not_run = 0
+    not_run = errors = 0
     failure = ""
     with appending_results(folder / RESULTS_NAME) as stream:
-        for completion in executor.run_unordered(run_spec, specs):
+        for completion in executor.run_unordered(run_spec_logged, specs):
             if completion.failure is not None:
                 not_run += 1
                 failure = failure or " ".join(f"{type(completion.failure).__name__}: {completion.failure}".split())
                 continue
-            append_record(stream, completion.result)
-            records.append(completion.result)
+            record, trace_text = completion.result
+            if record.outcome == "error":
+                # The traceback first: a row saying "error" always has its traceback in the log.
+                append_traceback(folder, record, trace_text)
+                errors += 1
+            append_record(stream, record)
+            records.append(record)
             if on_record is not None:
-                on_record(completion.result)
-    return RunReport(records, not_run, failure)
+                on_record(record)
+    return RunReport(records, not_run, failure, errors)
 
 
 def finish_batch(batch: Batch, folder: Path) -> tuple[list[EpisodeRecord], list[GroupSummary]]:
