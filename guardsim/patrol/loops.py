@@ -1,0 +1,289 @@
+"""Closed cover loops: a route that sees every goal cell once per lap, for one guard or a team.
+
+One guard (:func:`cover_loop`):
+
+1. viewpoints, states whose views together see the goal: the tour planner's greedy set cover
+   (:func:`guardsim.planners.viewpoint_cover.greedy_cover`), or the states another planner's coverage
+   walk arrived in;
+2. ordered into a short closed tour with true step counts between them: the open-tour heuristics of
+   :mod:`guardsim.planners.open_tour` (nearest neighbour, then 2-opt and Or-opt) on the usual reduction of
+   a cycle to an open tour, a copy of the first viewpoint that must come last;
+3. walked (shortest paths, straight on where a choice is free) and pruned: a viewpoint whose cells the
+   rest of the lap sees anyway is dropped, and the tour is ordered again.
+
+A team (:func:`team_loops`) gets both of the two standard cyclic strategies, scored by worst idleness,
+and keeps the better: one shared cycle with the guards spaced evenly along it (for the worst idleness of
+a single cycle shared by ``k`` agents is its length over ``k``, the strategy Chevaleyre 2004, "Theoretical
+analysis of the multi-agent patrolling problem", shows near-optimal), or the cycle cut into ``k``
+arcs, each closed into a loop of its own (better when the level is made of distant parts).
+"""
+
+from __future__ import annotations
+
+import numpy as np
+
+from guardsim.grid import CoverageGrid, cell_of_state, heading_of_state, state_of
+from guardsim.patrol.model import Patrol
+from guardsim.patrol.scoring import PatrolScore, score_patrol
+from guardsim.planners.open_tour import improve_tour, nearest_neighbour_tour
+from guardsim.planners.shortest_paths import FAR, distances_from
+from guardsim.planners.tour import route_costs
+from guardsim.planners.viewpoint_cover import greedy_cover
+from guardsim.vision.table import ViewTable
+
+__all__ = ["LoopBuilder", "closed_tour", "team_loops"]
+
+# The dummy last node's way out: dearer than any tour, so it stays last. Far below int64's range.
+_NEVER_LEAVE = 10**12
+
+
+def closed_tour(cost: np.ndarray) -> np.ndarray:
+    """An order of nodes ``0..n-1`` (node 0 first) for a short closed tour under ``cost``.
+
+    A copy of node 0 is appended as node ``n`` with node 0's incoming costs and no way out, so an open
+    tour from node 0 ending at the copy is a cycle; the open-tour heuristics then shorten it.
+
+    Examples
+    --------
+    >>> cost = np.array([[0, 1, 5, 1], [1, 0, 1, 5], [5, 1, 0, 1], [1, 5, 1, 0]])
+    >>> closed_tour(cost).tolist()
+    [0, 1, 2, 3]
+    """
+    count = cost.shape[0]
+    if count <= 2:
+        return np.arange(count, dtype=np.int64)
+    padded = np.full((count + 1, count + 1), _NEVER_LEAVE, dtype=np.int64)
+    padded[:count, :count] = cost
+    padded[:count, count] = cost[:, 0]
+    padded[count, count] = 0
+    start = nearest_neighbour_tour(padded, 0, np.arange(1, count, dtype=np.int64))
+    tour = improve_tour(padded, np.append(start, count).astype(np.int64))
+    tour = tour[tour != count]
+    return tour.astype(np.int64)
+
+
+class LoopBuilder:
+    """Builds and walks closed loops through viewpoints on one level and goal.
+
+    Parameters
+    ----------
+    grid
+        The coverage grid.
+    table
+        The level's view table.
+    goal
+        ``bool (cells,)``: the cells every lap must see.
+    """
+
+    def __init__(
+        self, grid: CoverageGrid, table: ViewTable, goal: np.ndarray, *, fields: dict[int, np.ndarray] | None = None
+    ) -> None:
+        self.grid = grid
+        self.table = table
+        self.goal = np.ascontiguousarray(goal, dtype=bool)
+        self.neighbours = np.ascontiguousarray(grid.neighbours, dtype=np.int64)
+        self.fields: dict[int, np.ndarray] = {} if fields is None else fields
+        """Breadth-first fields by target cell, shareable between builders of one level."""
+
+    # -- viewpoints --------------------------------------------------------------------------------
+
+    def cover_viewpoints(self) -> np.ndarray:
+        """The greedy set cover of the goal (state numbers)."""
+        return greedy_cover(self.table, self.goal)
+
+    def walk_viewpoints(self, states: np.ndarray) -> np.ndarray:
+        """The arrivable states among ``states`` (a walk), in first-visit order, topped up so they see the goal.
+
+        A goal cell none of them sees gets a state standing in it (a guard sees its own cell).
+        """
+        entry = self.table.entry
+        states = np.asarray(states, dtype=np.int64)
+        states = states[entry[states] >= 0]
+        _, first = np.unique(states, return_index=True)
+        chosen = list(states[np.sort(first)].tolist())
+        missing = self.goal & ~self.seen_by(np.asarray(chosen, dtype=np.int64))
+        for cell in np.flatnonzero(missing).tolist():
+            for heading in range(4):
+                if entry[state_of(cell, heading)] >= 0:
+                    chosen.append(state_of(cell, heading))
+                    break
+        return np.asarray(chosen, dtype=np.int64)
+
+    # -- loops -------------------------------------------------------------------------------------
+
+    def cycle(self, viewpoints: np.ndarray) -> np.ndarray:
+        """``viewpoints`` pruned and put in the order of a short closed tour (the post when none)."""
+        viewpoints = np.asarray(viewpoints, dtype=np.int64)
+        if viewpoints.size == 0:
+            return self.post()
+        order = self._prune(viewpoints[self.order(viewpoints)])
+        # Ordering again may shorten the lap, but the paths change, and with them the cells seen on the
+        # way that pruning counted on: keep the new order only when its lap still sees the goal.
+        for _ in range(4):
+            again = order[self.order(order)]
+            lap = self.walk(again)
+            if lap.size >= self.walk(order).size or not self.lap_sees_goal(lap):
+                break
+            order = self._prune(again)
+        return order
+
+    def loop(self, viewpoints: np.ndarray) -> np.ndarray:
+        """One lap (state per tick) of a short closed loop through ``viewpoints`` that sees the goal."""
+        return self.walk(self.cycle(viewpoints))
+
+    def post(self) -> np.ndarray:
+        """A one-tick lap: standing in the goal's first cell, facing the way that sees most of the goal."""
+        cells = np.flatnonzero(self.goal)
+        if cells.size == 0:
+            raise ValueError("the goal is empty: nothing to patrol")
+        states = state_of(int(cells[0]), np.arange(4))
+        counts = [int(self.goal[self.table.sees(int(state))].sum()) for state in states]
+        return np.array([states[int(np.argmax(counts))]], dtype=np.int64)
+
+    def walk(self, order: np.ndarray) -> np.ndarray:
+        """The lap through the viewpoints ``order`` and back to the first: a state per tick, not repeating
+        the first at the end. One viewpoint is a post."""
+        lap = [int(order[0])]
+        for target in [*order[1:].tolist(), int(order[0])]:
+            if target != lap[-1]:
+                lap.extend(self.path(lap[-1], int(target)))
+        if len(lap) > 1:
+            lap.pop()
+        return np.asarray(lap, dtype=np.int64)
+
+    def path(self, start: int, target: int) -> list[int]:
+        """The states after each tick from state ``start`` to arriving in state ``target``.
+
+        A shortest walk to the cell behind ``target`` and the step into it; where several steps are
+        equally short the guard keeps its heading, then prefers right, down, left, up.
+        """
+        entry = int(self.table.entry[target])
+        if entry < 0:
+            raise ValueError(f"state {target} cannot be arrived in")
+        field = self._field(entry)
+        cell, heading = int(cell_of_state(start)), int(heading_of_state(start))
+        if field[cell] >= FAR:
+            raise ValueError(f"cell {cell} cannot reach cell {entry}")
+        states: list[int] = []
+        while cell != entry:
+            here = int(field[cell])
+            options = [heading, 0, 1, 2, 3]
+            for direction in options:
+                other = int(self.neighbours[cell, direction])
+                if other >= 0 and int(field[other]) == here - 1:
+                    cell, heading = other, direction
+                    break
+            else:
+                raise ValueError(f"cell {cell} cannot reach cell {entry}")
+            states.append(state_of(cell, heading))
+        states.append(int(target))
+        return states
+
+    def lap_sees_goal(self, lap: np.ndarray) -> bool:
+        """Whether the states of ``lap`` together see every goal cell."""
+        return bool(np.all(self.seen_by(lap)[self.goal]))
+
+    # -- inside ------------------------------------------------------------------------------------
+
+    def order(self, states: np.ndarray) -> np.ndarray:
+        """Indices into ``states`` in the order of a short closed tour."""
+        cost = route_costs(self.neighbours, self.table.entry, states, ())
+        return closed_tour(cost)
+
+    def _prune(self, order: np.ndarray) -> np.ndarray:
+        """Drop viewpoints (latest first) while the lap without them still sees the goal."""
+        keep = list(order.tolist())
+        for state in reversed(order.tolist()):
+            if len(keep) <= 1:
+                break
+            trial = [other for other in keep if other != state]
+            if self.lap_sees_goal(self.walk(np.asarray(trial, dtype=np.int64))):
+                keep = trial
+        return np.asarray(keep, dtype=np.int64)
+
+    def _field(self, cell: int) -> np.ndarray:
+        if cell not in self.fields:
+            self.fields[cell] = distances_from(self.neighbours, np.array([cell], dtype=np.int64))
+        return self.fields[cell]
+
+    def seen_by(self, states: np.ndarray) -> np.ndarray:
+        """``bool (cells,)``: the cells any of ``states`` sees."""
+        seen = np.zeros(self.goal.size, dtype=bool)
+        for state in np.unique(states).tolist():
+            seen[self.table.sees(int(state))] = True
+        return seen
+
+
+def _spaced(lap: np.ndarray, guards: int) -> np.ndarray:
+    """The lap shared by ``guards`` guards, guard ``g`` starting ``g * period / guards`` ticks along it."""
+    period = lap.size
+    offsets = [round(guard * period / guards) for guard in range(guards)]
+    return np.stack([np.roll(lap, -offset) for offset in offsets])
+
+
+def _split(builder: LoopBuilder, lap: np.ndarray, guards: int) -> np.ndarray:
+    """The lap cut into ``guards`` stretches of equal ticks, each made a loop of its own.
+
+    Each guard's loop must see what its stretch of the shared lap sees; it is built like the shared
+    one (greedy cover of that part, ordered, pruned). Cuts at up to 8 rotations of the lap are tried;
+    the one whose longest loop is shortest wins. Shorter loops wait at their last state to the common
+    period, so the team still repeats.
+    """
+    period = lap.size
+    best: list[np.ndarray] | None = None
+    for rotation in range(0, period, max(1, period // 8)):
+        turned = np.roll(lap, -rotation)
+        bounds = [round(part * period / guards) for part in range(guards + 1)]
+        laps = []
+        for part in range(guards):
+            stretch = turned[bounds[part] : max(bounds[part + 1], bounds[part] + 1)]
+            part_goal = builder.goal & builder.seen_by(stretch)
+            sub = LoopBuilder(builder.grid, builder.table, part_goal, fields=builder.fields)
+            laps.append(sub.loop(sub.cover_viewpoints()) if part_goal.any() else stretch[:1])
+        if best is None or max(part.size for part in laps) < max(part.size for part in best):
+            best = laps
+        if period < 8 * guards:
+            break
+    assert best is not None
+    longest = max(part.size for part in best)
+    return np.stack([np.concatenate([part, np.full(longest - part.size, part[-1], dtype=np.int64)]) for part in best])
+
+
+def team_loops(
+    builder: LoopBuilder, viewpoints: np.ndarray, guards: int, *, planner: str = "cover"
+) -> tuple[Patrol, dict[str, PatrolScore]]:
+    """The loop patrol of ``guards`` guards through ``viewpoints``, and the score of each team strategy.
+
+    One guard walks the loop. A team gets the shared cycle and the split loops, and keeps the one with
+    the lower worst idleness (then mean idleness; ties to the shared cycle).
+    """
+    lap = builder.walk(builder.cycle(viewpoints))
+    if guards == 1:
+        patrol = Patrol(lap[None, :], lap.size, "loop", planner=planner)
+        return patrol, {"single": score_patrol(builder.table, patrol, builder.goal)}
+    shared_states = _spaced(lap, guards)
+    split_states = _split(builder, lap, guards)
+    candidates = {
+        "shared": Patrol(shared_states, shared_states.shape[1], "loop", planner=planner, team="shared"),
+        "split": Patrol(split_states, split_states.shape[1], "loop", planner=planner, team="split"),
+    }
+    scores = {name: score_patrol(builder.table, patrol, builder.goal) for name, patrol in candidates.items()}
+
+    def rank(name: str) -> tuple[float, float, int]:
+        score = scores[name]
+        worst = np.inf if score.worst_idleness is None else score.worst_idleness
+        mean = np.inf if score.mean_idleness is None else score.mean_idleness
+        return (worst, mean, 0 if name == "shared" else 1)
+
+    chosen = min(candidates, key=rank)
+    other = "split" if chosen == "shared" else "shared"
+    note = (
+        f"team of {guards}: {chosen} (worst idleness {scores[chosen].worst_idleness}, mean "
+        f"{_mean(scores[chosen])}) beats {other} (worst {scores[other].worst_idleness}, mean {_mean(scores[other])})"
+    )
+    patrol = candidates[chosen]
+    return Patrol(patrol.states, patrol.period, "loop", planner=planner, team=chosen, notes=(note,)), scores
+
+
+def _mean(score: PatrolScore) -> str:
+    return "none" if score.mean_idleness is None else f"{score.mean_idleness:.1f}"

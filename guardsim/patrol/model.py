@@ -1,0 +1,83 @@
+"""A patrol: every guard's state at every tick, one lap of it when it repeats.
+
+A state is a cell and a heading (:func:`guardsim.grid.state_of`). Guards move as everywhere in guardsim:
+each tick a guard steps to a connected 4-neighbour, facing the way it stepped, or stays, keeping its
+heading. A repeating patrol stores one lap per guard, all laps the same length (the period); guard ``g``
+is in ``states[g, tick % period]`` at every tick, for ever. A patrol that does not repeat stores the
+ticks walked, and ``period`` is ``None``.
+"""
+
+from __future__ import annotations
+
+from dataclasses import dataclass, field
+
+import numpy as np
+
+from guardsim.grid import CoverageGrid, cell_of_state, heading_of_state
+
+__all__ = ["Patrol", "STRATEGIES"]
+
+#: The patrol strategies, by the name ``guardsim patrol --strategy`` takes.
+STRATEGIES = ("loop", "staleness", "ripplefront", "random")
+
+
+@dataclass(frozen=True, eq=False)
+class Patrol:
+    """Every guard's state per tick.
+
+    Examples
+    --------
+    >>> patrol = Patrol(np.array([[8, 12, 16, 12]]), period=4, strategy="loop")
+    >>> patrol.guards, patrol.ticks, int(patrol.state(0, 5))
+    (1, 4, 12)
+    """
+
+    states: np.ndarray
+    """``int64 (guards, ticks)``: state number of each guard at each tick (one lap when periodic)."""
+    period: int | None
+    """Ticks per lap; ``None`` when the patrol does not repeat."""
+    strategy: str
+    """How it was made: one of :data:`STRATEGIES`, or ``"evaluate"`` for a patrol read from a file."""
+    planner: str | None = None
+    """For ``loop``: whose viewpoints the loop was built from (``cover`` or a planner name)."""
+    team: str | None = None
+    """For a team's loop: ``"shared"`` (one cycle, guards evenly spaced) or ``"split"`` (a loop each)."""
+    notes: tuple[str, ...] = field(default=())
+    """Why the patrol is as it is (the team comparison), for the report."""
+
+    def __post_init__(self) -> None:
+        states = np.asarray(self.states, dtype=np.int64)
+        if states.ndim != 2 or states.shape[0] < 1 or states.shape[1] < 1:
+            raise ValueError("a patrol needs at least one guard and one tick")
+        if self.period is not None and self.period != states.shape[1]:
+            raise ValueError(f"period {self.period} differs from the {states.shape[1]} ticks stored per guard")
+        object.__setattr__(self, "states", states)
+
+    @property
+    def guards(self) -> int:
+        """Number of guards."""
+        return int(self.states.shape[0])
+
+    @property
+    def ticks(self) -> int:
+        """Ticks stored per guard: the period when the patrol repeats."""
+        return int(self.states.shape[1])
+
+    def state(self, guard: int, tick: int) -> int:
+        """Guard ``guard``'s state at ``tick`` (laps repeat; a walked patrol stays where it ended)."""
+        index = tick % self.ticks if self.period is not None else min(tick, self.ticks - 1)
+        return int(self.states[guard, index])
+
+    def cells(self, grid: CoverageGrid, guard: int) -> list[tuple[int, int]]:
+        """``(col, row)`` of guard ``guard`` at each stored tick."""
+        return [grid.unflat(int(cell)) for cell in cell_of_state(self.states[guard])]
+
+    def headings(self, guard: int) -> list[int]:
+        """Heading number of guard ``guard`` at each stored tick."""
+        return [int(heading) for heading in heading_of_state(self.states[guard])]
+
+    def unrolled(self, ticks: int) -> np.ndarray:
+        """``int64 (guards, ticks)``: every guard's state for ticks ``0..ticks-1``."""
+        index = np.arange(ticks)
+        index = index % self.ticks if self.period is not None else np.minimum(index, self.ticks - 1)
+        return self.states[:, index]
