@@ -197,9 +197,9 @@ class LocalPool:
                     break
                 try:
                     running[pool.submit(function, item)] = item
-                except concurrent.futures.BrokenExecutor as error:
-                    broken = error
-                    yield Completion(item, None, error)
+                except concurrent.futures.BrokenExecutor as lost:
+                    broken = lost
+                    yield Completion(item, None, lost)
             if not running:
                 break
             done, _ = concurrent.futures.wait(running, return_when=concurrent.futures.FIRST_COMPLETED)

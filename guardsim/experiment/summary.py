@@ -24,7 +24,7 @@ ALL_OUTCOMES = (*OUTCOMES, "error")
 class Statistics(NamedTuple):
     """Five-number summary and mean of a sample. Quartiles interpolate linearly (numpy's default)."""
 
-    count: int
+    count: int  # type: ignore[assignment]  # the field shadows tuple.count, as the summary's JSON names it
     mean: float
     median: float
     q1: float
