@@ -139,7 +139,12 @@ def ripplefront_action(planner: Any, observation: dict[str, Any], info: dict[str
         planes[SEEN].ravel().astype(bool),
         planes[GOAL].ravel().astype(bool),
     )
-    move = planner.next_move(state)
+    return action_of(planner.next_move(state))
+
+
+def action_of(move: int | None) -> int:
+    """The environment's action for a planner's move."""
+    assert move is not None, "the planner is stuck"
     return 0 if move == STAY else move + 1
 
 
@@ -187,8 +192,7 @@ def test_team_following_ripplefront_matches_the_team_episode() -> None:
             planes = observations[agent]["grid"]
             state = GuardState(infos[agent]["tick"], team[number][0], team[number][1],
                                planes[SEEN].ravel().astype(bool), goal, number, team)  # fmt: skip
-            move = planner.next_move(state)
-            actions[agent] = 0 if move == STAY else move + 1
+            actions[agent] = action_of(planner.next_move(state))
         observations, _, terminated, _, infos = env.step(actions)
         steps += 1
     assert terminated == {"guard_0": True, "guard_1": True}

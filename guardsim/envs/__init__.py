@@ -15,7 +15,7 @@ from __future__ import annotations
 
 try:
     import gymnasium
-    import pettingzoo  # type: ignore[import-untyped]  # noqa: F401 (checked here so the message is one)
+    import pettingzoo  # noqa: F401 (checked here so the message is one)
 except ImportError as error:
     raise ImportError(
         f"guardsim.envs needs gymnasium and pettingzoo ({error.name} is missing): install guardsim[rl]"

@@ -2,7 +2,7 @@
 
 from __future__ import annotations
 
-from typing import Any, SupportsFloat
+from typing import Any
 
 import gymnasium
 import numpy as np
@@ -91,7 +91,7 @@ class CoverageEnv(gymnasium.Env[dict[str, Any], np.int64]):
         self.task.start(self.np_random, seed, task_options)
         return self.task.observation(0), self.task.info(0)
 
-    def step(self, action: np.int64 | int) -> tuple[dict[str, Any], SupportsFloat, bool, bool, dict[str, Any]]:
+    def step(self, action: np.int64 | int) -> tuple[dict[str, Any], float, bool, bool, dict[str, Any]]:
         """Move the guard by ``action`` (0 stay, 1 right, 2 down, 3 left, 4 up) and let it look."""
         if not self.action_space.contains(action):
             raise ValueError(f"action {action!r} is not in {self.action_space}")
@@ -102,7 +102,7 @@ class CoverageEnv(gymnasium.Env[dict[str, Any], np.int64]):
         """``int8 (5,)``: which actions move the guard now (``info["action_mask"]``; sb3-contrib's name)."""
         return self.task.info(0)["action_mask"]
 
-    def render(self) -> np.ndarray | None:  # type: ignore[override]
+    def render(self) -> np.ndarray | None:
         """An ``rgb_array`` frame of the grid, or ``None`` without a render mode."""
         if self.render_mode != "rgb_array":
             return None

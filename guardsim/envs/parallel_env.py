@@ -7,7 +7,7 @@ from typing import Any
 import numpy as np
 from gymnasium import spaces
 from gymnasium.utils import seeding
-from pettingzoo import ParallelEnv  # type: ignore[import-untyped]
+from pettingzoo import ParallelEnv
 
 from guardsim.envs.actions import ACTIONS
 from guardsim.envs.observations import observation_space, state_planes, state_space
@@ -19,7 +19,7 @@ from guardsim.vision.rules import LineOfSight
 __all__ = ["CoverageParallelEnv", "coverage_parallel_env"]
 
 
-class CoverageParallelEnv(ParallelEnv):  # type: ignore[misc]
+class CoverageParallelEnv(ParallelEnv):
     """Guards ``guard_0`` .. ``guard_{n-1}`` cover a level together; every guard moves at every step.
 
     The reward is the team's: each guard receives the goal cells first seen by anyone at that tick, minus
