@@ -336,13 +336,13 @@ BAD_TILED = {
         "map.tmx",
         '<map orientation="orthogonal" tilewidth="8" tileheight="8"><objectgroup name="W">'
         '<object id="7" template="wall.tx" x="0" y="0"/></objectgroup></map>',
-        "object 7: uses a template",
+        "layer 'W' object 7: template wall.tx not found",
     ),
     "bad-polygon-point": (
         "map.tmx",
         '<map orientation="orthogonal" tilewidth="8" tileheight="8"><objectgroup name="W">'
         '<object id="3" x="0" y="0"><polygon points="0,0 8,x 8,8"/></object></objectgroup></map>',
-        "object 3 polygon point must be a number",
+        "layer 'W' object 3: not a number ('x')",
     ),
     "no-floor": (
         "map.json",

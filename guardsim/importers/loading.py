@@ -71,7 +71,10 @@ def load_any(
         head = data.lstrip()[:1]
         if suffix not in FORMATS and head not in (b"{", b"["):
             known = ", ".join(sorted(FORMATS))
-            raise LevelError(f"{source}: not a guardsim level (JSON) and not a map guardsim imports ({known})")
+            raise LevelError(
+                f"{source}: unknown map type {suffix or '(no suffix)'!r} and not JSON; guardsim reads levels (.json) "
+                f"and imports {known}"
+            )
         value = parse_json_bytes(data, source)
         if not is_tiled_json(value):
             return parse_level(value, source=source, max_cells=max_cells, max_vertices=max_vertices), None

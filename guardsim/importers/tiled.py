@@ -50,6 +50,10 @@ __all__ = ["DEFAULT_SNAP_STEP", "DEFAULT_SNAP_TOLERANCE", "import_tiled", "read_
 DEFAULT_SNAP_STEP = 0.5
 #: ...when they are this close (in tiles: 2.56 pixels on 64-pixel tiles).
 DEFAULT_SNAP_TOLERANCE = 0.04
+#: A tile filling the map's edge is the void when walls lie within this many tiles of this share of its
+#: border with the other tiles.
+VOID_WALL_DISTANCE = 0.5
+VOID_WALLED_SHARE = 0.8
 #: A start area smaller than this share of the free area is a warning.
 SMALL_START_SHARE = 0.5
 
@@ -90,43 +94,6 @@ def import_tiled(
     changes: list[str] = []
     warnings = list(roles.warnings)
 
-    if roles.boundary_objects:
-        free = shapely.union_all([shapely.make_valid(geometry.polygon(item)) for _, item in roles.boundary_objects])
-        changes.append(f"free area from {_count(len(roles.boundary_objects), 'boundary object')}")
-        floor_boxes: list[Polygon] = []
-    else:
-        if not roles.floor_layers:
-            raise LevelError(
-                f"{source}: no floor layer: every tile layer is named or marked as walls, spawns or drawn above "
-                "the player; pass --floor-layer NAME or give a layer the boolean property 'floor'"
-            )
-        floor_cells = sum(layer.gids.size for layer in roles.floor_layers)
-        if not floor_cells:
-            raise LevelError(f"{source}: the floor layers {names(roles.floor_layers)} are empty")
-        floor_boxes = [
-            piece
-            for index, layer in enumerate(roles.floor_layers)
-            for piece in geometry.tile_boxes(layer, _not_void(layer, roles.void_gid if index == 0 else 0))
-        ]
-        if not floor_boxes:
-            raise LevelError(f"{source}: the floor layers {names(roles.floor_layers)} hold only the void tile")
-        free = None
-        changes.append(f"floor from {names(roles.floor_layers)} ({roles.floor_rule})")
-        if roles.void_gid:
-            changes.append(
-                f"tile {roles.void_gid} fills the edge of {names(roles.floor_layers[:1])}: taken as the void around "
-                "the level, not floor"
-            )
-
-    bounds = _tile_bounds(free.bounds if free is not None else shapely.total_bounds(floor_boxes))
-    width, height = bounds[2] - bounds[0], bounds[3] - bounds[1]
-    cells = width * height / cell_size**2
-    if cells > max_cells:
-        raise LevelError(
-            f"{source}: the level spans {width:g} x {height:g} tiles = {cells:.0f} cells at cell size {cell_size:g}, "
-            f"over the limit of {max_cells} (raise it with --max-cells)"
-        )
-
     wall_tiles_found = [
         (layer, gids) for layer in tiled.tile_layers if (gids := _wall_gids_in(layer, roles)) is None or gids.size
     ]
@@ -140,6 +107,17 @@ def import_tiled(
     object_walls = [geometry.object_wall(item) for item in wall_objects if item.closed]
     object_walls = [wall for wall in object_walls if wall is not None]
     open_walls = sum(1 for item in wall_objects if not item.closed)
+    walls: list[shapely.Geometry] = [*object_walls, *shape_walls, *wall_boxes]
+
+    free, floor_boxes = _free_area(source, roles, geometry, walls, changes)
+    bounds = _tile_bounds(free.bounds if free is not None else shapely.total_bounds(floor_boxes))
+    width, height = bounds[2] - bounds[0], bounds[3] - bounds[1]
+    cells = width * height / cell_size**2
+    if cells > max_cells:
+        raise LevelError(
+            f"{source}: the level spans {width:g} x {height:g} tiles = {cells:.0f} cells at cell size {cell_size:g}, "
+            f"over the limit of {max_cells} (raise it with --max-cells)"
+        )
     check_raster_limits(
         _blocked_mask(bounds, floor_boxes if free is None else [], wall_boxes),
         source=source,
@@ -148,7 +126,8 @@ def import_tiled(
 
     if free is None:
         free = shapely.union_all(floor_boxes)
-    walls: list[shapely.Geometry] = [*object_walls, *shape_walls, *wall_boxes]
+    if free.is_empty or not free.difference(shapely.union_all(walls) if walls else Polygon()).area > 0:
+        raise LevelError(f"{source}: the walls cover the whole floor: no free area")
     changes.append(_walls_phrase(roles, wall_tiles_found, len(object_walls), len(shape_walls), len(wall_boxes)))
     if not walls:
         warnings.append(
@@ -272,6 +251,61 @@ class _Geometry:
                     points = (np.asarray(shape.outline, dtype=float) + np.array([left, top])) / self.scale
                     pieces.append(shapely.make_valid(Polygon(points)))
         return pieces
+
+
+def _free_area(
+    source: str, roles: Guesses, geometry: _Geometry, walls: list[shapely.Geometry], changes: list[str]
+) -> tuple[shapely.Geometry | None, list[Polygon]]:
+    """The boundary objects' area (and no floor boxes), or ``None`` and the floor layers' tile boxes."""
+    if roles.boundary_objects:
+        free = shapely.union_all([shapely.make_valid(geometry.polygon(item)) for _, item in roles.boundary_objects])
+        changes.append(f"free area from {_count(len(roles.boundary_objects), 'boundary object')}")
+        if free.is_empty:
+            raise LevelError(f"{source}: the boundary objects enclose no area")
+        return free, []
+    if not roles.floor_layers:
+        raise LevelError(
+            f"{source}: no floor layer: every tile layer is named or marked as walls, spawns or drawn above "
+            "the player; pass --floor-layer NAME or give a layer the boolean property 'floor'"
+        )
+    if not sum(layer.gids.size for layer in roles.floor_layers):
+        raise LevelError(f"{source}: the floor layers {names(roles.floor_layers)} are empty")
+    changes.append(f"floor from {names(roles.floor_layers)} ({roles.floor_rule})")
+    void = roles.void_gid if roles.void_gid and _walled_void(roles.floor_layers[0], roles.void_gid, walls) else 0
+    if void:
+        changes.append(
+            f"tile {void} fills the edge of {names(roles.floor_layers[:1])} up to the walls: taken as the void "
+            "around the level, not floor"
+        )
+    boxes = [
+        piece
+        for index, layer in enumerate(roles.floor_layers)
+        for piece in geometry.tile_boxes(layer, _not_void(layer, void if index == 0 else 0))
+    ]
+    return None, boxes
+
+
+def _walled_void(layer: TileLayer, gid: int, walls: list[shapely.Geometry]) -> bool:
+    """Whether walls line the border between the cells of tile ``gid`` and the layer's other cells.
+
+    A painted void meets the level at its walls; a grass tile that fills a town's edge meets paths and
+    doors with no wall between, and stays floor.
+    """
+    if not walls:
+        return False
+    cols, rows = layer.cols, layer.rows
+    grid = np.zeros((int(rows.max()) + 1, int(cols.max()) + 1), dtype=bool)
+    grid[rows, cols] = layer.gids == gid
+    across_rows, across_cols = np.nonzero(grid[:, :-1] != grid[:, 1:])
+    down_rows, down_cols = np.nonzero(grid[:-1, :] != grid[1:, :])
+    points = shapely.points(
+        np.r_[across_cols + 1.0, down_cols + 0.5],
+        np.r_[across_rows + 0.5, down_rows + 1.0],
+    )
+    if not len(points):
+        return False
+    hits = shapely.STRtree(walls).query(points, predicate="dwithin", distance=VOID_WALL_DISTANCE)
+    return np.unique(hits[0]).size >= VOID_WALLED_SHARE * len(points)
 
 
 def _not_void(layer: TileLayer, void_gid: int) -> np.ndarray | None:

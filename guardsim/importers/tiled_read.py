@@ -22,6 +22,7 @@ from __future__ import annotations
 
 import copy
 import os
+import re
 from collections.abc import Callable
 from pathlib import Path
 from typing import Any, TypeVar
@@ -96,6 +97,13 @@ def _why(error: BaseException) -> str:
         return f"missing {excerpt(error.args[0] if error.args else '?')}"
     if isinstance(error, RecursionError):
         return "nested too deeply"
+    if isinstance(error, (ValueError, OverflowError)):
+        # float('x'), int('1.5'), round(float('inf')): a number attribute that is not one.
+        match = re.search(r"(?:float|int\(\) with base 10|integer): ('.*')$", str(error))
+        if match:
+            return f"not a number ({excerpt(match.group(1)[1:-1])})"
+        if isinstance(error, OverflowError) or "NaN" in str(error):
+            return "a number is not finite"
     text = str(error).splitlines()[0] if str(error) else type(error).__name__
     return f"{type(error).__name__}: {text[:80]}"
 
@@ -306,15 +314,18 @@ class _Reader:
             item.new_tileset = None
         return item
 
-    def check_templates(self, names: list[str]) -> None:
-        """Templates (and their tilesets) pass the file rules before pytiled-parser opens them."""
-        for name in names:
+    def check_templates(self, uses: list[tuple[Any, str]], where: str) -> None:
+        """Templates (and their tilesets) pass the file rules before pytiled-parser opens them.
+
+        ``uses`` are ``(object id, template file)`` pairs of one layer.
+        """
+        for identifier, name in uses:
             path = self.folder / name
             if path in self.checked_files:
                 continue
+            if not path.is_file():
+                raise self.error(f"{where} object {identifier}", f"template {display_name(name)} not found")
             self.checked_files.add(path)
-            if not path.exists():
-                raise self.error("", f"template {display_name(name)} not found")
             data = read_capped_bytes(path, max_file_bytes=self.max_file_bytes, kind="template")
             source = display_name(path)
             if data.lstrip()[:1] == b"<":
@@ -330,6 +341,8 @@ class _Reader:
 
     # -- TMX ----------------------------------------------------------------------------------------
     def tmx(self, root: ElementTree.Element) -> TiledMap:
+        if root.tag == "tileset":
+            raise self.error("", "a tileset, not a map: not a Tiled map")
         if root.tag != "map":
             raise self.error("", f"the root element is <{excerpt(root.tag, 30)}>, not <map>: not a Tiled map")
         self.check_orientation(root.get("orientation"))
@@ -369,7 +382,8 @@ class _Reader:
                     self.add_tile_layer(common, (*path, name), inherited, shift, shown, blocks)
                 elif element.tag == "objectgroup":
                     self.check_templates(
-                        [o.get("template", "") for o in element.findall("object") if o.get("template")]
+                        [(o.get("id"), o.get("template", "")) for o in element.findall("object") if o.get("template")],
+                        where,
                     )
                     layer = self.tmx_object_layer(element, where)
                     self.add_object_layer(layer, (*path, name), inherited, shift, shown, where)
@@ -386,7 +400,7 @@ class _Reader:
         except Exception as error:  # see call()
             for item in filled.findall("object"):
                 self.call(
-                    f"{where} object {excerpt(item.get('id'))}",
+                    f"{where} object {_word(item.get('id'))}",
                     lambda i=item: tmx_object.parse(i, "utf-8", self.folder),
                 )
             raise self.error(where, _why(error)) from None
@@ -400,9 +414,9 @@ class _Reader:
             return []
         encoding, compression = data.get("encoding"), data.get("compression")
         if encoding not in _TILE_ENCODINGS:
-            raise self.error(where, f"tile data encoding {excerpt(encoding)} is not one Tiled writes (csv or base64)")
+            raise self.error(where, f"tile data encoding {_word(encoding)} is not one Tiled writes (csv or base64)")
         if compression not in _COMPRESSIONS:
-            raise self.error(where, f"{excerpt(compression)} compression is not supported (save as CSV, zlib or gzip)")
+            raise self.error(where, f"{_word(compression)} compression is not supported (save as CSV, zlib or gzip)")
         chunks = data.findall("chunk")
         parts = chunks if chunks else [data]
         blocks = []
@@ -486,7 +500,10 @@ class _Reader:
                     self.add_tile_layer(common, (*path, name), inherited, shift, shown, blocks)
                 elif kind == "objectgroup":
                     raw_objects = _dicts(raw.get("objects", []), f"{self.source}: {where}.objects")
-                    self.check_templates([str(o["template"]) for o in raw_objects if o.get("template")])
+                    self.check_templates(
+                        [(o.get("id"), str(o["template"])) for o in raw_objects if o.get("template")],
+                        f"{where}.objects",
+                    )
                     objects = [
                         self.call(
                             f"{where}.objects[{number}]",
@@ -506,9 +523,9 @@ class _Reader:
         encoding = raw.get("encoding", "csv")
         compression = raw.get("compression") or None
         if encoding not in ("csv", "base64"):
-            raise self.error(where, f"tile data encoding {excerpt(encoding)} is not one Tiled writes (csv or base64)")
+            raise self.error(where, f"tile data encoding {_word(encoding)} is not one Tiled writes (csv or base64)")
         if compression not in _COMPRESSIONS:
-            raise self.error(where, f"{excerpt(compression)} compression is not supported (save as CSV, zlib or gzip)")
+            raise self.error(where, f"{_word(compression)} compression is not supported (save as CSV, zlib or gzip)")
         chunks = raw.get("chunks")
         parts = _dicts(chunks, f"{self.source}: {where}.chunks") if chunks is not None else [raw]
         blocks = []
@@ -528,6 +545,11 @@ class _Reader:
                 (x, y, width, decode_tile_data(data, kind, compression, width * height, f"{self.source}: {here}.data"))
             )
         return blocks
+
+
+def _word(value: Any) -> str:
+    """A short identifier as it is (``zstd``), anything else as a quoted excerpt."""
+    return value if isinstance(value, str) and re.fullmatch(r"[A-Za-z0-9_.-]{1,20}", value) else excerpt(value)
 
 
 def _dicts(value: Any, where: str) -> list[dict[str, Any]]:

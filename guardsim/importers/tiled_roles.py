@@ -19,8 +19,10 @@ this order of evidence (``docs/authoring.md``):
 adds tiles.
 
 **Floor**: tile layers with the property ``floor``, else the layers passed as ``--floor-layer``, else
-every visible tile layer that is not a wall layer, not a spawn layer and not drawn above the player
-(names with the words :data:`ABOVE_WORDS`). A cell empty in every floor layer is outside the level.
+the visible tile layers named with :data:`FLOOR_WORDS` (``Ground1``, ``floor``), else the lowest
+visible tile layer. Wall layers, spawn layers and layers drawn above the player (names with the words
+:data:`ABOVE_WORDS`) are never floor. A cell empty in every floor layer is outside the level; so is a
+cell of the painted void (a tile filling the whole map edge of the first floor layer).
 
 **Spawns**: objects in layers named with :data:`SPAWN_WORDS`, objects whose class, type or name says
 guard or spawn, objects with ``guard_spawn``, tiles whose class says guard, and ``--spawn-tile`` ids.
@@ -39,6 +41,7 @@ from guardsim.importers.tiled_data import ObjectLayer, Properties, TiledMap, Til
 
 __all__ = [
     "ABOVE_WORDS",
+    "FLOOR_WORDS",
     "SPAWN_WORDS",
     "WALL_WORDS",
     "Guesses",
@@ -72,12 +75,16 @@ WALL_WORDS = frozenset(
         "barriers",
     ]
 )
+#: Whole words in a layer name that say floor.
+FLOOR_WORDS = frozenset(["floor", "floors", "ground", "grounds"])
 #: Whole words in a layer name that say it is drawn above the player (roofs, tree tops), so not floor.
 ABOVE_WORDS = frozenset(["above", "over", "overhead", "overlay", "roof", "roofs", "fringe", "canopy"])
 #: Whole words in a layer, class or name that say guard spawn.
 SPAWN_WORDS = frozenset(
     ["spawn", "spawns", "spawner", "spawners", "guard", "guards", "start", "starts", "patrol", "patrols"]
 )
+#: A painted void leaves at least this share of its layer's cells as floor.
+VOID_MIN_REST = 0.05
 #: Boolean properties that mark walls.
 _WALL_FLAGS = ("collision", "collides", "collide", "collidable", "solid", "blocked", "obstacle", "wall")
 
@@ -210,7 +217,7 @@ def assign_roles(tiled: TiledMap, options: RoleOptions) -> Guesses:
         found.floor_layers = [layer for layer in tiled.tile_layers if _layer_named(layer, options.floor_layers)]
         found.floor_rule = "--floor-layer"
     else:
-        found.floor_layers = [
+        candidates = [
             layer
             for layer in tiled.tile_layers
             if layer.visible
@@ -219,7 +226,14 @@ def assign_roles(tiled: TiledMap, options: RoleOptions) -> Guesses:
             and not any(_says(part, SPAWN_WORDS | ABOVE_WORDS) for part in layer.path)
             and not flag(layer.properties, "spawner", "guard_spawn")
         ]
-        found.floor_rule = "visible tile layers not named wall, spawn or above"
+        named = [layer for layer in candidates if any(_says(part, FLOOR_WORDS) for part in layer.path)]
+        if named:
+            found.floor_layers, found.floor_rule = named, "named floor or ground"
+        else:
+            # Upper layers draw on the ground (furniture, wall faces); a tile of theirs over no ground is
+            # not floor, so the ground is the lowest layer alone.
+            found.floor_layers = candidates[:1]
+            found.floor_rule = "the lowest visible tile layer not named wall, spawn or above"
     found.void_gid = _void_tile(tiled, found) if found.floor_layers and not options.floor_layers else 0
 
     # Walls and spawns: objects.
@@ -268,9 +282,11 @@ def _void_tile(tiled: TiledMap, found: Guesses) -> int:
     grid[layer.rows[inside], layer.cols[inside]] = layer.gids[inside]
     edge = np.concatenate([grid[0], grid[-1], grid[:, 0], grid[:, -1]])
     gid = int(edge[0])
-    if not gid or not (edge == gid).all() or (grid == gid).all():
+    if not gid or not (edge == gid).all():
         return 0
-    return gid
+    # What is left must be a level: floor tiles that are not walls themselves.
+    rest = (grid != gid) & (grid != 0) & ~np.isin(grid, list(found.wall_gids | found.shaped_gids))
+    return gid if rest.sum() >= VOID_MIN_REST * grid.size else 0
 
 
 def names(layers: Iterable[TileLayer | ObjectLayer]) -> str:
