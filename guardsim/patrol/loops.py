@@ -24,7 +24,7 @@ import numpy as np
 
 from guardsim.grid import CoverageGrid, cell_of_state, heading_of_state, state_of
 from guardsim.patrol.model import Patrol
-from guardsim.patrol.scoring import PatrolScore, score_patrol
+from guardsim.patrol.scoring import PatrolScore, score_patrol, score_rank
 from guardsim.planners.open_tour import improve_tour, nearest_neighbour_tour
 from guardsim.planners.shortest_paths import FAR, distances_from
 from guardsim.planners.tour import route_costs
@@ -136,7 +136,7 @@ class LoopBuilder:
         cells = np.flatnonzero(self.goal)
         if cells.size == 0:
             raise ValueError("the goal is empty: nothing to patrol")
-        states = state_of(int(cells[0]), np.arange(4))
+        states = state_of(np.full(4, int(cells[0]), dtype=np.int64), np.arange(4, dtype=np.int64))
         counts = [int(self.goal[self.table.sees(int(state))].sum()) for state in states]
         return np.array([states[int(np.argmax(counts))]], dtype=np.int64)
 
@@ -269,13 +269,7 @@ def team_loops(
     }
     scores = {name: score_patrol(builder.table, patrol, builder.goal) for name, patrol in candidates.items()}
 
-    def rank(name: str) -> tuple[float, float, int]:
-        score = scores[name]
-        worst = np.inf if score.worst_idleness is None else score.worst_idleness
-        mean = np.inf if score.mean_idleness is None else score.mean_idleness
-        return (worst, mean, 0 if name == "shared" else 1)
-
-    chosen = min(candidates, key=rank)
+    chosen = min(candidates, key=lambda name: (*score_rank(scores[name]), name != "shared"))
     other = "split" if chosen == "shared" else "shared"
     note = (
         f"team of {guards}: {chosen} (worst idleness {scores[chosen].worst_idleness}, mean "

@@ -15,7 +15,7 @@ import numpy as np
 
 from guardsim.grid import CoverageGrid, cell_of_state, heading_of_state
 
-__all__ = ["Patrol", "STRATEGIES"]
+__all__ = ["STRATEGIES", "Patrol"]
 
 #: The patrol strategies, by the name ``guardsim patrol --strategy`` takes.
 STRATEGIES = ("loop", "staleness", "ripplefront", "random")

@@ -17,7 +17,7 @@ import numpy as np
 from guardsim.patrol.model import Patrol
 from guardsim.vision.table import ViewTable
 
-__all__ = ["NEVER", "PatrolScore", "score_patrol", "seen_timeline"]
+__all__ = ["NEVER", "PatrolScore", "score_patrol", "score_rank", "seen_timeline"]
 
 #: A cell's worst gap when a repeating patrol never sees it: it stays unwatched for ever.
 NEVER = -1
@@ -122,3 +122,9 @@ def score_patrol(table: ViewTable, patrol: Patrol, goal: np.ndarray, *, warmup: 
     """
     timeline = seen_timeline(table, patrol.states, goal.size)
     return score_timeline(timeline, goal, periodic=patrol.period is not None, warmup=warmup)
+
+
+def score_rank(score: PatrolScore) -> tuple[float, float]:
+    """Sort key of scores, best first: lower worst idleness, then lower mean (never seen: worst of all)."""
+    worst = np.inf if score.worst_idleness is None else float(score.worst_idleness)
+    return worst, np.inf if score.mean_idleness is None else score.mean_idleness

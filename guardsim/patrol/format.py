@@ -1,0 +1,244 @@
+"""patrol.json: a patrol and its scores, written by ``guardsim patrol`` and read back strictly.
+
+The format (see ``docs/patrols.md``)::
+
+    {"level": "Square", "cell_size": 1.0, "origin": [0, 0], "shape": [rows, cols], "motion": "grid",
+     "strategy": "loop", "period": 498,
+     "guards": [{"loop": [[col, row], ...], "headings": [0, ...]}, ...],
+     "worst_idleness": 497, "mean_idleness": 199.8, "idleness": [[gap or null, ...], ...]}
+
+A repeating guard's ``loop`` lists its cell at each tick of a lap and ends where it began (a post is a
+one-cell loop, ``[[c, r]]`` or ``[[c, r], [c, r]]``, with a fixed heading); ``headings`` gives the
+heading number (0 right, 1 down, 2 left, 3 up) at each of those ticks. Moves obey the grid: each tick a
+guard steps to a connected 4-neighbour, facing the way it stepped, or stays, keeping its heading.
+Reading checks every one of those rules and says where the first broken one is, in one line.
+"""
+
+from __future__ import annotations
+
+import math
+from typing import Any
+
+import numpy as np
+
+from guardsim.errors import GuardsimError
+from guardsim.grid import CoverageGrid, state_of
+from guardsim.patrol.model import Patrol
+from guardsim.patrol.scoring import NEVER, PatrolScore
+from guardsim.reading import json_type, read_json_file
+
+__all__ = [
+    "DEFAULT_MAX_PATROL_BYTES",
+    "MAX_UNROLLED_TICKS",
+    "PatrolError",
+    "parse_patrol",
+    "patrol_data",
+    "read_patrol",
+]
+
+#: Largest patrol file read.
+DEFAULT_MAX_PATROL_BYTES = 64 * 1024 * 1024
+#: Longest common period of a team whose loops differ in length (the least common multiple of the laps).
+MAX_UNROLLED_TICKS = 200_000
+
+
+class PatrolError(GuardsimError):
+    """A patrol file cannot be read or describes a patrol the level does not allow."""
+
+
+def patrol_data(
+    patrol: Patrol,
+    score: PatrolScore,
+    grid: CoverageGrid,
+    *,
+    level: str,
+    motion: str = "grid",
+    extra: dict[str, Any] | None = None,
+) -> dict[str, Any]:
+    """The JSON-ready dictionary of a patrol and its score."""
+    guards = []
+    for guard in range(patrol.guards):
+        cells = [list(cell) for cell in patrol.cells(grid, guard)]
+        headings = patrol.headings(guard)
+        if patrol.period is not None:
+            cells.append(cells[0])
+            headings.append(headings[0])
+        guards.append({"loop": cells, "headings": headings})
+    rows, cols = grid.shape
+    gaps = score.worst_gap.reshape(rows, cols)
+    idleness = [
+        [None if value == -2 else (None if value == NEVER else int(value)) for value in row] for row in gaps.tolist()
+    ]
+    data: dict[str, Any] = {
+        "level": level,
+        "cell_size": grid.cell_size,
+        "origin": list(grid.origin),
+        "shape": [rows, cols],
+        "motion": motion,
+        "strategy": patrol.strategy,
+        "period": patrol.period,
+        "guards": guards,
+        "worst_idleness": score.worst_idleness,
+        "mean_idleness": None if score.mean_idleness is None else round(score.mean_idleness, 3),
+        "idleness": idleness,
+        "never_seen": score.never_seen,
+        "ticks_scored": score.ticks_scored,
+    }
+    if patrol.planner is not None:
+        data["planner"] = patrol.planner
+    if patrol.team is not None:
+        data["team"] = patrol.team
+    if patrol.notes:
+        data["notes"] = list(patrol.notes)
+    data.update(extra or {})
+    return data
+
+
+def read_patrol(path: str, grid: CoverageGrid, *, max_file_bytes: int = DEFAULT_MAX_PATROL_BYTES) -> Patrol:
+    """Read a patrol file made for ``grid``'s level; every fault one :class:`PatrolError` line."""
+    data = read_json_file(path, max_file_bytes=max_file_bytes, kind="patrol file", error=PatrolError)
+    return parse_patrol(data, grid, source=str(path))
+
+
+def _fail(source: str, where: str, message: str) -> PatrolError:
+    return PatrolError(f"{source}: {where}: {message}" if where else f"{source}: {message}")
+
+
+def _integer(value: Any) -> bool:
+    return isinstance(value, int) and not isinstance(value, bool)
+
+
+def parse_patrol(data: Any, grid: CoverageGrid, *, source: str = "<patrol>") -> Patrol:
+    """A :class:`Patrol` from patrol.json data, checked against the level's grid.
+
+    Examples
+    --------
+    >>> grid = CoverageGrid((0.0, 0.0), 1.0, np.ones((1, 2), dtype=bool), np.array([[1, -1, -1, -1], [-1, -1, 0, -1]]))
+    >>> patrol = parse_patrol({"shape": [1, 2], "guards": [{"loop": [[0, 0], [0, 0]], "headings": [0, 0]}]}, grid)
+    >>> patrol.period, patrol.states.tolist()
+    (1, [[0]])
+    >>> parse_patrol({"shape": [1, 2], "guards": [{"loop": [[0, 0], [1, 0]], "headings": [0, 2]}]}, grid)
+    Traceback (most recent call last):
+    ...
+    guardsim.patrol.format.PatrolError: <patrol>: guards[0]: headings[1]: a step right must face right (0), not 2
+    """
+    if not isinstance(data, dict):
+        raise _fail(source, "", f"expected a JSON object, got {json_type(data)}")
+    rows, cols = grid.shape
+    shape = data.get("shape")
+    if shape is None:
+        raise _fail(source, "", 'missing "shape" ([rows, cols] of the level\'s grid)')
+    if not (isinstance(shape, list) and len(shape) == 2 and all(_integer(n) for n in shape)):
+        raise _fail(source, "shape", "expected [rows, cols], two integers")
+    if shape != [rows, cols]:
+        raise _fail(source, "shape", f"{shape} does not match the level's grid [{rows}, {cols}]")
+    if "cell_size" in data:
+        size = data["cell_size"]
+        if not isinstance(size, (int, float)) or isinstance(size, bool) or not math.isclose(size, grid.cell_size):
+            raise _fail(source, "cell_size", f"{size!r} does not match the level's cell size {grid.cell_size:g}")
+    if "origin" in data:
+        origin = data["origin"]
+        if not (
+            isinstance(origin, list)
+            and len(origin) == 2
+            and all(isinstance(v, (int, float)) and not isinstance(v, bool) for v in origin)
+            and all(math.isclose(a, b, abs_tol=1e-9) for a, b in zip(origin, grid.origin))
+        ):
+            raise _fail(source, "origin", f"{origin!r} does not match the level's grid origin {list(grid.origin)}")
+    motion = data.get("motion", "grid")
+    if motion != "grid":
+        raise _fail(
+            source,
+            "motion",
+            f"{motion!r}: only grid motion patrols can be read (continuous is not yet supported for patrol)",
+        )
+    period = data.get("period", 0)
+    if period is not None and not (_integer(period) and period >= 0):
+        raise _fail(source, "period", f"expected a whole number of ticks or null, got {period!r}")
+    guards = data.get("guards")
+    if not isinstance(guards, list) or not guards:
+        raise _fail(source, "guards", "expected a non-empty list of guard objects")
+    repeating = period is not None
+    laps = [_read_guard(guard, grid, repeating, source, f"guards[{number}]") for number, guard in enumerate(guards)]
+    if not repeating:
+        ticks = max(lap.size for lap in laps)
+        states = np.stack([np.concatenate([lap, np.full(ticks - lap.size, lap[-1])]) for lap in laps])
+        return Patrol(states, None, str(data.get("strategy", "evaluate")))
+    common = math.lcm(*(lap.size for lap in laps))
+    if common > MAX_UNROLLED_TICKS:
+        raise _fail(
+            source,
+            "guards",
+            f"the laps' lengths {[lap.size for lap in laps]} repeat together only every {common} ticks, over {MAX_UNROLLED_TICKS}",
+        )
+    if period not in (0, common) and "period" in data:
+        raise _fail(source, "period", f"{period} does not match the loops, which repeat every {common} ticks")
+    states = np.stack([np.tile(lap, common // lap.size) for lap in laps])
+    strategy = data.get("strategy", "evaluate")
+    return Patrol(states, common, strategy if isinstance(strategy, str) else "evaluate")
+
+
+def _read_guard(guard: Any, grid: CoverageGrid, repeating: bool, source: str, where: str) -> np.ndarray:
+    """One guard's states per tick (one lap when ``repeating``), every move checked."""
+    if not isinstance(guard, dict):
+        raise _fail(source, where, f"expected an object with loop and headings, got {json_type(guard)}")
+    loop, headings = guard.get("loop"), guard.get("headings")
+    if not isinstance(loop, list) or not loop:
+        raise _fail(source, f"{where}.loop", "expected a non-empty list of [col, row] cells")
+    if not isinstance(headings, list) or len(headings) != len(loop):
+        count = len(headings) if isinstance(headings, list) else json_type(headings)
+        raise _fail(source, f"{where}.headings", f"expected one heading per loop cell ({len(loop)}), got {count}")
+    rows, cols = grid.shape
+    cells: list[int] = []
+    for index, cell in enumerate(loop):
+        if not (isinstance(cell, list) and len(cell) == 2 and all(_integer(n) for n in cell)):
+            raise _fail(source, f"{where}.loop[{index}]", f"expected [col, row], two integers, got {cell!r}"[:120])
+        col, row = cell
+        if not (0 <= col < cols and 0 <= row < rows):
+            raise _fail(source, f"{where}.loop[{index}]", f"[{col}, {row}] is off the grid ({cols} x {rows})")
+        if not grid.traversable[row, col]:
+            raise _fail(source, f"{where}.loop[{index}]", f"[{col}, {row}] is not a cell the guard can stand in")
+        cells.append(grid.flat(col, row))
+    for index, heading in enumerate(headings):
+        if not (_integer(heading) and 0 <= heading <= 3):
+            raise _fail(
+                source,
+                f"{where}.headings[{index}]",
+                f"expected 0, 1, 2 or 3 (right, down, left, up), got {heading!r}"[:120],
+            )
+    names = ("right", "down", "left", "up")
+    for index in range(1, len(cells)):
+        before, after = cells[index - 1], cells[index]
+        if before == after:
+            if headings[index] != headings[index - 1]:
+                raise _fail(
+                    source,
+                    where,
+                    f"headings[{index}]: a guard standing still keeps its heading ({headings[index - 1]}), not {headings[index]}",
+                )
+            continue
+        direction = next((d for d in range(4) if int(grid.neighbours[before, d]) == after), -1)
+        if direction < 0:
+            raise _fail(
+                source,
+                f"{where}.loop[{index}]",
+                f"{loop[index - 1]} -> {loop[index]} is not a step to a connected 4-neighbour",
+            )
+        if headings[index] != direction:
+            raise _fail(
+                source,
+                where,
+                f"headings[{index}]: a step {names[direction]} must face {names[direction]} ({direction}), not {headings[index]}",
+            )
+    states = state_of(np.asarray(cells, dtype=np.int64), np.asarray(headings, dtype=np.int64))
+    if not repeating:
+        return states
+    if len(cells) == 1:
+        return states
+    if cells[0] != cells[-1] or headings[0] != headings[-1]:
+        raise _fail(
+            source,
+            f"{where}.loop",
+            f"a repeating loop must end as it began: {loop[0]} heading {headings[0]}, not {loop[-1]} heading {headings[-1]}",
+        )
+    return states[:-1]
