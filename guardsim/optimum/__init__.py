@@ -1,0 +1,214 @@
+"""The fewest steps a guard needs to see every reachable cell, proved by heuristic search.
+
+:func:`solve` builds the search graph of a start (:mod:`~guardsim.optimum.graph`), the admissible
+estimate (:mod:`~guardsim.optimum.heuristic`, the bounds of :mod:`guardsim.bounds` per node) and runs A*
+over (position, seen cells) with macro moves (:mod:`~guardsim.optimum.search`) until it proves the
+optimum or a limit stops it. The limits are a number of expansions (deterministic) and, optionally,
+wall time; a stopped search still returns its best walk and the proved lower bound. ``docs/optimum.md``
+explains the search and gives the measured times.
+
+Examples
+--------
+A corridor of 7 cells, a guard seeing its cell and the next, starting in the middle facing right: it
+must see both ends, 2 + 4 steps whichever it visits first.
+
+>>> from guardsim.level import parse_level
+>>> from guardsim.scene import Scene
+>>> corridor = parse_level({"outer": [[0, 0], [7, 0], [7, 1], [0, 1]], "guard": {"view_range": 1.0}})
+>>> result = solve(Scene.from_level(corridor), (3, 0), 0)
+>>> result.steps, result.proved, result.lower_bound
+(6, True, 6)
+"""
+
+from __future__ import annotations
+
+import time
+from typing import TYPE_CHECKING, NamedTuple
+
+import numpy as np
+
+from guardsim.errors import LimitError
+from guardsim.optimum.graph import SearchGraph, build_search_graph
+from guardsim.optimum.heuristic import build_heuristic
+from guardsim.optimum.search import (
+    EXPANSIONS,
+    FULL,
+    HEAP,
+    INCUMBENT,
+    INCUMBENT_NODE,
+    NODES,
+    PROVED,
+    STATUS,
+    SearchState,
+    greedy_walk,
+    new_search_state,
+    run_search,
+    start_search,
+)
+from guardsim.vision.rules import VisionFunction
+from guardsim.vision.table import view_table
+
+if TYPE_CHECKING:
+    from guardsim.scene import Scene
+
+__all__ = ["DEFAULT_MEMORY_BYTES", "OptimumResult", "solve"]
+
+#: Memory the node arrays may take by default.
+DEFAULT_MEMORY_BYTES = 3 * 2**30
+#: Expansions per compiled chunk between two looks at the clock.
+_CHUNK = 20_000
+
+
+class OptimumResult(NamedTuple):
+    """What the exact search found."""
+
+    steps: int
+    """Steps of the best covering walk found (the optimum when :attr:`proved`)."""
+    path: tuple[tuple[int, int, int], ...]
+    """``(col, row, heading)`` at every step of that walk, the start first; the heading is the first
+    heading at the start and the direction of the last step after it."""
+    proved: bool
+    """Whether no shorter covering walk exists."""
+    lower_bound: int
+    """Proved lower bound on the optimum (equal to :attr:`steps` when proved)."""
+    root_bound: int
+    """The estimate at the start (the per-node bound evaluated once)."""
+    expansions: int
+    """Nodes expanded."""
+    nodes: int
+    """Nodes stored."""
+    stopped_by: str
+    """``"proved"``, ``"expansions"``, ``"time"`` or ``"memory"``."""
+    headings_matter: bool
+    """Whether the search ran over states (the cone) or over cells (headings change nothing)."""
+    seconds: float
+    """Wall time of the call, the view table included when it was not cached."""
+
+
+def solve(
+    scene: Scene,
+    start: tuple[int, int],
+    heading: int,
+    vision: VisionFunction | None = None,
+    *,
+    max_expansions: int | None = None,
+    time_limit: float | None = None,
+    memory_bytes: int = DEFAULT_MEMORY_BYTES,
+) -> OptimumResult:
+    """The fewest steps after which a guard from ``(start, heading)`` has seen every cell reachable from it.
+
+    Parameters
+    ----------
+    scene
+        The level, its grid and its vision.
+    start, heading
+        ``(col, row)`` of the start cell and the first heading number (0 right, 1 down, 2 left, 3 up).
+    vision
+        Which cells a state sees: the scene's cache by default (any vision function works).
+    max_expansions
+        Stop after this many expansions (deterministic). None: no limit.
+    time_limit
+        Stop after about this many seconds of search. The search is the same however fast the machine,
+        but where it stops is not: a time-limited run's best walk and bound can depend on the machine.
+    memory_bytes
+        Most memory for the stored nodes; the search stops (unproved) when they are full.
+
+    Returns
+    -------
+    OptimumResult
+        The best walk, whether it is proved optimal, and the proved lower bound.
+    """
+    began = time.perf_counter()
+    table = view_table(scene.grid, scene.vision() if vision is None else vision)
+    graph = build_search_graph(scene.grid, table, start, heading)
+    if graph.positions > 20_000:
+        raise LimitError(
+            f"the exact search is for small levels: {graph.positions} positions from this start (at most 20000)"
+        )
+    heuristic = build_heuristic(graph)
+    greedy, greedy_steps = greedy_walk(graph.successors, graph.views, graph.full, graph.start)
+    words = graph.full.size
+    per_node = 8 * words + 4 * 4 + 2 * 12 + 2 * 8
+    capacity = max(1024, int(memory_bytes // per_node))
+    state = new_search_state(capacity, words)
+    start_search(state, heuristic, graph.views, graph.full, graph.start, greedy_steps + 1)
+    root_bound = int(state.estimate[0])
+    stopped_by = "proved"
+    counters = state.counters
+    while counters[STATUS] != PROVED:
+        if counters[STATUS] == FULL:
+            stopped_by = "memory"
+            break
+        budget = _CHUNK
+        if max_expansions is not None:
+            budget = min(budget, max_expansions - int(counters[EXPANSIONS]))
+            if budget <= 0:
+                stopped_by = "expansions"
+                break
+        if time_limit is not None and time.perf_counter() - began > time_limit:
+            stopped_by = "time"
+            break
+        run_search(state, heuristic, graph.successors, graph.views, graph.full, budget)
+    incumbent = int(counters[INCUMBENT])
+    if int(counters[INCUMBENT_NODE]) >= 0:
+        route = _route(state, int(counters[INCUMBENT_NODE]))
+    else:
+        route, incumbent = greedy, int(greedy_steps)
+    proved = stopped_by == "proved"
+    floor = incumbent if proved or counters[HEAP] == 0 else min(incumbent, int(state.heap_key[0] // (1 << 16)))
+    path = _walk(scene, graph, route, heading)
+    if len(path) - 1 != incumbent:
+        raise RuntimeError(f"the walk has {len(path) - 1} steps, the search counted {incumbent}")
+    return OptimumResult(
+        incumbent,
+        path,
+        proved,
+        max(floor, root_bound) if not proved else incumbent,
+        root_bound,
+        int(counters[EXPANSIONS]),
+        int(counters[NODES]),
+        stopped_by,
+        graph.headings_matter,
+        time.perf_counter() - began,
+    )
+
+
+def _route(state: SearchState, node: int) -> np.ndarray:
+    """The macro-move positions from the root to ``node``."""
+    route = []
+    while node >= 0:
+        route.append(int(state.position[node]))
+        node = int(state.parent[node])
+    return np.array(route[::-1], dtype=np.int64)
+
+
+def _walk(scene: Scene, graph: SearchGraph, route: np.ndarray, heading: int) -> tuple[tuple[int, int, int], ...]:
+    """Every step of a walk through ``route``, shortest paths between its positions."""
+    grid = scene.grid
+    steps = [int(route[0])]
+    for target in route[1:].tolist():
+        steps.extend(_shortest_path(graph.successors, steps[-1], target)[1:])
+    walk = [(*grid.unflat(int(graph.states[steps[0]] // 4)), heading)]
+    for before, position in zip(steps, steps[1:]):
+        direction = int(np.flatnonzero(graph.successors[before] == position)[0])
+        walk.append((*grid.unflat(int(graph.states[position] // 4)), direction))
+    return tuple(walk)
+
+
+def _shortest_path(successors: np.ndarray, source: int, target: int) -> list[int]:
+    """Positions of a shortest path from ``source`` to ``target`` (both included)."""
+    parent = np.full(successors.shape[0], -2, dtype=np.int64)
+    parent[source] = -1
+    frontier = [source]
+    while frontier and parent[target] == -2:
+        following = []
+        for here in frontier:
+            for there in successors[here].tolist():
+                if there >= 0 and parent[there] == -2:
+                    parent[there] = here
+                    following.append(there)
+        frontier = following
+    path = [target]
+    while parent[path[-1]] >= 0:
+        path.append(int(parent[path[-1]]))
+    return path[::-1]

@@ -1,0 +1,223 @@
+"""The graph the exact search walks: guard positions, their moves and what each one sees, as bitsets.
+
+A *position* is what the guard's future depends on. With the paper's cone it is the state (cell and
+heading, the direction of the last step): the heading decides what the guard sees. When every cell's
+four headings see the same cells (a 360-degree view), the heading changes nothing, and positions are the
+cells themselves; the graph is then four times smaller. Only positions reachable from the start are kept.
+
+What a position sees is a bitset over the *goal* (the cells reachable from the start), ``uint64`` words,
+goal cell ``i`` being bit ``i % 64`` of word ``i // 64``.
+"""
+
+from __future__ import annotations
+
+from typing import NamedTuple
+
+import numba
+import numpy as np
+
+from guardsim.grid import HEADINGS_PER_CELL, CoverageGrid, cell_of_state, heading_of_state, state_of
+from guardsim.vision.table import ViewTable
+
+__all__ = ["FAR", "SearchGraph", "build_search_graph", "watcher_distances"]
+
+#: Distance to a target the position cannot reach; fits int16 with room to add a few steps.
+FAR = 30000
+
+
+class SearchGraph(NamedTuple):
+    """Positions, moves and views of one start."""
+
+    successors: np.ndarray
+    """``int64 (positions, 4)``: the position one step in each direction leads to, -1 for none."""
+    views: np.ndarray
+    """``uint64 (positions, words)``: goal cells each position sees, as bitsets."""
+    states: np.ndarray
+    """``int64 (positions,)``: a state number (:func:`guardsim.grid.state_of`) of each position; heading 0
+    when headings do not matter."""
+    goal_cells: np.ndarray
+    """``int64 (goal,)``: flat cell index of each goal cell (bit ``i`` stands for ``goal_cells[i]``)."""
+    full: np.ndarray
+    """``uint64 (words,)``: the bitset of the whole goal."""
+    start: int
+    """The start position."""
+    headings_matter: bool
+    """Whether positions are states (True) or cells (False)."""
+
+    @property
+    def positions(self) -> int:
+        """Number of positions."""
+        return int(self.successors.shape[0])
+
+
+def _same_sight(table: ViewTable, cells: np.ndarray) -> bool:
+    """Whether each cell's four headings see the same cells."""
+    for cell in cells.tolist():
+        first = table.sees(state_of(cell, 0))
+        for heading in range(1, HEADINGS_PER_CELL):
+            other = table.sees(state_of(cell, heading))
+            if other.size != first.size or not np.array_equal(other, first):
+                return False
+    return True
+
+
+@numba.njit(cache=True, nogil=True)
+def _reachable_states(neighbours: np.ndarray, start_state: int) -> np.ndarray:
+    """States reachable from ``start_state``, ascending."""
+    states = neighbours.shape[0] * 4
+    reached = np.zeros(states, dtype=np.bool_)
+    queue = np.empty(states, dtype=np.int64)
+    reached[start_state] = True
+    queue[0] = start_state
+    head, tail = 0, 1
+    while head < tail:
+        state = queue[head]
+        head += 1
+        for direction in range(4):
+            other = neighbours[state // 4, direction]
+            if other >= 0 and not reached[other * 4 + direction]:
+                reached[other * 4 + direction] = True
+                queue[tail] = other * 4 + direction
+                tail += 1
+    return np.flatnonzero(reached)
+
+
+@numba.njit(cache=True, nogil=True)
+def _views(
+    states: np.ndarray, sight_start: np.ndarray, sight: np.ndarray, goal_index: np.ndarray, words: int
+) -> np.ndarray:
+    views = np.zeros((states.shape[0], words), dtype=np.uint64)
+    for position in range(states.shape[0]):
+        state = states[position]
+        for index in range(sight_start[state], sight_start[state + 1]):
+            bit = goal_index[sight[index]]
+            if bit >= 0:
+                views[position, bit >> 6] |= np.uint64(1) << np.uint64(bit & 63)
+    return views
+
+
+def build_search_graph(grid: CoverageGrid, table: ViewTable, start: tuple[int, int], heading: int) -> SearchGraph:
+    """The positions reachable from ``(start, heading)``, their moves and their views.
+
+    Parameters
+    ----------
+    grid
+        The coverage grid.
+    table
+        The level's view table for the vision to solve with.
+    start
+        ``(col, row)`` of the start cell.
+    heading
+        The first heading (ignored when headings do not change what a guard sees).
+    """
+    neighbours = np.ascontiguousarray(grid.neighbours, dtype=np.int64)
+    start_cell = grid.flat(*start)
+    goal_cells = np.flatnonzero(grid.component(*start).ravel()).astype(np.int64)
+    goal_index = np.full(grid.size, -1, dtype=np.int64)
+    goal_index[goal_cells] = np.arange(goal_cells.size)
+    words = max(1, (goal_cells.size + 63) // 64)
+    headings_matter = not _same_sight(table, goal_cells)
+    if headings_matter:
+        states = _reachable_states(neighbours, state_of(start_cell, heading))
+    else:
+        states = state_of(goal_cells, 0)
+    position_of = np.full(grid.size * HEADINGS_PER_CELL, -1, dtype=np.int64)
+    position_of[states] = np.arange(states.size)
+    cells = cell_of_state(states)
+    successors = np.full((states.size, 4), -1, dtype=np.int64)
+    for direction in range(4):
+        there = neighbours[cells, direction]
+        ok = there >= 0
+        arrive = state_of(there[ok], direction if headings_matter else 0)
+        successors[ok, direction] = position_of[arrive]
+    first = state_of(start_cell, heading if headings_matter else 0)
+    views = _views(states, table.sight_start, table.sight, goal_index, words)
+    full = np.zeros(words, dtype=np.uint64)
+    for bit in range(goal_cells.size):
+        full[bit >> 6] |= np.uint64(1) << np.uint64(bit & 63)
+    return SearchGraph(successors, views, states, goal_cells, full, int(position_of[first]), headings_matter)
+
+
+@numba.njit(cache=True, nogil=True)
+def _predecessors(successors: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
+    """Reverse adjacency as CSR: the positions with a move into each position."""
+    positions = successors.shape[0]
+    start = np.zeros(positions + 1, dtype=np.int64)
+    for position in range(positions):
+        for direction in range(4):
+            other = successors[position, direction]
+            if other >= 0:
+                start[other + 1] += 1
+    for position in range(positions):
+        start[position + 1] += start[position]
+    fill = start[:positions].copy()
+    before = np.empty(start[positions], dtype=np.int64)
+    for position in range(positions):
+        for direction in range(4):
+            other = successors[position, direction]
+            if other >= 0:
+                before[fill[other]] = position
+                fill[other] += 1
+    return start, before
+
+
+@numba.njit(cache=True, nogil=True)
+def _watcher_distances(
+    successors: np.ndarray, views: np.ndarray, goal: int, far: int
+) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
+    positions = successors.shape[0]
+    pred_start, pred = _predecessors(successors)
+    # Watchers of each goal cell, as CSR over positions.
+    counts = np.zeros(goal + 1, dtype=np.int64)
+    for position in range(positions):
+        for bit in range(goal):
+            if (views[position, bit >> 6] >> np.uint64(bit & 63)) & np.uint64(1):
+                counts[bit + 1] += 1
+    for bit in range(goal):
+        counts[bit + 1] += counts[bit]
+    watchers = np.empty(counts[goal], dtype=np.int64)
+    fill = counts[:goal].copy()
+    for position in range(positions):
+        for bit in range(goal):
+            if (views[position, bit >> 6] >> np.uint64(bit & 63)) & np.uint64(1):
+                watchers[fill[bit]] = position
+                fill[bit] += 1
+    distance = np.full((goal, positions), far, dtype=np.int16)
+    queue = np.empty(positions, dtype=np.int64)
+    for bit in range(goal):
+        row = distance[bit]
+        tail = 0
+        for k in range(counts[bit], counts[bit + 1]):
+            row[watchers[k]] = 0
+            queue[tail] = watchers[k]
+            tail += 1
+        head = 0
+        while head < tail:
+            position = queue[head]
+            head += 1
+            for k in range(pred_start[position], pred_start[position + 1]):
+                other = pred[k]
+                if row[other] == far:
+                    row[other] = row[position] + 1
+                    queue[tail] = other
+                    tail += 1
+    return distance, counts, watchers
+
+
+def watcher_distances(graph: SearchGraph) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
+    """Steps from every position to the nearest watcher of every goal cell, and the watchers themselves.
+
+    Returns
+    -------
+    distance
+        ``int16 (goal, positions)``: fewest steps from a position to any position seeing the goal cell
+        (:data:`FAR` if none is reachable).
+    watch_start, watchers
+        CSR: goal cell ``i`` is seen from positions ``watchers[watch_start[i]:watch_start[i + 1]]``.
+    """
+    return _watcher_distances(graph.successors, graph.views, int(graph.goal_cells.size), FAR)
+
+
+def heading_of(graph: SearchGraph, position: int) -> int:
+    """The heading of a position (0 when headings do not matter)."""
+    return int(heading_of_state(graph.states[position]))

@@ -1,0 +1,360 @@
+"""A* over (position, cells seen so far), with macro moves from one newly seeing position to the next.
+
+A node is a position and the set of goal cells seen on the way there. Its successors are the positions
+that would see an unseen cell ("frontier" positions) and can be reached without passing another one,
+each at its breadth-first distance, found by a search from the node that stops at frontier positions.
+Any covering walk splits at the steps where it sees something new; between two such steps it sees
+nothing new, so it can be replaced by a shortest path through positions that see nothing new, and the
+split walk is a path of these macro moves no longer than the walk. So the search misses no optimum.
+
+Nodes are kept in flat arrays (position, steps, parent, seen bitset), found again through an
+open-addressing hash table on (position, seen), and ordered by a binary heap on ``f = g + h`` (ties:
+the deeper node first). The estimate ``h`` is :func:`guardsim.optimum.heuristic.estimate`, with
+pathmax. A greedy walk (nearest frontier first) gives the first incumbent; nodes whose ``f`` reaches the
+incumbent are never stored. The search runs in chunks of expansions, so the caller can stop it between
+chunks; everything it needs lives in the :class:`SearchState` arrays.
+"""
+
+from __future__ import annotations
+
+from typing import NamedTuple
+
+import numba
+import numpy as np
+
+from guardsim.optimum.heuristic import Heuristic, estimate
+
+__all__ = ["PROVED", "RUNNING", "FULL", "SearchState", "greedy_walk", "new_search_state", "run_search"]
+
+#: Status codes in ``counters[STATUS]``.
+RUNNING, PROVED, FULL = 0, 1, 2
+# Counter slots.
+NODES, HEAP, EXPANSIONS, GENERATED, INCUMBENT, INCUMBENT_NODE, STATUS, FLOOR = range(8)
+_KEY_SHIFT = 1 << 16
+
+
+class SearchState(NamedTuple):
+    """Everything an interrupted search needs to go on."""
+
+    position: np.ndarray
+    """``int32 (capacity,)``: each node's position."""
+    steps: np.ndarray
+    """``int32 (capacity,)``: each node's best known steps from the start (g)."""
+    parent: np.ndarray
+    """``int32 (capacity,)``: the node it was reached from (-1 for the root)."""
+    estimate: np.ndarray
+    """``int32 (capacity,)``: its estimate h."""
+    seen: np.ndarray
+    """``uint64 (capacity, words)``: the goal cells it has seen."""
+    heap_key: np.ndarray
+    """``int64``: heap entries' ``f * 65536 + (65535 - g)``."""
+    heap_node: np.ndarray
+    """``int32``: heap entries' nodes."""
+    table: np.ndarray
+    """``int64 (power of two,)``: hash slots, node + 1, 0 for empty."""
+    counters: np.ndarray
+    """``int64 (8,)``: nodes, heap size, expansions, generated, incumbent steps, incumbent node, status,
+    and the proved floor (the least f left when the search stopped)."""
+
+
+def new_search_state(capacity: int, words: int) -> SearchState:
+    """Empty arrays for at most ``capacity`` nodes."""
+    slots = 1 << max(4, int(2 * capacity - 1).bit_length())
+    return SearchState(
+        np.zeros(capacity, dtype=np.int32),
+        np.zeros(capacity, dtype=np.int32),
+        np.zeros(capacity, dtype=np.int32),
+        np.zeros(capacity, dtype=np.int32),
+        np.zeros((capacity, words), dtype=np.uint64),
+        np.zeros(2 * capacity, dtype=np.int64),
+        np.zeros(2 * capacity, dtype=np.int32),
+        np.zeros(slots, dtype=np.int64),
+        np.zeros(8, dtype=np.int64),
+    )
+
+
+@numba.njit(cache=True, nogil=True, inline="always")
+def _hash(position: int, seen: np.ndarray) -> np.uint64:
+    value = np.uint64(position) * np.uint64(0x9E3779B97F4A7C15)
+    for word in range(seen.shape[0]):
+        value ^= seen[word]
+        value *= np.uint64(0xBF58476D1CE4E5B9)
+        value ^= value >> np.uint64(31)
+    return value
+
+
+@numba.njit(cache=True, nogil=True)
+def _find(state: SearchState, position: int, seen: np.ndarray) -> tuple[int, int]:
+    """(node, slot): the node of (position, seen), or -1 and the empty slot where it would go."""
+    table = state.table
+    mask = table.shape[0] - 1
+    slot = np.int64(_hash(position, seen) >> np.uint64(1)) & mask
+    words = seen.shape[0]
+    while True:
+        entry = table[slot]
+        if entry == 0:
+            return -1, slot
+        node = entry - 1
+        if state.position[node] == position:
+            same = True
+            for word in range(words):
+                if state.seen[node, word] != seen[word]:
+                    same = False
+                    break
+            if same:
+                return node, slot
+        slot = (slot + 1) & mask
+
+
+@numba.njit(cache=True, nogil=True)
+def _push(state: SearchState, key: int, node: int) -> None:
+    keys, nodes, counters = state.heap_key, state.heap_node, state.counters
+    index = counters[HEAP]
+    counters[HEAP] += 1
+    while index > 0:
+        parent = (index - 1) >> 1
+        if keys[parent] <= key:
+            break
+        keys[index], nodes[index] = keys[parent], nodes[parent]
+        index = parent
+    keys[index], nodes[index] = key, node
+
+
+@numba.njit(cache=True, nogil=True)
+def _pop(state: SearchState) -> tuple[int, int]:
+    keys, nodes, counters = state.heap_key, state.heap_node, state.counters
+    key, node = keys[0], nodes[0]
+    counters[HEAP] -= 1
+    size = counters[HEAP]
+    last_key, last_node = keys[size], nodes[size]
+    index = 0
+    while True:
+        child = 2 * index + 1
+        if child >= size:
+            break
+        if child + 1 < size and keys[child + 1] < keys[child]:
+            child += 1
+        if keys[child] >= last_key:
+            break
+        keys[index], nodes[index] = keys[child], nodes[child]
+        index = child
+    if size > 0:
+        keys[index], nodes[index] = last_key, last_node
+    return key, node
+
+
+@numba.njit(cache=True, nogil=True)
+def _frontier(
+    successors: np.ndarray,
+    views: np.ndarray,
+    origin: int,
+    seen: np.ndarray,
+    distance: np.ndarray,
+    queue: np.ndarray,
+    found: np.ndarray,
+    found_steps: np.ndarray,
+) -> int:
+    """Positions seeing something unseen, reached from ``origin`` without passing another such one.
+
+    Fills ``found[:n]`` and ``found_steps[:n]``, returns ``n``. ``distance`` must be all -1 on entry and
+    is left so.
+    """
+    words = seen.shape[0]
+    distance[origin] = 0
+    queue[0] = origin
+    head, tail, count = 0, 1, 0
+    while head < tail:
+        here = queue[head]
+        head += 1
+        step = distance[here] + 1
+        for direction in range(4):
+            there = successors[here, direction]
+            if there < 0 or distance[there] >= 0:
+                continue
+            distance[there] = step
+            queue[tail] = there
+            tail += 1
+            fresh = False
+            for word in range(words):
+                if views[there, word] & ~seen[word]:
+                    fresh = True
+                    break
+            if fresh:
+                found[count] = there
+                found_steps[count] = step
+                count += 1
+                tail -= 1  # a frontier position ends the macro move: never expanded
+    for index in range(head):
+        distance[queue[index]] = -1
+    for index in range(count):
+        distance[found[index]] = -1
+    return count
+
+
+@numba.njit(cache=True, nogil=True)
+def greedy_walk(successors: np.ndarray, views: np.ndarray, full: np.ndarray, start: int) -> tuple[np.ndarray, int]:
+    """The nearest-frontier walk: its macro-move positions (the start first) and its steps.
+
+    Ties go to the position seeing the most unseen cells, then to the one found first.
+    """
+    positions = successors.shape[0]
+    words = full.shape[0]
+    distance = np.full(positions, -1, dtype=np.int32)
+    queue = np.empty(positions, dtype=np.int64)
+    found = np.empty(positions, dtype=np.int64)
+    found_steps = np.empty(positions, dtype=np.int32)
+    seen = views[start].copy()
+    route = [start]
+    steps = 0
+    here = start
+    while True:
+        done = True
+        for word in range(words):
+            if seen[word] != full[word]:
+                done = False
+        if done:
+            break
+        count = _frontier(successors, views, here, seen, distance, queue, found, found_steps)
+        if count == 0:
+            return np.zeros(0, dtype=np.int64), -1
+        best, best_steps, best_gain = -1, 0, -1
+        for index in range(count):
+            gain = 0
+            for word in range(words):
+                left = views[found[index], word] & ~seen[word]
+                while left:
+                    left &= left - np.uint64(1)
+                    gain += 1
+            if best < 0 or found_steps[index] < best_steps or (found_steps[index] == best_steps and gain > best_gain):
+                best, best_steps, best_gain = index, found_steps[index], gain
+        here = found[best]
+        steps += best_steps
+        for word in range(words):
+            seen[word] |= views[here, word]
+        route.append(here)
+    result = np.empty(len(route), dtype=np.int64)
+    for index in range(len(route)):
+        result[index] = route[index]
+    return result, steps
+
+
+@numba.njit(cache=True, nogil=True)
+def _add(state: SearchState, slot: int, position: int, steps: int, parent: int, h: int, seen: np.ndarray) -> int:
+    counters = state.counters
+    node = counters[NODES]
+    counters[NODES] += 1
+    state.position[node] = position
+    state.steps[node] = steps
+    state.parent[node] = parent
+    state.estimate[node] = h
+    state.seen[node] = seen
+    state.table[slot] = node + 1
+    return node
+
+
+@numba.njit(cache=True, nogil=True)
+def start_search(
+    state: SearchState, heuristic: Heuristic, views: np.ndarray, full: np.ndarray, start: int, incumbent: int
+) -> None:
+    """Put the root in the heap; ``incumbent`` is the steps of a known covering walk."""
+    counters = state.counters
+    counters[:] = 0
+    counters[INCUMBENT] = incumbent
+    counters[INCUMBENT_NODE] = -1
+    kept = np.empty(heuristic.pivots, dtype=np.int64)
+    link = np.empty(heuristic.pool.shape[0], dtype=np.int64)
+    gap = np.empty(heuristic.pool.shape[0], dtype=np.int64)
+    seen = views[start].copy()
+    h = estimate(heuristic, start, seen, full, kept, link, gap)
+    _, slot = _find(state, start, seen)
+    node = _add(state, slot, start, 0, -1, h, seen)
+    counters[FLOOR] = h
+    done = True
+    for word in range(full.shape[0]):
+        if seen[word] != full[word]:
+            done = False
+    if done:
+        counters[INCUMBENT] = 0
+        counters[INCUMBENT_NODE] = node
+        counters[STATUS] = PROVED
+        counters[FLOOR] = 0
+        return
+    if h < incumbent:
+        _push(state, h * _KEY_SHIFT + (_KEY_SHIFT - 1), node)
+
+
+@numba.njit(cache=True, nogil=True)
+def run_search(
+    state: SearchState, heuristic: Heuristic, successors: np.ndarray, views: np.ndarray, full: np.ndarray, budget: int
+) -> None:
+    """Expand at most ``budget`` nodes, or until the optimum is proved or the node arrays are full."""
+    counters = state.counters
+    positions = successors.shape[0]
+    words = full.shape[0]
+    capacity = state.position.shape[0]
+    heap_room = state.heap_key.shape[0]
+    distance = np.full(positions, -1, dtype=np.int32)
+    queue = np.empty(positions, dtype=np.int64)
+    found = np.empty(positions, dtype=np.int64)
+    found_steps = np.empty(positions, dtype=np.int32)
+    kept = np.empty(heuristic.pivots, dtype=np.int64)
+    link = np.empty(heuristic.pool.shape[0], dtype=np.int64)
+    gap = np.empty(heuristic.pool.shape[0], dtype=np.int64)
+    seen = np.empty(words, dtype=np.uint64)
+    expanded = 0
+    while counters[STATUS] == RUNNING and expanded < budget:
+        if counters[HEAP] == 0:
+            counters[STATUS] = PROVED
+            counters[FLOOR] = counters[INCUMBENT]
+            break
+        key = state.heap_key[0]
+        f = key // _KEY_SHIFT
+        if f >= counters[INCUMBENT]:
+            counters[STATUS] = PROVED
+            counters[FLOOR] = counters[INCUMBENT]
+            break
+        counters[FLOOR] = f
+        key, node = _pop(state)
+        g = _KEY_SHIFT - 1 - key % _KEY_SHIFT
+        if g != state.steps[node]:
+            continue  # a stale entry: the node was reached more cheaply since
+        expanded += 1
+        counters[EXPANSIONS] += 1
+        here = state.position[node]
+        parent_h = state.estimate[node]
+        count = _frontier(successors, views, here, state.seen[node], distance, queue, found, found_steps)
+        for index in range(count):
+            there = found[index]
+            steps = g + found_steps[index]
+            if steps >= counters[INCUMBENT]:
+                continue
+            complete = True
+            for word in range(words):
+                seen[word] = state.seen[node, word] | views[there, word]
+                if seen[word] != full[word]:
+                    complete = False
+            counters[GENERATED] += 1
+            other, slot = _find(state, there, seen)
+            if other >= 0:
+                if state.steps[other] <= steps:
+                    continue
+                state.steps[other] = steps
+                state.parent[other] = node
+                h = state.estimate[other]
+            else:
+                if counters[NODES] >= capacity:
+                    counters[STATUS] = FULL
+                    break
+                h = 0 if complete else estimate(heuristic, there, seen, full, kept, link, gap)
+                h = max(h, parent_h - found_steps[index])
+                if steps + h >= counters[INCUMBENT]:
+                    continue
+                other = _add(state, slot, there, steps, node, h, seen)
+            if complete:
+                counters[INCUMBENT] = steps
+                counters[INCUMBENT_NODE] = other
+                continue
+            if counters[HEAP] >= heap_room:
+                counters[STATUS] = FULL
+                break
+            _push(state, (steps + h) * _KEY_SHIFT + (_KEY_SHIFT - 1 - steps), other)
