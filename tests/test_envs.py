@@ -280,3 +280,13 @@ def test_import_without_the_rl_extra_says_what_to_install(monkeypatch: pytest.Mo
     monkeypatch.setitem(sys.modules, "pettingzoo", None)
     with pytest.raises(ImportError, match=r"install guardsim\[rl\]"):
         importlib.import_module("guardsim.envs")
+
+
+@pytest.mark.parametrize("start", [(0, 0), (59, 59), (58, 3), (31, 57)], ids=str)
+def test_crop_is_the_padded_grid_around_the_guard(start: tuple[int, int]) -> None:
+    full, cropped = make(), make(crop=3)
+    planes = full.reset(seed=0, options={"start": start})[0]["grid"]
+    window = cropped.reset(seed=0, options={"start": start})[0]["grid"]
+    col, row = start
+    padded = np.pad(planes, ((0, 0), (3, 3), (3, 3)))
+    assert np.array_equal(window, padded[:, row : row + 7, col : col + 7])

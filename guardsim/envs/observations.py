@@ -64,9 +64,21 @@ def observe(simulation: Simulation, guard: int, crop: int | None = None) -> dict
         if other != guard:
             planes[TEAMMATES, other_row, other_col] = 1
     if crop is not None:
-        padded = np.pad(planes, ((0, 0), (crop, crop), (crop, crop)))
-        planes = padded[:, row : row + 2 * crop + 1, col : col + 2 * crop + 1].copy()
+        planes = _window(planes, col, row, crop)
     return {"grid": planes, "heading": headings[guard]}
+
+
+def _window(planes: np.ndarray, col: int, row: int, crop: int) -> np.ndarray:
+    """The ``(2 crop + 1)``-square of ``planes`` centred on ``(col, row)``, 0 past the edges."""
+    rows, cols = planes.shape[1:]
+    window = np.zeros((planes.shape[0], 2 * crop + 1, 2 * crop + 1), dtype=planes.dtype)
+    top, left = row - crop, col - crop
+    first_row, last_row = max(top, 0), min(row + crop + 1, rows)
+    first_col, last_col = max(left, 0), min(col + crop + 1, cols)
+    window[:, first_row - top : last_row - top, first_col - left : last_col - left] = planes[
+        :, first_row:last_row, first_col:last_col
+    ]
+    return window
 
 
 def state_space(grid_shape: tuple[int, int]) -> spaces.Box:
