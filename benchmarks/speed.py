@@ -53,9 +53,8 @@ def load_scene(path: Path):
 
 def measure(path: Path, episodes: int, reference_ticks: int) -> dict:
     """All figures for one level, in this process."""
-    from guardsim.fast_ripplefront import run_compiled
     from guardsim.planners import RippleFront
-    from guardsim.simulation import choose_start, default_max_steps, episode_generator, run_episode
+    from guardsim.simulation import Simulation, choose_start, episode_generator, run_episode
 
     began = time.perf_counter()
     scene = load_scene(path)
@@ -93,22 +92,14 @@ def measure(path: Path, episodes: int, reference_ticks: int) -> dict:
 
     # Fast path, cold cache, tick by tick.
     fast_ticks_us: list[float] = []
-    goal_of = {}
     for cell, heading in starts[: 1 if large else 3]:
-        goal = grid.component(*cell).ravel()
-        goal_of[cell] = goal
-        seconds: list[float] = []
-        run_compiled(
-            scene.vision_cache,
-            grid.neighbours,
-            goal,
-            grid.flat(*cell),
-            heading,
-            sweeps_per_tick=1,
-            limit=default_max_steps(grid),
-            tick_seconds=seconds,
-        )
-        fast_ticks_us += [s * 1e6 for s in seconds]
+        # Stepped one tick at a time, so each call is one compiled tick (and its vision fills).
+        simulation = Simulation(scene, [RippleFront()])
+        simulation.reset(starts=[cell], headings=[heading])
+        while not simulation.done:
+            t0 = time.perf_counter()
+            simulation.step()
+            fast_ticks_us.append((time.perf_counter() - t0) * 1e6)
 
     # Whole episodes: the reference's own episodes on the fast path, cold then warm.
     fresh = load_scene(path)

@@ -1,0 +1,5 @@
+"""``python -m guardsim.cli``: the same command line as ``guardsim``."""
+
+from guardsim.cli import main
+
+main()
