@@ -3,6 +3,7 @@
 from __future__ import annotations
 
 import importlib
+import subprocess
 import sys
 import warnings
 from collections.abc import Iterator
@@ -290,3 +291,18 @@ def test_crop_is_the_padded_grid_around_the_guard(start: tuple[int, int]) -> Non
     col, row = start
     padded = np.pad(planes, ((0, 0), (3, 3), (3, 3)))
     assert np.array_equal(window, padded[:, row : row + 7, col : col + 7])
+
+
+def test_the_random_agent_example_runs() -> None:
+    command = [
+        sys.executable,
+        str(REPO / "examples" / "random_agent.py"),
+        SQUARE,
+        "--episodes",
+        "2",
+        "--max-steps",
+        "30",
+    ]
+    result = subprocess.run(command, capture_output=True, text=True, check=False, timeout=120)
+    assert result.returncode == 0, result.stderr
+    assert result.stdout.splitlines()[1].startswith("episode 1: step_limit after 30 steps, coverage ")
