@@ -10,11 +10,8 @@ from dataclasses import dataclass
 from pathlib import Path
 from typing import NamedTuple
 
-import numpy as np
-
 from guardsim.errors import RegressionError
 from guardsim.level import DEFAULT_MAX_CELLS, DEFAULT_MAX_FILE_BYTES, Level, level_to_data, parse_level
-from guardsim.planners import make_planner
 from guardsim.reading import display_path, excerpt, parse_json
 from guardsim.regress.frames import DiffRow, Tolerance, compare_frames, diff_image
 from guardsim.regress.references import (
@@ -38,7 +35,8 @@ from guardsim.regress.references import (
 )
 from guardsim.regress.stored_trace import trace_from_stored
 from guardsim.render import render_frame
-from guardsim.simulation import Scene, choose_start, run_batch_episode, run_episode
+from guardsim.scene import Scene
+from guardsim.simulation import Simulation
 from guardsim.trace import Trace
 
 __all__ = ["EpisodeResult", "FrameDifference", "LevelResult", "regress_level", "replay_trace"]
@@ -118,11 +116,9 @@ class LevelResult:
 
 def replay_trace(scene: Scene, spec: ReplaySpec) -> Trace:
     """Run the episode ``spec`` names, exactly as ``guardsim play LEVEL`` with its play options does."""
-    if spec.episode is not None:
-        return run_batch_episode(scene, seed=spec.seed, episode=spec.episode)
-    guard = scene.level.guard
-    cell, heading = choose_start(scene, rng=np.random.default_rng(spec.seed), point=guard.start, heading=guard.heading)
-    return run_episode(scene, make_planner("ripplefront"), cell, heading, seed=spec.seed)
+    simulation = Simulation(scene, "ripplefront")
+    simulation.reset(seed=spec.seed, episode=spec.episode)
+    return simulation.run()
 
 
 def regress_level(
