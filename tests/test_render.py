@@ -1,39 +1,102 @@
-"""The renderer: GIFs decoded back, frame counts and sizes, colours of unseen and seen cells, previews."""
+"""The renderer, judged by decoding what it writes: frame counts and sizes, colours where the trace says
+unseen or seen, a cone that never shows a wall or what lies behind one, the caption outside the play area,
+one colour per guard, byte-identical GIFs, and every edge case giving a valid GIF."""
 
 from __future__ import annotations
 
 import io
+import json
+import math
 from pathlib import Path
 
 import imageio.v3 as iio
 import numpy as np
 import pytest
+from click.testing import CliRunner
 from PIL import Image
 
+from guardsim.cli import main
 from guardsim.errors import LimitError
-from guardsim.level import load_level
-from guardsim.planners import RippleFront
-from guardsim.render import COLOURS, GifOptions, encode_gif, frame_ticks, render_frame, render_preview
-from guardsim.simulation import Scene, choose_start, run_episode
-from tests.common import SPLIT_ROOMS, scene_from
+from guardsim.level import load_level, parse_level
+from guardsim.render import (
+    COLOURS,
+    PALETTE,
+    FrameDrawer,
+    GifOptions,
+    Index,
+    encode_gif,
+    frame_ticks,
+    palette_rgb,
+    render_frame,
+    render_preview,
+    write_gif,
+)
+from guardsim.render.frames import PLAY_PAD
+from guardsim.render.palette import guard_index, trail_index
+from guardsim.trace import Trace
+from guardsim.world import World
+from tests.common import SPLIT_ROOMS, scene_from, write_level
+
+SQUARE = Path("levels/square.json")
 
 
-def episode(scene: Scene):
-    """The RippleFront episode from the level's start."""
-    level = scene.level
-    cell, heading = choose_start(scene, rng=np.random.default_rng(0), point=level.guard.start, heading="right")
-    return run_episode(scene, RippleFront(), cell, heading)
+def play_trace(tmp_path: Path, level: Path, *options: str) -> Trace:
+    """The trace of ``guardsim play LEVEL OPTIONS``."""
+    out = tmp_path / "trace.json"
+    result = CliRunner().invoke(main, ["play", str(level), "--trace", str(out), *options])
+    assert result.exit_code == 0, result.output
+    return Trace.from_data(json.loads(out.read_text()))
+
+
+def decode(data: bytes | Path) -> np.ndarray:
+    """Every frame of a GIF as RGB."""
+    return iio.imread(data, index=None, extension=".gif")
+
+
+def colour(name: str) -> tuple[int, int, int]:
+    return COLOURS[name]
+
+
+def play_pixel(drawer: FrameDrawer, col, row):
+    """``(y, x)`` in the whole frame of a point given in cells."""
+    layout = drawer.layout
+    return (
+        (layout.top + PLAY_PAD + np.asarray(row) * layout.scale).astype(int),
+        (layout.left + PLAY_PAD + np.asarray(col) * layout.scale).astype(int),
+    )
+
+
+def hand_trace(level_data: dict, path: list[tuple[int, int]], headings: list[int], **changes) -> tuple:
+    """A level and a trace written by hand: every traversable cell a goal cell, none seen."""
+    level = parse_level(level_data)
+    scene = scene_from(level_data)
+    traversable = scene.grid.traversable
+    rows, cols = scene.grid.shape
+    fields = dict(
+        level=level.name,
+        planner="by-hand",
+        seed=0,
+        cell_size=level.cell_size,
+        origin=scene.grid.origin,
+        shape=(rows, cols),
+        path=tuple(path),
+        headings=tuple(headings),
+        unseen_percent=tuple(100.0 for _ in path),
+        outcome="step_limit",
+        reachable=int(traversable.sum()),
+        unreachable=0,
+        first_seen=np.full((rows, cols), -1),
+        goal=traversable.copy(),
+        traversable=traversable.copy(),
+    )
+    fields.update(changes)
+    return level, Trace(**fields)
 
 
 @pytest.fixture(scope="module")
-def square() -> tuple[Scene, object]:
-    scene = Scene.from_level(load_level(Path("levels/square.json")))
-    return scene, episode(scene)
-
-
-def pixel_at_cell(frame: np.ndarray, col: int, row: int, scale: int) -> tuple[int, ...]:
-    """The colour at a cell's top-left inner pixel (away from the centre, where the guard and text go)."""
-    return tuple(int(v) for v in frame[row * scale + 1, col * scale + 1])
+def square(tmp_path_factory) -> tuple:
+    level = load_level(SQUARE)
+    return level, play_trace(tmp_path_factory.mktemp("square"), SQUARE)
 
 
 @pytest.mark.parametrize(
@@ -62,20 +125,22 @@ def test_explicit_stride_over_frame_limit_is_refused() -> None:
 
 
 def test_gif_decodes_with_expected_frames_and_size(square) -> None:
-    """The GIF decodes to one frame per tick drawn, 480 x 480 pixels for a 60 x 60 grid."""
-    scene, trace = square
+    """One decoded frame per tick drawn; the play area is 8 px per cell with bars above and below."""
+    level, trace = square
     options = GifOptions(max_frames=50)
-    data = encode_gif(scene.level, trace, options)
-    frames = iio.imread(data, index=None, extension=".gif")
+    data = encode_gif(level, trace, options)
+    frames = decode(data)
+    layout = FrameDrawer(level, trace).layout
     assert frames.shape[0] == len(frame_ticks(trace.steps, options))
-    assert frames.shape[1:3] == (480, 480)
-    assert len(data) < 3_000_000
+    assert frames.shape[1:3] == (layout.height, layout.width)
+    assert layout.scale == 8 and layout.play == (480 + 2 * PLAY_PAD, 480 + 2 * PLAY_PAD)
+    assert layout.top > 20 and layout.legend > 10
 
 
 def test_gif_holds_the_last_frame_and_loops(square) -> None:
     """Every frame lasts frame_ms except the last, held for hold_ms; the GIF loops forever."""
-    scene, trace = square
-    data = encode_gif(scene.level, trace, GifOptions(max_frames=20, frame_ms=50, hold_ms=1500))
+    level, trace = square
+    data = encode_gif(level, trace, GifOptions(max_frames=20, frame_ms=50, hold_ms=1500))
     image = Image.open(io.BytesIO(data))
     durations = []
     for index in range(image.n_frames):
@@ -86,43 +151,304 @@ def test_gif_holds_the_last_frame_and_loops(square) -> None:
     assert image.info.get("loop") == 0
 
 
-def test_first_frame_dark_where_unseen_last_frame_clear(square) -> None:
-    """In the first decoded frame the far corner is unseen-dark; in the last it is clear; walls are light."""
-    scene, trace = square
-    frames = iio.imread(encode_gif(scene.level, trace, GifOptions(max_frames=10)), index=None, extension=".gif")
-    scale = 8
-    assert pixel_at_cell(frames[0], 55, 55, scale) == COLOURS["unseen"]
-    assert pixel_at_cell(frames[-1], 55, 55, scale) == COLOURS["free"]
-    assert pixel_at_cell(frames[0], 25, 25, scale) == COLOURS["wall"]  # inside the pillar
-    assert pixel_at_cell(frames[-1], 25, 25, scale) == COLOURS["wall"]
+def test_every_frame_uses_only_the_fixed_palette(square) -> None:
+    """Decoded pixels are palette colours only: nothing was quantised per frame."""
+    level, trace = square
+    frames = decode(encode_gif(level, trace, GifOptions(max_frames=12)))
+    allowed = {tuple(c) for c in PALETTE}
+    used = {tuple(int(v) for v in c) for c in np.unique(frames.reshape(-1, 3), axis=0)}
+    assert used <= allowed
 
 
-def test_guard_is_drawn_at_its_cell(square) -> None:
-    """The guard's red disc is at the centre of its cell in the frame."""
-    scene, trace = square
-    frame = render_frame(scene.level, trace, 0)
-    col, row = trace.path[0]
-    assert tuple(int(v) for v in frame[row * 8 + 4, col * 8 + 4]) == COLOURS["guard"]
+def test_unseen_and_seen_cells_match_the_trace(square) -> None:
+    """At each drawn tick, a goal cell's inner corner pixel is unseen-dark exactly when the trace says the
+    cell is still unseen; only overlays (trail, cone outline, guard, start marker) may cover it."""
+    level, trace = square
+    drawer = FrameDrawer(level, trace)
+    unseen_entries = {Index.UNSEEN, Index.CONE_BASE + Index.UNSEEN}
+    for tick in (0, trace.steps // 3, trace.steps):
+        frame = drawer.frame(tick)
+        unseen = trace.goal & ((trace.first_seen < 0) | (trace.first_seen > tick))
+        rows, cols = np.nonzero(trace.goal)
+        ys, xs = play_pixel(drawer, cols, rows)
+        pixels = frame[ys + 1, xs + 1]
+        overlay = (pixels >= Index.GUARD_BASE) | (pixels == Index.OUTLINE)
+        assert not np.isin(pixels[~unseen[rows, cols]], list(unseen_entries)).any()
+        dark = np.isin(pixels[unseen[rows, cols]], list(unseen_entries)) | overlay[unseen[rows, cols]]
+        assert dark.all(), tick
+        assert overlay.mean() < 0.05
+    y, x = play_pixel(drawer, 25, 25)
+    assert drawer.frame(0)[y, x] == Index.WALL  # inside the pillar
 
 
-def test_unreachable_cells_are_drawn_distinctly() -> None:
-    """Cells the guard can never reach are purple, not dark, in every frame."""
+def test_walls_seen_floor_and_unseen_are_clearly_different() -> None:
+    """Wall, seen floor and unseen are far apart in colour (the old wall and floor differed by 50)."""
+    names = ("wall", "free", "unseen", "unreachable")
+    for i, a in enumerate(names):
+        for b in names[i + 1 :]:
+            assert sum(abs(p - q) for p, q in zip(colour(a), colour(b))) > 90, (a, b)
+
+
+def test_guard_is_drawn_at_its_cell_at_a_readable_size(square) -> None:
+    """The guard's disc, in its colour, covers its cell centre and is at least 7 px in radius."""
+    level, trace = square
+    drawer = FrameDrawer(level, trace)
+    frame = drawer.frame(10)
+    col, row = trace.path[10]
+    y, x = play_pixel(drawer, col + 0.5, row + 0.5)
+    heading = trace.headings[10]
+    back = (-1, 0) if heading == 0 else (0, -1) if heading == 1 else (1, 0) if heading == 2 else (0, 1)
+    for distance in (1, 3, 6):
+        assert frame[y + distance * back[1], x + distance * back[0]] == guard_index(0), distance
+
+
+def test_caption_is_in_a_bar_outside_the_play_area(square) -> None:
+    """Caption text is drawn only in the bars; the play area holds no text colours."""
+    level, trace = square
+    drawer = FrameDrawer(level, trace)
+    frame = drawer.frame(0)
+    layout = drawer.layout
+    text = (frame >= Index.TEXT_BASE + 2) & (frame < Index.GUARD_BASE)
+    play = text[layout.top : layout.top + layout.play[1]]
+    assert not play.any()
+    assert text[: layout.top].sum() > 300
+    first, second = drawer.caption(0)
+    assert f"tick 0 / {trace.steps}" in first and trace.planner in first
+    assert second.startswith(f"{trace.unseen_percent[0]:.1f}% of {trace.reachable} reachable cells unseen")
+
+
+def test_unreachable_cells_are_hatched_and_counted_in_the_caption() -> None:
+    """The sealed room is hatched purple, never unseen-dark, and the caption counts it separately."""
     scene = scene_from(SPLIT_ROOMS)
-    trace = episode(scene)
-    frame = render_frame(scene.level, trace, 0)
-    scale = 480 // 6
-    assert pixel_at_cell(frame, 5, 2, scale) == COLOURS["unreachable"]
+    start = scene.grid.cell_of((0.5, 0.5))
+    goal = scene.grid.component(*start)
+    level, trace = hand_trace(
+        SPLIT_ROOMS, [start], [0], goal=goal, reachable=int(goal.sum()), unreachable=int((~goal).sum())
+    )
+    drawer = FrameDrawer(level, trace)
+    frame = drawer.frame(0)
+    y, x = play_pixel(drawer, 5, 2)
+    block = frame[y + 1 : y + drawer.layout.scale - 1, x + 1 : x + drawer.layout.scale - 1]
+    assert set(np.unique(block)) <= {Index.UNREACHABLE, Index.HATCH}
+    assert (block == Index.HATCH).any()
+    assert f"{trace.unreachable} unreachable cells" in drawer.caption(0)[1]
 
 
-def test_percentage_text_is_in_the_middle(square) -> None:
-    """The unseen percentage is written in white with a dark outline around the frame's centre."""
-    scene, trace = square
-    frame = render_frame(scene.level, trace, 0)
-    middle = frame[220:260, 100:380]
-    white = np.all(middle == COLOURS["text"], axis=-1)
-    assert white.sum() > 200
-    corner = frame[460:480, 0:60]
-    assert not np.all(corner == COLOURS["text"], axis=-1).any()
+#: A room with a wall in front of the guard: what lies straight behind it is in range but hidden.
+SHADOW_ROOM = {
+    "name": "shadow room",
+    "outer": [[0, 0], [24, 0], [24, 12], [0, 12]],
+    "holes": [[[8, 4], [9, 4], [9, 8], [8, 8]]],
+    "guard": {"view_range": 14, "fov_degrees": 120, "radius": 0.3},
+}
+
+
+def cone_pixels(drawer: FrameDrawer, frame: np.ndarray) -> np.ndarray:
+    """``(y, x)`` in play-area pixels of every pixel tinted by a cone."""
+    layout = drawer.layout
+    play = frame[layout.top : layout.top + layout.play[1], layout.left : layout.left + layout.play[0]]
+    tinted = (play >= Index.CONE_BASE) & (play <= Index.CONE_BASE + Index.HATCH)
+    return np.argwhere(tinted)
+
+
+def test_cone_shows_no_wall_and_nothing_behind_a_wall() -> None:
+    """Decoded cone pixels are never wall and never hidden from the eye (a pixel's centre may sit within
+    a pixel and a half of the edge of what is visible: that is the polygon's rasterisation)."""
+    level, trace = hand_trace(SHADOW_ROOM, [(4, 6)], [0])
+    drawer = FrameDrawer(level, trace)
+    frame = decode(encode_gif(level, trace))[0]
+    indices = drawer.frame(0)
+    assert (palette_rgb()[indices] == frame).all()
+    world = World(level)
+    eye = (4.5, 6.5)
+    unit = drawer.pixels_per_unit
+    pixels = cone_pixels(drawer, indices)
+    assert len(pixels) > 2000
+    hidden = 0
+    for y, x in pixels:
+        point = ((x + 0.5 - PLAY_PAD) / unit, (y + 0.5 - PLAY_PAD) / unit)
+        if world.line_of_sight(eye, point):
+            continue
+        near = [
+            world.line_of_sight(eye, (point[0] + dx / unit, point[1] + dy / unit))
+            for dx in (-1.5, 0, 1.5)
+            for dy in (-1.5, 0, 1.5)
+        ]
+        assert any(near), (x, y)
+        hidden += 1
+    assert hidden < 0.02 * len(pixels)
+    # The shadow straight behind the wall (x 9..18, y 5.5..7.5 in world units) holds no cone pixel.
+    xs, ys = (pixels[:, 1] + 0.5 - PLAY_PAD) / unit, (pixels[:, 0] + 0.5 - PLAY_PAD) / unit
+    assert not ((xs > 9.5) & (xs < 18) & (ys > 5.8) & (ys < 7.2)).any()
+    # ... while the open floor above the wall, within range and angle, is tinted.
+    assert ((xs > 12) & (xs < 14) & (ys > 1) & (ys < 2)).any()
+
+
+def full_circle_radius(tmp_path: Path, *options: str) -> tuple[float, list[float]]:
+    """Play square.json with a 360-degree, 3-unit guard; the cone's reach in the first decoded frame in
+    cells, and the reach in each quadrant."""
+    gif = tmp_path / "out.gif"
+    result = CliRunner().invoke(
+        main,
+        ["play", str(SQUARE), "--fov", "360", "--view-range", "3", "--gif", str(gif), "--max-frames", "3", *options],
+    )
+    assert result.exit_code == 0, result.output
+    trace = play_trace(tmp_path, SQUARE, "--fov", "360", "--view-range", "3", *options)
+    assert trace.fov_degrees == 360 and trace.view_range == 3
+    level = load_level(SQUARE)
+    drawer = FrameDrawer(level, trace)
+    frame = decode(gif)[0]
+    index = drawer.frame(0)
+    assert (palette_rgb()[index] == frame).all()
+    pixels = cone_pixels(drawer, index)
+    col, row = trace.path[0]
+    centre = (PLAY_PAD + (col + 0.5) * 8, PLAY_PAD + (row + 0.5) * 8)
+    dx, dy = pixels[:, 1] + 0.5 - centre[0], pixels[:, 0] + 0.5 - centre[1]
+    distance = np.hypot(dx, dy) / 8
+    angle = np.arctan2(dy, dx)
+    quadrants = [
+        float(distance[(angle >= a) & (angle < a + math.pi / 2)].max(initial=0))
+        for a in (-math.pi, -math.pi / 2, 0, math.pi / 2)
+    ]
+    return float(distance.max()), quadrants
+
+
+def test_fov_360_view_range_3_draws_a_3_unit_circle(tmp_path: Path) -> None:
+    """`play square.json --fov 360 --view-range 3 --gif` draws the simulated 3-unit circle (not the level's
+    8-unit, 90-degree cone): it reaches 3 units where the floor is open, and from the open middle of the
+    room it reaches 3 units in every quadrant."""
+    reach, quadrants = full_circle_radius(tmp_path)
+    assert 2.8 < reach < 3.1
+    reach, quadrants = full_circle_radius(tmp_path, "--start", "10.5,10.5")
+    assert all(2.8 < q < 3.1 for q in quadrants), quadrants
+
+
+def test_cone_falls_back_to_the_level_guard_for_old_traces(square) -> None:
+    """A trace without recorded vision (written before it was recorded) is drawn with the level's guard."""
+    level, trace = square
+    fields = {name: getattr(trace, name) for name in trace.__dataclass_fields__}
+    old = Trace(**{**fields, "view_range": None, "fov_degrees": None})
+    drawer = FrameDrawer(level, old)
+    assert (drawer.vision.view_range, drawer.vision.fov_degrees) == (level.guard.view_range, level.guard.fov_degrees)
+    assert (drawer.frame(5) == FrameDrawer(level, trace).frame(5)).all() == (
+        (trace.view_range, trace.fov_degrees) == (level.guard.view_range, level.guard.fov_degrees)
+    )
+
+
+def test_trail_is_strong_where_recent_and_faint_where_old(square) -> None:
+    """At the last tick the newest step of the trail is drawn at full strength, the first step faintest."""
+    level, trace = square
+    drawer = FrameDrawer(level, trace)
+    frame = drawer.frame(trace.steps)
+    levels = {trail_index(0, k): k for k in range(5)}
+    used = {levels[v] for v in np.unique(frame) if v in levels}
+    assert 0 in used and 4 in used and len(used) >= 4
+    assert trace.steps > 8 * drawer.trail_block
+
+
+def test_start_marker_is_drawn(square) -> None:
+    """A square outline in the guard's colour marks the start, also late in the episode."""
+    level, trace = square
+    drawer = FrameDrawer(level, trace)
+    frame = drawer.frame(trace.steps)
+    col, row = trace.path[0]
+    y, x = play_pixel(drawer, col + 0.5, row + 0.5)
+    ring = frame[y - 9 : y + 10, x - 9 : x + 10]
+    assert (ring == guard_index(0)).sum() > 30
+
+
+def test_gifs_are_byte_identical_for_the_same_inputs(square, tmp_path: Path) -> None:
+    """Two encodings of one episode, and the file write_gif streams, are the same bytes."""
+    level, trace = square
+    options = GifOptions(max_frames=40)
+    first = encode_gif(level, trace, options)
+    assert first == encode_gif(level, trace, options)
+    assert write_gif(tmp_path / "a.gif", level, trace, options) == len(frame_ticks(trace.steps, options))
+    assert (tmp_path / "a.gif").read_bytes() == first
+
+
+def test_frames_drawn_out_of_order_equal_frames_drawn_in_order(square) -> None:
+    """Asking for an earlier tick resets the incremental state: the frame is the one drawn fresh."""
+    level, trace = square
+    drawer = FrameDrawer(level, trace)
+    drawer.frame(trace.steps)
+    again = drawer.frame(7)
+    assert (again == FrameDrawer(level, trace).frame(7)).all()
+    assert (palette_rgb()[again] == render_frame(level, trace, 7)).all()
+
+
+# -- edge cases: each gives a valid GIF, checked by decoding it -----------------------------------------
+
+
+def test_covered_at_step_zero_renders_one_frame(tmp_path: Path) -> None:
+    """A 360-degree guard in a 3 x 3 room sees everything at step 0: a one-frame GIF, exit 0 (it used to
+    crash with a TypeError in Pillow's writer)."""
+    room = write_level(
+        tmp_path,
+        {
+            "name": "closet",
+            "outer": [[0, 0], [3, 0], [3, 3], [0, 3]],
+            "guard": {"fov_degrees": 360, "start": [1.5, 1.5]},
+        },
+    )
+    gif = tmp_path / "closet.gif"
+    result = CliRunner().invoke(main, ["play", str(room), "--gif", str(gif)])
+    assert result.exit_code == 0, result.output
+    assert "after 0 steps" in result.output
+    frames = decode(gif)
+    assert frames.shape[0] == 1
+    assert frames.shape[2] >= 400
+
+
+def test_max_frames_one_draws_the_last_tick(tmp_path: Path, square) -> None:
+    """--max-frames 1 gives one frame, the final coverage."""
+    gif = tmp_path / "one.gif"
+    result = CliRunner().invoke(main, ["play", str(SQUARE), "--gif", str(gif), "--max-frames", "1"])
+    assert result.exit_code == 0, result.output
+    frames = decode(gif)
+    level, trace = square
+    assert frames.shape[0] == 1
+    assert (frames[0] == render_frame(level, trace, trace.steps)).all()
+
+
+def test_single_tick_trace_renders(tmp_path: Path) -> None:
+    """A trace of one tick (the start only) encodes to a single valid frame."""
+    level, trace = hand_trace(SHADOW_ROOM, [(4, 6)], [0])
+    frames = decode(encode_gif(level, trace))
+    assert frames.shape[0] == 1
+
+
+def test_team_sharing_a_cell_shows_every_guard_in_its_colour() -> None:
+    """Two guards on one cell are both drawn, side by side, each in its own colour, with their trails."""
+    path = [(3, 3), (4, 3), (5, 3), (5, 4)]
+    other = [(5, 5), (5, 4), (5, 3), (5, 4)]
+    level, trace = hand_trace(
+        SHADOW_ROOM,
+        path,
+        [0, 0, 0, 1],
+        guard_paths=(tuple(path), tuple(other)),
+        guard_headings=((0, 0, 0, 1), (3, 3, 3, 1)),
+    )
+    drawer = FrameDrawer(level, trace)
+    frame = drawer.frame(3)
+    assert (frame == guard_index(0)).sum() > 50
+    assert (frame == guard_index(1)).sum() > 50
+    assert guard_index(0) != guard_index(1)
+    frames = decode(encode_gif(level, trace, GifOptions(stride=1)))
+    assert frames.shape[0] == 4
+    assert "2 guards" in drawer.caption(0)[0]
+
+
+def test_level_with_unreachable_room_renders_through_the_cli(tmp_path: Path) -> None:
+    """play --gif on a level with a sealed room: a valid GIF whose last frame still shows the room."""
+    level_path = write_level(tmp_path, SPLIT_ROOMS)
+    gif = tmp_path / "split.gif"
+    result = CliRunner().invoke(main, ["play", str(level_path), "--gif", str(gif)])
+    assert result.exit_code == 0, result.output
+    frames = decode(gif)
+    assert frames.shape[0] >= 1
+    last = frames[-1].reshape(-1, 3)
+    assert (last == colour("unreachable")).all(axis=1).sum() > 1000
 
 
 def test_preview_marks_reachable_and_unreachable() -> None:
