@@ -37,6 +37,7 @@ def main() -> None:
     args = parser.parse_args()
     with tempfile.TemporaryDirectory() as scratch:
         root = Path(scratch)
+
         def fresh_copy(name: str) -> Path:
             # A copy of the checkout without bytecode or numba caches.
             copy = root / name
@@ -61,7 +62,9 @@ def main() -> None:
                 env["PYTHONPATH"] = str(fresh_copy(f"guardsim-src-{run}"))
             cold.append(timed(command, env, root))
             warm.append(timed(command, env, root))
-    print(f"level {args.level} {' '.join(args.extra)} ({'fresh venv' if args.fresh_venv else 'this venv, empty caches'})")
+    print(
+        f"level {args.level} {' '.join(args.extra)} ({'fresh venv' if args.fresh_venv else 'this venv, empty caches'})"
+    )
     print(f"first play (cold): {' '.join(f'{s:.2f}' for s in cold)} s; median {sorted(cold)[len(cold) // 2]:.2f} s")
     print(f"second play (warm): {' '.join(f'{s:.2f}' for s in warm)} s; median {sorted(warm)[len(warm) // 2]:.2f} s")
 

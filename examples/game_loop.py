@@ -32,7 +32,7 @@ def build_game_space(level: guardsim.Level) -> tuple[pymunk.Space, pymunk.Body]:
             wall.elasticity = 1.0
             space.add(wall)
     player = pymunk.Body(1.0, pymunk.moment_for_circle(1.0, 0, 0.4))
-    min_x, min_y, max_x, max_y = level.bounds
+    _, _, max_x, max_y = level.bounds
     player.position = (max_x - 2.0, max_y - 2.0)
     player.velocity = (-3.0, -2.0)
     shape = pymunk.Circle(player, 0.4)
@@ -72,8 +72,10 @@ def main() -> None:
             f"{guard.heading_degrees[0]:5.1f} deg sees {len(in_view):3d} cells, "
             f"{100 * guard.coverage:5.1f}% of the level seen; player {'SPOTTED' if spotted else 'hidden'}"
         )
-    print(f"after {args.frames} frames: guard {guard.outcome or 'still patrolling'} at tick {guard.tick}, "
-          f"player spotted on {spotted_frames} guard ticks")
+    print(
+        f"after {args.frames} frames: guard {guard.outcome or 'still patrolling'} at tick {guard.tick}, "
+        f"player spotted on {spotted_frames} guard ticks"
+    )
 
 
 if __name__ == "__main__":

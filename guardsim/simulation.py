@@ -442,7 +442,15 @@ def run_episode(
     See :func:`run_team_episode`; this is the team of one.
     """
     return run_team_episode(
-        scene, [planner], [start], [heading], vision=vision, reference=reference, max_steps=max_steps, seed=seed, rng=rng
+        scene,
+        [planner],
+        [start],
+        [heading],
+        vision=vision,
+        reference=reference,
+        max_steps=max_steps,
+        seed=seed,
+        rng=rng,
     )
 
 
@@ -462,8 +470,6 @@ def run_batch_episode(
     This is what ``guardsim bench`` runs for each episode and ``guardsim play --seed S --episode K``
     re-runs alone; the trace is the same either way. The same generator then feeds the planners.
     """
-    simulation = Simulation(
-        scene, planner, guards=guards, max_steps=max_steps, reference=reference, **planner_options
-    )
+    simulation = Simulation(scene, planner, guards=guards, max_steps=max_steps, reference=reference, **planner_options)
     simulation.reset(seed=seed, episode=episode)
     return simulation.run()

@@ -2,6 +2,7 @@
 
 from __future__ import annotations
 
+import json
 import subprocess
 import sys
 
@@ -138,7 +139,13 @@ def test_walls_already_in_the_space_give_the_same_guard() -> None:
 
 def test_the_game_loop_example_runs() -> None:
     result = subprocess.run(
-        [sys.executable, str(REPO / "examples" / "game_loop.py"), str(REPO / "levels" / "square.json"), "--frames", "400"],
+        [
+            sys.executable,
+            str(REPO / "examples" / "game_loop.py"),
+            str(REPO / "levels" / "square.json"),
+            "--frames",
+            "400",
+        ],
         capture_output=True,
         text=True,
         timeout=120,
@@ -156,3 +163,33 @@ def test_public_names_resolve_and_import_guardsim_loads_no_compiler() -> None:
         assert getattr(guardsim, name) is not None
     code = "import sys, guardsim; guardsim.Level; guardsim.load_level; print('numba' in sys.modules)"
     assert subprocess.run([sys.executable, "-c", code], capture_output=True, text=True, check=True).stdout == "False\n"
+
+
+@pytest.mark.parametrize(("seed", "episode"), [(0, None), (4, 2)])
+def test_a_script_on_public_names_walks_the_path_of_play(tmp_path, seed: int, episode: int | None) -> None:
+    """Only names from guardsim.__all__: load, step tick by tick, and get `guardsim play --trace`'s path."""
+    level_path = REPO / "levels" / "mgs_docks.json"
+    trace_path = tmp_path / "trace.json"
+    command = [
+        sys.executable,
+        "-m",
+        "guardsim.cli",
+        "play",
+        str(level_path),
+        "--seed",
+        str(seed),
+        "--trace",
+        str(trace_path),
+    ]
+    if episode is not None:
+        command += ["--episode", str(episode)]
+    subprocess.run(command, check=True, capture_output=True, timeout=300)
+    played = guardsim.Trace.from_data(json.loads(trace_path.read_text()))
+    simulation = guardsim.Simulation(guardsim.Scene.from_level(guardsim.load_level(level_path)))
+    simulation.reset(seed=seed, episode=episode)
+    path = [simulation.cells[0]]
+    while not simulation.done:
+        simulation.step()
+        path.append(simulation.cells[0])
+    assert tuple(path) == played.path
+    assert simulation.trace().to_json() == trace_path.read_text()

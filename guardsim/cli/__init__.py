@@ -18,11 +18,23 @@ __all__ = ["COMMANDS", "main"]
 COMMANDS: dict[str, tuple[str, str, str]] = {
     "bench": ("guardsim.cli.bench", "bench", "Run many episodes from random starts and summarise them."),
     "bounds": ("guardsim.cli.bounds", "bounds", "Lower bounds on the steps needed to see every reachable cell."),
+    "patrol": ("guardsim.cli.patrol", "patrol", "Build a repeating patrol of LEVEL and score its idleness."),
     "import": ("guardsim.cli.importing", "import_command", "Convert a Tiled, Moving AI or image map to a level."),
+    "optimum": (
+        "guardsim.cli.optimum",
+        "optimum",
+        "The fewest steps needed to see every reachable cell, proved by search.",
+    ),
+    "check": (
+        "guardsim.cli.check",
+        "check",
+        "CI gates: exit 1 when LEVEL breaks a rule (cover steps, idleness, sneaks).",
+    ),
     "play": ("guardsim.cli.play", "play", "Walk a guard over LEVEL until it has seen every reachable cell."),
     "regress": ("guardsim.cli.regress", "regress", "Re-play levels and compare them with stored references."),
     "render": ("guardsim.cli.render", "render", "Draw a level preview as a PNG."),
     "schema": ("guardsim.cli.schema", "schema", "Print the level format's JSON Schema."),
+    "sneak": ("guardsim.cli.sneak", "sneak", "Can a player get from here to there unseen by a patrol?"),
     "validate": ("guardsim.cli.validate", "validate", "Check level files and warn about designer problems."),
     "view": ("guardsim.cli.view", "view", "Write a saved trace as an interactive HTML page."),
 }

@@ -17,9 +17,9 @@ instead of chasing the same frontier. One guard's field is the paper's, unchange
 
 from __future__ import annotations
 
-import numpy as np
-
 from typing import Any
+
+import numpy as np
 
 from guardsim.planners.base import EpisodeSetup, GuardState
 from guardsim.planners.ripplefront_compiled import CompiledRippleFront
@@ -124,7 +124,9 @@ class RippleFront(GreedyField):
             return None
         if type(self).next_move is not RippleFront.next_move:
             return None
-        self._accelerator = CompiledRippleFront(setup.grid.neighbours, setup.vision, self.distance, self.sweeps_per_tick)
+        self._accelerator = CompiledRippleFront(
+            setup.grid.neighbours, setup.vision, self.distance, self.sweeps_per_tick
+        )
         return self._accelerator
 
     def next_move(self, state: GuardState) -> int | None:

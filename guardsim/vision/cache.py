@@ -20,9 +20,9 @@ import numpy as np
 from guardsim.grid import CoverageGrid, cell_of_state, heading_of_state, state_of
 from guardsim.vision.bresenham import bresenham_clear
 from guardsim.vision.cone import VisionCone
-from guardsim.vision.targets import cone_target
 from guardsim.vision.rules import LineOfSight
 from guardsim.vision.screen import CLEAR, CLOSE_CALL, WallIndex, index_walls, screen
+from guardsim.vision.targets import cone_target
 from guardsim.world import World
 
 __all__ = ["FillArrays", "VisionCache", "try_fill"]

@@ -78,7 +78,9 @@ def index_walls(
 
 
 @numba.njit(cache=True, nogil=True)
-def screen(eye_x: float, eye_y: float, targets: np.ndarray, wall_index: WallIndex, stamp: np.ndarray, verdicts: np.ndarray) -> None:
+def screen(
+    eye_x: float, eye_y: float, targets: np.ndarray, wall_index: WallIndex, stamp: np.ndarray, verdicts: np.ndarray
+) -> None:
     """Write into ``verdicts`` the verdict on each ray from the eye to a row of ``targets``.
 
     :data:`CLEAR` (touches no wall), :data:`BLOCKED` (properly crosses one) or :data:`CLOSE_CALL` (within
@@ -133,4 +135,3 @@ def screen(eye_x: float, eye_y: float, targets: np.ndarray, wall_index: WallInde
                         (eye_side > margin and target_side < -margin) or (eye_side < -margin and target_side > margin)
                     )
                     verdicts[index] = BLOCKED if crossing else CLOSE_CALL
-
