@@ -14,6 +14,7 @@ from __future__ import annotations
 import numba
 import numpy as np
 
+from guardsim.grid import heading_of_state
 from guardsim.planners.base import EpisodeSetup, GuardState
 from guardsim.planners.ripplefront import greedy_move
 from guardsim.planners.shortest_paths import FAR, distances_from
@@ -83,5 +84,5 @@ class Frontier:
                 return None
             self._field = distances_from(self._neighbours, np.array([self._table.entry[self.target]]))
         if state.cell == self._table.entry[self.target]:
-            return self.target % 4
+            return int(heading_of_state(self.target))
         return greedy_move(self._field, self._neighbours[state.cell], state.heading)
