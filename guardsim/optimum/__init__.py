@@ -22,6 +22,7 @@ must see both ends, 2 + 4 steps whichever it visits first.
 
 from __future__ import annotations
 
+import itertools
 import time
 from typing import TYPE_CHECKING, NamedTuple
 
@@ -189,7 +190,7 @@ def _walk(scene: Scene, graph: SearchGraph, route: np.ndarray, heading: int) -> 
     for target in route[1:].tolist():
         steps.extend(_shortest_path(graph.successors, steps[-1], target)[1:])
     walk = [(*grid.unflat(int(graph.states[steps[0]] // 4)), heading)]
-    for before, position in zip(steps, steps[1:]):
+    for before, position in itertools.pairwise(steps):
         direction = int(np.flatnonzero(graph.successors[before] == position)[0])
         walk.append((*grid.unflat(int(graph.states[position] // 4)), direction))
     return tuple(walk)

@@ -20,7 +20,7 @@ import numpy as np
 
 from guardsim.optimum.graph import SearchGraph, watcher_distances
 
-__all__ = ["POOL", "PIVOTS", "Heuristic", "build_heuristic", "estimate"]
+__all__ = ["PIVOTS", "POOL", "Heuristic", "build_heuristic", "estimate"]
 
 #: Goal cells whose watcher-set distances are precomputed as pivot candidates.
 POOL = 1024

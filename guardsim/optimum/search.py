@@ -24,7 +24,7 @@ import numpy as np
 
 from guardsim.optimum.heuristic import Heuristic, estimate
 
-__all__ = ["PROVED", "RUNNING", "FULL", "SearchState", "greedy_walk", "new_search_state", "run_search"]
+__all__ = ["FULL", "PROVED", "RUNNING", "SearchState", "greedy_walk", "new_search_state", "run_search", "start_search"]
 
 #: Status codes in ``counters[STATUS]``.
 RUNNING, PROVED, FULL = 0, 1, 2

@@ -1,0 +1,114 @@
+"""``guardsim optimum``: the fewest steps a guard needs to see every reachable cell, proved by search."""
+
+from __future__ import annotations
+
+import json
+
+import click
+
+from guardsim.cli.common import build_scene, cli_start, limit_options, load, parse_point, reports_errors, vision_options
+from guardsim.cli.map_options import MapImport, map_options
+from guardsim.level import HEADINGS
+from guardsim.optimum import DEFAULT_MEMORY_BYTES, solve
+from guardsim.output import write_text_atomic
+
+__all__ = ["optimum"]
+
+
+@click.command()
+@click.argument("level_path", metavar="LEVEL")
+@click.option("--start", callback=parse_point, metavar="X,Y", help="Start position in world units.")
+@click.option("--heading", type=click.Choice(list(HEADINGS)), help="First heading (default: the level's, or drawn).")
+@click.option("--seed", type=click.IntRange(min=0), default=0, show_default=True, help="Seed for random choices.")
+@click.option(
+    "--episode",
+    type=click.IntRange(min=0),
+    help="The start of episode K of a batch seeded with --seed, drawn as in `guardsim bench`.",
+)
+@click.option(
+    "--max-expansions",
+    type=click.IntRange(min=1),
+    help="Stop after this many search expansions (deterministic) [default: no limit].",
+)
+@click.option(
+    "--time-limit",
+    type=click.FloatRange(min=0, min_open=True),
+    help="Stop after about this many seconds [default: none]. Where a timed run stops, hence its best walk "
+    "and bound, can depend on the machine's speed; --max-expansions does not.",
+)
+@click.option(
+    "--memory-mb",
+    type=click.IntRange(min=16),
+    default=DEFAULT_MEMORY_BYTES // 2**20,
+    show_default=True,
+    help="Most memory for the search's stored nodes; the search stops unproved when they are full.",
+)
+@click.option("--out", "out_path", type=str, help="Write the result (steps, path, proved, bounds) as JSON.")
+@vision_options
+@map_options
+@limit_options
+@reports_errors
+def optimum(
+    level_path: str,
+    start: tuple[float, float] | None,
+    heading: str | None,
+    seed: int,
+    episode: int | None,
+    max_expansions: int | None,
+    time_limit: float | None,
+    memory_mb: int,
+    out_path: str | None,
+    los: str,
+    fov: float | None,
+    view_range: float | None,
+    max_cells: int,
+    max_vertices: int,
+    max_file_bytes: int,
+    map_import: MapImport,
+) -> None:
+    """Find the fewest steps after which a guard has seen every cell reachable from its start on LEVEL.
+
+    A* over the guard's position and the cells seen so far, with the lower bounds of `guardsim bounds`
+    as estimates (docs/optimum.md). It prints the optimum and proves it, or, stopped by a limit, the
+    best walk found and the proved lower bound (proved: false). The start and heading are chosen as by
+    `guardsim play`.
+    """
+    level = load(level_path, max_cells, max_vertices, max_file_bytes, map_import)
+    scene = build_scene(level, los, fov, view_range)
+    _, cell, first_heading = cli_start(scene, seed=seed, episode=episode, start=start, heading=heading)
+    result = solve(
+        scene,
+        cell,
+        first_heading,
+        max_expansions=max_expansions,
+        time_limit=time_limit,
+        memory_bytes=memory_mb * 2**20,
+    )
+    names = list(HEADINGS)
+    verdict = (
+        "optimum" if result.proved else f"best found (stopped by {result.stopped_by}; optimum >= {result.lower_bound})"
+    )
+    click.echo(
+        f"{level.name}: from cell [{cell[0]}, {cell[1]}] facing {names[first_heading]}: {verdict} {result.steps} steps; "
+        f"proved: {str(result.proved).lower()}; start bound {result.root_bound}; "
+        f"{result.expansions} expansions, {result.nodes} nodes, {result.seconds:.1f} s"
+    )
+    if out_path is not None:
+        data = {
+            "level": level.name,
+            "start": list(cell),
+            "heading": names[first_heading],
+            "line_of_sight": scene.line_of_sight.value,
+            "fov_degrees": scene.cone.fov_degrees,
+            "view_range": scene.cone.view_range,
+            "steps": result.steps,
+            "proved": result.proved,
+            "lower_bound": result.lower_bound,
+            "start_bound": result.root_bound,
+            "stopped_by": result.stopped_by,
+            "expansions": result.expansions,
+            "nodes": result.nodes,
+            "seconds": round(result.seconds, 3),
+            "path": [list(step) for step in result.path],
+        }
+        write_text_atomic(out_path, json.dumps(data) + "\n")

@@ -1,0 +1,156 @@
+"""The exact search: equal to brute force on tiny levels (cone and Bresenham), a real covering walk of
+that length, an honest partial answer when stopped, and the command line.
+
+Brute force is the breadth-first search over (state, seen cells as a bitmask) of ``tests/test_bounds.py``.
+"""
+
+from __future__ import annotations
+
+import json
+import subprocess
+from pathlib import Path
+from typing import Any
+
+import numpy as np
+import pytest
+from click.testing import CliRunner
+
+from guardsim.bounds import lower_bounds
+from guardsim.cli import main
+from guardsim.optimum import OptimumResult, solve
+from guardsim.simulation import Scene
+from guardsim.vision.rules import VisionFunction
+from guardsim.vision.table import view_table
+from tests.common import EMPTY_SQUARE, scene_from, write_level
+from tests.test_bounds import CORRIDOR, SHORT_SIGHTED, optimum_steps, short_sighted, starts
+from tests.test_cli import guardsim_command
+
+
+def assert_covering_walk(
+    scene: Scene, result: OptimumResult, start: tuple[int, int], heading: int, vision: VisionFunction
+) -> None:
+    """The walk starts where asked, moves to a connected neighbour each step, and sees every goal cell."""
+    grid = scene.grid
+    table = view_table(grid, vision)
+    assert result.path[0] == (*start, heading)
+    assert len(result.path) == result.steps + 1
+    seen = np.zeros(grid.size, dtype=bool)
+    previous = None
+    for col, row, facing in result.path:
+        cell = grid.flat(col, row)
+        if previous is not None:
+            assert grid.neighbours[previous, facing] == cell
+        seen[table.sees(cell * 4 + facing)] = True
+        previous = cell
+    assert seen[grid.component(*start).ravel()].all()
+
+
+@short_sighted
+def test_optimum_equals_brute_force_with_the_cone(name: str) -> None:
+    """The paper's cone (heading in the state): the proved optimum is the breadth-first optimum."""
+    scene = scene_from(SHORT_SIGHTED[name])
+    vision = scene.vision()
+    for start in starts(scene, most=4):
+        for heading in range(4):
+            result = solve(scene, start, heading, vision)
+            assert result.proved and result.stopped_by == "proved"
+            assert result.headings_matter
+            assert result.steps == result.lower_bound == optimum_steps(scene, start, heading, vision), (start, heading)
+            assert result.root_bound <= result.steps
+            assert_covering_walk(scene, result, start, heading, vision)
+
+
+BRESENHAM_LEVELS: dict[str, tuple[dict[str, Any], dict[str, Any]]] = {
+    "l-room-cone": (SHORT_SIGHTED["l-room"], {}),
+    "pillar-cone": (SHORT_SIGHTED["pillar"], {}),
+    "pillar-360-range-2": (SHORT_SIGHTED["pillar"], {"view_range": 2.0, "fov_degrees": 360}),
+    "l-room-360-range-1": (SHORT_SIGHTED["l-room"], {"view_range": 1.0, "fov_degrees": 360}),
+}
+
+
+@pytest.mark.parametrize("name", list(BRESENHAM_LEVELS), ids=list(BRESENHAM_LEVELS))
+def test_optimum_equals_brute_force_with_bresenham(name: str) -> None:
+    """The Bresenham rule, with a cone and with a 360-degree view (where positions are cells)."""
+    data, guard = BRESENHAM_LEVELS[name]
+    level = scene_from(data, guard={**data.get("guard", {}), **guard}).level
+    scene = Scene.from_level(level, line_of_sight="bresenham")
+    vision = scene.vision()
+    for start in starts(scene, most=4):
+        for heading in (0, 3):
+            result = solve(scene, start, heading, vision)
+            assert result.proved
+            assert result.headings_matter == (guard.get("fov_degrees") != 360)
+            assert result.steps == optimum_steps(scene, start, heading, vision), (start, heading)
+            assert_covering_walk(scene, result, start, heading, vision)
+
+
+@short_sighted
+def test_bounds_never_exceed_the_proved_optimum(name: str) -> None:
+    """The bounds of `guardsim bounds` stay at or below the optimum the search proves."""
+    scene = scene_from(SHORT_SIGHTED[name])
+    for start in starts(scene, most=3):
+        assert lower_bounds(scene, start, 1).best <= solve(scene, start, 1).steps
+
+
+def test_seen_from_the_start_needs_no_step() -> None:
+    scene = scene_from(EMPTY_SQUARE, guard={"view_range": 10.0, "fov_degrees": 360})
+    result = solve(scene, (0, 0), 0)
+    assert (result.steps, result.proved, result.path) == (0, True, ((0, 0, 0),))
+
+
+def test_a_stopped_search_is_honest() -> None:
+    """One expansion cannot prove a 15-cell room: the answer says so, with a valid walk and bound."""
+    scene = scene_from(SHORT_SIGHTED["room-3x5"])
+    vision = scene.vision()
+    optimum = optimum_steps(scene, (0, 0), 0, vision)
+    result = solve(scene, (0, 0), 0, max_expansions=1)
+    assert not result.proved and result.stopped_by == "expansions"
+    assert result.lower_bound <= optimum <= result.steps
+    assert_covering_walk(scene, result, (0, 0), 0, vision)
+    again = solve(scene, (0, 0), 0, max_expansions=1)
+    assert again[:8] == result[:8]
+
+
+def test_cli_prints_and_writes_the_optimum(tmp_path: Path) -> None:
+    """`guardsim optimum` on the corridor from its middle: 6 steps, proved, and the JSON walk."""
+    path = write_level(tmp_path, CORRIDOR)
+    out = tmp_path / "optimum.json"
+    result = CliRunner().invoke(
+        main, ["optimum", str(path), "--start", "3.5,0.5", "--heading", "right", "--out", str(out)]
+    )
+    assert result.exit_code == 0, result.output
+    assert result.stdout.startswith("corridor: from cell [3, 0] facing right: optimum 6 steps; proved: true;")
+    data = json.loads(out.read_text())
+    assert (data["steps"], data["proved"], data["lower_bound"]) == (6, True, 6)
+    assert data["path"][0] == [3, 0, 0] and len(data["path"]) == 7
+
+
+def test_cli_bad_start_is_one_line(tmp_path: Path) -> None:
+    path = write_level(tmp_path, CORRIDOR)
+    result = CliRunner().invoke(main, ["optimum", str(path), "--start", "9,9"])
+    assert result.exit_code == 2
+    assert result.stderr.splitlines() == [f"guardsim: error: {path}: start (9, 9) lies outside the level"]
+
+
+def test_console_script_optimum(tmp_path: Path) -> None:
+    """The real process, stopped by --max-expansions: proved false, and a bound."""
+    path = write_level(tmp_path, SHORT_SIGHTED["room-3x5"])
+    completed = subprocess.run(
+        [
+            *guardsim_command(),
+            "optimum",
+            str(path),
+            "--start",
+            "0.5,0.5",
+            "--heading",
+            "right",
+            "--max-expansions",
+            "1",
+        ],
+        capture_output=True,
+        text=True,
+        timeout=120,
+        check=False,
+    )
+    assert completed.returncode == 0, completed.stderr
+    assert "proved: false" in completed.stdout and "stopped by expansions; optimum >= " in completed.stdout
