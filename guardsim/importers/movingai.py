@@ -29,6 +29,8 @@ PASSABLE = frozenset(".GS")
 BLOCKED = frozenset("@OTW")
 
 _HEADER_KEYS = ("type", "height", "width")
+#: Longest header number read; more digits than this is past any cell limit.
+_MAX_DIGITS = 18
 
 
 def read_movingai(text: str, *, source: str = "<map>", max_cells: int = DEFAULT_MAX_CELLS) -> np.ndarray:
@@ -68,8 +70,13 @@ def read_movingai(text: str, *, source: str = "<map>", max_cells: int = DEFAULT_
             if value != "octile":
                 raise LevelError(f"{source}: line {number}: map type {value!r} is not supported (only octile)")
             header[key] = value
-        elif not (value.isascii() and value.isdigit()) or len(value) > 12 or int(value) < 1:
+        elif not (value.isascii() and value.isdigit()) or int(value[:_MAX_DIGITS]) < 1:
             raise LevelError(f"{source}: line {number}: {key} must be a positive whole number, not {excerpt(value)}")
+        elif len(value) > _MAX_DIGITS:
+            raise LevelError(
+                f"{source}: line {number}: {key} {excerpt(value)} is far over the limit of {max_cells} cells "
+                "(raise it with --max-cells)"
+            )
         else:
             header[key] = int(value)
     if grid_line is None:
