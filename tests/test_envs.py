@@ -306,3 +306,13 @@ def test_the_random_agent_example_runs() -> None:
     result = subprocess.run(command, capture_output=True, text=True, check=False, timeout=120)
     assert result.returncode == 0, result.stderr
     assert result.stdout.splitlines()[1].startswith("episode 1: step_limit after 30 steps, coverage ")
+
+
+def test_heading_option_turns_the_drawn_start() -> None:
+    env = make()
+    _, drawn = env.reset(seed=9)
+    _, turned = env.reset(seed=9, options={"heading": 2})
+    assert turned["cell"] == drawn["cell"] and env.simulation.headings == [2]
+    team = coverage_parallel_env(level=SQUARE, guards=2)
+    with pytest.raises(ValueError, match="1 headings for 2 guards"):
+        team.reset(seed=0, options={"headings": [1]})

@@ -79,15 +79,15 @@ class CoverageEnv(gymnasium.Env[dict[str, Any], np.int64]):
     ) -> tuple[dict[str, Any], dict[str, Any]]:
         """Start an episode: episode 0 of batch ``seed``, or the batch's next episode (see docs/envs.md).
 
-        ``options``: ``{"episode": k}`` runs episode k of the batch; ``{"start": (col, row), "heading": h}``
-        starts there (heading 0, right, by default).
+        ``options``: ``{"episode": k}`` runs episode k of the batch; ``{"start": (col, row)}`` starts there
+        facing right, ``{"heading": h}`` facing ``h`` (with or without ``start``).
         """
         super().reset(seed=seed)
         task_options = dict(options or {})
         if "start" in task_options:
             task_options["starts"] = [task_options.pop("start")]
-            heading = task_options.pop("heading", None)
-            task_options["headings"] = None if heading is None else [heading]
+        if "heading" in task_options:
+            task_options["headings"] = [task_options.pop("heading")]
         self.task.start(self.np_random, seed, task_options)
         return self.task.observation(0), self.task.info(0)
 

@@ -87,8 +87,9 @@ class CoverageTask:
         """Start the next episode: episode 0 of batch ``seed`` when given, else the batch's next episode.
 
         ``options`` may give ``episode`` (run that episode of the batch instead; later resets go on from
-        it), or ``starts`` (``(col, row)`` cells, one per guard) with ``headings`` (heading numbers,
-        0 right by default). Other keys are ignored with a warning.
+        it), ``starts`` (``(col, row)`` cells, one per guard) and ``headings`` (heading numbers, one per
+        guard: 0 right with ``starts``, else the episode's drawn headings, by default). Other keys are
+        ignored with a warning.
         """
         options = dict(options or {})
         unknown = sorted(set(options) - set(RESET_OPTIONS))
@@ -104,14 +105,15 @@ class CoverageTask:
             self.episode = int(options["episode"])
             if self.episode < 0:
                 raise ValueError(f"episode must be 0 or more, not {self.episode}")
-        starts = options.get("starts")
+        starts, headings = options.get("starts"), options.get("headings")
+        facing = None if headings is None else [int(heading) for heading in headings]
+        if facing is not None and len(facing) != self.guards:
+            raise ValueError(f"{len(facing)} headings for {self.guards} guards")
         if starts is not None:
-            starts = [(int(col), int(row)) for col, row in starts]
-            headings = options.get("headings")
-            facing = [0] * len(starts) if headings is None else [int(heading) for heading in headings]
-            self.simulation.reset(seed=self.batch_seed, starts=starts, headings=facing)
+            cells = [(int(col), int(row)) for col, row in starts]
+            self.simulation.reset(seed=self.batch_seed, starts=cells, headings=facing or [0] * len(cells))
         else:
-            self.simulation.reset(seed=self.batch_seed, episode=self.episode)
+            self.simulation.reset(seed=self.batch_seed, episode=self.episode, headings=facing)
         self.newly_seen = int(self.simulation.goal.sum()) - self.simulation.unseen
         self._goal_cells = max(1, int(self.simulation.goal.sum()))
 
