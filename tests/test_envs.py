@@ -17,7 +17,7 @@ gymnasium = pytest.importorskip("gymnasium")
 pytest.importorskip("pettingzoo")
 
 from gymnasium.utils.env_checker import check_env, data_equivalence  # noqa: E402
-from pettingzoo.test import parallel_api_test  # noqa: E402
+from pettingzoo.test import parallel_api_test, parallel_seed_test  # noqa: E402
 
 from guardsim.envs import ACTIONS, CHANNELS, CoverageEnv, coverage_parallel_env  # noqa: E402
 from guardsim.grid import DIRECTIONS  # noqa: E402
@@ -128,6 +128,9 @@ def test_team_same_seed_same_observations_side_by_side() -> None:
         actions = {agent: int(rng.integers(len(ACTIONS))) for agent in first.agents}
         assert_same(first.step(actions), second.step(actions))
     assert_same(first.state(), second.state())
+    assert first.state_space.contains(first.state())
+    with no_warnings():
+        parallel_seed_test(lambda: coverage_parallel_env(level=SQUARE, guards=2), num_cycles=20)
 
 
 def ripplefront_action(planner: Any, observation: dict[str, Any], info: dict[str, Any], grid: Any) -> int:
