@@ -234,12 +234,21 @@ class FrameDrawer:
             self._trail[y0:y1, x0:x1][drawn] = self._trail_colour(walked[drawn], tick)
         self._tick = tick
 
-    def cone_polygon(self, guard: int, tick: int) -> list[tuple[float, float]]:
-        """What guard ``guard`` sees at ``tick``, as a ring of play-area pixel points."""
+    def pose(self, guard: int, tick: int) -> tuple[tuple[float, float], float]:
+        """Where guard ``guard`` is at ``tick`` (a world point) and where it faces (degrees, clockwise on
+        screen from +x): the recorded pose under continuous motion, else its cell's centre and heading."""
+        poses = getattr(self.trace, "poses", None)
+        if poses is not None and guard == 0:
+            _, x, y, facing = (float(v) for v in poses[tick])
+            return (x, y), facing
         cell = self.paths[guard][tick]
         origin, size = self.trace.origin, self.trace.cell_size
-        eye = (origin[0] + (cell[0] + 0.5) * size, origin[1] + (cell[1] + 0.5) * size)
-        heading = 90.0 * self.headings[guard][tick]
+        centre = (origin[0] + (cell[0] + 0.5) * size, origin[1] + (cell[1] + 0.5) * size)
+        return centre, 90.0 * self.headings[guard][tick]
+
+    def cone_polygon(self, guard: int, tick: int) -> list[tuple[float, float]]:
+        """What guard ``guard`` sees at ``tick``, as a ring of play-area pixel points."""
+        eye, heading = self.pose(guard, tick)
         ring = self.sight.polygon(eye, heading, self.vision.fov_degrees, self.vision.view_range)
         return [self.to_pixels(point) for point in ring]
 
@@ -277,23 +286,26 @@ class FrameDrawer:
         for guard, ring in enumerate(rings):
             draw.line([*ring, ring[0]], fill=guard_index(guard), width=1)
         # Guards sharing a cell are spread round its centre so that each stays visible.
-        sharing: dict[tuple[int, int], list[int]] = {}
-        for guard, path in enumerate(self.paths):
-            sharing.setdefault(path[tick], []).append(guard)
-        for cell, guards in sharing.items():
-            cx, cy = self.cell_centre(cell)
-            for place, guard in enumerate(guards):
+        sharing: dict[tuple[float, float], list[tuple[int, float]]] = {}
+        for guard in range(self.guards):
+            point, heading = self.pose(guard, tick)
+            sharing.setdefault(point, []).append((guard, heading))
+        for point, guards in sharing.items():
+            cx, cy = self.to_pixels(point)
+            for place, (guard, heading) in enumerate(guards):
                 angle = 2 * math.pi * place / len(guards) - math.pi / 2
                 spread = 0.9 * radius if len(guards) > 1 else 0.0
                 centre = (cx + spread * math.cos(angle), cy + spread * math.sin(angle))
-                _draw_guard(draw, centre, self.headings[guard][tick], radius, guard)
+                _draw_guard(draw, centre, heading, radius, guard)
         return np.asarray(image)
 
     def caption(self, tick: int) -> tuple[str, str]:
         """The two caption lines at ``tick``."""
         trace = self.trace
         team = f"{self.guards} guards" if self.guards > 1 else "1 guard"
-        first = f"{trace.level}  |  tick {tick} / {trace.steps}  |  {trace.planner}, {team}"
+        tick_hz = getattr(trace, "tick_hz", None)
+        clock = f" ({tick / tick_hz:.1f} s)" if tick_hz else ""
+        first = f"{trace.level}  |  tick {tick} / {trace.steps}{clock}  |  {trace.planner}, {team}"
         second = f"{trace.unseen_percent[tick]:.1f}% of {trace.reachable} reachable cells unseen"
         if trace.unreachable:
             second += f"  |  {trace.unreachable} unreachable cells (not counted)"
@@ -323,10 +335,10 @@ class FrameDrawer:
 
 
 def _draw_guard(
-    draw: ImageDraw.ImageDraw, centre: tuple[float, float], heading: int, radius: float, guard: int
+    draw: ImageDraw.ImageDraw, centre: tuple[float, float], heading_degrees: float, radius: float, guard: int
 ) -> None:
     """A disc in the guard's colour with a pointed nose towards its heading and a white eye."""
-    angle = math.radians(90 * heading)
+    angle = math.radians(heading_degrees)
     dx, dy = math.cos(angle), math.sin(angle)
     x, y = centre
     tip = (x + dx * radius * 1.9, y + dy * radius * 1.9)

@@ -101,6 +101,11 @@ def page_data(level: Level | None, trace: Trace, *, field: np.ndarray | None = N
         "colours": {name: _hex(COLOURS[name]) for name in ("wall", "free", "unseen", "unreachable", "outline", "cone")},
         "guard_colours": [_hex(GUARD_COLOURS[guard % len(GUARD_COLOURS)]) for guard in range(len(paths))],
     }
+    poses = getattr(trace, "poses", None)
+    if poses is not None:
+        # Continuous motion: guard 0's recorded [x, y, heading_degrees] per tick, drawn instead of its cell.
+        data["poses"] = _b64(np.asarray(poses)[:, 1:4], "f4")
+    data["tick_hz"] = getattr(trace, "tick_hz", None)
     if field is not None:
         data["field"] = _field_snapshots(np.asarray(field), trace.steps, trace.shape)
     return data

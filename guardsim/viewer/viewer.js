@@ -147,6 +147,7 @@
     const paths = data.paths.map((text) => decode(text, Int32Array));
     const headings = data.headings.map((text) => decode(text, Uint8Array));
     const guards = paths.length;
+    const poses = data.poses ? decode(data.poses, Float32Array) : null;
     const colours = data.colours;
     const field = data.field
       ? { ticks: data.field.ticks, max: data.field.max, values: decode(data.field.data, Float32Array) }
@@ -243,6 +244,13 @@
     };
 
     const centre = (cell) => [((cell % cols) + 0.5) * scale, (Math.floor(cell / cols) + 0.5) * scale];
+    // A guard's world position and facing (degrees): the recorded pose under continuous motion, else
+    // its cell's centre and heading.
+    const pose = (guard, tick) => {
+      if (poses && guard === 0) return [[poses[3 * tick], poses[3 * tick + 1]], poses[3 * tick + 2]];
+      const cell = paths[guard][tick];
+      return [[ox + ((cell % cols) + 0.5) * data.cell_size, oy + (Math.floor(cell / cols) + 0.5) * data.cell_size], 90 * headings[guard][tick]];
+    };
     const block = Math.max(1, Math.ceil(steps / TRAIL_BLOCKS));
     const trailLevel = (walked, tick) => {
       const age = Math.floor(tick / block) - Math.floor(walked / block);
@@ -274,8 +282,8 @@
       context.globalAlpha = 1;
     }
 
-    function drawGuard(x, y, heading, radius, colour) {
-      const angle = (Math.PI / 2) * heading;
+    function drawGuard(x, y, facing, radius, colour) {
+      const angle = (Math.PI / 180) * facing;
       const dx = Math.cos(angle), dy = Math.sin(angle);
       context.fillStyle = colour;
       context.strokeStyle = colours.outline;
@@ -312,9 +320,8 @@
       const cones = [];
       if (layers.cone) {
         for (let guard = 0; guard < guards; guard++) {
-          const cell = paths[guard][tick];
-          const eye = [ox + ((cell % cols) + 0.5) * data.cell_size, oy + (Math.floor(cell / cols) + 0.5) * data.cell_size];
-          const ring = visibility(walls, eye, 90 * headings[guard][tick], data.fov_degrees, data.view_range);
+          const [eye, facing] = pose(guard, tick);
+          const ring = visibility(walls, eye, facing, data.fov_degrees, data.view_range);
           const shape = new Path2D();
           ring.forEach((p, i) => (i === 0 ? shape.moveTo(px(p[0]), py(p[1])) : shape.lineTo(px(p[0]), py(p[1]))));
           shape.closePath();
@@ -343,21 +350,24 @@
         context.lineWidth = 2;
         context.strokeRect(x - half, y - half, 2 * half, 2 * half);
       }
+      // Guards in one place are spread round it so that each stays visible.
       const sharing = new Map();
       for (let guard = 0; guard < guards; guard++) {
-        const cell = paths[guard][tick];
-        if (!sharing.has(cell)) sharing.set(cell, []);
-        sharing.get(cell).push(guard);
+        const [point, facing] = pose(guard, tick);
+        const key = point[0] + "," + point[1];
+        if (!sharing.has(key)) sharing.set(key, { point: point, team: [] });
+        sharing.get(key).team.push([guard, facing]);
       }
-      for (const [cell, team] of sharing) {
-        const [cx, cy] = centre(cell);
-        team.forEach((guard, place) => {
+      for (const { point, team } of sharing.values()) {
+        const cx = px(point[0]), cy = py(point[1]);
+        team.forEach(([guard, facing], place) => {
           const angle = (2 * Math.PI * place) / team.length - Math.PI / 2;
           const spread = team.length > 1 ? 0.9 * radius : 0;
-          drawGuard(cx + spread * Math.cos(angle), cy + spread * Math.sin(angle), headings[guard][tick], radius, data.guard_colours[guard]);
+          drawGuard(cx + spread * Math.cos(angle), cy + spread * Math.sin(angle), facing, radius, data.guard_colours[guard]);
         });
       }
-      readout.textContent = "tick " + tick + " / " + steps + " \u00b7 " + data.unseen_text[tick] + "% unseen";
+      const clock = data.tick_hz ? " (" + (tick / data.tick_hz).toFixed(1) + " s)" : "";
+      readout.textContent = "tick " + tick + " / " + steps + clock + " \u00b7 " + data.unseen_text[tick] + "% unseen";
     }
 
     function setTick(value, updateHash) {

@@ -1,0 +1,198 @@
+"""The HTML viewer's page, without a browser: self-contained, small, carrying the trace exactly; the
+`play --html` and `view` commands and their errors. The page in a real browser: tests/test_browser.py."""
+
+from __future__ import annotations
+
+import base64
+import json
+import re
+import subprocess
+import sys
+from pathlib import Path
+
+import numpy as np
+import pytest
+from click.testing import CliRunner
+
+from guardsim.cli import main
+from guardsim.errors import GuardsimError
+from guardsim.level import load_level
+from guardsim.trace import Trace
+from guardsim.viewer import build_page, page_data
+from guardsim.viewer.walls import rings_from_grid
+from tests.common import write_level
+
+SQUARE = Path("levels/square.json")
+
+
+def page_json(page: str) -> dict:
+    """The data block of a page."""
+    found = re.search(r'<script id="trace-data" type="application/json">(.*?)</script>', page, re.S)
+    assert found is not None
+    return json.loads(found.group(1))
+
+
+@pytest.fixture(scope="module")
+def square_trace(tmp_path_factory) -> tuple[Path, Trace]:
+    folder = tmp_path_factory.mktemp("viewer")
+    out = folder / "trace.json"
+    result = CliRunner().invoke(main, ["play", str(SQUARE), "--trace", str(out), "--html", str(folder / "p.html")])
+    assert result.exit_code == 0, result.output
+    return folder, Trace.from_data(json.loads(out.read_text()))
+
+
+def big_trace(rows: int = 512, cols: int = 512, steps: int = 30_000, guards: int = 1) -> Trace:
+    """A synthetic episode on a 512 x 512 grid: random first-seen ticks, a long 4-connected walk."""
+    rng = np.random.default_rng(0)
+    first_seen = rng.integers(-1, steps, size=(rows, cols))
+    moves = np.asarray([(1, 0), (0, 1), (-1, 0), (0, -1)])
+    paths = []
+    for _ in range(guards):
+        position = np.asarray([cols // 2, rows // 2])
+        path = [tuple(int(v) for v in position)]
+        for step in rng.integers(0, 4, size=steps):
+            position = np.clip(position + moves[step], 0, [cols - 1, rows - 1])
+            path.append((int(position[0]), int(position[1])))
+        paths.append(tuple(path))
+    goal = np.ones((rows, cols), dtype=bool)
+    unseen = [100.0 * float(((first_seen < 0) | (first_seen > t)).mean()) for t in range(0, steps + 1)]
+    return Trace(
+        level="big",
+        planner="synthetic",
+        seed=0,
+        cell_size=1.0,
+        origin=(0.0, 0.0),
+        shape=(rows, cols),
+        path=paths[0],
+        headings=tuple(int(h) for h in rng.integers(0, 4, size=steps + 1)),
+        unseen_percent=tuple(unseen),
+        outcome="step_limit",
+        reachable=rows * cols,
+        unreachable=0,
+        first_seen=first_seen,
+        goal=goal,
+        traversable=goal,
+        guard_paths=tuple(paths) if guards > 1 else (),
+        guard_headings=tuple(tuple(int(h) for h in rng.integers(0, 4, size=steps + 1)) for _ in paths)
+        if guards > 1
+        else (),
+    )
+
+
+def test_page_is_self_contained(square_trace) -> None:
+    """No external scripts, styles, images or fetches: the page works from disk, offline."""
+    folder, _ = square_trace
+    page = (folder / "p.html").read_text()
+    assert not re.search(r"""(src|href)\s*=\s*["']?(https?:)?//""", page)
+    assert "<script src" not in page and "<link" not in page
+    assert "fetch(" not in page and "XMLHttpRequest" not in page and "import(" not in page
+    assert 'id="tick-readout"' in page
+
+
+def test_page_carries_the_trace_exactly(square_trace) -> None:
+    """First-seen ticks, cell kinds, path and headings decode to the trace's; each readout figure is
+    the trace's unseen_percent with one decimal, as Python formats it."""
+    _, trace = square_trace
+    data = page_json(build_page(load_level(SQUARE), trace))
+    rows, cols = trace.shape
+    first_seen = np.frombuffer(base64.b64decode(data["first_seen"]), dtype="<i4").reshape(rows, cols)
+    assert (first_seen == trace.first_seen).all()
+    kinds = np.frombuffer(base64.b64decode(data["kinds"]), dtype=np.uint8).reshape(rows, cols)
+    assert ((kinds == 1) == trace.goal).all()
+    path = np.frombuffer(base64.b64decode(data["paths"][0]), dtype="<i4")
+    assert [(int(i % cols), int(i // cols)) for i in path] == list(trace.path)
+    assert list(np.frombuffer(base64.b64decode(data["headings"][0]), dtype=np.uint8)) == list(trace.headings)
+    assert data["unseen_text"] == [f"{p:.1f}" for p in trace.unseen_percent]
+    assert (data["view_range"], data["fov_degrees"]) == (trace.view_range, trace.fov_degrees)
+
+
+def test_readout_text_rounds_ties_as_python_does() -> None:
+    """12.25 is '12.2' in Python (JavaScript's toFixed gives '12.3'); the page sends Python's text."""
+    trace = big_trace(8, 8, 3)
+    fields = {name: getattr(trace, name) for name in trace.__dataclass_fields__}
+    tied = Trace(**{**fields, "unseen_percent": (12.25, 0.05, 99.95, 100.0)})
+    text = page_data(None, tied)["unseen_text"]
+    assert text == [f"{v:.1f}" for v in (12.25, 0.05, 99.95, 100.0)]
+
+
+def test_page_for_a_512_by_512_episode_is_under_5_mb() -> None:
+    """A 512 x 512 grid and a 30,000-tick walk by two guards fit in well under 5 MB."""
+    page = build_page(None, big_trace(guards=2))
+    assert len(page.encode()) < 5_000_000
+
+
+def test_field_layer_is_carried_within_its_budget() -> None:
+    """A recorded planner field becomes snapshots (every k-th tick) inside the byte budget."""
+    trace = big_trace(64, 64, 400)
+    field = np.arange(401 * 64 * 64, dtype=np.float64).reshape(401, 64, 64) % 97
+    field[:, 0, 0] = np.inf
+    data = page_data(None, trace, field=field)["field"]
+    assert data["ticks"][0] == 0 and len(data["ticks"]) * 64 * 64 * 4 <= 1_500_000
+    values = np.frombuffer(base64.b64decode(data["data"]), dtype="<f4").reshape(len(data["ticks"]), 64, 64)
+    assert values[0, 0, 0] == -1 and values[1, 3, 3] == field[data["ticks"][1], 3, 3]
+    with pytest.raises(GuardsimError, match="expected"):
+        page_data(None, trace, field=field[:, :10])
+
+
+def test_walls_from_the_grid_outline_the_blocked_cells(square_trace) -> None:
+    """Without the level, the walls drawn are the grid's blocked cells: the box and the pillar (inflated
+    by the cells the guard could not stand on)."""
+    _, trace = square_trace
+    rings = rings_from_grid(trace)
+    assert rings[0] == [(0.0, 0.0), (60.0, 0.0), (60.0, 60.0), (0.0, 60.0)]
+    xs = [x for ring in rings[1:] for x, _ in ring]
+    assert min(xs) <= 20 and max(xs) >= 30
+
+
+def test_view_writes_the_page_from_a_saved_trace(square_trace, tmp_path: Path) -> None:
+    """`guardsim view TRACE --html OUT` writes the page; with --level, the level's own walls."""
+    folder, trace = square_trace
+    out = tmp_path / "view.html"
+    result = CliRunner().invoke(main, ["view", str(folder / "trace.json"), "--html", str(out)])
+    assert result.exit_code == 0, result.output
+    assert "walls rebuilt from the trace's grid" in result.output
+    assert page_json(out.read_text())["walls_from_grid"] is True
+    result = CliRunner().invoke(main, ["view", str(folder / "trace.json"), "--html", str(out), "--level", str(SQUARE)])
+    assert result.exit_code == 0, result.output
+    data = page_json(out.read_text())
+    assert data["walls_from_grid"] is False and len(data["rings"]) == 2
+    assert data["unseen_text"] == [f"{p:.1f}" for p in trace.unseen_percent]
+
+
+@pytest.mark.parametrize(
+    ("content", "message"),
+    [
+        ("{not json", "trace.json"),
+        ('{"level": 3}', "not a guardsim trace"),
+    ],
+    ids=["broken-json", "not-a-trace"],
+)
+def test_view_refuses_bad_traces_in_one_line(tmp_path: Path, content: str, message: str) -> None:
+    """A broken or foreign trace file is one error line naming it, exit 2, no traceback."""
+    path = tmp_path / "trace.json"
+    path.write_text(content)
+    result = CliRunner().invoke(main, ["view", str(path), "--html", str(tmp_path / "out.html")])
+    assert result.exit_code == 2
+    assert result.stderr.count("\n") == 1 and message in result.stderr
+    assert not (tmp_path / "out.html").exists()
+
+
+def test_view_refuses_a_level_the_trace_was_not_played_on(square_trace, tmp_path: Path) -> None:
+    """--level naming another level is one error line, exit 2."""
+    folder, _ = square_trace
+    other = write_level(tmp_path, {"name": "other", "outer": [[0, 0], [4, 0], [4, 4], [0, 4]]})
+    result = CliRunner().invoke(
+        main, ["view", str(folder / "trace.json"), "--html", str(tmp_path / "o.html"), "--level", str(other)]
+    )
+    assert result.exit_code == 2
+    assert "is not the one" in result.stderr and result.stderr.count("\n") == 1
+
+
+def test_view_runs_as_a_real_process(square_trace, tmp_path: Path) -> None:
+    """The installed command, in its own process, writes the page."""
+    folder, _ = square_trace
+    out = tmp_path / "sub.html"
+    command = [sys.executable, "-c", "from guardsim.cli import main; main()", "view", str(folder / "trace.json")]
+    done = subprocess.run([*command, "--html", str(out)], capture_output=True, text=True, timeout=120)
+    assert done.returncode == 0, done.stderr
+    assert out.read_text().startswith("<!DOCTYPE html>")
