@@ -17,7 +17,8 @@ gymnasium = pytest.importorskip("gymnasium")
 pytest.importorskip("pettingzoo")
 
 from gymnasium.utils.env_checker import check_env, data_equivalence  # noqa: E402
-from pettingzoo.test import parallel_api_test, parallel_seed_test  # noqa: E402
+from pettingzoo.test import api_test, parallel_api_test, parallel_seed_test  # noqa: E402
+from pettingzoo.utils.conversions import parallel_to_aec  # noqa: E402
 
 from guardsim.envs import ACTIONS, CHANNELS, CoverageEnv, coverage_parallel_env  # noqa: E402
 from guardsim.grid import DIRECTIONS  # noqa: E402
@@ -68,6 +69,15 @@ def test_pettingzoo_checker_passes_through_episode_ends() -> None:
     with no_warnings():
         parallel_api_test(env, num_cycles=50)
     assert env.agents == []
+
+
+def test_aec_conversion_passes_pettingzoo_api_test() -> None:
+    env = parallel_to_aec(coverage_parallel_env(level=level_from(SQUARE_WITH_HOLE), guards=2, max_steps=10))
+    with no_warnings():
+        # The AEC test advises Box or Discrete observations; ours are a Dict (planes and heading).
+        warnings.filterwarnings("ignore", message="Observation is not a NumPy array")
+        warnings.filterwarnings("ignore", message="Observation space for each agent probably should be")
+        api_test(env, num_cycles=30)
 
 
 def test_reset_starts_where_guardsim_play_and_bench_start() -> None:
