@@ -1,0 +1,166 @@
+"""``guardsim sneak``: can a player get from one point to another unseen by a patrol?"""
+
+from __future__ import annotations
+
+import json
+from pathlib import Path
+
+import click
+import numpy as np
+
+from guardsim.cli.common import build_scene, limit_options, load, parse_point, reports_errors, vision_options
+from guardsim.errors import GuardsimError
+from guardsim.output import write_text_atomic
+
+__all__ = ["sneak", "sneak_cell"]
+
+
+def sneak_cell(scene_grid: object, point: tuple[float, float], option: str) -> int:
+    """The flat cell of a point given as ``option``, or a one-line error saying why it cannot be used."""
+    from guardsim.grid import CoverageGrid
+
+    assert isinstance(scene_grid, CoverageGrid)
+    cell = scene_grid.cell_of(point)
+    where = f"{option} {point[0]:g},{point[1]:g}"
+    if cell is None:
+        raise GuardsimError(f"{where} lies outside the level")
+    if not scene_grid.traversable[cell[1], cell[0]]:
+        raise GuardsimError(f"{where} is in cell [{cell[0]}, {cell[1]}], where a guard-sized intruder does not fit")
+    return scene_grid.flat(*cell)
+
+
+@click.command()
+@click.argument("level_path", metavar="LEVEL")
+@click.option(
+    "--patrol", "patrol_path", required=True, type=str, help="patrol.json (from guardsim patrol, or hand-written)."
+)
+@click.option(
+    "--from",
+    "source",
+    required=True,
+    callback=parse_point,
+    metavar="X,Y",
+    help="Where the player enters (world units).",
+)
+@click.option(
+    "--to", "target", required=True, callback=parse_point, metavar="X,Y", help="Where the player must get to."
+)
+@click.option("--out", "out_dir", type=click.Path(file_okay=False), help="Folder for sneak.json and hiding.png.")
+@click.option("--gif", is_flag=True, help="Write DIR/sneak.gif: the guards and the intruder's path.")
+@click.option("--html", is_flag=True, help="Write DIR/sneak.html: the viewer, the intruder as the last guard.")
+@vision_options
+@limit_options
+@reports_errors
+def sneak(
+    level_path: str,
+    patrol_path: str,
+    source: tuple[float, float],
+    target: tuple[float, float],
+    out_dir: str | None,
+    gif: bool,
+    html: bool,
+    los: str,
+    fov: float | None,
+    view_range: float | None,
+    max_cells: int,
+    max_vertices: int,
+    max_file_bytes: int,
+) -> None:
+    """Search every path from --from to --to over (cell, tick of the patrol's lap) for one no guard sees.
+
+    The intruder steps to a 4-neighbour or waits each tick and may enter at any tick its entry cell is
+    unseen. Exit status 0 either way; the answer is printed and written to DIR/sneak.json. When no
+    unseen path exists, the closest call (fewest ticks in view) is given instead.
+    """
+    from guardsim.patrol import read_patrol
+    from guardsim.patrol.replay import patrol_trace
+    from guardsim.sneak import sneak_check, sneak_data
+    from guardsim.vision.table import view_table
+
+    if (gif or html) and out_dir is None:
+        raise GuardsimError("--gif and --html write into the --out folder: give --out DIR")
+    level = load(level_path, max_cells, max_vertices, max_file_bytes)
+    scene = build_scene(level, los, fov, view_range)
+    grid = scene.grid
+    patrol = read_patrol(patrol_path, grid)
+    if patrol.period is None:
+        raise GuardsimError(f"{patrol_path}: period is null: the sneak check needs a repeating patrol")
+    start, goal = sneak_cell(grid, source, "--from"), sneak_cell(grid, target, "--to")
+    if grid.component_labels[start] != grid.component_labels[goal]:
+        raise GuardsimError(
+            f"--to {target[0]:g},{target[1]:g} cannot be reached from --from {source[0]:g},{source[1]:g} at all"
+        )
+    table = view_table(grid, scene.vision())
+    result = sneak_check(grid, table, patrol, start, goal)
+    path = result.path
+    assert path is not None
+    data = sneak_data(result, grid, level=level.name, patrol=patrol_path, **{"from": list(source), "to": list(target)})
+    written: list[str] = []
+    if out_dir is not None:
+        folder = Path(out_dir)
+        try:
+            folder.mkdir(parents=True, exist_ok=True)
+        except OSError as error:
+            raise GuardsimError(f"{out_dir}: cannot make the output folder: {error.strerror or error}") from None
+        write_text_atomic(folder / "sneak.json", json.dumps(data, separators=(",", ":")) + "\n")
+        written.append(str(folder / "sneak.json"))
+        try:
+            from guardsim.patrol.heatmap import write_heat_map
+
+            windows = result.hiding.reshape(grid.shape).astype(float)
+            never = windows == result.period
+            windows[windows < 0] = float("nan")
+            cells = [grid.unflat(int(cell)) for cell in path.cells]
+            label = "unseen path" if path.found else f"closest call ({path.ticks_in_view} ticks in view)"
+            title = f"{level.name}: hiding spots, longest unseen window per cell ({data['never_seen_cells']} never seen, black)"
+            write_heat_map(
+                folder / "hiding.png",
+                level,
+                grid,
+                windows,
+                title=title,
+                unit=f"ticks unseen in a row (lap {result.period})",
+                never=never,
+                marks=[(cells, "red", label)],
+            )
+            written.append(str(folder / "hiding.png"))
+        except GuardsimError as error:
+            click.echo(f"guardsim: warning: hiding.png not written: {error}", err=True)
+        if gif or html:
+            trace = patrol_trace(
+                scene,
+                table,
+                patrol,
+                np.asarray(grid.component(*grid.unflat(start)).ravel()),
+                start=path.start_tick,
+                ticks=path.ticks,
+                label="sneak",
+            )
+            cells = [grid.unflat(int(cell)) for cell in path.cells]
+            if gif:
+                from guardsim.sneak.gif import write_sneak_gif
+
+                seen_at = {
+                    tick
+                    for tick, cell in enumerate(path.cells)
+                    if result.seen[(path.start_tick + tick) % result.period, cell]
+                }
+                write_sneak_gif(folder / "sneak.gif", level, trace, cells, seen_ticks=seen_at)
+                written.append(str(folder / "sneak.gif"))
+            if html:
+                import dataclasses
+
+                from guardsim.viewer import write_viewer
+
+                guards = trace.team_paths() + (tuple(cells),)
+                headings = trace.team_headings() + (tuple([0] * len(cells)),)
+                with_intruder = dataclasses.replace(trace, guard_paths=guards, guard_headings=headings)
+                write_viewer(folder / "sneak.html", level, with_intruder)
+                written.append(str(folder / "sneak.html"))
+    if path.found:
+        answer = f"sneaks: unseen from tick {path.start_tick} of the lap, {path.ticks} ticks"
+    else:
+        answer = (
+            f"caught: no unseen path; the closest call is seen for {path.ticks_in_view} ticks ({path.ticks} ticks long)"
+        )
+    click.echo(f"{level.name}: {answer}" + (f" -> {', '.join(written)}" if written else ""))
