@@ -152,8 +152,8 @@ def sneak(
 
                 from guardsim.viewer import write_viewer
 
-                guards = trace.team_paths() + (tuple(cells),)
-                headings = trace.team_headings() + (tuple([0] * len(cells)),)
+                guards = (*trace.team_paths(), tuple(cells))
+                headings = (*trace.team_headings(), tuple([0] * len(cells)))
                 with_intruder = dataclasses.replace(trace, guard_paths=guards, guard_headings=headings)
                 write_viewer(folder / "sneak.html", level, with_intruder)
                 written.append(str(folder / "sneak.html"))

@@ -45,7 +45,7 @@ def patrol_trace(
     headings = [tuple(heading_of_state(row).tolist()) for row in states]
     single = patrol.guards == 1
     level = scene.level
-    covered = bool(np.all(seen_any[goal]))
+    covered = bool(np.all(np.asarray(seen_any)[goal]))
     return Trace(
         level=level.name,
         planner=label or f"patrol: {patrol.strategy}",
