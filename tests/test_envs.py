@@ -329,3 +329,5 @@ def test_heading_option_turns_the_drawn_start() -> None:
     team = coverage_parallel_env(level=SQUARE, guards=2)
     with pytest.raises(ValueError, match="1 headings for 2 guards"):
         team.reset(seed=0, options={"headings": [1]})
+    with pytest.raises(ValueError, match=r"headings \[4\] must be heading numbers"):
+        env.reset(seed=0, options={"start": (3, 3), "heading": 4})

@@ -109,6 +109,8 @@ class CoverageTask:
         facing = None if headings is None else [int(heading) for heading in headings]
         if facing is not None and len(facing) != self.guards:
             raise ValueError(f"{len(facing)} headings for {self.guards} guards")
+        if facing is not None and not all(0 <= heading < 4 for heading in facing):
+            raise ValueError(f"headings {facing} must be heading numbers 0 (right), 1 (down), 2 (left) or 3 (up)")
         if starts is not None:
             cells = [(int(col), int(row)) for col, row in starts]
             self.simulation.reset(seed=self.batch_seed, starts=cells, headings=facing or [0] * len(cells))
