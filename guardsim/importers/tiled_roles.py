@@ -234,7 +234,6 @@ def assign_roles(tiled: TiledMap, options: RoleOptions) -> Guesses:
             # not floor, so the ground is the lowest layer alone.
             found.floor_layers = candidates[:1]
             found.floor_rule = "the lowest visible tile layer not named wall, spawn or above"
-    found.void_gid = _void_tile(tiled, found) if found.floor_layers and not options.floor_layers else 0
 
     # Walls and spawns: objects.
     for layer in tiled.object_layers:
@@ -261,6 +260,8 @@ def assign_roles(tiled: TiledMap, options: RoleOptions) -> Guesses:
     tile_ids = set(options.spawn_tiles) | {gid for gid, info in tiled.tiles.items() if _says(info.kind, {"guard"})}
     tile_ids |= {gid for gid, info in tiled.tiles.items() if flag(info.properties, "guard_spawn")}
     found.spawn_gids = tile_ids
+    # Last: the void needs the walls found above.
+    found.void_gid = _void_tile(tiled, found) if found.floor_layers and not options.floor_layers else 0
     return found
 
 

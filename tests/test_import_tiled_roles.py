@@ -1,0 +1,291 @@
+"""Walls, floor and spawns from what real maps use (issue 12): small maps that mark them the ways real
+games do, the overrides, the warnings, --strict, templates and tile collision shapes, and every command
+taking a map directly."""
+
+from __future__ import annotations
+
+import json
+from pathlib import Path
+
+import pytest
+import shapely
+from click.testing import CliRunner
+
+from guardsim.cli import main
+from guardsim.errors import LevelError
+from guardsim.importers import import_map, load_any
+from guardsim.importers.tiled_roles import words
+
+TILESET = """ <tileset firstgid="1" name="t" tilewidth="16" tileheight="16" tilecount="8" columns="4">{tiles}</tileset>
+"""
+
+
+def tmx(body: str, *, width: int = 6, height: int = 6, tiles: str = "") -> str:
+    return (
+        f'<?xml version="1.0"?>\n<map version="1.10" orientation="orthogonal" width="{width}" height="{height}" '
+        f'tilewidth="16" tileheight="16" infinite="0">\n{TILESET.format(tiles=tiles)}{body}</map>\n'
+    )
+
+
+def layer(name: str, rows: list[str], extra: str = "") -> str:
+    """A tile layer from rows of characters: a digit is that gid, '.' is empty."""
+    gids = [0 if char == "." else int(char) for row in rows for char in row]
+    return (
+        f' <layer name="{name}" width="{len(rows[0])}" height="{len(rows)}"{extra}>'
+        f'<data encoding="csv">{",".join(map(str, gids))}</data></layer>\n'
+    )
+
+
+ROOM = ["111111", "111111", "111111", "111111", "111111", "111111"]
+BORDER = ["222222", "2....2", "2....2", "2....2", "2....2", "222222"]
+
+
+def write(folder: Path, text: str, name: str = "map.tmx") -> Path:
+    path = folder / name
+    path.write_text(text, encoding="utf-8")
+    return path
+
+
+def free_cells(path: Path, **options: object) -> set[tuple[int, int]]:
+    level = import_map(path, **options).level  # type: ignore[arg-type]
+    free = level.free_area()
+    min_x, min_y, max_x, max_y = (int(v) for v in level.bounds)
+    return {
+        (col, row)
+        for col in range(min_x, max_x)
+        for row in range(min_y, max_y)
+        if free.contains(shapely.Point(col + 0.5, row + 0.5))
+    }
+
+
+INSIDE = {(col, row) for col in range(1, 5) for row in range(1, 5)}
+
+
+@pytest.mark.parametrize("name", ["Walls", "base_wall", "Collision", "SOLID stuff", "obstacles", "Blocked"])
+def test_a_tile_layer_named_like_walls_is_walls(tmp_path: Path, name: str) -> None:
+    path = write(tmp_path, tmx(layer("Ground", ROOM) + layer(name, BORDER)))
+    assert free_cells(path) == INSIDE
+    assert f"every tile of '{name}'" in import_map(path).summary()
+
+
+def test_wall_words_are_whole_words() -> None:
+    assert "wall" in words("base_wall") and "walls" in words("Walls2")
+    assert not words("Wallpaper") & {"wall", "walls"}
+
+
+def test_a_layer_named_walls_is_never_the_floor_even_when_it_comes_first(tmp_path: Path) -> None:
+    """perspective_walls.tmx: the first tile layer is 'Walls'; the floor is the next one."""
+    path = write(tmp_path, tmx(layer("Walls", BORDER) + layer("Tiles", ROOM)))
+    assert free_cells(path) == INSIDE
+    assert "floor from 'Tiles'" in import_map(path).summary()
+
+
+@pytest.mark.parametrize(
+    "tile",
+    [
+        '<tile id="1" type="wall"/>',
+        '<tile id="1" class="Solid"/>',
+        '<tile id="1"><properties><property name="collides" type="bool" value="true"/></properties></tile>',
+        '<tile id="1"><properties><property name="isWall" type="bool" value="true"/></properties></tile>',
+    ],
+    ids=["type-wall", "class-solid", "collides", "camel-case-property"],
+)
+def test_tiles_whose_class_or_property_says_wall(tmp_path: Path, tile: str) -> None:
+    path = write(tmp_path, tmx(layer("Ground", ROOM) + layer("Things", BORDER), tiles=tile))
+    assert free_cells(path) == INSIDE
+    assert "collision-marked tile" in import_map(path).summary()
+
+
+def test_tile_collision_shapes_are_used_not_the_whole_tile(tmp_path: Path) -> None:
+    shape = (
+        '<tile id="1"><objectgroup draworder="index">'
+        '<object id="1" x="0" y="0" width="16" height="8"/></objectgroup></tile>'
+    )
+    things = ["......", ".2....", "......", "......", "......", "......"]
+    path = write(tmp_path, tmx(layer("Ground", ROOM) + layer("Things", things), tiles=shape))
+    imported = import_map(path)
+    free = imported.level.free_area()
+    assert not free.contains(shapely.Point(1.5, 1.25)) and free.contains(shapely.Point(1.5, 1.75))
+    assert "1 tile collision shape" in imported.summary()
+
+
+def test_object_layers_and_objects_whose_class_says_wall(tmp_path: Path) -> None:
+    objects = (
+        ' <objectgroup name="Stuff"><object id="1" type="wall" x="0" y="0" width="96" height="16"/>'
+        '<object id="2" name="chest" x="32" y="32" width="16" height="16"/></objectgroup>\n'
+        ' <objectgroup name="Collisions"><object id="3" x="0" y="80" width="96" height="16"/></objectgroup>\n'
+    )
+    cells = free_cells(write(tmp_path, tmx(layer("Ground", ROOM) + objects)))
+    assert cells == {(col, row) for col in range(6) for row in range(1, 5)}
+
+
+def test_a_mixed_obstacle_layer_keeps_only_its_walls(tmp_path: Path) -> None:
+    """pygame_tutorials: 'Obstacles' holds objects named wall and others named zombie, player."""
+    objects = (
+        ' <objectgroup name="Obstacles"><object id="1" name="wall" x="0" y="0" width="96" height="16"/>'
+        '<object id="2" name="zombie" x="32" y="32" width="16" height="16"/></objectgroup>\n'
+    )
+    cells = free_cells(write(tmp_path, tmx(layer("Ground", ROOM) + objects)))
+    assert (2, 2) in cells and (2, 0) not in cells
+
+
+def test_a_dungeon_on_a_blank_canvas_is_the_dungeon_and_its_spawns_are_used(tmp_path: Path) -> None:
+    """Inside-out: floor tiles in the middle of empty void, spawns as points in a 'Spawn' layer."""
+    dungeon = ["......", ".1111.", ".1111.", ".1....", ".1....", "......"]
+    spawns = ' <objectgroup name="Spawn"><object id="1" x="24" y="24"><point/></object></objectgroup>\n'
+    path = write(tmp_path, tmx(layer("Tiles", dungeon) + spawns))
+    imported = import_map(path)
+    assert free_cells(path) == {(1, 1), (2, 1), (3, 1), (4, 1), (1, 2), (2, 2), (3, 2), (4, 2), (1, 3), (1, 4)}
+    assert imported.level.guard.start == (1.5, 1.5)
+    assert "1 guard spawn from 1 objects in 'Spawn'" in imported.summary()
+
+
+def test_a_painted_void_behind_walls_is_not_floor(tmp_path: Path) -> None:
+    """Lost-In-The-Dark: tile 3 paints everything outside the room, and walls line the room."""
+    painted = ["333333", "322223", "322223", "322223", "333333", "333333"]
+    walls = (
+        ' <objectgroup name="walls"><object id="1" x="16" y="16" width="64" height="4"/>'
+        '<object id="2" x="16" y="60" width="64" height="4"/><object id="3" x="16" y="16" width="4" height="48"/>'
+        '<object id="4" x="76" y="16" width="4" height="48"/></objectgroup>\n'
+    )
+    path = write(tmp_path, tmx(layer("Tile Layer 1", painted) + walls))
+    cells = free_cells(path)
+    assert cells == {(col, row) for col in range(1, 5) for row in range(1, 4)}
+    assert "tile 3 fills the edge" in import_map(path).summary()
+
+
+def test_grass_to_the_map_edge_without_walls_between_stays_floor(tmp_path: Path) -> None:
+    town = ["111111", "122221", "122221", "111111", "111111", "111111"]
+    house = ' <objectgroup name="Collisions"><object id="1" x="80" y="80" width="16" height="16"/></objectgroup>\n'
+    cells = free_cells(write(tmp_path, tmx(layer("Tile Layer 1", town) + house)))
+    assert (0, 0) in cells and len(cells) == 35
+
+
+def test_overrides_name_the_layers_and_tiles(tmp_path: Path) -> None:
+    rows = ["444444", "4....4", "4....4", "4....4", "4....4", "444444"]
+    path = write(tmp_path, tmx(layer("Base", ROOM) + layer("Deco", rows) + layer("Top", BORDER)))
+    assert free_cells(path, wall_layers=["Deco"]) == INSIDE
+    assert free_cells(path, wall_tiles=[4]) == INSIDE
+    with pytest.raises(LevelError, match="no free area"):
+        import_map(path, floor_layers=["Deco"], wall_layers=["Top"])
+
+
+def test_no_walls_is_a_warning_and_a_spawn_tile_that_matches_nothing_too(tmp_path: Path) -> None:
+    path = write(tmp_path, tmx(layer("Ground", ROOM)))
+    imported = import_map(path, spawn_tiles=[99999])
+    assert any(warning.startswith("no walls found") and "--wall-layer" in warning for warning in imported.warnings)
+    assert any("--spawn-tile 99999 matches no tile" in warning for warning in imported.warnings)
+
+
+def test_a_free_area_in_many_small_parts_is_a_warning(tmp_path: Path) -> None:
+    split = ["1.1.1.", "1.1.1.", "1.1.1.", "1.1.1.", "1.1.1.", "1.1.1."]
+    imported = import_map(write(tmp_path, tmx(layer("Ground", split) + layer("Walls", ["2....."] + ["......"] * 5))))
+    assert any("separate parts" in warning for warning in imported.warnings)
+
+
+def test_templates_are_read_in_tmx_and_json(tmp_path: Path) -> None:
+    (tmp_path / "block.tx").write_text(
+        '<?xml version="1.0"?>\n<template><object name="block" type="wall" width="96" height="16"/></template>\n',
+        encoding="utf-8",
+    )
+    path = write(
+        tmp_path,
+        tmx(
+            layer("Ground", ROOM)
+            + ' <objectgroup name="Things"><object id="4" template="block.tx" x="0" y="0"/></objectgroup>\n'
+        ),
+    )
+    assert (0, 0) not in free_cells(path) and (0, 1) in free_cells(path)
+    (tmp_path / "block.tj").write_text(
+        json.dumps(
+            {
+                "type": "template",
+                "object": {"name": "block", "type": "wall", "width": 96, "height": 16, "rotation": 0, "visible": True},
+            }
+        ),
+        encoding="utf-8",
+    )
+    data = {
+        "type": "map",
+        "orientation": "orthogonal",
+        "tilewidth": 16,
+        "tileheight": 16,
+        "width": 6,
+        "height": 6,
+        "tilesets": [],
+        "layers": [
+            {"type": "tilelayer", "name": "Ground", "width": 6, "height": 6, "data": [1] * 36},
+            {"type": "objectgroup", "name": "Things", "objects": [{"id": 4, "template": "block.tj", "x": 0, "y": 80}]},
+        ],
+    }
+    cells = free_cells(write(tmp_path, json.dumps(data), "map.json"))
+    assert (0, 5) not in cells and (0, 0) in cells
+
+
+# -- The CLI: every command takes a map, --strict ------------------------------------------------------
+
+
+@pytest.fixture
+def open_map(tmp_path: Path) -> Path:
+    """A map with no walls at all: it imports, with a warning."""
+    return write(tmp_path, tmx(layer("Ground", ROOM)), "open.tmx")
+
+
+@pytest.fixture
+def walled_map(tmp_path: Path) -> Path:
+    return write(tmp_path, tmx(layer("Ground", ROOM) + layer("Walls", BORDER)), "room.tmx")
+
+
+def test_import_strict_fails_on_warnings_with_status_1_and_writes_nothing(tmp_path: Path, open_map: Path) -> None:
+    out = tmp_path / "level.json"
+    relaxed = CliRunner().invoke(main, ["import", str(open_map), "--out", str(out)])
+    assert relaxed.exit_code == 0 and "guardsim: warning:" in relaxed.stderr and out.exists()
+    out.unlink()
+    strict = CliRunner().invoke(main, ["import", str(open_map), "--out", str(out), "--strict"])
+    assert strict.exit_code == 1 and not out.exists()
+    assert strict.stderr.splitlines()[-1].startswith("guardsim: error:") and "--strict" in strict.stderr
+
+
+def test_validate_takes_a_map_and_strict_fails_on_its_warnings(open_map: Path, walled_map: Path) -> None:
+    result = CliRunner().invoke(main, ["validate", str(walled_map)])
+    assert result.exit_code == 0, result.output
+    assert f"{walled_map}: ok" in result.stdout and "Tiled map" in result.stderr
+    assert CliRunner().invoke(main, ["validate", str(open_map)]).exit_code == 0
+    assert CliRunner().invoke(main, ["validate", str(open_map), "--strict"]).exit_code == 1
+
+
+def test_play_and_render_take_maps_and_their_import_options(tmp_path: Path, walled_map: Path) -> None:
+    gif, png = tmp_path / "out.gif", tmp_path / "out.png"
+    played = CliRunner().invoke(main, ["play", str(walled_map), "--gif", str(gif), "--trace", str(tmp_path / "t.json")])
+    assert played.exit_code == 0, played.output
+    assert gif.stat().st_size > 0
+    rendered = CliRunner().invoke(main, ["render", str(walled_map), "--png", str(png), "--wall-layer", "Walls"])
+    assert rendered.exit_code == 0, rendered.output
+    assert png.stat().st_size > 0
+
+
+def test_bench_and_regress_take_maps(tmp_path: Path, walled_map: Path) -> None:
+    benched = CliRunner().invoke(main, ["bench", str(walled_map), "--episodes", "2", "--out", str(tmp_path / "b")])
+    assert benched.exit_code == 0, benched.output
+    renders = tmp_path / "renders"
+    updated = CliRunner().invoke(main, ["regress", str(walled_map), "--renders", str(renders), "--update"])
+    assert updated.exit_code == 0, updated.output
+    again = CliRunner().invoke(main, ["regress", str(walled_map), "--renders", str(renders)])
+    assert again.exit_code == 0, again.output
+
+
+def test_a_tiled_json_is_told_from_a_guardsim_level_by_content(tmp_path: Path) -> None:
+    tiled = {
+        "type": "map",
+        "orientation": "orthogonal",
+        "tilewidth": 16,
+        "tileheight": 16,
+        "width": 2,
+        "height": 1,
+        "layers": [{"type": "tilelayer", "name": "Ground", "width": 2, "height": 1, "data": [1, 1]}],
+    }
+    level, imported = load_any(write(tmp_path, json.dumps(tiled), "tiled.json"))
+    assert imported is not None and level.bounds == (0.0, 0.0, 2.0, 1.0)
+    plain = {"outer": [[0, 0], [3, 0], [3, 3], [0, 3]]}
+    level, imported = load_any(write(tmp_path, json.dumps(plain), "level.json"))
+    assert imported is None and level.bounds == (0.0, 0.0, 3.0, 3.0)
