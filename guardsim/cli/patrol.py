@@ -237,14 +237,14 @@ def patrol(
     team = f", {guards} guards" if chosen.guards > 1 else ""
     if chosen.team:
         team += f" ({chosen.team})"
-    lap = f", period {chosen.period} ticks" if chosen.period is not None else ""
+    period_text = f", period {chosen.period} ticks" if chosen.period is not None else ""
     worst = (
         "never seen: " + str(score.never_seen) + " cells"
         if score.worst_idleness is None
         else f"worst idleness {score.worst_idleness} ticks"
     )
     click.echo(
-        f"{level.name}: {what}{team}{lap}, {worst}, mean {_mean(score.mean_idleness)} -> {', '.join(written)}"
+        f"{level.name}: {what}{team}{period_text}, {worst}, mean {_mean(score.mean_idleness)} -> {', '.join(written)}"
     )
     for note in chosen.notes:
         click.echo(f"  {note}")

@@ -1,0 +1,133 @@
+"""``guardsim check``: CI gates. Exit 0 when every rule holds, 1 with one line per broken rule, 2 on bad input."""
+
+from __future__ import annotations
+
+import dataclasses
+import sys
+
+import click
+
+from guardsim.cli.common import build_scene, limit_options, load, parse_point, reports_errors, vision_options
+from guardsim.errors import GuardsimError
+from guardsim.planners import PLANNERS
+
+__all__ = ["check"]
+
+
+def _points(
+    _ctx: click.Context, param: click.Parameter, values: tuple[tuple[str, str], ...]
+) -> list[tuple[tuple[float, float], tuple[float, float]]]:
+    pairs = []
+    for source, target in values:
+        first = parse_point(_ctx, param, source)
+        second = parse_point(_ctx, param, target)
+        assert first is not None and second is not None
+        pairs.append((first, second))
+    return pairs
+
+
+@click.command()
+@click.argument("level_path", metavar="LEVEL")
+@click.option(
+    "--max-cover-steps", type=click.IntRange(min=0), help="The planner must see every reachable cell within N steps."
+)
+@click.option("--max-idleness", type=click.IntRange(min=0), help="The patrol's worst idleness must be at most T ticks.")
+@click.option(
+    "--no-unreachable",
+    is_flag=True,
+    default=None,
+    help="Every cell a guard can stand in must be reachable from the start.",
+)
+@click.option(
+    "--patrol",
+    "patrol_path",
+    type=str,
+    help="patrol.json for --max-idleness and --sneak [default: make the loop patrol].",
+)
+@click.option(
+    "--guards",
+    type=click.IntRange(min=1, max=64),
+    help="Team size of the loop patrol made without --patrol [default: 1].",
+)
+@click.option(
+    "--planner", type=click.Choice(list(PLANNERS)), help="Planner of --max-cover-steps [default: ripplefront]."
+)
+@click.option(
+    "--sneak",
+    "sneaks",
+    type=(str, str),
+    multiple=True,
+    callback=_points,
+    metavar="FROM TO",
+    help="X,Y X,Y: a sneak to check; repeatable, one --expect each.",
+)
+@click.option(
+    "--expect", "expects", type=click.Choice(["caught", "sneaks"]), multiple=True, help="What each --sneak must give."
+)
+@click.option(
+    "--checks", "checks_path", type=str, help="Read the rules from a checks file (TOML or JSON); options add to it."
+)
+@click.option("--seed", type=click.IntRange(min=0), default=0, show_default=True)
+@vision_options
+@limit_options
+@reports_errors
+def check(
+    level_path: str,
+    max_cover_steps: int | None,
+    max_idleness: int | None,
+    no_unreachable: bool | None,
+    patrol_path: str | None,
+    guards: int | None,
+    planner: str | None,
+    sneaks: list[tuple[tuple[float, float], tuple[float, float]]],
+    expects: tuple[str, ...],
+    checks_path: str | None,
+    seed: int,
+    los: str,
+    fov: float | None,
+    view_range: float | None,
+    max_cells: int,
+    max_vertices: int,
+    max_file_bytes: int,
+) -> None:
+    """Check LEVEL against the rules given; print one line per broken rule and exit 1 if any is broken.
+
+    Exit status: 0 every rule holds, 1 some rule is broken, 2 bad input (a level, patrol or checks file
+    that cannot be read, a sneak point outside the level, no rule at all).
+    """
+    from guardsim.checks import CheckRules, SneakRule, read_checks, run_checks
+
+    if len(expects) != len(sneaks):
+        raise GuardsimError(
+            f"each --sneak needs its --expect caught|sneaks: {len(sneaks)} --sneak, {len(expects)} --expect"
+        )
+    rules = read_checks(checks_path) if checks_path else CheckRules()
+    changes: dict[str, object] = {}
+    if max_cover_steps is not None:
+        changes["max_cover_steps"] = max_cover_steps
+    if max_idleness is not None:
+        changes["max_idleness"] = max_idleness
+    if no_unreachable:
+        changes["no_unreachable"] = True
+    if patrol_path is not None:
+        changes["patrol"] = patrol_path
+    if guards is not None:
+        changes["guards"] = guards
+    if planner is not None:
+        changes["planner"] = planner
+    if sneaks:
+        changes["sneaks"] = rules.sneaks + tuple(SneakRule(a, b, e) for (a, b), e in zip(sneaks, expects))
+    rules = dataclasses.replace(rules, **changes)  # type: ignore[arg-type]
+    if rules.count == 0:
+        raise GuardsimError(
+            f"{level_path}: no rule to check: give --max-cover-steps, --max-idleness, --no-unreachable, --sneak or --checks"
+        )
+    level = load(level_path, max_cells, max_vertices, max_file_bytes)
+    scene = build_scene(level, los, fov, view_range)
+    results = run_checks(scene, rules, seed=seed)
+    broken = [result for result in results if not result.holds]
+    for result in broken:
+        click.echo(f"{level_path}: broken: {result.rule}: {result.message}")
+    if broken:
+        sys.exit(1)
+    click.echo(f"{level_path}: all {len(results)} rules hold")
