@@ -20,11 +20,10 @@ from __future__ import annotations
 
 import math
 import os
+import sys
 from dataclasses import dataclass, field
 from pathlib import Path
 from typing import Any, NamedTuple
-
-import sys
 
 from guardsim.errors import GuardsimError
 from guardsim.patrol import Patrol, patrol_setup, plan_loop, read_patrol, score_patrol
@@ -94,17 +93,21 @@ def read_checks(path: str | os.PathLike[str]) -> CheckRules:
     source = display_path(path)
     text = read_text_file(path, max_file_bytes=MAX_CHECKS_BYTES, kind="checks file", error=CheckError)
     if Path(path).suffix.lower() == ".toml":
-        if sys.version_info < (3, 11):
-            raise CheckError(f"{source}: TOML checks files need Python 3.11 or later; write the rules as JSON")
-        import tomllib
-
-        try:
-            data: Any = tomllib.loads(text)
-        except tomllib.TOMLDecodeError as error:
-            raise CheckError(f"{source}: not valid TOML: {error}") from None
+        data: Any = _toml(text, source)
     else:
         data = parse_json(text, source=source, error=CheckError)
     return parse_checks(data, source=source, base=Path(path).parent)
+
+
+def _toml(text: str, source: str) -> Any:
+    if sys.version_info >= (3, 11):
+        import tomllib
+
+        try:
+            return tomllib.loads(text)
+        except tomllib.TOMLDecodeError as error:
+            raise CheckError(f"{source}: not valid TOML: {error}") from None
+    raise CheckError(f"{source}: TOML checks files need Python 3.11 or later; write the rules as JSON")
 
 
 def parse_checks(data: Any, *, source: str = "<checks>", base: Path | None = None) -> CheckRules:
