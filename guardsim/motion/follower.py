@@ -1,0 +1,113 @@
+"""The guard's body in the physics world, steered a tick at a time toward a point or a heading.
+
+The body is the world's kinematic guard body: guardsim sets its velocity and angular velocity, and
+``space.step(dt)`` moves it. Each tick the guard turns toward its direction of travel by at most
+``turn_speed * dt``; if it faces more than :data:`~guardsim.motion.parameters.STEER_DEGREES` away from
+it, it turns in place, otherwise it walks (at most ``move_speed * dt``, straight at the corner) while it
+finishes the turn. Arriving at a corner or a heading, the last fraction of a step or turn is taken
+exactly, and the body is set on the corner (the physics step leaves it within a rounding error of it),
+so that a guard standing on a cell centre facing a grid heading sees what the grid guard sees there.
+"""
+
+from __future__ import annotations
+
+import math
+
+import numpy as np
+
+from guardsim.motion.parameters import STEER_DEGREES, GuardMotion
+from guardsim.world import World
+
+__all__ = ["Follower", "Pose"]
+
+Pose = tuple[tuple[float, float], float, tuple[float, float], float]
+
+
+class Follower:
+    """Steers ``world``'s guard body; :attr:`position` and :attr:`heading` are the body's, read each tick."""
+
+    def __init__(self, world: World, motion: GuardMotion, position: tuple[float, float], heading: float) -> None:
+        self.world = world
+        self.motion = motion
+        self.body = world.guard_body
+        self.space = world.space
+        self._dt = motion.dt
+        self._step = motion.step_length
+        self._turn = motion.turn_step
+        self.facing: float | None = None
+        """A heading to turn to in place before walking on (``None``: walk)."""
+        self._set(position, heading)
+
+    def _set(self, position: tuple[float, float], heading: float) -> None:
+        body = self.body
+        body.position = position
+        body.angle = math.radians(heading % 360.0)
+        body.velocity = (0.0, 0.0)
+        body.angular_velocity = 0.0
+        self.space.reindex_shapes_for_body(body)
+        self.position = (float(position[0]), float(position[1]))
+        self.heading = heading % 360.0
+
+    def save(self) -> Pose:
+        """The body's state, to put back after the grid loop has moved it while planning."""
+        return self.position, self.heading, tuple(self.body.velocity), self.body.angular_velocity  # type: ignore[return-value]
+
+    def restore(self, pose: Pose) -> None:
+        """Put the body back as :meth:`save` found it."""
+        self._set(pose[0], pose[1])
+
+    def walk_to(self, corner: np.ndarray | tuple[float, float]) -> bool:
+        """One tick toward ``corner``; returns whether the body has arrived there."""
+        x, y = self.position
+        target_x, target_y = float(corner[0]), float(corner[1])
+        dx, dy = target_x - x, target_y - y
+        distance = math.hypot(dx, dy)
+        if distance == 0:
+            return True
+        travel = math.degrees(math.atan2(dy, dx)) % 360.0
+        delta = _signed(travel - self.heading)
+        walking = abs(delta) <= STEER_DEGREES + 1e-9
+        arriving = walking and distance <= self._step
+        step = (distance if arriving else self._step) if walking else 0.0
+        speed = step / self._dt
+        self._advance((dx / distance * speed, dy / distance * speed), delta, travel)
+        if arriving:
+            self.body.position = (target_x, target_y)
+            self.space.reindex_shapes_for_body(self.body)
+            self.position = (target_x, target_y)
+        return arriving
+
+    def turn_to(self, heading: float) -> bool:
+        """One tick of turning in place toward ``heading``; returns whether it faces it now."""
+        delta = _signed(heading - self.heading)
+        self._advance((0.0, 0.0), delta, heading % 360.0)
+        if abs(delta) <= self._turn:
+            self.facing = None
+            return True
+        return False
+
+    def _advance(self, velocity: tuple[float, float], delta: float, aim: float) -> None:
+        """Set the body's velocities for this tick (turning by ``delta`` at most one tick's worth), step
+        the space, and read the pose back; a turn that reaches ``aim`` ends exactly on it."""
+        body = self.body
+        turn = max(-self._turn, min(self._turn, delta))
+        body.velocity = velocity
+        body.angular_velocity = math.radians(turn) / self._dt
+        self.space.step(self._dt)
+        body.velocity = (0.0, 0.0)
+        body.angular_velocity = 0.0
+        if abs(delta) <= self._turn:
+            body.angle = math.radians(aim)
+            self.heading = aim
+        else:
+            heading = math.degrees(body.angle) % 360.0
+            body.angle = math.radians(heading)
+            self.heading = heading
+        position = body.position
+        self.position = (float(position[0]), float(position[1]))
+
+
+def _signed(angle: float) -> float:
+    """``angle`` in degrees wrapped to ``(-180, 180]``."""
+    wrapped = (angle + 180.0) % 360.0 - 180.0
+    return 180.0 if wrapped == -180.0 else wrapped
