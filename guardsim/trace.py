@@ -63,6 +63,24 @@ class Trace:
     """The line-of-sight rule simulated: ``"pymunk"`` or ``"bresenham"``."""
     planner_options: Mapping[str, Any] = field(default_factory=dict)
     """The options the planner was made with (``make_planner(planner, **planner_options)``)."""
+    motion: str = "grid"
+    """``"grid"`` (a step per tick) or ``"continuous"`` (the physics body, a tick per ``1 / tick_hz`` s;
+    then :attr:`path`, :attr:`headings`, :attr:`unseen_percent` and :attr:`first_seen` count physics ticks,
+    :attr:`path` holding the cell the body is in and :attr:`headings` the nearest heading number)."""
+    move_speed: float | None = None
+    """Continuous motion: walking speed, world units per second."""
+    turn_speed: float | None = None
+    """Continuous motion: turning speed, degrees per second."""
+    tick_hz: float | None = None
+    """Continuous motion: physics ticks per second."""
+    seconds: float | None = None
+    """Continuous motion: game time of the episode, seconds."""
+    poses: np.ndarray | None = None
+    """Continuous motion: ``float (ticks + 1, 4)``, ``[t, x, y, heading_degrees]`` per physics tick (world
+    units; heading 0 along +x, 90 along +y, y down)."""
+    measures: Mapping[str, Any] = field(default_factory=dict)
+    """Continuous motion: seconds to cover and T50/T90/T99 in seconds, distance, turning (see
+    ``docs/motion.md``)."""
 
     @property
     def guards(self) -> int:
@@ -143,6 +161,19 @@ class Trace:
             "fov_degrees": self.fov_degrees,
             "line_of_sight": self.line_of_sight,
             "planner_options": dict(self.planner_options),
+            **(
+                {
+                    "motion": self.motion,
+                    "move_speed": self.move_speed,
+                    "turn_speed": self.turn_speed,
+                    "tick_hz": self.tick_hz,
+                    "seconds": self.seconds,
+                    "measures": dict(self.measures),
+                    "poses": [] if self.poses is None else np.round(self.poses, 6).tolist(),
+                }
+                if self.motion != "grid"
+                else {}
+            ),
         }
 
     def to_json(self) -> str:
@@ -178,6 +209,13 @@ class Trace:
             fov_degrees=_optional_float(data.get("fov_degrees")),
             line_of_sight=data.get("line_of_sight"),
             planner_options=dict(data.get("planner_options") or {}),
+            motion=data.get("motion", "grid"),
+            move_speed=_optional_float(data.get("move_speed")),
+            turn_speed=_optional_float(data.get("turn_speed")),
+            tick_hz=_optional_float(data.get("tick_hz")),
+            seconds=_optional_float(data.get("seconds")),
+            poses=None if data.get("poses") is None else np.asarray(data["poses"], dtype=np.float64).reshape(-1, 4),
+            measures=dict(data.get("measures") or {}),
         )
 
 
