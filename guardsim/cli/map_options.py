@@ -11,7 +11,7 @@ import dataclasses
 import functools
 import sys
 from collections.abc import Callable
-from typing import Any, TypeVar
+from typing import Any, TypeVar, cast
 
 import click
 
@@ -86,7 +86,7 @@ def map_options(command: F) -> F:
     decorated: Any = wrapper
     for option in reversed(_OPTIONS):
         decorated = option(decorated)
-    return decorated  # type: ignore[no-any-return]
+    return cast(F, decorated)
 
 
 _OPTIONS = [

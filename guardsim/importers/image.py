@@ -45,7 +45,7 @@ def read_image(
         with warnings.catch_warnings():
             # The size check below replaces Pillow's own bomb warning, which would print a second line.
             warnings.simplefilter("ignore", Image.DecompressionBombWarning)
-            image = Image.open(io.BytesIO(data))
+            image: Image.Image = Image.open(io.BytesIO(data))
         width, height = image.size
         if width * height > max_pixels:
             raise LevelError(

@@ -19,7 +19,7 @@ import re
 import stat
 import warnings
 from collections.abc import Iterator
-from typing import Any
+from typing import Any, cast
 from xml.etree import ElementTree
 
 from guardsim.errors import LevelError
@@ -155,12 +155,13 @@ def parse_xml_bytes(data: bytes, source: str, *, max_depth: int = MAX_XML_DEPTH)
     """An XML document's root element; elements nested deeper than ``max_depth`` are refused."""
     depth = 0
     try:
-        parser = ElementTree.XMLPullParser(events=("start", "end"))
+        parser: ElementTree.XMLPullParser = ElementTree.XMLPullParser(events=("start", "end"))
         root: ElementTree.Element | None = None
         # Feed in slices so that a too-deep document is refused as soon as the depth is passed.
         for offset in range(0, max(len(data), 1), 1 << 16):
             parser.feed(data[offset : offset + (1 << 16)])
-            for event, element in parser.read_events():
+            events = cast("Iterator[tuple[str, ElementTree.Element]]", parser.read_events())
+            for event, element in events:
                 if event == "start":
                     depth += 1
                     root = element if root is None else root

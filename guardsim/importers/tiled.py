@@ -21,11 +21,13 @@ import math
 import os
 from collections.abc import Iterable
 from pathlib import Path
+from typing import cast
 
 import numpy as np
 import shapely
 from shapely.geometry import Point as ShapelyPoint
 from shapely.geometry import Polygon, box
+from shapely.geometry.base import BaseGeometry
 
 from guardsim.errors import LevelError
 from guardsim.importers.imported import ImportedLevel, check_raster_limits, level_from_walls
@@ -104,10 +106,9 @@ def import_tiled(
     ]
     shape_walls = [shape for layer in tiled.tile_layers for shape in geometry.tile_shapes(layer, roles.shaped_gids)]
     wall_objects = [item for _, item in roles.wall_objects]
-    object_walls = [geometry.object_wall(item) for item in wall_objects if item.closed]
-    object_walls = [wall for wall in object_walls if wall is not None]
+    object_walls = [wall for item in wall_objects if item.closed and (wall := geometry.object_wall(item)) is not None]
     open_walls = sum(1 for item in wall_objects if not item.closed)
-    walls: list[shapely.Geometry] = [*object_walls, *shape_walls, *wall_boxes]
+    walls: list[BaseGeometry] = [*object_walls, *shape_walls, *wall_boxes]
 
     free, floor_boxes = _free_area(source, roles, geometry, walls, changes)
     bounds = _tile_bounds(free.bounds if free is not None else shapely.total_bounds(floor_boxes))
@@ -206,7 +207,7 @@ class _Geometry:
         self.snapped += moved
         return Polygon(points)
 
-    def object_wall(self, item: TiledObject) -> shapely.Geometry | None:
+    def object_wall(self, item: TiledObject) -> BaseGeometry | None:
         """A wall object's area; a tile object of a tile with collision shapes is those shapes."""
         info = self.tiled.tiles.get(item.gid) if item.gid else None
         if info is None or not info.shapes:
@@ -237,10 +238,10 @@ class _Geometry:
         dx, dy = layer.offset[0] / self.scale[0], layer.offset[1] / self.scale[1]
         return list(shapely.box(cols[starts] + dx, rows[starts] + dy, cols[ends] + 1 + dx, rows[starts] + 1 + dy))
 
-    def tile_shapes(self, layer: TileLayer, gids: set[int]) -> list[shapely.Geometry]:
+    def tile_shapes(self, layer: TileLayer, gids: set[int]) -> list[BaseGeometry]:
         """The collision shapes of the layer's tiles in ``gids``, placed at their cells (in tiles)."""
         keep = np.isin(layer.gids, list(gids)) if gids else np.zeros(layer.gids.size, dtype=bool)
-        pieces: list[shapely.Geometry] = []
+        pieces: list[BaseGeometry] = []
         for col, row, gid in zip(layer.cols[keep].tolist(), layer.rows[keep].tolist(), layer.gids[keep].tolist()):
             info = self.tiled.tiles[gid]
             # A tile taller than the grid is drawn from the cell's bottom-left corner, as Tiled does.
@@ -254,8 +255,8 @@ class _Geometry:
 
 
 def _free_area(
-    source: str, roles: Guesses, geometry: _Geometry, walls: list[shapely.Geometry], changes: list[str]
-) -> tuple[shapely.Geometry | None, list[Polygon]]:
+    source: str, roles: Guesses, geometry: _Geometry, walls: list[BaseGeometry], changes: list[str]
+) -> tuple[BaseGeometry | None, list[Polygon]]:
     """The boundary objects' area (and no floor boxes), or ``None`` and the floor layers' tile boxes."""
     if roles.boundary_objects:
         free = shapely.union_all([shapely.make_valid(geometry.polygon(item)) for _, item in roles.boundary_objects])
@@ -285,7 +286,7 @@ def _free_area(
     return None, boxes
 
 
-def _walled_void(layer: TileLayer, gid: int, walls: list[shapely.Geometry]) -> bool:
+def _walled_void(layer: TileLayer, gid: int, walls: list[BaseGeometry]) -> bool:
     """Whether walls line the border between the cells of tile ``gid`` and the layer's other cells.
 
     A painted void meets the level at its walls; a grass tile that fills a town's edge meets paths and
@@ -298,14 +299,12 @@ def _walled_void(layer: TileLayer, gid: int, walls: list[shapely.Geometry]) -> b
     grid[rows, cols] = layer.gids == gid
     across_rows, across_cols = np.nonzero(grid[:, :-1] != grid[:, 1:])
     down_rows, down_cols = np.nonzero(grid[:-1, :] != grid[1:, :])
-    points = shapely.points(
-        np.r_[across_cols + 1.0, down_cols + 0.5],
-        np.r_[across_rows + 0.5, down_rows + 1.0],
-    )
-    if not len(points):
+    count = across_rows.size + down_rows.size
+    if not count:
         return False
+    points = shapely.points(np.r_[across_cols + 1.0, down_cols + 0.5], np.r_[across_rows + 0.5, down_rows + 1.0])
     hits = shapely.STRtree(walls).query(points, predicate="dwithin", distance=VOID_WALL_DISTANCE)
-    return np.unique(hits[0]).size >= VOID_WALLED_SHARE * len(points)
+    return np.unique(hits[0]).size >= VOID_WALLED_SHARE * count
 
 
 def _not_void(layer: TileLayer, void_gid: int) -> np.ndarray | None:
@@ -377,11 +376,12 @@ def _spawns(tiled: TiledMap, roles: Guesses, geometry: _Geometry) -> tuple[list[
     points: list[tuple[float, float]] = []
     sources = []
     layers: dict[str, int] = {}
-    for layer, item in roles.spawn_objects:
+    for object_layer, item in roles.spawn_objects:
         outline = np.asarray(item.outline, dtype=float) / geometry.scale
         centre = Polygon(outline).centroid if item.closed else ShapelyPoint(outline.mean(axis=0))
         points.append((round(centre.x, 6), round(centre.y, 6)))
-        layers["/".join(layer.path)] = layers.get("/".join(layer.path), 0) + 1
+        name = "/".join(object_layer.path)
+        layers[name] = layers.get(name, 0) + 1
     sources += [f"{count} objects in {name!r}" for name, count in layers.items()]
     tile_count = 0
     for layer in tiled.tile_layers:
@@ -404,7 +404,7 @@ def _usable_starts(
     if not points:
         return [], []
     world = World(level)
-    free = level.free_area()
+    free = cast(BaseGeometry, level.free_area())
     min_x, min_y, _, _ = level.bounds
     rows, cols = level.grid_shape()
     size = level.cell_size
@@ -426,7 +426,7 @@ def _keep_spawn_areas(
     level: Level, starts: list[tuple[float, float]], *, source: str, max_cells: int, max_vertices: int
 ) -> tuple[Level, str]:
     """The level without the parts of its free area that hold no start (when there are starts)."""
-    parts = list(shapely.get_parts(level.free_area()))
+    parts = list(shapely.get_parts(cast(BaseGeometry, level.free_area())))
     if not starts or len(parts) < 2:
         return level, ""
     points = [ShapelyPoint(point) for point in starts]
@@ -453,7 +453,7 @@ def _keep_spawn_areas(
 def _look_warnings(level: Level, has_starts: bool) -> list[str]:
     """Warnings about a level that looks unlike a drawn level."""
     warnings = []
-    free = level.free_area()
+    free = cast(BaseGeometry, level.free_area())
     if free.is_empty or free.area <= 0:
         return ["the free area is empty"]
     min_x, min_y, max_x, max_y = level.bounds

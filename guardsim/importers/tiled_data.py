@@ -179,6 +179,7 @@ def decode_tile_data(raw: Any, encoding: str | None, compression: str | None, co
     TMX ``<tile gid>`` elements or a JSON array). Compressed data is inflated no further than ``count``
     tiles, so a tiny file cannot unpack to gigabytes.
     """
+    values: np.ndarray
     try:
         if encoding == "csv" and isinstance(raw, str):
             text = raw.strip().rstrip(",")
@@ -203,4 +204,4 @@ def decode_tile_data(raw: Any, encoding: str | None, compression: str | None, co
         raise LevelError(f"{where}: tile ids must be between 0 and 2**32 - 1")
     if values.size != count:
         raise LevelError(f"{where}: tile data has {values.size} tiles, expected {count}")
-    return (values & GID_MASK).astype(np.int64)
+    return np.bitwise_and(values.astype(np.int64), GID_MASK)

@@ -21,11 +21,12 @@ do for untrusted files:
 from __future__ import annotations
 
 import copy
+import functools
 import os
 import re
 from collections.abc import Callable
 from pathlib import Path
-from typing import Any, TypeVar
+from typing import Any, TypeVar, cast
 from xml.etree import ElementTree
 
 import numpy as np
@@ -191,7 +192,7 @@ class _Reader:
         for firstgid, tileset in self.tilesets.items():
             for tile_id, tile in (tileset.tiles or {}).items():
                 where = f"tileset {tileset.name!r} tile {tile_id}"
-                shapes = ()
+                shapes: tuple[TiledObject, ...] = ()
                 if tile.objects is not None and isinstance(tile.objects, PtObjectLayer):
                     shapes = tuple(
                         self.convert_object(item, (0.0, 0.0), f"{where} collision shape")
@@ -258,7 +259,9 @@ class _Reader:
             self.tilesets[firstgid] = self.call(where, lambda: tmx_tileset.parse(element, firstgid, "utf-8", folder))
         else:
             raw = _json_tileset_defaults(embedded)
-            self.tilesets[firstgid] = self.call(where, lambda: json_tileset.parse(raw, firstgid, "utf-8", folder))
+            self.tilesets[firstgid] = self.call(
+                where, lambda: json_tileset.parse(cast(Any, raw), firstgid, "utf-8", folder)
+            )
 
     def add_tile_layer(
         self,
@@ -349,7 +352,7 @@ class _Reader:
         self.infinite = root.get("infinite") == "1"
         for index, element in enumerate(root.findall("tileset")):
             firstgid = self.integer(element.get("firstgid"), f"tileset {index} firstgid")
-            where = f"tileset {display_name(element.get('source') or element.get('name') or index)}"
+            where = f"tileset {display_name(element.get('source') or element.get('name') or str(index))}"
             self.load_tileset(firstgid, element.get("source"), element, where)
         self.check_tile_count(
             self.integer(root.get("width"), "map width", 0), self.integer(root.get("height"), "map height", 0), "map"
@@ -366,7 +369,7 @@ class _Reader:
                 name = element.get("name", "")
                 where = f"layer {excerpt(name)}"
                 shell = _shell(element)
-                common = self.call(where, lambda s=shell: tmx_layer.parse(s, "utf-8", self.folder))
+                common = self.call(where, functools.partial(tmx_layer.parse, shell, "utf-8", self.folder))
                 shift = (
                     offset[0] + self.number(element.get("offsetx"), f"{where} offsetx", 0.0),
                     offset[1] + self.number(element.get("offsety"), f"{where} offsety", 0.0),
@@ -401,7 +404,7 @@ class _Reader:
             for item in filled.findall("object"):
                 self.call(
                     f"{where} object {_word(item.get('id'))}",
-                    lambda i=item: tmx_object.parse(i, "utf-8", self.folder),
+                    functools.partial(tmx_object.parse, item, "utf-8", self.folder),
                 )
             raise self.error(where, _why(error)) from None
         if not isinstance(layer, PtObjectLayer):
@@ -474,7 +477,7 @@ class _Reader:
                     shell.pop("encoding", None)
                 elif kind != "imagelayer":
                     continue
-                common = self.call(where, lambda s=shell: json_layer.parse(s, "utf-8", self.folder))
+                common = self.call(where, functools.partial(json_layer.parse, cast(Any, shell), "utf-8", self.folder))
                 shift = (
                     offset[0] + self.number(raw.get("offsetx"), f"{where}.offsetx", 0.0),
                     offset[1] + self.number(raw.get("offsety"), f"{where}.offsety", 0.0),
@@ -507,7 +510,9 @@ class _Reader:
                     objects = [
                         self.call(
                             f"{where}.objects[{number}]",
-                            lambda o=item: json_object.parse(_json_object_defaults(o), "utf-8", self.folder),
+                            functools.partial(
+                                json_object.parse, cast(Any, _json_object_defaults(item)), "utf-8", self.folder
+                            ),
                         )
                         for number, item in enumerate(raw_objects)
                     ]

@@ -32,6 +32,7 @@ from __future__ import annotations
 
 import re
 from collections.abc import Iterable, Sequence
+from collections.abc import Set as AbstractSet
 from dataclasses import dataclass, field
 from typing import Any
 
@@ -99,7 +100,7 @@ def words(name: str) -> set[str]:
     return {part.lower() for part in re.split(r"[^A-Za-z0-9]+", spaced) if part}
 
 
-def _says(name: str, vocabulary: frozenset[str]) -> bool:
+def _says(name: str, vocabulary: AbstractSet[str]) -> bool:
     return bool(words(name) & vocabulary)
 
 
@@ -192,9 +193,8 @@ def _object_boundary(layer: ObjectLayer, item: TiledObject) -> bool:
 def assign_roles(tiled: TiledMap, options: RoleOptions) -> Guesses:
     """Floor layers, wall tiles and objects, spawns and boundary objects of ``tiled``."""
     found = Guesses()
-    known = {layer.name for layer in (*tiled.tile_layers, *tiled.object_layers)} | {
-        "/".join(layer.path) for layer in (*tiled.tile_layers, *tiled.object_layers)
-    }
+    every: list[TileLayer | ObjectLayer] = [*tiled.tile_layers, *tiled.object_layers]
+    known = {layer.name for layer in every} | {"/".join(layer.path) for layer in every}
     for name in (*options.wall_layers, *options.floor_layers):
         if name not in known:
             found.warnings.append(f"no layer named {name!r} (layers: {', '.join(sorted(known))[:200]})")
@@ -253,8 +253,7 @@ def assign_roles(tiled: TiledMap, options: RoleOptions) -> Guesses:
                 nameless = not item.name and not item.kind
                 own = says or (wall_layer and (not mixed or nameless) and not (item.name and mixed))
                 if item.gid and not own:
-                    info = tiled.tiles.get(item.gid)
-                    own = bool(info and (item.gid in found.wall_gids or item.gid in found.shaped_gids))
+                    own = item.gid in found.wall_gids or item.gid in found.shaped_gids
             if own:
                 found.wall_objects.append((layer, item))
     tile_ids = set(options.spawn_tiles) | {gid for gid, info in tiled.tiles.items() if _says(info.kind, {"guard"})}

@@ -18,11 +18,12 @@ from __future__ import annotations
 
 import math
 from collections.abc import Sequence
-from typing import NamedTuple
+from typing import NamedTuple, cast
 
 import numpy as np
 import shapely
 from shapely.geometry import Polygon, box
+from shapely.geometry.base import BaseGeometry
 from shapely.geometry.polygon import orient
 
 __all__ = ["WallReport", "blocked_cell_walls", "hole_rings", "ring_vertex_count", "snap_points"]
@@ -135,7 +136,8 @@ def hole_rings(
     """
     pieces: list[Polygon] = []
     split = dropped = 0
-    for wall in walls:
+    for given in walls:
+        wall = cast(BaseGeometry, given)
         if not wall.is_valid:
             split += 1
             wall = shapely.make_valid(wall)
