@@ -27,7 +27,7 @@ from guardsim.planners import make_planner
 from guardsim.scene import Scene
 from guardsim.simulation import Simulation, default_max_steps
 from guardsim.starts import episode_start
-from guardsim.trace import OUTCOMES, Trace
+from guardsim.trace import Trace
 from guardsim.vision.rules import LineOfSight
 
 __all__ = ["ContinuousSimulation", "default_max_seconds", "run_continuous"]
@@ -69,7 +69,7 @@ class ContinuousSimulation:
     >>> sim.reset(start=(0, 1), heading=0)
     >>> trace = sim.run()
     >>> trace.outcome, trace.seconds, sim.position
-    ('covered', 1.333333, (3.166667, 1.5))
+    ('covered', 7.9, (8.233333, 2.5))
     """
 
     def __init__(
@@ -200,9 +200,9 @@ class ContinuousSimulation:
                 return
             if self._outcome is not _RUNNING:
                 return
-            final, self._final_heading = self._final_heading, None
-            if final is not None and _angle_between(final, follower.heading) > 1e-9:
-                follower.facing = final
+            last, self._final_heading = self._final_heading, None
+            if last is not None and _angle_between(last, follower.heading) > 1e-9:
+                follower.facing = last
                 return
 
     def _needed_after(self, tick: int) -> bool:
@@ -432,7 +432,13 @@ def run_continuous(
     episode ``episode`` does.
     """
     simulation = ContinuousSimulation(
-        scene, planner, motion=motion, max_seconds=max_seconds, max_steps=max_steps, reference=reference, **planner_options
+        scene,
+        planner,
+        motion=motion,
+        max_seconds=max_seconds,
+        max_steps=max_steps,
+        reference=reference,
+        **planner_options,
     )
     simulation.reset(seed=seed, episode=episode, start=start, heading=heading, rng=rng)
     return simulation.run()

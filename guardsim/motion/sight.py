@@ -44,7 +44,9 @@ def _cone_terms(cone: VisionCone, heading_degrees: float) -> tuple[float, float,
 def _cell_span(eye: float, origin: float, cell_size: float, reach: float, count: int) -> tuple[int, int]:
     """First and last cell index whose centre may lie within ``reach`` cells of ``eye`` along one axis."""
     middle = (eye - origin) / cell_size - 0.5
-    return max(0, math.ceil(middle - reach - _EDGE_TOLERANCE)), min(count - 1, math.floor(middle + reach + _EDGE_TOLERANCE))
+    return max(0, math.ceil(middle - reach - _EDGE_TOLERANCE)), min(
+        count - 1, math.floor(middle + reach + _EDGE_TOLERANCE)
+    )
 
 
 def pose_visible_cells(
@@ -75,7 +77,10 @@ def pose_visible_cells(
             inside &= (distance == 0) | (dx * hx + dy * hy >= (cos_half - _EDGE_TOLERANCE) * distance)
         inside &= grid.traversable[target_rows, target_cols]
         for col, row, target_x, target_y in zip(
-            target_cols[inside].tolist(), target_rows[inside].tolist(), centre_x[inside].tolist(), centre_y[inside].tolist()
+            target_cols[inside].tolist(),
+            target_rows[inside].tolist(),
+            centre_x[inside].tolist(),
+            centre_y[inside].tolist(),
         ):
             if world.line_of_sight((x, y), (target_x, target_y)):
                 seen.append(row * cols + col)

@@ -56,7 +56,10 @@ def pull_route(world: World, grid: CoverageGrid, cells: Sequence[int], radius: f
     ticks = np.flatnonzero(keep)
     route = route[keep]
     centres = np.stack(
-        [grid.origin[0] + (route % cols + 0.5) * grid.cell_size, grid.origin[1] + (route // cols + 0.5) * grid.cell_size],
+        [
+            grid.origin[0] + (route % cols + 0.5) * grid.cell_size,
+            grid.origin[1] + (route // cols + 0.5) * grid.cell_size,
+        ],
         axis=1,
     )
     corners = [0]
