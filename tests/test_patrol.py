@@ -1,0 +1,300 @@
+"""Patrols: every lap of a loop sees the goal (replayed through the vision, not the view table), the
+scores are the idleness the definition gives, the loop beats the walked baselines, and patrol.json is
+read strictly."""
+
+from __future__ import annotations
+
+import json
+import subprocess
+import sys
+from pathlib import Path
+from typing import Any
+
+import numpy as np
+import pytest
+from click.testing import CliRunner
+
+from guardsim.cli import main
+from guardsim.grid import cell_of_state, heading_of_state
+from guardsim.level import load_level
+from guardsim.patrol import Patrol, parse_patrol, patrol_data, patrol_setup, plan_loop, plan_patrol, score_patrol
+from guardsim.patrol.export import route_data
+from guardsim.patrol.loops import closed_tour
+from guardsim.patrol.scoring import score_timeline, seen_timeline
+from guardsim.scene import Scene
+from tests.common import LEVELS, TINY_LEVELS, scene_from, tiny_levels, write_level
+
+#: A corridor one cell wide and five long between two 3 x 3 rooms (x 0-3 and 8-11, y 0-3; corridor y 1-2).
+CORRIDOR: dict[str, Any] = {
+    "name": "corridor",
+    "outer": [[0, 0], [3, 0], [3, 1], [8, 1], [8, 0], [11, 0], [11, 3], [8, 3], [8, 2], [3, 2], [3, 3], [0, 3]],
+    "guard": {"start": [0.5, 0.5], "heading": "right", "radius": 0.3},
+}
+
+
+def _replay_sees(scene: Scene, patrol: Patrol, start: int, ticks: int) -> np.ndarray:
+    """Cells seen over ``ticks`` ticks from ``start``, asking the reference vision at every tick."""
+    vision = scene.reference_vision()
+    grid = scene.grid
+    seen = np.zeros(grid.size, dtype=bool)
+    for tick in range(start, start + ticks):
+        for guard in range(patrol.guards):
+            state = patrol.state(guard, tick)
+            col, row = grid.unflat(int(cell_of_state(state)))
+            seen[vision(col, row, int(heading_of_state(state)))] = True
+    return seen
+
+
+def _legal(scene: Scene, patrol: Patrol) -> None:
+    """Every tick of every lap is a grid move (via the strict reader, which checks each one)."""
+    data = patrol_data(
+        patrol, score_patrol(patrol_setup(scene).table, patrol, patrol_setup(scene).goal), scene.grid, level="x"
+    )
+    again = parse_patrol(json.loads(json.dumps(data)), scene.grid)
+    assert again.period == patrol.period
+    assert np.array_equal(again.states, patrol.states)
+
+
+@tiny_levels
+@pytest.mark.parametrize("guards", [1, 2])
+def test_every_lap_of_a_loop_sees_the_goal(level_data: dict[str, Any], guards: int) -> None:
+    scene = scene_from(level_data)
+    setup = patrol_setup(scene, guards)
+    for planner in ("cover", "tour"):
+        patrol = plan_loop(setup, guards, planner=planner)[0].patrol
+        assert patrol.period is not None
+        _legal(scene, patrol)
+        for lap in range(2):
+            # A lap is any window of `period` ticks, not only the one starting at tick 0.
+            for start in (lap * patrol.period, lap * patrol.period + patrol.period // 2):
+                assert np.all(_replay_sees(scene, patrol, start, patrol.period)[setup.goal])
+
+
+@pytest.fixture(scope="module")
+def shipped_loops() -> dict[str, tuple[Scene, Any]]:
+    loops = {}
+    for path in LEVELS:
+        scene = Scene.from_level(load_level(path))
+        setup = patrol_setup(scene, 1)
+        loops[path.stem] = (scene, setup, plan_loop(setup, 1)[0])
+    return loops
+
+
+@pytest.mark.parametrize("name", [path.stem for path in LEVELS])
+def test_shipped_loops_see_every_reachable_cell_each_lap(shipped_loops: dict[str, Any], name: str) -> None:
+    scene, setup, plan = shipped_loops[name]
+    patrol = plan.patrol
+    vision = scene.vision()
+    grid = scene.grid
+    seen = np.zeros(grid.size, dtype=bool)
+    for tick in range(patrol.period):
+        state = patrol.state(0, tick)
+        col, row = grid.unflat(int(cell_of_state(state)))
+        seen[vision(col, row, int(heading_of_state(state)))] = True
+    assert np.all(seen[setup.goal])
+    assert plan.score.worst_idleness is not None and plan.score.worst_idleness < patrol.period
+    _legal(scene, patrol)
+
+
+def test_loop_beats_the_walked_strategies_on_a_shipped_level(shipped_loops: dict[str, Any]) -> None:
+    _, setup, plan = shipped_loops["square"]
+    for strategy in ("staleness", "ripplefront", "random"):
+        walked = plan_patrol(setup, strategy, laps=3, warmup_laps=1, lap=plan.patrol.period)
+        assert walked.patrol.period is None
+        assert walked.score.worst_idleness is not None
+        assert plan.score.worst_idleness < walked.score.worst_idleness, strategy
+
+
+@tiny_levels
+def test_periodic_score_is_the_long_run_score(level_data: dict[str, Any]) -> None:
+    """The exact lap score equals idleness measured tick by tick over many laps after a warm-up lap."""
+    scene = scene_from(level_data)
+    setup = patrol_setup(scene, 2)
+    patrol = plan_loop(setup, 2, planner="cover")[0].patrol
+    exact = score_patrol(setup.table, patrol, setup.goal)
+    ticks = patrol.period * 7
+    timeline = seen_timeline(setup.table, patrol.unrolled(ticks), setup.goal.size)
+    long_run = score_timeline(timeline, setup.goal, periodic=False, warmup=patrol.period)
+    assert exact.worst_idleness == long_run.worst_idleness
+    assert exact.mean_idleness == pytest.approx(long_run.mean_idleness)
+    # And by definition: the longest run of unseen ticks of each goal cell, cyclically.
+    lap = seen_timeline(setup.table, patrol.states, setup.goal.size)
+    for cell in np.flatnonzero(setup.goal)[:20]:
+        row = np.concatenate([lap[:, cell], lap[:, cell]])
+        runs = [len(part) for part in "".join("x" if v else "." for v in row).split("x")]
+        assert exact.worst_gap[cell] == min(max(runs), patrol.period)
+
+
+def test_team_keeps_the_better_of_shared_and_split() -> None:
+    scene = scene_from(TINY_LEVELS["split-rooms"] | {"holes": []})
+    setup = patrol_setup(scene, 2)
+    plan, scores = plan_loop(setup, 2, planner="cover")
+    assert set(scores) == {"shared", "split"}
+    chosen = scores[plan.patrol.team]
+    assert all(chosen.worst_idleness <= other.worst_idleness for other in scores.values())
+    assert plan.patrol.notes and plan.patrol.team in plan.patrol.notes[0]
+
+
+def test_closed_tour_is_a_short_cycle() -> None:
+    # Four points on a ring: the cycle goes round it, never across.
+    cost = np.array([[0, 1, 9, 1], [1, 0, 1, 9], [9, 1, 0, 1], [1, 9, 1, 0]])
+    order = closed_tour(cost).tolist()
+    assert order[0] == 0 and sorted(order) == [0, 1, 2, 3]
+    assert sum(cost[a, b] for a, b in zip(order, order[1:] + order[:1])) == 4
+
+
+# -- patrol.json and the command ---------------------------------------------------------------------
+
+
+def _post_file(folder: Path, cell: list[int], heading: int, **changes: Any) -> Path:
+    data = {"shape": [3, 11], "guards": [{"loop": [cell, cell], "headings": [heading, heading]}], **changes}
+    path = folder / "post.json"
+    path.write_text(json.dumps(data), encoding="utf-8")
+    return path
+
+
+def test_evaluate_a_hand_written_post(tmp_path: Path) -> None:
+    level = write_level(tmp_path, CORRIDOR)
+    post = _post_file(tmp_path, [5, 1], 0)
+    result = CliRunner().invoke(main, ["patrol", str(level), "--out", str(tmp_path / "out"), "--evaluate", str(post)])
+    assert result.exit_code == 0, result.output
+    data = json.loads((tmp_path / "out" / "patrol.json").read_text())
+    assert data["period"] == 1 and data["guards"][0]["loop"] == [[5, 1], [5, 1]]
+    # A post never sees the rooms' far corners: their gap is unbounded.
+    assert data["worst_idleness"] is None and data["never_seen"] > 0
+    assert data["idleness"][1][5] == 0 and data["idleness"][0][4] is None
+
+
+@pytest.mark.parametrize(
+    ("guard", "message"),
+    [
+        (
+            {"loop": [[5, 1], [6, 1], [5, 1]], "headings": [2, 1, 2]},
+            "guards[0]: headings[1]: a step right must face right (0), not 1",
+        ),
+        (
+            {"loop": [[5, 1], [7, 1], [5, 1]], "headings": [0, 0, 2]},
+            "guards[0].loop[1]: [5, 1] -> [7, 1] is not a step",
+        ),
+        ({"loop": [[5, 1], [5, 1]], "headings": [0, 1]}, "a guard standing still keeps its heading (0), not 1"),
+        ({"loop": [[5, 1], [6, 1]], "headings": [0, 0]}, "a repeating loop must end as it began"),
+        (
+            {"loop": [[5, 0], [5, 0]], "headings": [0, 0]},
+            "guards[0].loop[0]: [5, 0] is not a cell the guard can stand in",
+        ),
+        ({"loop": [[50, 1]], "headings": [0]}, "guards[0].loop[0]: [50, 1] is off the grid"),
+        ({"loop": [[5, 1]], "headings": [7]}, "guards[0].headings[0]: expected 0, 1, 2 or 3"),
+        ({"loop": [[5, 1]], "headings": []}, "guards[0].headings: expected one heading per loop cell (1), got 0"),
+    ],
+    ids=["heading", "jump", "turn-on-the-spot", "open", "wall", "off-grid", "bad-heading", "count"],
+)
+def test_bad_patrol_files_are_one_located_line(tmp_path: Path, guard: dict[str, Any], message: str) -> None:
+    level = write_level(tmp_path, CORRIDOR)
+    path = tmp_path / "bad.json"
+    path.write_text(json.dumps({"shape": [3, 11], "guards": [guard]}), encoding="utf-8")
+    result = CliRunner().invoke(main, ["patrol", str(level), "--out", str(tmp_path / "o"), "--evaluate", str(path)])
+    assert result.exit_code == 2
+    lines = result.output.strip().splitlines()
+    assert len(lines) == 1 and lines[0].startswith(f"guardsim: error: {path}: ") and message in lines[0], lines
+
+
+@pytest.mark.parametrize(
+    ("text", "message"),
+    [
+        ("[1]", "expected a JSON object, got a list"),
+        ('{"guards": []}', 'missing "shape"'),
+        ('{"shape": [4, 11], "guards": []}', "shape: [4, 11] does not match the level's grid [3, 11]"),
+        ('{"shape": [3, 11], "guards": {}}', "guards: expected a non-empty list"),
+        (
+            '{"shape": [3, 11], "period": 5, "guards": [{"loop": [[5, 1]], "headings": [0]}]}',
+            "period: 5 does not match",
+        ),
+        ('{"shape": [3, 11], "motion": "continuous", "guards": []}', "not yet supported for patrol"),
+        ('{"shape": [3, 11], "guards": [', "not valid JSON"),
+    ],
+    ids=["array", "no-shape", "shape", "guards", "period", "motion", "syntax"],
+)
+def test_bad_patrol_documents(tmp_path: Path, text: str, message: str) -> None:
+    level = write_level(tmp_path, CORRIDOR)
+    path = tmp_path / "bad.json"
+    path.write_text(text, encoding="utf-8")
+    result = CliRunner().invoke(main, ["patrol", str(level), "--out", str(tmp_path / "o"), "--evaluate", str(path)])
+    assert result.exit_code == 2
+    assert len(result.output.strip().splitlines()) == 1 and message in result.output, result.output
+
+
+def test_continuous_motion_is_refused_in_one_line(tmp_path: Path) -> None:
+    level = write_level(tmp_path, CORRIDOR)
+    result = CliRunner().invoke(main, ["patrol", str(level), "--out", str(tmp_path / "o"), "--motion", "continuous"])
+    assert result.exit_code == 2
+    assert (
+        result.output.strip()
+        == "guardsim: error: --motion continuous is not yet supported for patrol (grid motion only, in ticks)"
+    )
+
+
+def test_route_export_merges_straight_runs_and_unrolls_to_the_loop(tmp_path: Path) -> None:
+    scene = scene_from(TINY_LEVELS["square-with-hole"])
+    setup = patrol_setup(scene, 1)
+    patrol = plan_loop(setup, 1)[0].patrol
+    route = route_data(patrol, scene.grid, level="x", speed=4.0)
+    points = route["guards"][0]["waypoints"]
+    assert route["seconds_per_tick"] == 0.25 and route["period_ticks"] == patrol.period
+    assert points[0]["tick"] == 0 and points[-1]["tick"] == patrol.period
+    assert (points[0]["x"], points[0]["y"]) == (points[-1]["x"], points[-1]["y"])
+    cells = patrol.cells(scene.grid, 0) + [patrol.cells(scene.grid, 0)[0]]
+    walked = []
+    for a, b in zip(points, points[1:]):
+        assert b["time"] == pytest.approx(b["tick"] * 0.25)
+        ticks = b["tick"] - a["tick"]
+        dx, dy = (b["x"] - a["x"]) / ticks, (b["y"] - a["y"]) / ticks
+        # Between two waypoints the guard goes straight at one cell per tick, or waits.
+        assert (abs(dx), abs(dy)) in ((1.0, 0.0), (0.0, 1.0), (0.0, 0.0))
+        for step in range(ticks):
+            walked.append((int(a["x"] + dx * step - 0.5), int(a["y"] + dy * step - 0.5)))
+    walked.append(cells[-1])
+    assert walked == cells
+    assert len(points) < len(cells)
+
+
+def test_patrol_command_in_a_real_process(tmp_path: Path) -> None:
+    level = write_level(tmp_path, CORRIDOR)
+    out = tmp_path / "out"
+    run = subprocess.run(
+        [
+            str(Path(sys.executable).parent / "guardsim"),
+            "patrol",
+            str(level),
+            "--out",
+            str(out),
+            "--guards",
+            "2",
+            "--export",
+            str(tmp_path / "route.json"),
+        ],
+        capture_output=True,
+        text=True,
+        check=False,
+    )
+    assert run.returncode == 0, run.stderr
+    data = json.loads((out / "patrol.json").read_text())
+    for key in (
+        "level",
+        "cell_size",
+        "origin",
+        "shape",
+        "motion",
+        "strategy",
+        "period",
+        "guards",
+        "worst_idleness",
+        "mean_idleness",
+        "idleness",
+    ):
+        assert key in data
+    assert data["strategy"] == "loop" and data["motion"] == "grid" and len(data["guards"]) == 2
+    assert data["team"] in ("shared", "split")
+    assert all(guard["loop"][0] == guard["loop"][-1] for guard in data["guards"])
+    assert len(data["idleness"]) == 3 and len(data["idleness"][0]) == 11
+    assert (out / "idleness.png").stat().st_size > 1000
+    assert "worst idleness" in run.stdout
