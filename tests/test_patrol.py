@@ -4,6 +4,7 @@ read strictly."""
 
 from __future__ import annotations
 
+import itertools
 import json
 import subprocess
 import sys
@@ -242,9 +243,9 @@ def test_route_export_merges_straight_runs_and_unrolls_to_the_loop(tmp_path: Pat
     assert route["seconds_per_tick"] == 0.25 and route["period_ticks"] == patrol.period
     assert points[0]["tick"] == 0 and points[-1]["tick"] == patrol.period
     assert (points[0]["x"], points[0]["y"]) == (points[-1]["x"], points[-1]["y"])
-    cells = patrol.cells(scene.grid, 0) + [patrol.cells(scene.grid, 0)[0]]
+    cells = [*patrol.cells(scene.grid, 0), patrol.cells(scene.grid, 0)[0]]
     walked = []
-    for a, b in zip(points, points[1:]):
+    for a, b in itertools.pairwise(points):
         assert b["time"] == pytest.approx(b["tick"] * 0.25)
         ticks = b["tick"] - a["tick"]
         dx, dy = (b["x"] - a["x"]) / ticks, (b["y"] - a["y"]) / ticks
