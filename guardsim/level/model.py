@@ -50,6 +50,12 @@ class GuardSpec:
     """Start position in world units; ``None`` lets the caller draw one."""
     heading: str | None = None
     """First heading (``right``, ``down``, ``left`` or ``up``); ``None`` draws one."""
+    move_speed: float | None = None
+    """Continuous motion: walking speed, world units per second; ``None`` for guardsim.motion's default."""
+    turn_speed: float | None = None
+    """Continuous motion: turning speed, degrees per second; ``None`` for the default."""
+    tick_hz: float | None = None
+    """Continuous motion: physics ticks per second; ``None`` for the default."""
 
 
 @dataclass(frozen=True)

@@ -31,7 +31,8 @@ MAX_OVERLAPS_LISTED = 20
 PAIRS_PER_VERTEX = 2
 
 _TOP_KEYS = {"name", "cell_size", "outer", "holes", "guard", "starts"}
-_GUARD_KEYS = {"view_range", "fov_degrees", "radius", "start", "heading"}
+_MOTION_KEYS = ("move_speed", "turn_speed", "tick_hz")
+_GUARD_KEYS = {"view_range", "fov_degrees", "radius", "start", "heading", *_MOTION_KEYS}
 
 
 def parse_level(
@@ -236,9 +237,14 @@ def _guard(value: Any, problems: list[Problem]) -> GuardSpec | None:
                 f"must be one of {', '.join(HEADINGS)}, not {quoted(heading) if isinstance(heading, str) else excerpt(heading, 40)}",
             )
         )
+    motion = {
+        key: _number(value, key, 1.0, problems, where=f"guard.{key}", positive=True)
+        for key in _MOTION_KEYS
+        if value.get(key) is not None
+    }
     if len(problems) > count or view_range is None or fov is None or radius is None:
         return None
-    return GuardSpec(view_range=view_range, fov_degrees=fov, radius=radius, start=start, heading=heading)
+    return GuardSpec(view_range=view_range, fov_degrees=fov, radius=radius, start=start, heading=heading, **motion)
 
 
 def _fmt(point: tuple[float, float]) -> str:

@@ -25,6 +25,9 @@ def level_to_data(level: Level) -> dict[str, Any]:
         guard["start"] = list(level.guard.start)
     if level.guard.heading is not None:
         guard["heading"] = level.guard.heading
+    for key in ("move_speed", "turn_speed", "tick_hz"):
+        if getattr(level.guard, key) is not None:
+            guard[key] = getattr(level.guard, key)
     data: dict[str, Any] = {
         "name": level.name,
         "cell_size": level.cell_size,
