@@ -1,0 +1,203 @@
+"""The sneak check: complete (agrees with a brute-force search over absolute time on tiny levels), its
+paths are never seen when replayed against the guards, and a post in a one-cell corridor stops it."""
+
+from __future__ import annotations
+
+import json
+from pathlib import Path
+from typing import Any
+
+import numpy as np
+import pytest
+from click.testing import CliRunner
+
+from guardsim.cli import main
+from guardsim.grid import cell_of_state, heading_of_state, state_of
+from guardsim.patrol import Patrol, patrol_setup, plan_loop
+from guardsim.scene import Scene
+from guardsim.sneak import sneak_check
+from guardsim.sneak.search import hiding_windows
+from tests.common import TINY_LEVELS, scene_from, write_level
+from tests.test_patrol import CORRIDOR
+
+
+def _random_loop(scene: Scene, rng: np.random.Generator, length: int) -> np.ndarray:
+    """A random walk out and the same way back: a legal closed lap of ``2 * length`` ticks."""
+    grid = scene.grid
+    goal = np.flatnonzero(grid.largest_component())
+    cells = [int(goal[rng.integers(goal.size)])]
+    moves: list[int] = []
+    for _ in range(length):
+        options = [d for d in range(4) if grid.neighbours[cells[-1], d] >= 0] + [-1]
+        move = int(options[rng.integers(len(options))])
+        moves.append(move)
+        cells.append(cells[-1] if move < 0 else int(grid.neighbours[cells[-1], move]))
+    back = [(-1 if move < 0 else (move + 2) % 4) for move in reversed(moves)]
+    path_moves = moves + back
+    # The heading at the start is the one the guard has after the last move back (or any, if it stood).
+    heading = next((move for move in reversed(path_moves) if move >= 0), 0)
+    states, cell = [], cells[0]
+    for move in path_moves:
+        states.append(state_of(cell, heading))
+        if move >= 0:
+            cell, heading = int(grid.neighbours[cell, move]), move
+    assert state_of(cell, heading) == states[0]
+    return np.asarray(states, dtype=np.int64)
+
+
+def _brute_force(neighbours: np.ndarray, seen: np.ndarray, source: int, target: int) -> tuple[bool, int, int]:
+    """Over absolute time, long enough to visit every (cell, lap tick) pair: (found, fastest unseen
+    ticks, fewest ticks in view)."""
+    period, cells = seen.shape
+    horizon = period * cells + period
+    big = 10**9
+    hidden = np.full(cells, False)
+    fewest = np.full(cells, big)
+    best_ticks, best_seen = -1, big
+    duration = np.full(cells, big)
+    for tick in range(horizon):
+        row = seen[tick % period]
+        if tick:
+            stepped_hidden = hidden.copy()
+            stepped_fewest = fewest.copy()
+            stepped_duration = np.where(hidden, duration + 1, big)
+            for d in range(4):
+                others = neighbours[:, d]
+                valid = others >= 0
+                froms, tos = np.flatnonzero(valid), others[valid]
+                np.logical_or.at(stepped_hidden, tos, hidden[froms])
+                np.minimum.at(stepped_duration, tos, np.where(hidden[froms], duration[froms] + 1, big))
+                np.minimum.at(stepped_fewest, tos, fewest[froms])
+            hidden = stepped_hidden & ~row
+            duration = np.where(hidden, stepped_duration, big)
+            fewest = stepped_fewest + row
+        if not row[source]:
+            hidden[source] = True
+            duration[source] = 0
+        fewest[source] = min(fewest[source], int(row[source]))
+        if hidden[target] and (best_ticks < 0 or duration[target] < best_ticks):
+            best_ticks = int(duration[target])
+        best_seen = min(best_seen, int(fewest[target]))
+    return best_ticks >= 0, best_ticks, best_seen
+
+
+def _replay_never_seen(scene: Scene, patrol: Patrol, start: int, cells: np.ndarray) -> int:
+    """Ticks of the path at which a guard, asked through the reference vision, sees the intruder."""
+    vision = scene.reference_vision()
+    grid = scene.grid
+    caught = 0
+    for offset, cell in enumerate(cells.tolist()):
+        tick = start + offset
+        for guard in range(patrol.guards):
+            state = patrol.state(guard, tick)
+            col, row = grid.unflat(int(cell_of_state(state)))
+            if cell in vision(col, row, int(heading_of_state(state))).tolist():
+                caught += 1
+                break
+    return caught
+
+
+@pytest.mark.parametrize("name", ["square-with-hole", "l-room", "empty-square"])
+def test_sneak_agrees_with_brute_force(name: str) -> None:
+    scene = scene_from(TINY_LEVELS[name] | {"guard": {"start": [0.5, 0.5], "heading": "right", "view_range": 2.5}})
+    setup = patrol_setup(scene)
+    rng = np.random.default_rng(7)
+    grid = scene.grid
+    cells = np.flatnonzero(setup.goal)
+    found_both = set()
+    for trial in range(6):
+        guards = 1 + trial % 2
+        laps = [_random_loop(scene, rng, int(rng.integers(1, 5))) for _ in range(guards)]
+        period = int(np.lcm.reduce([lap.size for lap in laps]))
+        patrol = Patrol(np.stack([np.tile(lap, period // lap.size) for lap in laps]), period, "test")
+        for _ in range(3):
+            source, target = (int(cells[rng.integers(cells.size)]) for _ in range(2))
+            result = sneak_check(grid, setup.table, patrol, source, target)
+            found, fastest, fewest = _brute_force(grid.neighbours, result.seen, source, target)
+            assert result.path is not None
+            assert result.found == found
+            found_both.add(found)
+            if found:
+                assert result.path.ticks == fastest
+                assert _replay_never_seen(scene, patrol, result.path.start_tick, result.path.cells) == 0
+            else:
+                assert result.path.ticks_in_view == fewest > 0
+                assert _replay_never_seen(scene, patrol, result.path.start_tick, result.path.cells) == fewest
+            # Every step is a move to a connected neighbour or a wait.
+            for a, b in zip(result.path.cells[:-1].tolist(), result.path.cells[1:].tolist()):
+                assert a == b or b in grid.neighbours[a].tolist()
+            assert result.path.cells[0] == source and result.path.cells[-1] == target
+    assert found_both == {True, False}
+
+
+def _corridor_post(scene: Scene, col: int, heading: int) -> Patrol:
+    return Patrol(np.array([[state_of(scene.grid.flat(col, 1), heading)]]), 1, "post")
+
+
+def test_a_post_in_a_one_cell_corridor_stops_every_sneak() -> None:
+    scene = scene_from(CORRIDOR)
+    setup = patrol_setup(scene)
+    grid = scene.grid
+    source, target = grid.flat(0, 0), grid.flat(10, 2)
+    for heading in range(4):
+        result = sneak_check(grid, setup.table, _corridor_post(scene, 5, heading), source, target)
+        assert not result.found
+        assert result.path is not None and result.path.ticks_in_view >= 1
+        assert 5 + 1 * 11 in result.path.cells.tolist()
+    # The loop patrol of the same level, by contrast, leaves a gap to slip through.
+    loop = plan_loop(setup, 1, planner="cover")[0].patrol
+    assert sneak_check(grid, setup.table, loop, source, target).found
+
+
+def test_hiding_windows_are_the_longest_unseen_runs() -> None:
+    seen = np.array([[True, False, False], [False, False, True], [True, False, False]])
+    windows = hiding_windows(seen, np.array([True, True, False]))
+    # Cell 0: unseen only at tick 1 (a run of 1); cell 1 never seen: the whole lap; cell 2 is a wall.
+    assert windows.tolist() == [1, 3, -1]
+
+
+def test_sneak_command_writes_the_answer_and_a_gif(tmp_path: Path) -> None:
+    level = write_level(tmp_path, CORRIDOR)
+    patrol = tmp_path / "post.json"
+    patrol.write_text(json.dumps({"shape": [3, 11], "guards": [{"loop": [[5, 1]], "headings": [0]}]}))
+    out = tmp_path / "out"
+    args = [
+        "sneak",
+        str(level),
+        "--patrol",
+        str(patrol),
+        "--from",
+        "0.5,0.5",
+        "--to",
+        "10.5,2.5",
+        "--out",
+        str(out),
+        "--gif",
+    ]
+    result = CliRunner().invoke(main, args)
+    assert result.exit_code == 0, result.output
+    assert "caught" in result.output
+    data: dict[str, Any] = json.loads((out / "sneak.json").read_text())
+    assert data["found"] is False and data["closest_call"] is True and data["ticks_in_view"] >= 1
+    assert data["path"][0] == [0, 0] and data["path"][-1] == [10, 2] and len(data["path"]) == data["ticks"] + 1
+    assert data["never_seen_cells"] > 0
+    assert (out / "sneak.gif").read_bytes()[:6] == b"GIF89a"
+    assert (out / "hiding.png").stat().st_size > 1000
+
+
+@pytest.mark.parametrize(
+    ("point", "message"),
+    [
+        ("99,99", "--from 99,99 lies outside the level"),
+        ("4.5,0.5", "--from 4.5,0.5 is in cell [4, 0], where a guard-sized intruder does not fit"),
+    ],
+)
+def test_sneak_bad_points_are_one_line(tmp_path: Path, point: str, message: str) -> None:
+    level = write_level(tmp_path, CORRIDOR)
+    patrol = tmp_path / "post.json"
+    patrol.write_text(json.dumps({"shape": [3, 11], "guards": [{"loop": [[5, 1]], "headings": [0]}]}))
+    result = CliRunner().invoke(
+        main, ["sneak", str(level), "--patrol", str(patrol), "--from", point, "--to", "10.5,2.5"]
+    )
+    assert result.exit_code == 2
+    assert result.output.strip() == f"guardsim: error: {message}"
