@@ -298,7 +298,7 @@ BAD_TILED = {
     "broken-xml": (
         "map.tmx",
         '<?xml version="1.0"?>\n<map orientation="orthogonal">\n <layer>\n</map>\n',
-        "line 4 column 3",
+        "line 4, column 2",
     ),
     "not-a-map-xml": ("map.tmx", "<tileset/>", "a tileset, not a map"),
     "isometric": ("map.tmx", '<map orientation="isometric" tilewidth="1" tileheight="1"/>', "'isometric'"),

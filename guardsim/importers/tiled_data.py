@@ -18,6 +18,7 @@ import numpy as np
 
 from guardsim.errors import LevelError
 from guardsim.importers.source import excerpt
+from guardsim.reading import NumberError, finite_number
 
 __all__ = [
     "GID_MASK",
@@ -122,18 +123,16 @@ class TiledMap:
 
 def check_number(value: Any, where: str, *, limit: float = MAX_COORDINATE) -> float:
     """``value`` as a float, or a :class:`LevelError` if it is not a finite number within ``limit``."""
-    if isinstance(value, bool) or not isinstance(value, (int, float)):
+    if isinstance(value, str):
+        # TMX attributes reach here as text when pytiled-parser leaves them alone.
         try:
             value = float(value)
-        except (TypeError, ValueError, OverflowError):
+        except ValueError:
             raise LevelError(f"{where} must be a number, not {excerpt(value)}") from None
     try:
-        number = float(value)
-    except OverflowError:
-        number = math.inf
-    if not math.isfinite(number) or abs(number) > limit:
-        raise LevelError(f"{where} must be a finite number within +-{limit:g}, not {excerpt(value)}")
-    return number
+        return finite_number(value, magnitude=limit)
+    except NumberError as error:
+        raise LevelError(f"{where} {error}") from None
 
 
 def _rotated(points: list[Point], x: float, y: float, degrees: float, offset: Point) -> tuple[Point, ...]:
