@@ -26,8 +26,9 @@ REPO = Path(__file__).resolve().parent.parent
 MOVING_AI = REPO.parent / "shared" / "maps" / "movingai" / "AR0603SR.map"
 
 
-def run(tree: Path, arguments: list[str]) -> tuple[float, int]:
-    """Wall seconds and peak resident kilobytes of one ``guardsim`` process run from ``tree``."""
+def run(tree: Path, arguments: list[str]) -> tuple[float, float, int]:
+    """Wall seconds, CPU seconds (user + system) and peak resident kilobytes of one ``guardsim`` process
+    run from ``tree``. CPU time is the steadier figure on a machine shared with other work."""
     env = {**os.environ, "PYTHONPATH": str(tree)}
     command = [sys.executable, "-c", "from guardsim.cli import main; main()", *arguments]
     began = time.perf_counter()
@@ -37,16 +38,14 @@ def run(tree: Path, arguments: list[str]) -> tuple[float, int]:
     stderr = process.stderr.read().decode() if process.stderr else ""
     if os.waitstatus_to_exitcode(status) != 0:
         raise SystemExit(f"{' '.join(arguments)} failed: {stderr.strip()[-500:]}")
-    return seconds, usage.ru_maxrss
+    return seconds, usage.ru_utime + usage.ru_stime, usage.ru_maxrss
 
 
-def measure(tree: Path, level: str, extra: list[str], repeat: int) -> tuple[float, int]:
-    times, memory = [], []
-    for _ in range(repeat):
-        seconds, kilobytes = run(tree, ["play", level, *extra])
-        times.append(seconds)
-        memory.append(kilobytes)
-    return statistics.median(times), int(statistics.median(memory))
+def measure(tree: Path, level: str, extra: list[str], repeat: int) -> tuple[float, float, int]:
+    """Medians of :func:`run` over ``repeat`` runs of ``play LEVEL EXTRA``."""
+    runs = [run(tree, ["play", level, *extra]) for _ in range(repeat)]
+    wall, cpu, memory = (statistics.median(values) for values in zip(*runs))
+    return wall, cpu, int(memory)
 
 
 def level_arguments(tree: Path, work: Path) -> list[tuple[str, str]]:
@@ -76,24 +75,25 @@ def main() -> None:
         gif, page = work / "out.gif", work / "out.html"
         print(f"tree {tree}, median of {options.repeat}")
         print(
-            "| level | play (s) | play --gif (s) | time ratio | play (MB) | play --gif (MB) | memory ratio | GIF (kB) |"
-            + (" --gif --html (s) | HTML (kB) |" if options.html else "")
+            "| level | play wall (s) | --gif wall (s) | wall ratio | play CPU (s) | --gif CPU (s) | CPU ratio "
+            "| play (MB) | --gif (MB) | memory ratio | GIF (kB) |"
+            + (" --gif --html CPU (s) | HTML (kB) |" if options.html else "")
         )
-        print("|---|---:|---:|---:|---:|---:|---:|---:|" + ("---:|---:|" if options.html else ""))
+        print("|---|---:|---:|---:|---:|---:|---:|---:|---:|---:|---:|" + ("---:|---:|" if options.html else ""))
         for name, level in level_arguments(tree, work):
             if options.level and name not in options.level:
                 continue
             run(tree, ["play", level])  # warm-up: fills the compiled-code cache
-            plain_time, plain_memory = measure(tree, level, [], options.repeat)
-            gif_time, gif_memory = measure(tree, level, ["--gif", str(gif)], options.repeat)
+            plain_wall, plain_cpu, plain_memory = measure(tree, level, [], options.repeat)
+            gif_wall, gif_cpu, gif_memory = measure(tree, level, ["--gif", str(gif)], options.repeat)
             row = (
-                f"| {name} | {plain_time:.2f} | {gif_time:.2f} | {gif_time / plain_time:.2f} | "
-                f"{plain_memory / 1024:.0f} | {gif_memory / 1024:.0f} | {gif_memory / plain_memory:.2f} | "
-                f"{gif.stat().st_size / 1000:.0f} |"
+                f"| {name} | {plain_wall:.2f} | {gif_wall:.2f} | {gif_wall / plain_wall:.2f} | {plain_cpu:.2f} | "
+                f"{gif_cpu:.2f} | {gif_cpu / plain_cpu:.2f} | {plain_memory / 1024:.0f} | {gif_memory / 1024:.0f} | "
+                f"{gif_memory / plain_memory:.2f} | {gif.stat().st_size / 1000:.0f} |"
             )
             if options.html:
-                both_time, _ = measure(tree, level, ["--gif", str(gif), "--html", str(page)], options.repeat)
-                row += f" {both_time:.2f} | {page.stat().st_size / 1000:.0f} |"
+                _, both_cpu, _ = measure(tree, level, ["--gif", str(gif), "--html", str(page)], options.repeat)
+                row += f" {both_cpu:.2f} | {page.stat().st_size / 1000:.0f} |"
             print(row, flush=True)
 
 
