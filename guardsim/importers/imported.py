@@ -2,7 +2,6 @@
 
 from __future__ import annotations
 
-import json
 import os
 from collections.abc import Sequence
 from dataclasses import dataclass
@@ -21,6 +20,8 @@ from guardsim.level import (
     DEFAULT_MAX_FILE_BYTES,
     DEFAULT_MAX_VERTICES,
     Level,
+    compact_numbers,
+    level_json_text,
     level_to_data,
     parse_level,
 )
@@ -170,39 +171,3 @@ def check_raster_limits(blocked: np.ndarray, *, source: str, max_vertices: int) 
             f"{source}: the walls of this {cols} x {rows} map need about {vertices} vertices, over the limit of "
             f"{max_vertices} (raise it with --max-vertices)"
         )
-
-
-def level_json_text(data: dict[str, Any]) -> str:
-    """Level JSON as a designer would like to read it: one key per line, one hole per line, and whole
-    numbers written without ``.0``.
-
-    Examples
-    --------
-    >>> print(level_json_text({"outer": [[0.0, 0.0], [4.0, 0.0], [4.0, 4.5]], "holes": [[[1, 1], [2, 1], [2, 2]]]}))
-    {
-      "outer": [[0, 0], [4, 0], [4, 4.5]],
-      "holes": [
-        [[1, 1], [2, 1], [2, 2]]
-      ]
-    }
-    <BLANKLINE>
-    """
-    lines = []
-    for key, value in compact_numbers(data).items():
-        if key == "holes" and isinstance(value, list) and value:
-            rings = ",\n".join(f"    {json.dumps(ring)}" for ring in value)
-            lines.append(f'  "holes": [\n{rings}\n  ]')
-        else:
-            lines.append(f"  {json.dumps(key)}: {json.dumps(value)}")
-    return "{\n" + ",\n".join(lines) + "\n}\n"
-
-
-def compact_numbers(value: Any) -> Any:
-    """Floats that are whole numbers as ints, recursively, so files read ``[12, 40]``, not ``[12.0, 40.0]``."""
-    if isinstance(value, float) and value.is_integer():
-        return int(value)
-    if isinstance(value, list):
-        return [compact_numbers(item) for item in value]
-    if isinstance(value, dict):
-        return {key: compact_numbers(item) for key, item in value.items()}
-    return value
