@@ -1,0 +1,57 @@
+"""The continuous-motion options that ``play`` and ``bench`` share: --motion and the guard's speeds."""
+
+from __future__ import annotations
+
+from collections.abc import Callable
+from typing import Any, TypeVar
+
+import click
+
+from guardsim.cli.common import FiniteFloatRange
+from guardsim.errors import GuardsimError
+from guardsim.motion.parameters import DEFAULT_MOVE_SPEED, DEFAULT_TICK_HZ, DEFAULT_TURN_SPEED, GuardMotion
+from guardsim.scene import Scene
+
+__all__ = ["MOTIONS", "check_motion", "motion_of", "motion_options"]
+
+F = TypeVar("F", bound=Callable[..., Any])
+
+#: The two motion models: the paper's grid steps, or the physics body at game speeds (docs/motion.md).
+MOTIONS = ("grid", "continuous")
+
+
+def motion_options(command: F) -> F:
+    """--motion, --move-speed, --turn-speed, --tick-hz, --max-seconds."""
+    positive = FiniteFloatRange(min=0, min_open=True)
+    for name, help_text in reversed(
+        (
+            ("--move-speed", f"Continuous motion: walking speed, world units/s [default: the level's, else {DEFAULT_MOVE_SPEED:g}]."),
+            ("--turn-speed", f"Continuous motion: turning speed, degrees/s [default: the level's, else {DEFAULT_TURN_SPEED:g}]."),
+            ("--tick-hz", f"Continuous motion: physics ticks per second [default: the level's, else {DEFAULT_TICK_HZ:g}]."),
+            ("--max-seconds", "Continuous motion: game-time limit [default: --max-steps walked at --move-speed]."),
+        )
+    ):  # fmt: skip
+        command = click.option(name, type=positive, help=help_text)(command)
+    return click.option(
+        "--motion",
+        type=click.Choice(MOTIONS),
+        default="grid",
+        show_default=True,
+        help="grid: a cell per tick, turning free (the paper's model); continuous: a physics body walking and "
+        "turning at game speeds along the planner's route (docs/motion.md).",
+    )(command)
+
+
+def check_motion(motion: str, guards: int, los: str) -> None:
+    """Refuse what continuous motion does not do: teams and the Bresenham rule."""
+    if motion != "continuous":
+        return
+    if guards > 1:
+        raise GuardsimError("--motion continuous walks one guard; drop --guards")
+    if los != "pymunk":
+        raise GuardsimError("--motion continuous sees by pymunk rays; --los bresenham is a grid rule")
+
+
+def motion_of(scene: Scene, move_speed: float | None, turn_speed: float | None, tick_hz: float | None) -> GuardMotion:
+    """The options over the level guard's motion over the defaults."""
+    return GuardMotion.of_guard(scene.level.guard, move_speed=move_speed, turn_speed=turn_speed, tick_hz=tick_hz)
