@@ -299,3 +299,66 @@ def test_patrol_command_in_a_real_process(tmp_path: Path) -> None:
     assert len(data["idleness"]) == 3 and len(data["idleness"][0]) == 11
     assert (out / "idleness.png").stat().st_size > 1000
     assert "worst idleness" in run.stdout
+
+
+TMX = """<?xml version="1.0" encoding="UTF-8"?>
+<map version="1.10" orientation="orthogonal" renderorder="right-down" width="10" height="6"
+     tilewidth="16" tileheight="16" infinite="0" nextlayerid="3" nextobjectid="1">
+ <tileset firstgid="1" name="t" tilewidth="16" tileheight="16" tilecount="2" columns="2">
+  <tile id="1"><properties><property name="collision" type="bool" value="true"/></properties></tile>
+ </tileset>
+ <layer id="1" name="Ground" width="10" height="6">
+  <data encoding="csv">
+2,2,2,2,2,2,2,2,2,2,
+2,1,1,1,1,2,1,1,1,2,
+2,1,1,1,1,1,1,1,1,2,
+2,1,1,1,1,2,1,1,1,2,
+2,1,1,1,1,2,1,1,1,2,
+2,2,2,2,2,2,2,2,2,2
+</data>
+ </layer>
+</map>
+"""
+
+
+def test_tiled_copy_holds_the_route_and_reimports_to_the_same_level(tmp_path: Path) -> None:
+    from xml.etree import ElementTree
+
+    from guardsim.importers import import_map
+    from guardsim.level import level_to_data
+
+    source = tmp_path / "map.tmx"
+    source.write_text(TMX, encoding="utf-8")
+    out = tmp_path / "out"
+    copy = tmp_path / "routed.tmx"
+    args = ["patrol", str(source), "--out", str(out), "--guards", "2", "--tiled-out", str(copy), "--speed", "4"]
+    result = CliRunner().invoke(main, args)
+    assert result.exit_code == 0, result.output
+    root = ElementTree.parse(copy).getroot()
+    [layer] = [group for group in root.iter("objectgroup") if group.get("name") == "guardsim"]
+    routes = layer.findall("object")
+    assert len(routes) == 2
+    period = json.loads((out / "patrol.json").read_text())["period"]
+    for route in routes:
+        properties = {item.get("name"): item.get("value") for item in route.iter("property")}
+        assert properties == {"period": str(period * 0.25), "period_ticks": str(period), "speed": "4.0"}
+        points = [tuple(float(v) for v in pair.split(",")) for pair in route.find("polyline").get("points").split()]
+        # Closed, in map pixels (16 per tile), on tile centres.
+        assert points[0] == points[-1] and all((x / 16 - 0.5) % 1 == 0 for x, _ in points)
+    # Re-importing the copy gives the same level: the route layer is neither wall nor spawn.
+    routed, plain = (level_to_data(import_map(path).level) for path in (copy, source))
+    assert routed.pop("name") == "routed" and plain.pop("name") == "map"
+    assert routed == plain
+    # Writing again replaces the layer rather than adding a second one.
+    again = CliRunner().invoke(main, ["patrol", str(copy), "--out", str(out), "--tiled-out", str(copy)])
+    assert again.exit_code == 0, again.output
+    assert [g.get("name") for g in ElementTree.parse(copy).getroot().iter("objectgroup")] == ["guardsim"]
+
+
+def test_tiled_out_of_a_plain_level_needs_its_source(tmp_path: Path) -> None:
+    level = write_level(tmp_path, CORRIDOR)
+    result = CliRunner().invoke(
+        main, ["patrol", str(level), "--out", str(tmp_path / "o"), "--tiled-out", str(tmp_path / "x.tmx")]
+    )
+    assert result.exit_code == 2
+    assert "give --tiled-source MAP.tmx" in result.output and len(result.output.strip().splitlines()) == 1
