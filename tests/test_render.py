@@ -460,3 +460,14 @@ def test_preview_marks_reachable_and_unreachable() -> None:
     assert tuple(int(v) for v in image[margin + 2, margin + 2]) == COLOURS["reachable"]
     assert tuple(int(v) for v in image[margin + 2, margin + 5 * scale + 2]) == COLOURS["unreachable"]
     assert image.shape == (3 * scale + 2 * margin, 6 * scale + 2 * margin, 3)
+
+
+def test_every_decoded_frame_is_the_frame_drawn(square) -> None:
+    """Frames after the first carry only their changed rectangle, unchanged pixels transparent; decoded,
+    each is exactly the whole frame drawn for its tick."""
+    level, trace = square
+    options = GifOptions(max_frames=30)
+    frames = decode(encode_gif(level, trace, options))
+    drawer = FrameDrawer(level, trace)
+    for frame, tick in zip(frames, frame_ticks(trace.steps, options), strict=True):
+        assert (frame == palette_rgb()[drawer.frame(tick)]).all(), tick

@@ -18,7 +18,7 @@ from PIL import GifImagePlugin, Image
 from guardsim.level import Level
 from guardsim.output import atomic_path
 from guardsim.render.frames import FrameDrawer
-from guardsim.render.palette import PALETTE
+from guardsim.render.palette import PALETTE, Index
 from guardsim.render.timeline import GifOptions, frame_ticks
 from guardsim.trace import Trace
 
@@ -57,8 +57,15 @@ class GifStream:
             # An unchanged frame still needs an image: one pixel, redrawn as it was.
             box = (0, 0, 1, 1) if not rows.size else (int(cols[0]), int(rows[0]), int(cols[-1]) + 1, int(rows[-1]) + 1)
         x0, y0, x1, y1 = box
-        part = _palette_image(frame[y0:y1, x0:x1])
-        self.file.write(b"".join(GifImagePlugin.getdata(part, (x0, y0), duration=duration_ms, disposal=1)))
+        part = frame[y0:y1, x0:x1]
+        extra = {}
+        if self.previous is not None:
+            # Pixels that did not change inside the rectangle are left transparent: long runs of one
+            # index, which LZW packs into few codes.
+            part = np.where(part == self.previous[y0:y1, x0:x1], Index.TRANSPARENT, part).astype(np.uint8)
+            extra["transparency"] = Index.TRANSPARENT
+        image = _palette_image(part)
+        self.file.write(b"".join(GifImagePlugin.getdata(image, (x0, y0), duration=duration_ms, disposal=1, **extra)))
         self.previous = frame
 
     def close(self) -> None:

@@ -80,6 +80,8 @@ class Index:
     """``TEXT_BASE + k``: caption text at coverage ``k / (TEXT_LEVELS - 1)`` over the bar."""
     GUARD_BASE = 32
     """Each guard colour takes eight entries: the trail levels, then the solid colour, then a dark one."""
+    TRANSPARENT = 255
+    """Never drawn: marks the pixels a GIF frame leaves as they were in the previous frame."""
 
 
 def _blend(top: tuple[int, int, int], under: tuple[int, int, int], alpha: float) -> tuple[int, int, int]:
