@@ -17,8 +17,9 @@ import shapely.errors
 from guardsim.errors import LevelError
 from guardsim.importers.image import DEFAULT_THRESHOLD
 from guardsim.importers.imported import ImportedLevel
-from guardsim.importers.source import display_name, parse_json_bytes, quiet, read_capped_bytes
+from guardsim.importers.source import MAX_JSON_DEPTH, display_name, quiet, read_capped_bytes
 from guardsim.level import DEFAULT_MAX_CELLS, DEFAULT_MAX_FILE_BYTES, DEFAULT_MAX_VERTICES, Level, parse_level
+from guardsim.reading import parse_json
 
 __all__ = ["ImportOptions", "ImportSummary", "is_tiled_json", "load_any"]
 
@@ -36,6 +37,13 @@ class ImportOptions:
     wall_layers: tuple[str, ...] = ()
     floor_layers: tuple[str, ...] = ()
     wall_tiles: tuple[int, ...] = ()
+
+
+def _text(data: bytes, source: str) -> str:
+    try:
+        return data.decode("utf-8-sig")
+    except UnicodeDecodeError as error:
+        raise LevelError(f"{source}: not UTF-8 text (byte {error.start})") from None
 
 
 def is_tiled_json(data: object) -> bool:
@@ -75,7 +83,9 @@ def load_any(
                 f"{source}: unknown map type {suffix or '(no suffix)'!r} and not JSON; guardsim reads levels (.json) "
                 f"and imports {known}"
             )
-        value = parse_json_bytes(data, source)
+        # NaN and Infinity decode here so that the level check can name the field holding one; a Tiled
+        # map is read again, strictly, by its importer.
+        value = parse_json(_text(data, source), source=source, max_depth=MAX_JSON_DEPTH, allow_non_finite=True)
         if not is_tiled_json(value):
             return parse_level(value, source=source, max_cells=max_cells, max_vertices=max_vertices), None
     notes: list[str] = []
