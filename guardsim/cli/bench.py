@@ -13,6 +13,7 @@ import click
 
 from guardsim.cli.common import build_scene, limit_options, load, reports_errors, vision_options
 from guardsim.cli.map_options import MapImport, map_options
+from guardsim.cli.motion import check_motion, motion_options
 from guardsim.errors import GuardsimError
 from guardsim.executors import make_executor
 from guardsim.experiment import (
@@ -82,6 +83,7 @@ PLOT_NAMES = ("steps.png", "steps.svg")
     show_default=True,
     help="Compute each one-guard start's lower bounds (about 15 ms a start on a 60x60 level).",
 )
+@motion_options
 @map_options
 @limit_options
 @reports_errors
@@ -101,6 +103,11 @@ def bench(
     scheduler: str | None,
     plot: bool,
     bounds: bool,
+    motion: str,
+    move_speed: float | None,
+    turn_speed: float | None,
+    tick_hz: float | None,
+    max_seconds: float | None,
     max_cells: int,
     max_vertices: int,
     max_file_bytes: int,
@@ -120,6 +127,7 @@ def bench(
     that cannot be written; 3 some episode raised an error (its traceback is in OUT/errors.log).
     """
     planners = parse_planners(planner_list)
+    check_motion(motion, guards, los)
     if workers is not None and scheduler is not None:
         raise GuardsimError("--workers and --scheduler exclude each other: the scheduler's workers run the episodes")
     if plot:
@@ -131,7 +139,8 @@ def bench(
         with_vision(BatchLevel.load(path, level=load(path, **limits, map_import=map_import)), los, fov, view_range)
         for path in level_paths
     )
-    batch = Batch(levels, planners, episodes, seed, max_steps, reference, guards, los, fov, view_range, bounds)
+    batch = Batch(levels, planners, episodes, seed, max_steps, reference, guards, los, fov, view_range, bounds,
+                  motion, move_speed, turn_speed, tick_hz, max_seconds)  # fmt: skip
     folder = Path(out)
     done, pending = start_batch(batch, folder)
     total = len(done) + len(pending)

@@ -15,6 +15,8 @@ from typing import NamedTuple
 
 from guardsim.bounds import Bounds, lower_bounds
 from guardsim.level import HEADINGS, Level
+from guardsim.motion import GuardMotion, run_continuous
+from guardsim.motion.measures import RECORD_COLUMNS, record_columns
 from guardsim.simulation import Scene, run_batch_episode
 from guardsim.vision.table import view_table
 
@@ -65,6 +67,16 @@ class EpisodeSpec(NamedTuple):
     """``pymunk`` or ``bresenham``, as :meth:`Scene.from_level`'s ``line_of_sight``."""
     bounds: bool = True
     """Compute the start's lower bounds (one guard only)."""
+    motion: str = "grid"
+    """``grid`` or ``continuous`` (``docs/motion.md``)."""
+    move_speed: float | None = None
+    """Continuous motion: walking speed; ``None`` for the level guard's, else the default."""
+    turn_speed: float | None = None
+    """Continuous motion: turning speed; ``None`` for the level guard's, else the default."""
+    tick_hz: float | None = None
+    """Continuous motion: physics ticks per second; ``None`` for the level guard's, else the default."""
+    max_seconds: float | None = None
+    """Continuous motion: game-time limit; ``None`` for the default."""
 
     @property
     def key(self) -> tuple[str, str, int, int]:
@@ -120,6 +132,28 @@ class EpisodeRecord(NamedTuple):
     ``None`` for an episode of no steps."""
     error: str
     """For ``error``: the exception's type and message on one line; otherwise empty."""
+    motion: str = "grid"
+    """``grid`` or ``continuous``; with ``continuous``, ``steps`` and the T columns count physics ticks."""
+    game_seconds: float | None = None
+    """Continuous motion: game time of the episode (to cover, when covered)."""
+    t50_s: float | None = None
+    """Continuous motion: T50 in game seconds."""
+    t90_s: float | None = None
+    """Continuous motion: T90 in game seconds."""
+    t99_s: float | None = None
+    """Continuous motion: T99 in game seconds."""
+    distance: float | None = None
+    """World units walked (on the grid: moves times the cell size)."""
+    turning_degrees: float | None = None
+    """Degrees turned in all."""
+    in_place_s: float | None = None
+    """Continuous motion: seconds spent turning in place."""
+    turns: int | None = None
+    """Turns (on the grid: ticks whose heading changed)."""
+    u_turns: int | None = None
+    """Turns of 135 degrees or more."""
+    turns_per_minute: float | None = None
+    """Continuous motion: turns per minute of game time."""
 
     @property
     def key(self) -> tuple[str, str, int, int]:
@@ -149,9 +183,10 @@ class EpisodeRecord(NamedTuple):
     @classmethod
     def from_row(cls, row: list[str]) -> EpisodeRecord:
         """Parse :meth:`to_row` output; raises ``ValueError`` naming the bad field."""
-        if len(row) != len(CSV_COLUMNS):
+        if len(row) not in (len(CSV_COLUMNS), len(CSV_COLUMNS) - len(RECORD_COLUMNS)):
             raise ValueError(f"expected {len(CSV_COLUMNS)} fields, found {len(row)}")
-        values = dict(zip(CSV_COLUMNS, row))
+        # A row written before the motion columns existed is a grid row.
+        values = dict(zip(CSV_COLUMNS, row)) | ({} if len(row) == len(CSV_COLUMNS) else {"motion": "grid"})
         parsed: dict[str, object] = {}
         for name, text in values.items():
             kind = _FIELD_TYPES[name]
@@ -168,10 +203,12 @@ CSV_COLUMNS: tuple[str, ...] = EpisodeRecord._fields
 #: Columns measured in wall time, which differ from run to run; compare runs on the others.
 TIMED_COLUMNS = ("seconds", "plan_us_per_step")
 
-_TEXT_FIELDS = {"level", "level_file", "planner", "start_heading", "outcome", "error"}
+_TEXT_FIELDS = {"level", "level_file", "planner", "start_heading", "outcome", "error", "motion"}
+_FLOAT_FIELDS = {"game_seconds", "t50_s", "t90_s", "t99_s", "distance", "turning_degrees", "in_place_s",
+                 "turns_per_minute", *TIMED_COLUMNS}  # fmt: skip
 #: Text fields that are never ``None`` (an empty ``error`` is no error, not a missing one).
 _ALWAYS_TEXT = _TEXT_FIELDS - {"start_heading"}
-_FIELD_TYPES = {name: str if name in _TEXT_FIELDS else float if name in TIMED_COLUMNS else int for name in CSV_COLUMNS}
+_FIELD_TYPES = {name: str if name in _TEXT_FIELDS else float if name in _FLOAT_FIELDS else int for name in CSV_COLUMNS}
 _DECIMALS = {"seconds": 6, "plan_us_per_step": 3}
 
 
@@ -242,25 +279,32 @@ def run_spec_logged(spec: EpisodeSpec) -> tuple[EpisodeRecord, str]:
         if spec.bounds or spec.planner in _LOOK_AHEAD:
             view_table(scene.grid, scene.vision())  # built once per scene, before the clock starts
         began = time.perf_counter()
-        trace = run_batch_episode(
-            scene,
-            seed=spec.seed,
-            episode=spec.episode,
-            planner=spec.planner,
-            guards=spec.guards,
-            reference=spec.reference,
-            max_steps=spec.max_steps,
-        )
+        if spec.motion == "continuous":
+            walk = GuardMotion.of_guard(spec.level.guard, move_speed=spec.move_speed, turn_speed=spec.turn_speed,
+                                        tick_hz=spec.tick_hz)  # fmt: skip
+            trace = run_continuous(scene, spec.planner, seed=spec.seed, episode=spec.episode, motion=walk,
+                                   max_seconds=spec.max_seconds, max_steps=spec.max_steps, reference=spec.reference)  # fmt: skip
+        else:
+            trace = run_batch_episode(
+                scene,
+                seed=spec.seed,
+                episode=spec.episode,
+                planner=spec.planner,
+                guards=spec.guards,
+                reference=spec.reference,
+                max_steps=spec.max_steps,
+            )
         seconds = time.perf_counter() - began
         col, row = trace.start
-        wanted = spec.bounds and spec.guards == 1
+        # Bounds count grid steps; a continuous episode's steps are physics ticks.
+        wanted = spec.bounds and spec.guards == 1 and spec.motion == "grid"
         bounds = bounds_of(spec.level, spec.line_of_sight, (col, row), trace.headings[0]) if wanted else None
     except Exception as error:
         message = " ".join(f"{type(error).__name__}: {error}".split())
         return EpisodeRecord(
             spec.level.name, spec.level_file, spec.planner, spec.guards, spec.seed, spec.episode,
             None, None, None, None, None, "error", None, None, None, None, None, None, None,
-            time.perf_counter() - began, None, message,
+            time.perf_counter() - began, None, message, spec.motion,
         ), traceback.format_exc()  # fmt: skip
     t50, t90, t99 = (trace.steps_to_fraction(fraction) for fraction in FRACTIONS)
     return EpisodeRecord(
@@ -268,5 +312,5 @@ def run_spec_logged(spec: EpisodeSpec) -> tuple[EpisodeRecord, str]:
         col, row, HEADING_NAMES[trace.headings[0]], trace.steps, trace.total_moves, trace.outcome,
         t50, t90, t99, trace.reachable,
         *((bounds.best, bounds.eccentricity, bounds.cluster) if bounds is not None else (None, None, None)),
-        seconds, 1e6 * seconds / trace.steps if trace.steps else None, "",
+        seconds, 1e6 * seconds / trace.steps if trace.steps else None, "", **record_columns(trace),
     ), ""  # fmt: skip

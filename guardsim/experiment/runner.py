@@ -68,6 +68,12 @@ class Batch:
     view_range: float | None = None
     bounds: bool = True
     """Compute the lower bounds of each one-guard start (``--no-bounds`` skips them)."""
+    motion: str = "grid"
+    """``grid`` or ``continuous``, with the guard's speeds (``None``: the level's, else the defaults)."""
+    move_speed: float | None = None
+    turn_speed: float | None = None
+    tick_hz: float | None = None
+    max_seconds: float | None = None
 
     def __post_init__(self) -> None:
         # One order whatever the command line's, so that run.json and the plan do not depend on it.
@@ -89,7 +95,9 @@ class Batch:
             "fov": self.fov,
             "view_range": self.view_range,
             **({} if self.bounds else {"bounds": False}),
-        }
+            **({} if self.motion == "grid" else {"motion": self.motion, "move_speed": self.move_speed,
+                "turn_speed": self.turn_speed, "tick_hz": self.tick_hz, "max_seconds": self.max_seconds}),
+        }  # fmt: skip
 
     def specs(self) -> list[EpisodeSpec]:
         """Every episode, ordered by level file, planner and episode."""
@@ -105,6 +113,11 @@ class Batch:
                 guards=self.guards,
                 line_of_sight=self.line_of_sight,
                 bounds=self.bounds,
+                motion=self.motion,
+                move_speed=self.move_speed,
+                turn_speed=self.turn_speed,
+                tick_hz=self.tick_hz,
+                max_seconds=self.max_seconds,
             )
             for level in self.levels
             for planner in self.planners

@@ -15,7 +15,16 @@ import numpy as np
 from guardsim.experiment.episodes import EpisodeRecord
 from guardsim.trace import OUTCOMES
 
-__all__ = ["ALL_OUTCOMES", "GroupSummary", "Statistics", "describe", "format_table", "summarise", "summary_json"]
+__all__ = [
+    "ALL_OUTCOMES",
+    "MOTION_COLUMNS",
+    "GroupSummary",
+    "Statistics",
+    "describe",
+    "format_table",
+    "summarise",
+    "summary_json",
+]
 
 #: Outcomes counted per group: the simulation's, and ``error`` for an episode that raised.
 ALL_OUTCOMES = (*OUTCOMES, "error")
@@ -79,12 +88,16 @@ class GroupSummary(NamedTuple):
     bound_ratio: Statistics | None
     """``steps / best_bound`` of the episodes with a positive bound (one guard only: ``None`` for a team).
     Episodes stopped by the step limit count with the limit, as in :attr:`steps`."""
+    motion: dict[str, Statistics] | None = None
+    """Statistics of each motion column of the rows that have it (:data:`MOTION_COLUMNS`: game seconds,
+    T50/T90/T99 seconds, distance, turning, turns; on the grid only the steps-based ones)."""
 
     def to_data(self) -> dict[str, Any]:
         """The JSON-ready dictionary."""
         data = self._asdict()
         for name in ("steps", "t90", "total_moves", "bound_ratio"):
             data[name] = data[name]._asdict() if data[name] is not None else None
+        data["motion"] = {name: stats._asdict() for name, stats in (self.motion or {}).items()}
         return data
 
 
@@ -112,9 +125,22 @@ def summarise(records: Iterable[EpisodeRecord]) -> list[GroupSummary]:
                 bound_ratio=describe(
                     [ratio for ratio in (record.bound_ratio for record in members) if ratio is not None]
                 ),
+                motion=_motion_statistics(members),
             )
         )
     return summaries
+
+
+#: The numeric motion columns summarised per group.
+MOTION_COLUMNS = ("game_seconds", "t50_s", "t90_s", "t99_s", "distance", "turning_degrees", "in_place_s", "turns",
+                  "u_turns", "turns_per_minute")  # fmt: skip
+
+
+def _motion_statistics(members: Sequence[EpisodeRecord]) -> dict[str, Statistics]:
+    found = {
+        name: describe([v for v in (getattr(r, name) for r in members) if v is not None]) for name in MOTION_COLUMNS
+    }
+    return {name: stats for name, stats in found.items() if stats is not None}
 
 
 def summary_json(groups: Sequence[GroupSummary], run: dict[str, Any]) -> str:
@@ -126,12 +152,24 @@ def format_table(groups: Sequence[GroupSummary]) -> str:
     """The summary as an aligned text table, one line per level and planner.
 
     The columns after ``other`` are steps (median, quartiles, range, mean), the median T90 and the median
-    of steps / best lower bound (``-`` for teams); with a team, also the median of the moves summed over
-    its guards.
+    of steps / best lower bound (``-`` for teams); in continuous motion, the medians of game seconds, T90
+    in seconds, turns per minute, seconds turning in place, turns and U-turns; with a team, also the
+    median of the moves summed over its guards.
     """
     teams = any(group.guards > 1 for group in groups)
+    # Motion medians once a group walked continuously (the grid's turns are in summary.json).
+    continuous = any("game_seconds" in (group.motion or {}) for group in groups)
+    shown = ("game_seconds", "t90_s", "turns_per_minute", "in_place_s", "turns", "u_turns") if continuous else ()
+    names = {
+        "game_seconds": "seconds med",
+        "t90_s": "T90 s med",
+        "turns_per_minute": "turns/min med",
+        "in_place_s": "in place s med",
+        "turns": "turns med",
+        "u_turns": "U-turns med",
+    }
     header = ("level", "planner", "episodes", "covered", "other", "median", "q1", "q3", "min", "max", "mean",
-              "T90 med", "steps/bound med", *(("moves med",) if teams else ()))  # fmt: skip
+              "T90 med", "steps/bound med", *(names[name] for name in shown), *(("moves med",) if teams else ()))  # fmt: skip
     lines = [header]
     for group in groups:
         steps, t90, ratio = group.steps, group.t90, group.bound_ratio
@@ -141,6 +179,7 @@ def format_table(groups: Sequence[GroupSummary]) -> str:
             *(_number(getattr(steps, name, None)) for name in ("median", "q1", "q3", "min", "max", "mean")),
             _number(t90.median if t90 else None),
             f"{ratio.median:.2f}" if ratio else "-",
+            *(_number(stats.median if (stats := (group.motion or {}).get(name)) else None) for name in shown),
             *((_number(group.total_moves.median if group.total_moves else None),) if teams else ()),
         ))  # fmt: skip
     widths = [max(len(line[column]) for line in lines) for column in range(len(header))]

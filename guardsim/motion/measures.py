@@ -16,7 +16,16 @@ import numpy as np
 
 from guardsim.trace import Trace
 
-__all__ = ["FRACTIONS", "U_TURN_DEGREES", "continuous_measures", "grid_measures", "measures_of", "summary_text"]
+__all__ = [
+    "FRACTIONS",
+    "RECORD_COLUMNS",
+    "U_TURN_DEGREES",
+    "continuous_measures",
+    "grid_measures",
+    "measures_of",
+    "record_columns",
+    "summary_text",
+]
 
 #: Coverage fractions reported as T50, T90, T99.
 FRACTIONS = (0.5, 0.9, 0.99)
@@ -116,3 +125,24 @@ def summary_text(trace: Trace) -> str:
 
 def _per(value: float | None) -> str:
     return "-" if value is None or math.isnan(value) else f"{value:.1f}"
+
+
+#: The motion columns of ``guardsim bench``'s results, in order (see :func:`record_columns`).
+RECORD_COLUMNS = ("motion", "game_seconds", "t50_s", "t90_s", "t99_s", "distance", "turning_degrees", "in_place_s",
+                  "turns", "u_turns", "turns_per_minute")  # fmt: skip
+
+
+def record_columns(trace: Trace) -> dict[str, Any]:
+    """The values of :data:`RECORD_COLUMNS` for one episode: all of them in continuous motion, the
+    steps-based subset (distance, turning, turns, U-turns) on the grid, ``None`` for the rest."""
+    m = measures_of(trace)
+    continuous = trace.motion == "continuous"
+    values: dict[str, Any] = dict.fromkeys(RECORD_COLUMNS)
+    values["motion"] = trace.motion
+    for name in ("distance", "turning_degrees", "turns", "u_turns"):
+        values[name] = m.get(name)
+    if continuous:
+        values["game_seconds"] = m["seconds"]
+        for name in ("t50_s", "t90_s", "t99_s", "in_place_s", "turns_per_minute"):
+            values[name] = m.get(name)
+    return values
