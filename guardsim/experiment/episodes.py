@@ -312,5 +312,5 @@ def run_spec_logged(spec: EpisodeSpec) -> tuple[EpisodeRecord, str]:
         col, row, HEADING_NAMES[trace.headings[0]], trace.steps, trace.total_moves, trace.outcome,
         t50, t90, t99, trace.reachable,
         *((bounds.best, bounds.eccentricity, bounds.cluster) if bounds is not None else (None, None, None)),
-        seconds, 1e6 * seconds / trace.steps if trace.steps else None, "", **record_columns(trace),
-    ), ""  # fmt: skip
+        seconds, 1e6 * seconds / trace.steps if trace.steps else None, "",
+    )._replace(**record_columns(trace)), ""  # fmt: skip
