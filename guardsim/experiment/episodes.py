@@ -311,6 +311,6 @@ def run_spec_logged(spec: EpisodeSpec) -> tuple[EpisodeRecord, str]:
         spec.level.name, spec.level_file, spec.planner, spec.guards, spec.seed, spec.episode,
         col, row, HEADING_NAMES[trace.headings[0]], trace.steps, trace.total_moves, trace.outcome,
         t50, t90, t99, trace.reachable,
-        *((bounds.best, bounds.eccentricity, bounds.cluster) if bounds is not None else (None, None, None)),
-        seconds, 1e6 * seconds / trace.steps if trace.steps else None, "",
-    )._replace(**record_columns(trace)), ""  # fmt: skip
+        bounds.best if bounds else None, bounds.eccentricity if bounds else None, bounds.cluster if bounds else None,
+        seconds, 1e6 * seconds / trace.steps if trace.steps else None, "", **record_columns(trace),
+    ), ""  # fmt: skip
