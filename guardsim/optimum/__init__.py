@@ -56,6 +56,8 @@ __all__ = ["DEFAULT_MEMORY_BYTES", "OptimumResult", "solve"]
 
 #: Memory the node arrays may take by default.
 DEFAULT_MEMORY_BYTES = 3 * 2**30
+#: Earlier nodes at the same position a new node is checked against for dominance.
+DOMINANCE_CHECKS = 16
 #: Expansions per compiled chunk between two looks at the clock.
 _CHUNK = 20_000
 
@@ -129,9 +131,9 @@ def solve(
     heuristic = build_heuristic(graph)
     greedy, greedy_steps = greedy_walk(graph.successors, graph.views, graph.full, graph.start)
     words = graph.full.size
-    per_node = 8 * words + 4 * 4 + 2 * 12 + 2 * 8
+    per_node = 8 * words + 5 * 4 + 2 * 12 + 2 * 8
     capacity = max(1024, int(memory_bytes // per_node))
-    state = new_search_state(capacity, words)
+    state = new_search_state(capacity, words, graph.positions)
     start_search(state, heuristic, graph.views, graph.full, graph.start, greedy_steps + 1)
     root_bound = int(state.estimate[0])
     stopped_by = "proved"
@@ -149,7 +151,7 @@ def solve(
         if time_limit is not None and time.perf_counter() - began > time_limit:
             stopped_by = "time"
             break
-        run_search(state, heuristic, graph.successors, graph.views, graph.full, budget)
+        run_search(state, heuristic, graph.successors, graph.views, graph.full, budget, DOMINANCE_CHECKS)
     incumbent = int(counters[INCUMBENT])
     if int(counters[INCUMBENT_NODE]) >= 0:
         route = _route(state, int(counters[INCUMBENT_NODE]))

@@ -20,25 +20,26 @@ import numpy as np
 
 from guardsim.optimum.graph import SearchGraph, watcher_distances
 
-__all__ = ["PIVOTS", "POOL", "Heuristic", "build_heuristic", "estimate"]
+__all__ = ["PIVOTS", "POOL", "Heuristic", "build_heuristic", "eccentricity", "estimate"]
 
 #: Goal cells whose watcher-set distances are precomputed as pivot candidates.
 POOL = 1024
-#: Most pivots in one node's tree.
-PIVOTS = 24
+#: Most pivots in one node's shortest path through pivots.
+PIVOTS = 8
 
 
 class Heuristic(NamedTuple):
     """What the per-node estimate reads; a NamedTuple of arrays, so compiled code takes it whole."""
 
     to_watchers: np.ndarray
-    """``int16 (goal, positions)``: steps from a position to the nearest watcher of a goal cell."""
+    """``int16 (positions, goal)``: steps from a position to the nearest watcher of a goal cell (one row
+    per position, so a node's estimate reads one contiguous row)."""
     pool: np.ndarray
     """``int64 (pool,)``: goal bits of the pivot candidates, fewest watchers first."""
     between: np.ndarray
     """``int16 (pool, pool)``: steps between the watcher sets of two candidates, the shorter way round."""
     pivots: int
-    """Most pivots per node."""
+    """Most pivots per node (the work grows as ``2**pivots * pivots**2``)."""
 
 
 @numba.njit(cache=True, nogil=True)
@@ -66,12 +67,29 @@ def build_heuristic(graph: SearchGraph, pool: int = POOL, pivots: int = PIVOTS) 
     to_watchers, watch_start, watchers = watcher_distances(graph)
     counts = np.diff(watch_start)
     order = np.lexsort((np.arange(counts.size), counts))[:pool].astype(np.int64)
-    return Heuristic(to_watchers, order, _between(to_watchers, watch_start, watchers, order), pivots)
+    between = _between(to_watchers, watch_start, watchers, order)
+    return Heuristic(np.ascontiguousarray(to_watchers.T), order, between, pivots)
 
 
 @numba.njit(cache=True, nogil=True, inline="always")
 def _unseen(seen: np.ndarray, bit: int) -> bool:
     return ((seen[bit >> 6] >> np.uint64(bit & 63)) & np.uint64(1)) == 0
+
+
+@numba.njit(cache=True, nogil=True)
+def eccentricity(heuristic: Heuristic, position: int, seen: np.ndarray, full: np.ndarray) -> int:
+    """The steps from ``position`` to the farthest unseen goal cell's nearest watcher (cheap)."""
+    row = heuristic.to_watchers[position]
+    farthest = 0
+    for word in range(full.shape[0]):
+        left = full[word] & ~seen[word]
+        while left:
+            low = left & (~left + np.uint64(1))
+            steps = row[word * 64 + _bit_index(low)]
+            if steps > farthest:
+                farthest = steps
+            left ^= low
+    return farthest
 
 
 @numba.njit(cache=True, nogil=True)
@@ -83,31 +101,22 @@ def estimate(
     kept: np.ndarray,
     link: np.ndarray,
     gap: np.ndarray,
+    order: np.ndarray,
 ) -> int:
     """Lower bound on the steps from ``position`` to see every goal cell not in ``seen``.
 
     ``kept`` is a work array of at least ``heuristic.pivots`` entries, ``link`` and ``gap`` of at least
-    the pool's size.
+    the pool's size, ``order`` of ``2**pivots * pivots``.
     """
-    to_watchers = heuristic.to_watchers
-    farthest = 0
-    for word in range(full.shape[0]):
-        left = full[word] & ~seen[word]
-        while left:
-            low = left & (~left + np.uint64(1))
-            bit = word * 64 + _bit_index(low)
-            steps = to_watchers[bit, position]
-            if steps > farthest:
-                farthest = steps
-            left ^= low
+    row = heuristic.to_watchers[position]
     pool, between = heuristic.pool, heuristic.between
     # Farthest first: each pivot the unseen candidate farthest from the agent and the pivots taken,
-    # among those sharing no watcher with them (the k-centre rule, which spreads the tree).
+    # among those sharing no watcher with them (the k-centre rule, which spreads the pivots out).
     candidates = 0
     for candidate in range(pool.shape[0]):
         if _unseen(seen, pool[candidate]):
             link[candidates] = candidate
-            gap[candidates] = to_watchers[pool[candidate], position]
+            gap[candidates] = row[pool[candidate]]
             candidates += 1
     count = 0
     while count < heuristic.pivots:
@@ -126,44 +135,53 @@ def estimate(
                 weight = between[link[index], chosen]
                 if weight < gap[index]:
                     gap[index] = weight
+    farthest = eccentricity(heuristic, position, seen, full)
     if count == 0:
         return farthest
-    # More pivots can shorten the tree (one between two others), so every prefix of the picks counts.
-    best_total = 0
-    for size in range(1, count + 1):
-        total = _tree_from_agent(to_watchers, pool, between, kept, size, position, link)
-        if total > best_total:
-            best_total = total
-    return max(farthest, best_total)
+    return max(farthest, _path_bound(heuristic.to_watchers, pool, between, kept, count, position, order))
 
 
 @numba.njit(cache=True, nogil=True)
-def _tree_from_agent(
+def _path_bound(
     to_watchers: np.ndarray,
     pool: np.ndarray,
     between: np.ndarray,
     kept: np.ndarray,
     size: int,
     position: int,
-    link: np.ndarray,
+    order: np.ndarray,
 ) -> int:
-    """Prim's minimum spanning tree over the agent and the first ``size`` pivots of ``kept``."""
+    """The largest, over subsets of the first ``size`` pivots, of the shortest path from the agent
+    through all of the subset's pivots (dynamic programming over subsets, Held and Karp 1962).
+
+    Each subset's shortest path is a lower bound (a walk enters the pivots' watcher sets in some
+    order, and each stretch is at least the distance between the two sets), hence so is the largest.
+    ``order`` is a work array of at least ``2**size * size`` entries.
+    """
+    subsets = 1 << size
+    for mask in range(subsets * size):
+        order[mask] = 30000
     for k in range(size):
-        link[k] = to_watchers[pool[kept[k]], position]
-    total = 0
-    for _ in range(size):
-        best = -1
-        for k in range(size):
-            if link[k] >= 0 and (best < 0 or link[k] < link[best]):
-                best = k
-        total += link[best]
-        link[best] = -1
-        for k in range(size):
-            if link[k] >= 0:
-                weight = between[kept[best], kept[k]]
-                if weight < link[k]:
-                    link[k] = weight
-    return total
+        order[(1 << k) * size + k] = to_watchers[position, pool[kept[k]]]
+    best = 0
+    for mask in range(1, subsets):
+        shortest = 30000
+        for last in range(size):
+            here = order[mask * size + last]
+            if here >= 30000:
+                continue
+            if here < shortest:
+                shortest = here
+            for nxt in range(size):
+                if mask & (1 << nxt):
+                    continue
+                value = here + between[kept[last], kept[nxt]]
+                slot = (mask | (1 << nxt)) * size + nxt
+                if value < order[slot]:
+                    order[slot] = value
+        if shortest > best:
+            best = shortest
+    return best
 
 
 @numba.njit(cache=True, nogil=True, inline="always")

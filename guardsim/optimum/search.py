@@ -22,7 +22,7 @@ from typing import NamedTuple
 import numba
 import numpy as np
 
-from guardsim.optimum.heuristic import Heuristic, estimate
+from guardsim.optimum.heuristic import Heuristic, eccentricity, estimate
 
 __all__ = ["FULL", "PROVED", "RUNNING", "SearchState", "greedy_walk", "new_search_state", "run_search", "start_search"]
 
@@ -44,6 +44,8 @@ class SearchState(NamedTuple):
     """``int32 (capacity,)``: the node it was reached from (-1 for the root)."""
     estimate: np.ndarray
     """``int32 (capacity,)``: its estimate h."""
+    exact: np.ndarray
+    """``bool (capacity,)``: whether h is the full estimate (else only the cheap one, until popped)."""
     seen: np.ndarray
     """``uint64 (capacity, words)``: the goal cells it has seen."""
     heap_key: np.ndarray
@@ -55,9 +57,13 @@ class SearchState(NamedTuple):
     counters: np.ndarray
     """``int64 (8,)``: nodes, heap size, expansions, generated, incumbent steps, incumbent node, status,
     and the proved floor (the least f left when the search stopped)."""
+    latest: np.ndarray
+    """``int32 (positions,)``: the node stored last at each position, -1 for none."""
+    earlier: np.ndarray
+    """``int32 (capacity,)``: the node stored before it at the same position, -1 for none."""
 
 
-def new_search_state(capacity: int, words: int) -> SearchState:
+def new_search_state(capacity: int, words: int, positions: int) -> SearchState:
     """Empty arrays for at most ``capacity`` nodes."""
     slots = 1 << max(4, int(2 * capacity - 1).bit_length())
     return SearchState(
@@ -65,11 +71,14 @@ def new_search_state(capacity: int, words: int) -> SearchState:
         np.zeros(capacity, dtype=np.int32),
         np.zeros(capacity, dtype=np.int32),
         np.zeros(capacity, dtype=np.int32),
+        np.zeros(capacity, dtype=np.bool_),
         np.zeros((capacity, words), dtype=np.uint64),
         np.zeros(2 * capacity, dtype=np.int64),
         np.zeros(2 * capacity, dtype=np.int32),
         np.zeros(slots, dtype=np.int64),
         np.zeros(8, dtype=np.int64),
+        np.full(positions, -1, dtype=np.int32),
+        np.full(capacity, -1, dtype=np.int32),
     )
 
 
@@ -249,7 +258,29 @@ def _add(state: SearchState, slot: int, position: int, steps: int, parent: int, 
     state.estimate[node] = h
     state.seen[node] = seen
     state.table[slot] = node + 1
+    state.earlier[node] = state.latest[position]
+    state.latest[position] = node
     return node
+
+
+@numba.njit(cache=True, nogil=True)
+def _dominated(state: SearchState, position: int, steps: int, seen: np.ndarray, checks: int, itself: int) -> bool:
+    """Whether one of the last ``checks`` nodes stored at ``position`` (other than ``itself``) saw at
+    least ``seen`` in at most ``steps``: whatever the node could still do, that one can do no later."""
+    node = state.latest[position]
+    words = seen.shape[0]
+    while node >= 0 and checks > 0:
+        checks -= 1
+        if node != itself and state.steps[node] <= steps:
+            covers = True
+            for word in range(words):
+                if seen[word] & ~state.seen[node, word]:
+                    covers = False
+                    break
+            if covers:
+                return True
+        node = state.earlier[node]
+    return False
 
 
 @numba.njit(cache=True, nogil=True)
@@ -264,10 +295,12 @@ def start_search(
     kept = np.empty(heuristic.pivots, dtype=np.int64)
     link = np.empty(heuristic.pool.shape[0], dtype=np.int64)
     gap = np.empty(heuristic.pool.shape[0], dtype=np.int64)
+    order = np.empty((1 << heuristic.pivots) * heuristic.pivots, dtype=np.int64)
     seen = views[start].copy()
-    h = estimate(heuristic, start, seen, full, kept, link, gap)
+    h = estimate(heuristic, start, seen, full, kept, link, gap, order)
     _, slot = _find(state, start, seen)
     node = _add(state, slot, start, 0, -1, h, seen)
+    state.exact[node] = True
     counters[FLOOR] = h
     done = True
     for word in range(full.shape[0]):
@@ -285,9 +318,18 @@ def start_search(
 
 @numba.njit(cache=True, nogil=True)
 def run_search(
-    state: SearchState, heuristic: Heuristic, successors: np.ndarray, views: np.ndarray, full: np.ndarray, budget: int
+    state: SearchState,
+    heuristic: Heuristic,
+    successors: np.ndarray,
+    views: np.ndarray,
+    full: np.ndarray,
+    budget: int,
+    checks: int,
 ) -> None:
-    """Expand at most ``budget`` nodes, or until the optimum is proved or the node arrays are full."""
+    """Expand at most ``budget`` nodes, or until the optimum is proved or the node arrays are full.
+
+    A new node is dropped when one of the last ``checks`` nodes at its position dominates it.
+    """
     counters = state.counters
     positions = successors.shape[0]
     words = full.shape[0]
@@ -300,6 +342,7 @@ def run_search(
     kept = np.empty(heuristic.pivots, dtype=np.int64)
     link = np.empty(heuristic.pool.shape[0], dtype=np.int64)
     gap = np.empty(heuristic.pool.shape[0], dtype=np.int64)
+    order = np.empty((1 << heuristic.pivots) * heuristic.pivots, dtype=np.int64)
     seen = np.empty(words, dtype=np.uint64)
     expanded = 0
     while counters[STATUS] == RUNNING and expanded < budget:
@@ -318,9 +361,21 @@ def run_search(
         g = _KEY_SHIFT - 1 - key % _KEY_SHIFT
         if g != state.steps[node]:
             continue  # a stale entry: the node was reached more cheaply since
+        here = state.position[node]
+        if _dominated(state, here, g, state.seen[node], checks, node):
+            continue
+        if not state.exact[node]:
+            # Lazy evaluation: the full estimate only for nodes that reach the top of the heap.
+            state.exact[node] = True
+            h = estimate(heuristic, here, state.seen[node], full, kept, link, gap, order)
+            if h > state.estimate[node]:
+                state.estimate[node] = h
+                if g + h > f:
+                    if g + h < counters[INCUMBENT]:
+                        _push(state, (g + h) * _KEY_SHIFT + (_KEY_SHIFT - 1 - g), node)
+                    continue
         expanded += 1
         counters[EXPANSIONS] += 1
-        here = state.position[node]
         parent_h = state.estimate[node]
         count = _frontier(successors, views, here, state.seen[node], distance, queue, found, found_steps)
         for index in range(count):
@@ -342,14 +397,17 @@ def run_search(
                 state.parent[other] = node
                 h = state.estimate[other]
             else:
+                if _dominated(state, there, steps, seen, checks, -1):
+                    continue
                 if counters[NODES] >= capacity:
                     counters[STATUS] = FULL
                     break
-                h = 0 if complete else estimate(heuristic, there, seen, full, kept, link, gap)
+                h = 0 if complete else eccentricity(heuristic, there, seen, full)
                 h = max(h, parent_h - found_steps[index])
                 if steps + h >= counters[INCUMBENT]:
                     continue
                 other = _add(state, slot, there, steps, node, h, seen)
+                state.exact[other] = complete
             if complete:
                 counters[INCUMBENT] = steps
                 counters[INCUMBENT_NODE] = other
