@@ -47,6 +47,7 @@ _SOURCES = {
     "run_team_episode": "guardsim.simulation",
     "run_batch_episode": "guardsim.simulation",
     "Trace": "guardsim.trace",
+    **dict.fromkeys(("ContinuousSimulation", "GuardMotion", "run_continuous"), "guardsim.motion"),
 }
 
 __all__ = ["__version__", *_SOURCES]
@@ -69,6 +70,7 @@ if TYPE_CHECKING:
     from guardsim.errors import GuardsimError, LevelError, LimitError, OutputError
     from guardsim.grid import CoverageGrid
     from guardsim.level import GuardSpec, Level, load_level, parse_level
+    from guardsim.motion import ContinuousSimulation, GuardMotion, run_continuous
     from guardsim.planners import PLANNERS, Planner, make_planner
     from guardsim.scene import Scene
     from guardsim.simulation import Simulation, run_batch_episode, run_episode, run_team_episode
