@@ -13,7 +13,7 @@ from guardsim.errors import GuardsimError
 from guardsim.output import write_text_atomic
 from guardsim.planners import PLANNERS
 
-__all__ = ["patrol"]
+__all__ = ["motion_check", "output_folder", "patrol", "tiled_source_of"]
 
 _STRATEGIES = ("loop", "staleness", "ripplefront", "random")
 _CONTINUOUS = "--motion continuous is not yet supported for patrol (grid motion only, in ticks)"
@@ -23,6 +23,16 @@ def motion_check(motion: str) -> None:
     """Refuse continuous motion until guardsim.motion can drive patrols (one line, exit status 2)."""
     if motion == "continuous":
         raise GuardsimError(_CONTINUOUS)
+
+
+def output_folder(path: str) -> Path:
+    """The ``--out`` folder, made if missing; one error line when it cannot be."""
+    folder = Path(path)
+    try:
+        folder.mkdir(parents=True, exist_ok=True)
+    except OSError as error:
+        raise GuardsimError(f"{path}: cannot make the output folder: {error.strerror or error}") from None
+    return folder
 
 
 def tiled_source_of(level_path: str, tiled_source: str | None) -> str | None:
@@ -135,11 +145,7 @@ def patrol(
         )
     level = load(level_path, max_cells, max_vertices, max_file_bytes)
     scene = build_scene(level, los, fov, view_range)
-    folder = Path(out_dir)
-    try:
-        folder.mkdir(parents=True, exist_ok=True)
-    except OSError as error:
-        raise GuardsimError(f"{out_dir}: cannot make the output folder: {error.strerror or error}") from None
+    folder = output_folder(out_dir)
     setup = patrol_setup(scene, guards, seed=seed)
     extra: dict[str, object] = {}
     if evaluate_path is not None:

@@ -3,12 +3,12 @@
 from __future__ import annotations
 
 import json
-from pathlib import Path
 
 import click
 import numpy as np
 
 from guardsim.cli.common import build_scene, limit_options, load, parse_point, reports_errors, vision_options
+from guardsim.cli.patrol import output_folder
 from guardsim.errors import GuardsimError
 from guardsim.output import write_text_atomic
 
@@ -97,11 +97,7 @@ def sneak(
     data = sneak_data(result, grid, level=level.name, patrol=patrol_path, **{"from": list(source), "to": list(target)})
     written: list[str] = []
     if out_dir is not None:
-        folder = Path(out_dir)
-        try:
-            folder.mkdir(parents=True, exist_ok=True)
-        except OSError as error:
-            raise GuardsimError(f"{out_dir}: cannot make the output folder: {error.strerror or error}") from None
+        folder = output_folder(out_dir)
         write_text_atomic(folder / "sneak.json", json.dumps(data, separators=(",", ":")) + "\n")
         written.append(str(folder / "sneak.json"))
         try:
