@@ -30,6 +30,7 @@ __all__ = [
     "ImportedLevel",
     "check_raster_limits",
     "compact_numbers",
+    "counted",
     "level_from_blocked_cells",
     "level_from_walls",
     "level_json_text",
@@ -73,6 +74,11 @@ class ImportedLevel:
             f"(cell size {self.level.cell_size:g}), {len(self.level.holes)} holes, {self.vertices} vertices"
         )
         return f"{text}; {'; '.join(self.changes)}" if self.changes else text
+
+
+def counted(number: int, noun: str) -> str:
+    """``3 holes``, ``1 hole``: a count and its noun for a summary phrase."""
+    return f"{number} {noun}{'' if number == 1 else 's'}"
 
 
 def level_from_walls(

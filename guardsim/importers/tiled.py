@@ -25,17 +25,17 @@ from typing import cast
 
 import numpy as np
 import shapely
-from shapely.geometry import Point as ShapelyPoint
 from shapely.geometry import Polygon, box
 from shapely.geometry.base import BaseGeometry
 
 from guardsim.errors import LevelError
-from guardsim.importers.imported import ImportedLevel, check_raster_limits, level_from_walls
+from guardsim.importers.imported import ImportedLevel, check_raster_limits, counted, level_from_walls
 from guardsim.importers.source import display_name
-from guardsim.importers.tiled_data import TiledMap, TiledObject, TileLayer
+from guardsim.importers.tiled_data import TileLayer
+from guardsim.importers.tiled_geometry import TileGeometry, blocked_mask
 from guardsim.importers.tiled_read import read_tiled
 from guardsim.importers.tiled_roles import Guesses, RoleOptions, assign_roles, names
-from guardsim.importers.walls import snap_points
+from guardsim.importers.tiled_spawns import keep_spawn_areas, spawn_points, usable_starts
 from guardsim.level import (
     DEFAULT_MAX_CELLS,
     DEFAULT_MAX_FILE_BYTES,
@@ -44,7 +44,6 @@ from guardsim.level import (
     level_to_data,
     parse_level,
 )
-from guardsim.world import World
 
 __all__ = ["DEFAULT_SNAP_STEP", "DEFAULT_SNAP_TOLERANCE", "import_tiled", "read_tiled"]
 
@@ -92,7 +91,7 @@ def import_tiled(
     options = RoleOptions(tuple(wall_layers), tuple(floor_layers), tuple(wall_tiles), tuple(spawn_tiles))
     tiled = read_tiled(path, max_file_bytes=max_file_bytes, max_cells=max_cells, cells_per_tile=cell_size**-2)
     roles = assign_roles(tiled, options)
-    geometry = _Geometry(tiled, snap_step, snap_tolerance)
+    geometry = TileGeometry(tiled, snap_step, snap_tolerance)
     changes: list[str] = []
     warnings = list(roles.warnings)
 
@@ -120,7 +119,7 @@ def import_tiled(
             f"over the limit of {max_cells} (raise it with --max-cells)"
         )
     check_raster_limits(
-        _blocked_mask(bounds, floor_boxes if free is None else [], wall_boxes),
+        blocked_mask(bounds, floor_boxes if free is None else [], wall_boxes),
         source=source,
         max_vertices=max_vertices,
     )
@@ -151,15 +150,15 @@ def import_tiled(
     if geometry.snapped:
         changes.append(f"snapped {geometry.snapped} vertices to the {snap_step:g}-tile grid")
     if open_walls:
-        changes.append(f"ignored {_count(open_walls, 'open wall polyline')} or points (walls must be closed shapes)")
+        changes.append(f"ignored {counted(open_walls, 'open wall polyline')} or points (walls must be closed shapes)")
 
-    spawns, spawn_source = _spawns(tiled, roles, geometry)
+    spawns, spawn_source = spawn_points(tiled, roles, geometry)
     if options.spawn_tiles:
         drawn = {int(gid) for layer in tiled.tile_layers for gid in np.unique(layer.gids)}
         for gid in sorted(set(options.spawn_tiles) - drawn):
             warnings.append(f"--spawn-tile {gid} matches no tile in the map: no spawns from it")
-    starts, dropped = _usable_starts(level, spawns)
-    changes.append(f"{_count(len(starts), 'guard spawn')}" + (f" from {spawn_source}" if spawn_source else ""))
+    starts, dropped = usable_starts(level, spawns)
+    changes.append(f"{counted(len(starts), 'guard spawn')}" + (f" from {spawn_source}" if spawn_source else ""))
     changes += [f"dropped spawn ({x:g}, {y:g}): {why}" for (x, y), why in dropped[:5]]
     if len(dropped) > 5:
         changes.append(f"dropped {len(dropped) - 5} more spawns")
@@ -167,7 +166,7 @@ def import_tiled(
         warnings.append(f"none of the {len(spawns)} spawns is a place the guard fits: the start is left to the command")
     changes += list(tiled.notes)
 
-    level, left_out = _keep_spawn_areas(level, starts, source=source, max_cells=max_cells, max_vertices=max_vertices)
+    level, left_out = keep_spawn_areas(level, starts, source=source, max_cells=max_cells, max_vertices=max_vertices)
     if left_out:
         changes.append(left_out)
     warnings += _look_warnings(level, bool(starts))
@@ -179,10 +178,6 @@ def import_tiled(
     return ImportedLevel(level, "Tiled map", (int(width), int(height)), tuple(changes), tuple(warnings))
 
 
-def _count(number: int, noun: str) -> str:
-    return f"{number} {noun}{'' if number == 1 else 's'}"
-
-
 def _tile_bounds(bounds: Iterable[float]) -> tuple[float, float, float, float]:
     min_x, min_y, max_x, max_y = (float(value) for value in bounds)
     if not all(math.isfinite(value) for value in (min_x, min_y, max_x, max_y)):
@@ -190,77 +185,13 @@ def _tile_bounds(bounds: Iterable[float]) -> tuple[float, float, float, float]:
     return float(math.floor(min_x)), float(math.floor(min_y)), float(math.ceil(max_x)), float(math.ceil(max_y))
 
 
-class _Geometry:
-    """Pixel shapes to tile units, with vertex snapping counted."""
-
-    def __init__(self, tiled: TiledMap, snap_step: float, snap_tolerance: float) -> None:
-        self.tiled = tiled
-        self.scale = np.array([tiled.tile_width, tiled.tile_height])
-        self.snap_step = snap_step
-        self.snap_tolerance = snap_tolerance
-        self.snapped = 0
-
-    def polygon(self, item: TiledObject) -> Polygon:
-        points, moved = snap_points(
-            np.asarray(item.outline, dtype=float) / self.scale, self.snap_step, self.snap_tolerance
-        )
-        self.snapped += moved
-        return Polygon(points)
-
-    def object_wall(self, item: TiledObject) -> BaseGeometry | None:
-        """A wall object's area; a tile object of a tile with collision shapes is those shapes."""
-        info = self.tiled.tiles.get(item.gid) if item.gid else None
-        if info is None or not info.shapes:
-            return self.polygon(item)
-        # Tile objects hang from their bottom-left corner and may be scaled from the tile's size.
-        (left, top), (right, _), _, (_, bottom) = item.outline[:4]
-        sx = (right - left) / info.size[0] if info.size[0] else 1.0
-        sy = (bottom - top) / info.size[1] if info.size[1] else 1.0
-        pieces = []
-        for shape in info.shapes:
-            if not shape.closed:
-                continue
-            points = np.asarray(shape.outline, dtype=float) * (sx, sy) + (left, top)
-            pieces.append(shapely.make_valid(Polygon(points / self.scale)))
-        return shapely.union_all(pieces) if pieces else None
-
-    def tile_boxes(self, layer: TileLayer, gids: np.ndarray | None = None) -> list[Polygon]:
-        """Rectangles (in tiles) covering the layer's tiles whose id is in ``gids`` (all tiles for ``None``)."""
-        keep = np.ones(layer.gids.size, dtype=bool) if gids is None else np.isin(layer.gids, gids)
-        if not keep.any():
-            return []
-        cols, rows = layer.cols[keep], layer.rows[keep]
-        # Runs of consecutive tiles in a row, found from the sorted tiles rather than a dense mask.
-        order = np.lexsort((cols, rows))
-        cols, rows = cols[order], rows[order]
-        starts = np.flatnonzero(np.r_[True, (rows[1:] != rows[:-1]) | (cols[1:] != cols[:-1] + 1)])
-        ends = np.r_[starts[1:], cols.size] - 1
-        dx, dy = layer.offset[0] / self.scale[0], layer.offset[1] / self.scale[1]
-        return list(shapely.box(cols[starts] + dx, rows[starts] + dy, cols[ends] + 1 + dx, rows[starts] + 1 + dy))
-
-    def tile_shapes(self, layer: TileLayer, gids: set[int]) -> list[BaseGeometry]:
-        """The collision shapes of the layer's tiles in ``gids``, placed at their cells (in tiles)."""
-        keep = np.isin(layer.gids, list(gids)) if gids else np.zeros(layer.gids.size, dtype=bool)
-        pieces: list[BaseGeometry] = []
-        for col, row, gid in zip(layer.cols[keep].tolist(), layer.rows[keep].tolist(), layer.gids[keep].tolist()):
-            info = self.tiled.tiles[gid]
-            # A tile taller than the grid is drawn from the cell's bottom-left corner, as Tiled does.
-            left = col * self.scale[0] + layer.offset[0]
-            top = (row + 1) * self.scale[1] - (info.size[1] or self.scale[1]) + layer.offset[1]
-            for shape in info.shapes:
-                if shape.closed:
-                    points = (np.asarray(shape.outline, dtype=float) + np.array([left, top])) / self.scale
-                    pieces.append(shapely.make_valid(Polygon(points)))
-        return pieces
-
-
 def _free_area(
-    source: str, roles: Guesses, geometry: _Geometry, walls: list[BaseGeometry], changes: list[str]
+    source: str, roles: Guesses, geometry: TileGeometry, walls: list[BaseGeometry], changes: list[str]
 ) -> tuple[BaseGeometry | None, list[Polygon]]:
     """The boundary objects' area (and no floor boxes), or ``None`` and the floor layers' tile boxes."""
     if roles.boundary_objects:
         free = shapely.union_all([shapely.make_valid(geometry.polygon(item)) for _, item in roles.boundary_objects])
-        changes.append(f"free area from {_count(len(roles.boundary_objects), 'boundary object')}")
+        changes.append(f"free area from {counted(len(roles.boundary_objects), 'boundary object')}")
         if free.is_empty:
             raise LevelError(f"{source}: the boundary objects enclose no area")
         return free, []
@@ -331,7 +262,7 @@ def _walls_phrase(
     parts = []
     object_layers = {"/".join(layer.path) for layer, _ in roles.wall_objects}
     parts.append(
-        f"{_count(objects, 'wall object')}" + (f" in {', '.join(map(repr, sorted(object_layers)))}" if objects else "")
+        f"{counted(objects, 'wall object')}" + (f" in {', '.join(map(repr, sorted(object_layers)))}" if objects else "")
     )
     whole = [layer for layer, gids in tiles if gids is None]
     if whole:
@@ -339,115 +270,10 @@ def _walls_phrase(
     marked = sorted({int(gid) for _, gids in tiles if gids is not None for gid in gids})
     if marked:
         shown = ", ".join(map(str, marked[:8])) + (" ..." if len(marked) > 8 else "")
-        parts.append(f"{_count(len(marked), 'collision-marked tile')} (gids {shown})")
+        parts.append(f"{counted(len(marked), 'collision-marked tile')} (gids {shown})")
     if shapes:
-        parts.append(f"{_count(shapes, 'tile collision shape')}")
-    return f"walls from {', '.join(parts)} ({_count(boxes, 'wall tile run')})"
-
-
-def _blocked_mask(
-    bounds: tuple[float, float, float, float], floor_boxes: list[Polygon], wall_boxes: list[Polygon]
-) -> np.ndarray:
-    """Cells of the level's tile grid that no floor covers or a wall tile covers, for the vertex estimate.
-
-    Boxes are one-row runs; each is painted with a difference array, so a million runs cost no Python loop.
-    Runs off whole tiles (layer offsets) are rounded, which is all an estimate needs.
-    """
-    min_x, min_y, max_x, max_y = bounds
-    rows, cols = int(max_y - min_y), int(max_x - min_x)
-
-    def painted(boxes: list[Polygon]) -> np.ndarray:
-        if not boxes:
-            return np.zeros((rows, cols), dtype=bool)
-        x0, y0, x1, _ = np.round(shapely.bounds(np.asarray(boxes, dtype=object))).astype(np.int64).T
-        row = np.clip(y0 - int(min_y), 0, rows - 1)
-        start, stop = np.clip(x0 - int(min_x), 0, cols), np.clip(x1 - int(min_x), 0, cols)
-        change = np.zeros((rows, cols + 1), dtype=np.int64)
-        np.add.at(change, (row, start), 1)
-        np.add.at(change, (row, stop), -1)
-        return np.cumsum(change, axis=1)[:, :cols] > 0
-
-    walls = painted(wall_boxes)
-    return walls | ~painted(floor_boxes) if floor_boxes else walls
-
-
-def _spawns(tiled: TiledMap, roles: Guesses, geometry: _Geometry) -> tuple[list[tuple[float, float]], str]:
-    """Guard spawn points in tiles (spawn objects in layer order, then spawn tiles row by row), and their source."""
-    points: list[tuple[float, float]] = []
-    sources = []
-    layers: dict[str, int] = {}
-    for object_layer, item in roles.spawn_objects:
-        outline = np.asarray(item.outline, dtype=float) / geometry.scale
-        centre = Polygon(outline).centroid if item.closed else ShapelyPoint(outline.mean(axis=0))
-        points.append((round(centre.x, 6), round(centre.y, 6)))
-        name = "/".join(object_layer.path)
-        layers[name] = layers.get(name, 0) + 1
-    sources += [f"{count} objects in {name!r}" for name, count in layers.items()]
-    tile_count = 0
-    for layer in tiled.tile_layers:
-        keep = np.isin(layer.gids, list(roles.spawn_gids))
-        order = np.lexsort((layer.cols[keep], layer.rows[keep]))
-        for col, row in zip(layer.cols[keep][order].tolist(), layer.rows[keep][order].tolist()):
-            points.append(
-                (col + 0.5 + layer.offset[0] / geometry.scale[0], row + 0.5 + layer.offset[1] / geometry.scale[1])
-            )
-            tile_count += 1
-    if tile_count:
-        sources.append(f"{_count(tile_count, 'spawn tile')} (gids {', '.join(map(str, sorted(roles.spawn_gids)))})")
-    return points, ", ".join(sources)
-
-
-def _usable_starts(
-    level: Level, points: list[tuple[float, float]]
-) -> tuple[list[tuple[float, float]], list[tuple[tuple[float, float], str]]]:
-    """Spawns whose grid cell the guard can stand in, and the others with the reason."""
-    if not points:
-        return [], []
-    world = World(level)
-    free = cast(BaseGeometry, level.free_area())
-    min_x, min_y, _, _ = level.bounds
-    rows, cols = level.grid_shape()
-    size = level.cell_size
-    usable: list[tuple[float, float]] = []
-    dropped = []
-    for point in points:
-        col, row = math.floor((point[0] - min_x) / size), math.floor((point[1] - min_y) / size)
-        centre = (min_x + (col + 0.5) * size, min_y + (row + 0.5) * size)
-        if not (0 <= col < cols and 0 <= row < rows) or not free.contains(ShapelyPoint(point)):
-            dropped.append((point, "not on the free area"))
-        elif not free.contains(ShapelyPoint(centre)) or not world.fits(centre, level.guard.radius):
-            dropped.append((point, f"the guard does not fit in its cell at ({centre[0]:g}, {centre[1]:g})"))
-        elif point not in usable:
-            usable.append(point)
-    return usable, dropped
-
-
-def _keep_spawn_areas(
-    level: Level, starts: list[tuple[float, float]], *, source: str, max_cells: int, max_vertices: int
-) -> tuple[Level, str]:
-    """The level without the parts of its free area that hold no start (when there are starts)."""
-    parts = list(shapely.get_parts(cast(BaseGeometry, level.free_area())))
-    if not starts or len(parts) < 2:
-        return level, ""
-    points = [ShapelyPoint(point) for point in starts]
-    drop = [part for part in parts if not any(part.intersects(point) for point in points)]
-    if not drop:
-        return level, ""
-    area = sum(part.area for part in drop)
-    data = level_to_data(level)
-    data["holes"] = [list(map(list, ring)) for ring in level.holes]
-    walls = [Polygon(ring) for ring in level.holes] + drop
-    new_level, _ = level_from_walls(
-        walls,
-        level.bounds,
-        name=level.name,
-        source=source,
-        cell_size=level.cell_size,
-        max_cells=max_cells,
-        max_vertices=max_vertices,
-    )
-    phrase = f"left out {_count(len(drop), 'free part')} holding no spawn ({area:g} square tiles)"
-    return new_level, phrase
+        parts.append(f"{counted(shapes, 'tile collision shape')}")
+    return f"walls from {', '.join(parts)} ({counted(boxes, 'wall tile run')})"
 
 
 def _look_warnings(level: Level, has_starts: bool) -> list[str]:

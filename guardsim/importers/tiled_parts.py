@@ -1,0 +1,314 @@
+"""What the TMX and the JSON readers share: one map being read, within guardsim's limits.
+
+:class:`MapReader` holds the file, the limits, the tilesets read so far and the layers found, and turns
+pytiled-parser's objects into :mod:`guardsim.importers.tiled_data` records with every number checked.
+Each pytiled-parser step runs through :meth:`MapReader.call`, so whatever it raises becomes one
+:class:`LevelError` naming the file and the place.
+"""
+
+from __future__ import annotations
+
+import re
+from collections.abc import Callable
+from pathlib import Path
+from typing import Any, TypeVar, cast
+from xml.etree import ElementTree
+
+import numpy as np
+import pytiled_parser.tiled_object as pto
+from pytiled_parser.layer import Layer as PtLayer
+from pytiled_parser.layer import ObjectLayer as PtObjectLayer
+from pytiled_parser.parsers.json import tileset as json_tileset
+from pytiled_parser.parsers.tmx import tileset as tmx_tileset
+from pytiled_parser.tileset import Tileset
+
+from guardsim.errors import LevelError
+from guardsim.importers.source import display_name, excerpt, parse_json_bytes, parse_xml_bytes, read_capped_bytes
+from guardsim.importers.tiled_data import (
+    GID_MASK,
+    ObjectLayer,
+    Point,
+    Properties,
+    TiledMap,
+    TiledObject,
+    TileInfo,
+    TileLayer,
+    check_number,
+    object_outline,
+)
+from guardsim.importers.tiled_defaults import json_tileset_defaults, tmx_tileset_defaults
+
+__all__ = ["COMPRESSIONS", "MAX_GROUP_DEPTH", "TILE_ENCODINGS", "Blocks", "MapReader", "dicts", "word"]
+
+#: Deepest nesting of group layers read.
+MAX_GROUP_DEPTH = 50
+#: Tile data encodings Tiled writes (``None``: XML ``<tile>`` elements or a JSON list), and compressions read.
+TILE_ENCODINGS = (None, "csv", "base64")
+COMPRESSIONS = (None, "", "zlib", "gzip")
+#: ``(x, y, width, gids)`` of a whole tile layer or of each of its chunks.
+Blocks = list[tuple[int, int, int, np.ndarray]]
+T = TypeVar("T")
+
+
+def why(error: BaseException) -> str:
+    """A short phrase for an exception raised inside pytiled-parser."""
+    if isinstance(error, KeyError):
+        return f"missing {excerpt(error.args[0] if error.args else '?')}"
+    if isinstance(error, RecursionError):
+        return "nested too deeply"
+    if isinstance(error, (ValueError, OverflowError)):
+        # float('x'), int('1.5'), round(float('inf')): a number attribute that is not one.
+        match = re.search(r"(?:float|int\(\) with base 10|integer): ('.*')$", str(error))
+        if match:
+            return f"not a number ({excerpt(match.group(1)[1:-1])})"
+        if isinstance(error, OverflowError) or "NaN" in str(error):
+            return "a number is not finite"
+    text = str(error).splitlines()[0] if str(error) else type(error).__name__
+    return f"{type(error).__name__}: {text[:80]}"
+
+
+class MapReader:
+    """One map being read: its file, limits, tilesets so far, layers and notes; subclassed per format."""
+
+    def __init__(self, path: Path, max_file_bytes: int, max_cells: int, cells_per_tile: float) -> None:
+        self.path = path
+        self.source = display_name(path)
+        self.folder = path.parent
+        self.max_file_bytes = max_file_bytes
+        self.max_tiles = max(1, int(max_cells / max(cells_per_tile, 1e-12)))
+        self.max_cells = max_cells
+        self.tilesets: dict[int, Tileset] = {}
+        self.tile_layers: list[TileLayer] = []
+        self.object_layers: list[ObjectLayer] = []
+        self.notes: list[str] = []
+        self.checked_files: set[Path] = set()
+        self.infinite = False
+
+    # -- shared -------------------------------------------------------------------------------------
+    def error(self, where: str, message: str) -> LevelError:
+        return LevelError(f"{self.source}: {where}: {message}" if where else f"{self.source}: {message}")
+
+    def call(self, where: str, parse: Callable[[], T]) -> T:
+        """Run one pytiled-parser step; any exception becomes a located :class:`LevelError`."""
+        try:
+            return parse()
+        except LevelError:
+            raise
+        except Exception as error:  # pytiled-parser signals bad input with whatever its code hits
+            raise self.error(where, why(error)) from None
+
+    def number(self, value: Any, where: str, default: float | None = None) -> float:
+        if value is None and default is not None:
+            return default
+        return check_number(value, f"{self.source}: {where}")
+
+    def integer(self, value: Any, where: str, default: int | None = None) -> int:
+        number = self.number(value, where, None if default is None else float(default))
+        if not number.is_integer() or not -(2**31) <= number < 2**32:
+            raise self.error(where, f"must be a whole number within 32 bits, not {excerpt(value)}")
+        return int(number)
+
+    def read_file(self, name: str, what: str) -> tuple[Path, bytes] | None:
+        """An external file's bytes (tileset, template), or ``None`` with a note if it is missing."""
+        path = self.folder / name
+        if not path.exists():
+            self.notes.append(f"{what} {display_name(name)} not found: left out")
+            return None
+        return path, read_capped_bytes(path, max_file_bytes=self.max_file_bytes, kind=what)
+
+    def check_tile_count(self, width: int, height: int, where: str) -> None:
+        if width < 0 or height < 0:
+            raise self.error(where, f"size {width} x {height} is negative")
+        if width * height > self.max_tiles:
+            raise self.error(
+                where,
+                f"{width} x {height} = {width * height} tiles is over the limit of {self.max_cells} cells "
+                "(raise it with --max-cells)",
+            )
+
+    def check_orientation(self, orientation: Any) -> None:
+        if orientation != "orthogonal":
+            raise self.error("", f"orientation {excerpt(orientation)} is not supported (only orthogonal maps)")
+
+    def result(self, tilewidth: Any, tileheight: Any, width: Any, height: Any) -> TiledMap:
+        tile_width, tile_height = self.number(tilewidth, "tilewidth"), self.number(tileheight, "tileheight")
+        if tile_width <= 0 or tile_height <= 0:
+            raise self.error("", f"tilewidth and tileheight must be positive, not {tile_width:g} x {tile_height:g}")
+        size = (self.integer(width, "width", 0), self.integer(height, "height", 0))
+        return TiledMap(
+            tile_width,
+            tile_height,
+            size,
+            tuple(self.tile_layers),
+            tuple(self.object_layers),
+            self.tile_infos(),
+            tuple(self.notes),
+        )
+
+    def tile_infos(self) -> dict[int, TileInfo]:
+        infos: dict[int, TileInfo] = {}
+        for firstgid, tileset in self.tilesets.items():
+            for tile_id, tile in (tileset.tiles or {}).items():
+                where = f"tileset {tileset.name!r} tile {tile_id}"
+                shapes: tuple[TiledObject, ...] = ()
+                if tile.objects is not None and isinstance(tile.objects, PtObjectLayer):
+                    shapes = tuple(
+                        self.convert_object(item, (0.0, 0.0), f"{where} collision shape")
+                        for item in tile.objects.tiled_objects
+                    )
+                properties = dict(tile.properties or {})
+                if tile.class_ or properties or shapes:
+                    size = (float(tileset.tile_width or 0), float(tileset.tile_height or 0))
+                    infos[firstgid + int(tile_id)] = TileInfo(
+                        str(tile.class_ or ""), properties, shapes, tileset.name, size
+                    )
+        return infos
+
+    def convert_object(self, item: pto.TiledObject, offset: Point, where: str) -> TiledObject:
+        where = f"{where} {item.id}"
+        x = self.number(item.coordinates.x, f"{where} x")
+        y = self.number(item.coordinates.y, f"{where} y")
+        width = self.number(item.size.width, f"{where} width", 0.0)
+        height = self.number(item.size.height, f"{where} height", 0.0)
+        rotation = self.number(item.rotation, f"{where} rotation", 0.0)
+        points: list[Point] = []
+        gid = 0
+        shape = {
+            pto.Ellipse: "ellipse",
+            pto.Point: "point",
+            pto.Polygon: "polygon",
+            pto.Polyline: "polyline",
+            pto.Text: "text",
+            pto.Tile: "tile",
+        }.get(type(item), "rectangle")
+        if isinstance(item, (pto.Polygon, pto.Polyline)):
+            points = [
+                (self.number(p.x, f"{where} {shape} point"), self.number(p.y, f"{where} {shape} point"))
+                for p in item.points
+            ]
+        if isinstance(item, pto.Tile):
+            gid = self.integer(item.gid, f"{where} gid") & GID_MASK
+        return TiledObject(
+            self.integer(item.id, f"{where} id", 0),
+            str(item.name or ""),
+            str(item.class_ or ""),
+            shape,
+            object_outline(shape, x, y, width, height, rotation, points, offset),
+            gid,
+            dict(item.properties or {}),
+        )
+
+    def load_tileset(self, firstgid: int, external: str | None, embedded: Any, where: str) -> None:
+        """A tileset embedded in the map (an element or a dict) or in the ``external`` file beside it."""
+        folder = self.folder
+        if external:
+            found = self.read_file(external, "tileset")
+            if found is None:
+                return
+            path, data = found
+            folder = path.parent
+            embedded = (
+                parse_xml_bytes(data, display_name(path))
+                if data.lstrip()[:1] == b"<"
+                else parse_json_bytes(data, display_name(path))
+            )
+        if isinstance(embedded, ElementTree.Element):
+            element = tmx_tileset_defaults(embedded)
+            self.tilesets[firstgid] = self.call(where, lambda: tmx_tileset.parse(element, firstgid, "utf-8", folder))
+        else:
+            raw = json_tileset_defaults(embedded)
+            self.tilesets[firstgid] = self.call(
+                where, lambda: json_tileset.parse(cast(Any, raw), firstgid, "utf-8", folder)
+            )
+
+    def add_tile_layer(
+        self,
+        layer: PtLayer,
+        path: tuple[str, ...],
+        inherited: Properties,
+        offset: Point,
+        visible: bool,
+        blocks: Blocks,
+    ) -> None:
+        """``blocks`` are ``(x, y, width, gids)`` of the whole layer or of each chunk."""
+        cols, rows, gids = [], [], []
+        for x, y, width, values in blocks:
+            index = np.flatnonzero(values)
+            cols.append(x + index % max(width, 1))
+            rows.append(y + index // max(width, 1))
+            gids.append(values[index])
+        joined = [np.concatenate(part) if part else np.zeros(0, dtype=np.int64) for part in (cols, rows, gids)]
+        properties = {**inherited, **dict(layer.properties or {})}
+        self.tile_layers.append(
+            TileLayer(layer.name, path, properties, str(layer.class_ or ""), offset, visible, *joined)
+        )
+
+    def add_object_layer(
+        self,
+        layer: PtObjectLayer,
+        path: tuple[str, ...],
+        inherited: Properties,
+        offset: Point,
+        visible: bool,
+        where: str,
+    ) -> None:
+        objects = tuple(self.template_gid(item) for item in layer.tiled_objects)
+        self.object_layers.append(
+            ObjectLayer(
+                layer.name,
+                path,
+                {**inherited, **dict(layer.properties or {})},
+                str(layer.class_ or ""),
+                visible,
+                tuple(self.convert_object(item, offset, f"{where} object") for item in objects),
+            )
+        )
+
+    def template_gid(self, item: pto.TiledObject) -> pto.TiledObject:
+        """A tile object from a template: its gid counted in the map's tilesets (as parse_map does)."""
+        new = getattr(item, "new_tileset", None)
+        if isinstance(item, pto.Tile) and new is not None:
+            name = new.get("name") if isinstance(new, (dict, ElementTree.Element)) else None
+            match = next((ts for ts in self.tilesets.values() if ts.name == name), None)
+            if match is not None:
+                item.gid = item.gid + match.firstgid - 1
+            item.new_tileset = None
+        return item
+
+    def check_templates(self, uses: list[tuple[Any, str]], where: str) -> None:
+        """Templates (and their tilesets) pass the file rules before pytiled-parser opens them.
+
+        ``uses`` are ``(object id, template file)`` pairs of one layer.
+        """
+        for identifier, name in uses:
+            path = self.folder / name
+            if path in self.checked_files:
+                continue
+            if not path.is_file():
+                raise self.error(f"{where} object {identifier}", f"template {display_name(name)} not found")
+            self.checked_files.add(path)
+            data = read_capped_bytes(path, max_file_bytes=self.max_file_bytes, kind="template")
+            source = display_name(path)
+            if data.lstrip()[:1] == b"<":
+                root = parse_xml_bytes(data, source)
+                tileset = root.find("tileset")
+                inner = tileset.get("source") if tileset is not None else None
+            else:
+                value = parse_json_bytes(data, source)
+                tileset = value.get("tileset") if isinstance(value, dict) else None
+                inner = tileset.get("source") if isinstance(tileset, dict) else None
+            if inner:
+                read_capped_bytes(path.parent / str(inner), max_file_bytes=self.max_file_bytes, kind="tileset")
+
+    # -- TMX ----------------------------------------------------------------------------------------
+
+
+def word(value: Any) -> str:
+    """A short identifier as it is (``zstd``), anything else as a quoted excerpt."""
+    return value if isinstance(value, str) and re.fullmatch(r"[A-Za-z0-9_.-]{1,20}", value) else excerpt(value)
+
+
+def dicts(value: Any, where: str) -> list[dict[str, Any]]:
+    if not isinstance(value, list) or not all(isinstance(item, dict) for item in value):
+        raise LevelError(f"{where} must be a list of objects")
+    return value

@@ -1,0 +1,100 @@
+"""Guard spawns of a Tiled map: where they are, which the guard can start from, and the areas they keep."""
+
+from __future__ import annotations
+
+import math
+from typing import cast
+
+import numpy as np
+import shapely
+from shapely.geometry import Point as ShapelyPoint
+from shapely.geometry import Polygon
+from shapely.geometry.base import BaseGeometry
+
+from guardsim.importers.imported import counted, level_from_walls
+from guardsim.importers.tiled_data import TiledMap
+from guardsim.importers.tiled_geometry import TileGeometry
+from guardsim.importers.tiled_roles import Guesses
+from guardsim.level import Level, level_to_data
+from guardsim.world import World
+
+__all__ = ["keep_spawn_areas", "spawn_points", "usable_starts"]
+
+
+def spawn_points(tiled: TiledMap, roles: Guesses, geometry: TileGeometry) -> tuple[list[tuple[float, float]], str]:
+    """Guard spawn points in tiles (spawn objects in layer order, then spawn tiles row by row), and their source."""
+    points: list[tuple[float, float]] = []
+    sources = []
+    layers: dict[str, int] = {}
+    for object_layer, item in roles.spawn_objects:
+        outline = np.asarray(item.outline, dtype=float) / geometry.scale
+        centre = Polygon(outline).centroid if item.closed else ShapelyPoint(outline.mean(axis=0))
+        points.append((round(centre.x, 6), round(centre.y, 6)))
+        name = "/".join(object_layer.path)
+        layers[name] = layers.get(name, 0) + 1
+    sources += [f"{count} objects in {name!r}" for name, count in layers.items()]
+    tile_count = 0
+    for layer in tiled.tile_layers:
+        keep = np.isin(layer.gids, list(roles.spawn_gids))
+        order = np.lexsort((layer.cols[keep], layer.rows[keep]))
+        for col, row in zip(layer.cols[keep][order].tolist(), layer.rows[keep][order].tolist()):
+            points.append(
+                (col + 0.5 + layer.offset[0] / geometry.scale[0], row + 0.5 + layer.offset[1] / geometry.scale[1])
+            )
+            tile_count += 1
+    if tile_count:
+        sources.append(f"{counted(tile_count, 'spawn tile')} (gids {', '.join(map(str, sorted(roles.spawn_gids)))})")
+    return points, ", ".join(sources)
+
+
+def usable_starts(
+    level: Level, points: list[tuple[float, float]]
+) -> tuple[list[tuple[float, float]], list[tuple[tuple[float, float], str]]]:
+    """Spawns whose grid cell the guard can stand in, and the others with the reason."""
+    if not points:
+        return [], []
+    world = World(level)
+    free = cast(BaseGeometry, level.free_area())
+    min_x, min_y, _, _ = level.bounds
+    rows, cols = level.grid_shape()
+    size = level.cell_size
+    usable: list[tuple[float, float]] = []
+    dropped = []
+    for point in points:
+        col, row = math.floor((point[0] - min_x) / size), math.floor((point[1] - min_y) / size)
+        centre = (min_x + (col + 0.5) * size, min_y + (row + 0.5) * size)
+        if not (0 <= col < cols and 0 <= row < rows) or not free.contains(ShapelyPoint(point)):
+            dropped.append((point, "not on the free area"))
+        elif not free.contains(ShapelyPoint(centre)) or not world.fits(centre, level.guard.radius):
+            dropped.append((point, f"the guard does not fit in its cell at ({centre[0]:g}, {centre[1]:g})"))
+        elif point not in usable:
+            usable.append(point)
+    return usable, dropped
+
+
+def keep_spawn_areas(
+    level: Level, starts: list[tuple[float, float]], *, source: str, max_cells: int, max_vertices: int
+) -> tuple[Level, str]:
+    """The level without the parts of its free area that hold no start (when there are starts)."""
+    parts = list(shapely.get_parts(cast(BaseGeometry, level.free_area())))
+    if not starts or len(parts) < 2:
+        return level, ""
+    points = [ShapelyPoint(point) for point in starts]
+    drop = [part for part in parts if not any(part.intersects(point) for point in points)]
+    if not drop:
+        return level, ""
+    area = sum(part.area for part in drop)
+    data = level_to_data(level)
+    data["holes"] = [list(map(list, ring)) for ring in level.holes]
+    walls = [Polygon(ring) for ring in level.holes] + drop
+    new_level, _ = level_from_walls(
+        walls,
+        level.bounds,
+        name=level.name,
+        source=source,
+        cell_size=level.cell_size,
+        max_cells=max_cells,
+        max_vertices=max_vertices,
+    )
+    phrase = f"left out {counted(len(drop), 'free part')} holding no spawn ({area:g} square tiles)"
+    return new_level, phrase
