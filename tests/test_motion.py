@@ -2,13 +2,18 @@
 
 from __future__ import annotations
 
+import csv
 import itertools
 import json
 import math
+import subprocess
+from pathlib import Path
 
 import numpy as np
 import pytest
+from click.testing import CliRunner, Result
 
+from guardsim.cli import main
 from guardsim.level import load_level
 from guardsim.motion import (
     ContinuousSimulation,
@@ -21,7 +26,8 @@ from guardsim.motion import (
 from guardsim.motion.follower import Follower
 from guardsim.scene import Scene
 from guardsim.trace import Trace
-from tests.common import LEVELS, TINY_LEVELS, scene_from, tiny_levels
+from tests.common import LEVELS, REPO, TINY_LEVELS, scene_from, tiny_levels, write_level
+from tests.test_cli import guardsim_command
 
 MOTION = GuardMotion(move_speed=2.0, turn_speed=180.0, tick_hz=30.0)
 #: A corridor 20 long and 1 wide, seen only a step ahead.
@@ -271,3 +277,74 @@ def test_motion_parameters_validated() -> None:
         GuardMotion(move_speed=0)
     with pytest.raises(ValueError, match="tick_hz"):
         GuardMotion(tick_hz=math.inf)
+
+
+def cli(*args: object) -> Result:
+    return CliRunner().invoke(main, [str(arg) for arg in args])
+
+
+def test_play_continuous_reports_seconds_and_writes_poses(tmp_path: Path) -> None:
+    level = write_level(tmp_path, {**TINY_LEVELS["l-room"], "guard": {"start": [0.5, 0.5], "move_speed": 1.0}})
+    trace_path = tmp_path / "trace.json"
+    result = cli("play", level, "--motion", "continuous", "--turn-speed", "90", "--trace", trace_path)
+    assert result.exit_code == 0, result.output
+    summary = result.stdout.strip()
+    assert "\n" not in summary and "s of game time" in summary and "U-turns" in summary
+    data = json.loads(trace_path.read_text(encoding="utf-8"))
+    assert (data["motion"], data["move_speed"], data["turn_speed"], data["tick_hz"]) == ("continuous", 1.0, 90.0, 30.0)
+    assert f"{data['seconds']:.1f} s of game time" in summary
+    faster = cli("play", level, "--motion", "continuous", "--move-speed", "3", "--trace", trace_path)
+    assert faster.exit_code == 0, faster.output
+    assert json.loads(trace_path.read_text(encoding="utf-8"))["seconds"] < data["seconds"]
+
+
+def test_play_grid_summary_gives_the_steps_based_turns(tmp_path: Path) -> None:
+    result = cli("play", write_level(tmp_path, TINY_LEVELS["l-room"]), "--planner", "tour")
+    assert result.exit_code == 0, result.output
+    assert "per 100 steps" in result.stdout and "s of game time" not in result.stdout
+
+
+@pytest.mark.parametrize(
+    ("options", "message"),
+    [(("--guards", "2"), "walks one guard"), (("--los", "bresenham"), "pymunk rays"), (("--move-speed", "0"), "")],
+)
+def test_play_continuous_refuses_what_it_cannot_do(tmp_path: Path, options: tuple[str, ...], message: str) -> None:
+    result = cli("play", write_level(tmp_path, TINY_LEVELS["l-room"]), "--motion", "continuous", *options)
+    assert result.exit_code == 2
+    assert message in result.output
+
+
+def test_level_motion_keys_are_validated(tmp_path: Path) -> None:
+    level = write_level(tmp_path, {**TINY_LEVELS["l-room"], "guard": {"turn_speed": -5}})
+    result = cli("play", level, "--motion", "continuous")
+    assert result.exit_code == 2
+    assert "guard.turn_speed" in result.output and "positive" in result.output
+
+
+def test_bench_continuous_rows_and_summary(tmp_path: Path) -> None:
+    level = write_level(tmp_path, TINY_LEVELS["square-with-hole"])
+    out = tmp_path / "out"
+    result = cli("bench", level, "--motion", "continuous", "--planner", "ripplefront,tour", "--episodes", "2",
+                 "--workers", "1", "--out", out)  # fmt: skip
+    assert result.exit_code == 0, result.output
+    assert "seconds med" in result.stdout.splitlines()[0]
+    with (out / "results.csv").open(encoding="utf-8") as stream:
+        rows = list(csv.DictReader(stream))
+    assert len(rows) == 4 and {row["motion"] for row in rows} == {"continuous"}
+    for row in rows:
+        trace = run_continuous(scene_from(TINY_LEVELS["square-with-hole"]), row["planner"], seed=0,
+                               episode=int(row["episode"]))  # fmt: skip
+        assert float(row["game_seconds"]) == trace.seconds and int(row["steps"]) == trace.steps
+        assert int(row["u_turns"]) == trace.measures["u_turns"] and row["best_bound"] == ""
+    summary = json.loads((out / "summary.json").read_text(encoding="utf-8"))
+    assert summary["run"]["motion"] == "continuous"
+    assert all(group["motion"]["game_seconds"]["count"] == 2 for group in summary["groups"])
+
+
+def test_play_continuous_in_a_real_process() -> None:
+    result = subprocess.run(
+        [*guardsim_command(), "play", str(REPO / "levels" / "square.json"), "--motion", "continuous"],
+        capture_output=True, text=True, timeout=300, check=False,
+    )  # fmt: skip
+    assert result.returncode == 0, result.stderr
+    assert result.stdout.startswith("Square: covered after ") and "s of game time" in result.stdout
