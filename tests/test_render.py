@@ -471,3 +471,20 @@ def test_every_decoded_frame_is_the_frame_drawn(square) -> None:
     drawer = FrameDrawer(level, trace)
     for frame, tick in zip(frames, frame_ticks(trace.steps, options), strict=True):
         assert (frame == palette_rgb()[drawer.frame(tick)]).all(), tick
+
+
+def test_continuous_motion_draws_the_recorded_pose_and_game_time() -> None:
+    """Under continuous motion the guard and its cone are drawn at the recorded pose (between cell
+    centres, at any angle) and the caption gives the game time from the tick rate."""
+    level, trace = hand_trace(SHADOW_ROOM, [(4, 6), (4, 6)], [0, 0])
+    fields = {name: getattr(trace, name) for name in trace.__dataclass_fields__}
+    poses = np.asarray([[0.0, 4.5, 6.5, 0.0], [0.05, 4.9, 6.2, 45.0]])
+    moving = Trace(**{**fields, "motion": "continuous", "tick_hz": 20.0, "poses": poses})
+    drawer = FrameDrawer(level, moving)
+    assert drawer.pose(0, 1) == ((4.9, 6.2), 45.0)
+    assert "(0.1 s)" in drawer.caption(1)[0] or "(0.0 s)" in drawer.caption(1)[0]
+    frame = drawer.frame(1)
+    y, x = (int(v) for v in reversed(drawer.to_pixels((4.9, 6.2))))
+    assert frame[drawer.layout.top + y, drawer.layout.left + x - 2] == guard_index(0)
+    ring = drawer.cone_polygon(0, 1)
+    assert ring[0] == drawer.to_pixels((4.9, 6.2))
