@@ -219,6 +219,10 @@ def run_checks(scene: Scene, rules: CheckRules, *, seed: int = 0) -> list[CheckR
     if rules.max_idleness is not None or rules.sneaks:
         if rules.patrol is not None:
             patrol = read_patrol(rules.patrol, scene.grid)
+            if patrol.motion != "grid":
+                raise CheckError(
+                    f"{rules.patrol}: motion is {patrol.motion!r}: check scores grid-motion patrols (ticks) only"
+                )
             what = rules.patrol
         else:
             patrol = plan_loop(setup, rules.guards)[0].patrol

@@ -224,14 +224,37 @@ def test_bad_patrol_documents(tmp_path: Path, text: str, message: str) -> None:
     assert len(result.output.strip().splitlines()) == 1 and message in result.output, result.output
 
 
-def test_continuous_motion_is_refused_in_one_line(tmp_path: Path) -> None:
+def test_continuous_motion_walks_loops_only(tmp_path: Path) -> None:
     level = write_level(tmp_path, CORRIDOR)
-    result = CliRunner().invoke(main, ["patrol", str(level), "--out", str(tmp_path / "o"), "--motion", "continuous"])
-    assert result.exit_code == 2
-    assert (
-        result.output.strip()
-        == "guardsim: error: --motion continuous is not yet supported for patrol (grid motion only, in ticks)"
+    result = CliRunner().invoke(
+        main, ["patrol", str(level), "--out", str(tmp_path / "o"), "--motion", "continuous", "--strategy", "random"]
     )
+    assert result.exit_code == 2
+    assert result.output.strip() == (
+        "guardsim: error: --motion continuous is not yet supported for patrol strategy random (only loop and --evaluate)"
+    )
+
+
+@pytest.mark.parametrize("guards", [1, 2])
+def test_a_loop_walked_in_continuous_motion_sees_every_cell_each_lap(tmp_path: Path, guards: int) -> None:
+    level = write_level(tmp_path, TINY_LEVELS["square-with-hole"])
+    out = tmp_path / "o"
+    args = ["patrol", str(level), "--out", str(out), "--motion", "continuous", "--guards", str(guards)]
+    result = CliRunner().invoke(main, args)
+    assert result.exit_code == 0, result.output
+    data = json.loads((out / "patrol.json").read_text())
+    assert data["motion"] == "continuous" and data["idleness_unit"] == "seconds" and data["never_seen"] == 0
+    # Walking at 2 units a second and turning on the spot, a lap takes at least the grid lap's distance.
+    assert data["period_seconds"] >= data["period"] * 0.5
+    assert data["physics_ticks_per_lap"] == round(data["period_seconds"] * data["tick_hz"])
+    assert 0 < data["worst_idleness"] <= data["period_seconds"]
+    assert max(v for row in data["idleness"] for v in row if v is not None) == data["worst_idleness"]
+    # The file reads back and is walked again the same way.
+    again = CliRunner().invoke(
+        main, ["patrol", str(level), "--out", str(tmp_path / "p"), "--evaluate", str(out / "patrol.json")]
+    )
+    assert again.exit_code == 0, again.output
+    assert json.loads((tmp_path / "p" / "patrol.json").read_text())["worst_idleness"] == data["worst_idleness"]
 
 
 def test_route_export_merges_straight_runs_and_unrolls_to_the_loop(tmp_path: Path) -> None:

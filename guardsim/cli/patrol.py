@@ -3,26 +3,37 @@
 from __future__ import annotations
 
 import json
+import math
 import sys
 from pathlib import Path
+from typing import NamedTuple
 
 import click
+import numpy as np
 
 from guardsim.cli.common import build_scene, limit_options, load, reports_errors, vision_options
 from guardsim.errors import GuardsimError
 from guardsim.output import write_text_atomic
+from guardsim.patrol.scoring import NEVER, PatrolScore
 from guardsim.planners import PLANNERS
 
 __all__ = ["motion_check", "output_folder", "patrol", "tiled_source_of"]
 
 _STRATEGIES = ("loop", "staleness", "ripplefront", "random")
-_CONTINUOUS = "--motion continuous is not yet supported for patrol (grid motion only, in ticks)"
 
 
-def motion_check(motion: str) -> None:
-    """Refuse continuous motion until guardsim.motion can drive patrols (one line, exit status 2)."""
-    if motion == "continuous":
-        raise GuardsimError(_CONTINUOUS)
+def motion_check(motion: str, strategy: str, *, evaluate: bool, compare: bool) -> None:
+    """Continuous motion walks loops (made or read); the walked strategies are grid-only so far."""
+    if motion != "continuous" or evaluate:
+        return
+    if strategy != "loop":
+        raise GuardsimError(
+            f"--motion continuous is not yet supported for patrol strategy {strategy} (only loop and --evaluate)"
+        )
+    if compare:
+        raise GuardsimError(
+            "--compare is not yet supported with --motion continuous (the walked strategies are grid-only)"
+        )
 
 
 def output_folder(path: str) -> Path:
@@ -89,9 +100,7 @@ def tiled_source_of(level_path: str, tiled_source: str | None) -> str | None:
 @click.option(
     "--speed",
     type=click.FloatRange(min=0, min_open=True, max=1e6),
-    default=2.0,
-    show_default=True,
-    help="World units per second, for times.",
+    help="World units per second: route times, and the walk in continuous motion [default: the level guard's move_speed, else 2].",
 )
 @click.option(
     "--tiled-out",
@@ -118,7 +127,7 @@ def patrol(
     gif: bool,
     html: bool,
     export_path: str | None,
-    speed: float,
+    speed: float | None,
     tiled_out: str | None,
     tiled_source_path: str | None,
     los: str,
@@ -134,9 +143,8 @@ def patrol(
     tries one shared cycle with the guards evenly spaced and split loops, and keeps the lower worst
     idleness. staleness, ripplefront and random are the walked baselines. See docs/patrols.md.
     """
-    motion_check(motion)
+    motion_check(motion, strategy, evaluate=evaluate_path is not None, compare=compare)
     from guardsim.patrol import patrol_data, patrol_setup, plan_loop, plan_patrol, read_patrol, score_patrol
-    from guardsim.patrol.scoring import NEVER
 
     tiled_source = tiled_source_of(level_path, tiled_source_path)
     if tiled_out and tiled_source is None:
@@ -150,6 +158,8 @@ def patrol(
     extra: dict[str, object] = {}
     if evaluate_path is not None:
         chosen = read_patrol(evaluate_path, scene.grid)
+        if chosen.motion == "continuous":
+            motion = "continuous"
         score = score_patrol(setup.table, chosen, setup.goal, warmup=0)
         warmup = 0
         what = f"{Path(evaluate_path).name} evaluated"
@@ -187,18 +197,55 @@ def patrol(
                 name: {"worst_idleness": team_score.worst_idleness, "mean_idleness": team_score.mean_idleness}
                 for name, team_score in team_scores.items()
             }
+    from guardsim.motion import GuardMotion
+
+    walk = GuardMotion.of_guard(level.guard, move_speed=speed)
+    speed = walk.move_speed
+    shown = _Shown.ticks(score)
+    if motion == "continuous":
+        if chosen.period is None:
+            raise GuardsimError("--motion continuous walks repeating patrols; this one has period null")
+        from guardsim.patrol.continuous import continuous_patrol
+
+        walked = continuous_patrol(scene, chosen, setup.goal, walk)
+        shown = _Shown.seconds(walked.score, walk.tick_hz)
+        extra.update(
+            {
+                "period_seconds": round(walked.period_seconds, 4),
+                "physics_ticks_per_lap": walked.period,
+                "tick_hz": walk.tick_hz,
+                "move_speed": walk.move_speed,
+                "turn_speed": walk.turn_speed,
+                "grid_worst_idleness": score.worst_idleness,
+                "ticks_scored": walked.period,
+            }
+        )
     data = patrol_data(chosen, score, scene.grid, level=level.name, motion=motion, extra=extra)
+    data.update(
+        worst_idleness=shown.worst,
+        mean_idleness=None if shown.mean is None else round(shown.mean, 3),
+        idleness=[
+            [None if math.isnan(v) else (round(v, 3) if shown.unit == "seconds" else int(v)) for v in row]
+            for row in shown.gaps.reshape(scene.grid.shape).tolist()
+        ],
+        idleness_unit=shown.unit,
+        never_seen=shown.never_seen,
+    )
     written = [str(folder / "patrol.json")]
     write_text_atomic(folder / "patrol.json", json.dumps(data, separators=(",", ":")) + "\n")
     try:
         from guardsim.patrol.heatmap import write_heat_map
 
-        gaps = score.worst_gap.reshape(scene.grid.shape).astype(float)
-        never = gaps == NEVER
-        gaps[(gaps < 0)] = float("nan")
-        title = f"{level.name}: {what}, worst gap per cell (worst {score.worst_idleness}, mean {_mean(score.mean_idleness)})"
+        gaps = shown.gaps.reshape(scene.grid.shape)
+        title = f"{level.name}: {what}, worst gap per cell (worst {_mean(shown.worst)}, mean {_mean(shown.mean)} {shown.unit})"
         write_heat_map(
-            folder / "idleness.png", level, scene.grid, gaps, title=title, unit="ticks unseen in a row", never=never
+            folder / "idleness.png",
+            level,
+            scene.grid,
+            gaps,
+            title=title,
+            unit=f"{shown.unit} unseen in a row",
+            never=shown.never.reshape(scene.grid.shape),
         )
         written.append(str(folder / "idleness.png"))
     except GuardsimError as error:
@@ -240,22 +287,61 @@ def patrol(
         with atomic_path(tiled_out) as temporary:
             temporary.write_bytes(copy)
         written.append(tiled_out)
-    team = f", {guards} guards" if chosen.guards > 1 else ""
+    team = f", {chosen.guards} guards" if chosen.guards > 1 else ""
     if chosen.team:
         team += f" ({chosen.team})"
     period_text = f", period {chosen.period} ticks" if chosen.period is not None else ""
+    if motion == "continuous":
+        period_text = f", continuous lap {data['period_seconds']:.1f} s"
     worst = (
-        "never seen: " + str(score.never_seen) + " cells"
-        if score.worst_idleness is None
-        else f"worst idleness {score.worst_idleness} ticks"
+        f"never seen: {shown.never_seen} cells"
+        if shown.worst is None
+        else f"worst idleness {_mean(shown.worst)} {shown.unit}"
     )
-    click.echo(
-        f"{level.name}: {what}{team}{period_text}, {worst}, mean {_mean(score.mean_idleness)} -> {', '.join(written)}"
-    )
+    click.echo(f"{level.name}: {what}{team}{period_text}, {worst}, mean {_mean(shown.mean)} -> {', '.join(written)}")
     for note in chosen.notes:
         click.echo(f"  {note}")
     sys.stdout.flush()
 
 
 def _mean(value: float | None) -> str:
-    return "-" if value is None else f"{value:.1f}"
+    if value is None:
+        return "-"
+    return str(value) if isinstance(value, int) else f"{value:.1f}"
+
+
+class _Shown(NamedTuple):
+    """A score as reported: in ticks (grid motion) or seconds (continuous)."""
+
+    unit: str
+    worst: float | None
+    mean: float | None
+    gaps: np.ndarray
+    """``float (cells,)``: worst gap per cell, NaN outside the goal and where never seen."""
+    never: np.ndarray
+    """``bool (cells,)``: goal cells never seen."""
+    never_seen: int
+
+    @classmethod
+    def ticks(cls, score: PatrolScore) -> _Shown:
+        return cls._of(score, "ticks", 1.0)
+
+    @classmethod
+    def seconds(cls, score: PatrolScore, tick_hz: float) -> _Shown:
+        return cls._of(score, "seconds", tick_hz)
+
+    @classmethod
+    def _of(cls, score: PatrolScore, unit: str, per_second: float) -> _Shown:
+        never = score.worst_gap == NEVER
+        gaps = score.worst_gap.astype(float)
+        gaps[score.worst_gap < 0] = math.nan
+        scale = 1.0 / per_second
+        worst = score.worst_idleness
+        return cls(
+            unit,
+            None if worst is None else (worst if unit == "ticks" else round(worst * scale, 3)),
+            None if score.mean_idleness is None else score.mean_idleness * scale,
+            gaps * scale,
+            never,
+            score.never_seen,
+        )

@@ -83,6 +83,10 @@ def sneak(
     scene = build_scene(level, los, fov, view_range)
     grid = scene.grid
     patrol = read_patrol(patrol_path, grid)
+    if patrol.motion != "grid":
+        raise GuardsimError(
+            f"{patrol_path}: motion is {patrol.motion!r}: the sneak check runs on grid-motion patrols (ticks) only"
+        )
     if patrol.period is None:
         raise GuardsimError(f"{patrol_path}: period is null: the sneak check needs a repeating patrol")
     start, goal = sneak_cell(grid, source, "--from"), sneak_cell(grid, target, "--to")

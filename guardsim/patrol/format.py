@@ -146,12 +146,8 @@ def parse_patrol(data: Any, grid: CoverageGrid, *, source: str = "<patrol>") -> 
         ):
             raise _fail(source, "origin", f"{origin!r} does not match the level's grid origin {list(grid.origin)}")
     motion = data.get("motion", "grid")
-    if motion != "grid":
-        raise _fail(
-            source,
-            "motion",
-            f"{motion!r}: only grid motion patrols can be read (continuous is not yet supported for patrol)",
-        )
+    if motion not in ("grid", "continuous"):
+        raise _fail(source, "motion", f"expected \"grid\" or \"continuous\", got {motion!r}"[:120])
     period = data.get("period", 0)
     if period is not None and not (_integer(period) and period >= 0):
         raise _fail(source, "period", f"expected a whole number of ticks or null, got {period!r}")
@@ -163,7 +159,7 @@ def parse_patrol(data: Any, grid: CoverageGrid, *, source: str = "<patrol>") -> 
     if not repeating:
         ticks = max(lap.size for lap in laps)
         states = np.stack([np.concatenate([lap, np.full(ticks - lap.size, lap[-1])]) for lap in laps])
-        return Patrol(states, None, str(data.get("strategy", "evaluate")))
+        return Patrol(states, None, str(data.get("strategy", "evaluate")), motion=motion)
     common = math.lcm(*(lap.size for lap in laps))
     if common > MAX_UNROLLED_TICKS:
         raise _fail(
@@ -175,7 +171,7 @@ def parse_patrol(data: Any, grid: CoverageGrid, *, source: str = "<patrol>") -> 
         raise _fail(source, "period", f"{period} does not match the loops, which repeat every {common} ticks")
     states = np.stack([np.tile(lap, common // lap.size) for lap in laps])
     strategy = data.get("strategy", "evaluate")
-    return Patrol(states, common, strategy if isinstance(strategy, str) else "evaluate")
+    return Patrol(states, common, strategy if isinstance(strategy, str) else "evaluate", motion=motion)
 
 
 def _read_guard(guard: Any, grid: CoverageGrid, repeating: bool, source: str, where: str) -> np.ndarray:

@@ -44,6 +44,8 @@ class Patrol:
     """For a team's loop: ``"shared"`` (one cycle, guards evenly spaced) or ``"split"`` (a loop each)."""
     notes: tuple[str, ...] = field(default=())
     """Why the patrol is as it is (the team comparison), for the report."""
+    motion: str = "grid"
+    """How the guards walk the route: ``"grid"`` (ticks) or ``"continuous"`` (scored in seconds)."""
 
     def __post_init__(self) -> None:
         states = np.asarray(self.states, dtype=np.int64)
