@@ -10,16 +10,14 @@ import numpy as np
 from guardsim.cli.common import build_scene, limit_options, load, parse_point, reports_errors, vision_options
 from guardsim.cli.patrol import output_folder
 from guardsim.errors import GuardsimError
+from guardsim.grid import CoverageGrid
 from guardsim.output import write_text_atomic
 
 __all__ = ["sneak", "sneak_cell"]
 
 
-def sneak_cell(scene_grid: object, point: tuple[float, float], option: str) -> int:
+def sneak_cell(scene_grid: CoverageGrid, point: tuple[float, float], option: str) -> int:
     """The flat cell of a point given as ``option``, or a one-line error saying why it cannot be used."""
-    from guardsim.grid import CoverageGrid
-
-    assert isinstance(scene_grid, CoverageGrid)
     cell = scene_grid.cell_of(point)
     where = f"{option} {point[0]:g},{point[1]:g}"
     if cell is None:
