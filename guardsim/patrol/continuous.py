@@ -77,7 +77,9 @@ def _lap(scene: Scene, motion: GuardMotion, states: np.ndarray) -> np.ndarray:
     return np.asarray(poses[:-1], dtype=np.float64)
 
 
-def continuous_patrol(scene: Scene, patrol: Patrol, goal: np.ndarray, motion: GuardMotion | None = None) -> ContinuousPatrol:
+def continuous_patrol(
+    scene: Scene, patrol: Patrol, goal: np.ndarray, motion: GuardMotion | None = None
+) -> ContinuousPatrol:
     """Walk a repeating grid patrol in continuous motion and score one lap of it."""
     if patrol.period is None:
         raise ValueError("continuous scoring needs a repeating patrol")

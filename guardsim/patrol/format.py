@@ -39,7 +39,11 @@ __all__ = [
 #: Largest patrol file read.
 DEFAULT_MAX_PATROL_BYTES = 64 * 1024 * 1024
 #: Longest common period of a team whose loops differ in length (the least common multiple of the laps).
-MAX_UNROLLED_TICKS = 200_000
+MAX_UNROLLED_TICKS = 20_000
+
+
+#: Most ticks times cells a patrol read from a file may be scored over (one byte each).
+MAX_TIMELINE_CELLS = 400_000_000
 
 
 class PatrolError(GuardsimError):
@@ -147,7 +151,7 @@ def parse_patrol(data: Any, grid: CoverageGrid, *, source: str = "<patrol>") -> 
             raise _fail(source, "origin", f"{origin!r} does not match the level's grid origin {list(grid.origin)}")
     motion = data.get("motion", "grid")
     if motion not in ("grid", "continuous"):
-        raise _fail(source, "motion", f"expected \"grid\" or \"continuous\", got {motion!r}"[:120])
+        raise _fail(source, "motion", f'expected "grid" or "continuous", got {motion!r}'[:120])
     period = data.get("period", 0)
     if period is not None and not (_integer(period) and period >= 0):
         raise _fail(source, "period", f"expected a whole number of ticks or null, got {period!r}")
@@ -158,6 +162,12 @@ def parse_patrol(data: Any, grid: CoverageGrid, *, source: str = "<patrol>") -> 
     laps = [_read_guard(guard, grid, repeating, source, f"guards[{number}]") for number, guard in enumerate(guards)]
     if not repeating:
         ticks = max(lap.size for lap in laps)
+        if ticks * grid.size > MAX_TIMELINE_CELLS:
+            raise _fail(
+                source,
+                "guards",
+                f"walked paths of {ticks} ticks on {grid.size} cells are over the limit of {MAX_TIMELINE_CELLS} cell-ticks",
+            )
         states = np.stack([np.concatenate([lap, np.full(ticks - lap.size, lap[-1])]) for lap in laps])
         return Patrol(states, None, str(data.get("strategy", "evaluate")), motion=motion)
     common = math.lcm(*(lap.size for lap in laps))

@@ -12,13 +12,23 @@ from typing import Any, NamedTuple
 
 import numpy as np
 
+from guardsim.errors import LimitError
 from guardsim.grid import CoverageGrid
 from guardsim.patrol.model import Patrol
 from guardsim.patrol.scoring import seen_timeline
 from guardsim.sneak.search import SneakPath, closest_call, find_sneak, hiding_windows
 from guardsim.vision.table import ViewTable
 
-__all__ = ["SneakPath", "SneakResult", "closest_call", "find_sneak", "hiding_windows", "sneak_check", "sneak_data"]
+__all__ = [
+    "MAX_SNEAK_NODES",
+    "SneakPath",
+    "SneakResult",
+    "closest_call",
+    "find_sneak",
+    "hiding_windows",
+    "sneak_check",
+    "sneak_data",
+]
 
 
 class SneakResult(NamedTuple):
@@ -39,10 +49,26 @@ class SneakResult(NamedTuple):
         return self.path is not None and self.path.found
 
 
+#: Most (cell, lap tick) nodes a sneak search may have (about 30 bytes of memory each).
+MAX_SNEAK_NODES = 20_000_000
+
+
 def sneak_check(grid: CoverageGrid, table: ViewTable, patrol: Patrol, source: int, target: int) -> SneakResult:
-    """Search for an unseen path from cell ``source`` to cell ``target`` (flat indices) under ``patrol``."""
+    """Search for an unseen path from cell ``source`` to cell ``target`` (flat indices) under ``patrol``.
+
+    Raises
+    ------
+    LimitError
+        When the period times the cells is over :data:`MAX_SNEAK_NODES`.
+    """
     if patrol.period is None:
         raise ValueError("the sneak check needs a repeating patrol (its period is null)")
+    nodes = patrol.period * grid.size
+    if nodes > MAX_SNEAK_NODES:
+        raise LimitError(
+            f"the sneak search would have {nodes} (cell, lap tick) nodes ({grid.size} cells x a {patrol.period}-tick lap), "
+            f"over the limit of {MAX_SNEAK_NODES}"
+        )
     seen = seen_timeline(table, patrol.states, grid.size)
     path = find_sneak(grid.neighbours, seen, source, target) or closest_call(grid.neighbours, seen, source, target)
     return SneakResult(path, patrol.period, seen, hiding_windows(seen, grid.traversable))

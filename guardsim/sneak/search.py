@@ -120,9 +120,9 @@ def _dijkstra(neighbours: np.ndarray, seen: np.ndarray, source: int, target: int
     best = np.full(nodes, np.iinfo(np.int64).max, dtype=np.int64)
     parent = np.full(nodes, -2, dtype=np.int64)
     done = np.zeros(nodes, dtype=np.bool_)
-    capacity = nodes * 5 + period + 1
-    heap_keys = np.empty(capacity, dtype=np.int64)
-    heap_nodes = np.empty(capacity, dtype=np.int64)
+    # The heap grows as needed: most searches push far fewer entries than the five per node they could.
+    heap_keys = np.empty(period + 1024, dtype=np.int64)
+    heap_nodes = np.empty(period + 1024, dtype=np.int64)
     size = 0
     for tick in range(period):
         node = tick * cells + source
@@ -148,6 +148,9 @@ def _dijkstra(neighbours: np.ndarray, seen: np.ndarray, source: int, target: int
             if cost < best[next_node]:
                 best[next_node] = cost
                 parent[next_node] = node
+                if size == heap_keys.shape[0]:
+                    heap_keys = np.concatenate((heap_keys, np.empty_like(heap_keys)))
+                    heap_nodes = np.concatenate((heap_nodes, np.empty_like(heap_nodes)))
                 size = _push(heap_keys, heap_nodes, size, cost, next_node)
     return parent, -1, -1
 
