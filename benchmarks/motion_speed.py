@@ -26,20 +26,13 @@ import sys
 import time
 from pathlib import Path
 
+sys.path.insert(0, str(Path(__file__).resolve().parent))
+
+from speed import load_scene  # the sibling benchmark's level-or-map loader
+
 REPO = Path(__file__).resolve().parent.parent
 LEVELS = sorted((REPO / "levels").glob("*.json"))
 MAPS = [REPO.parent / "shared" / "maps" / "movingai" / "AR0603SR.map"]
-
-
-def load_scene(path: Path):
-    from guardsim.level import load_level
-    from guardsim.scene import Scene
-
-    if path.suffix == ".json":
-        return Scene.from_level(load_level(path))
-    from guardsim.importers import import_map
-
-    return Scene.from_level(import_map(path).level)
 
 
 def measure(path: Path, planners: list[str], patrol: float, episodes: int, seed: int) -> dict:

@@ -20,7 +20,8 @@ from guardsim.world import World
 
 __all__ = ["Follower", "Pose"]
 
-Pose = tuple[tuple[float, float], float, tuple[float, float], float]
+#: ``((x, y), heading_degrees)``.
+Pose = tuple[tuple[float, float], float]
 
 
 class Follower:
@@ -49,12 +50,13 @@ class Follower:
         self.heading = heading % 360.0
 
     def save(self) -> Pose:
-        """The body's state, to put back after the grid loop has moved it while planning."""
-        return self.position, self.heading, tuple(self.body.velocity), self.body.angular_velocity  # type: ignore[return-value]
+        """The pose, to put back after the grid loop has moved the body while planning (between ticks,
+        when the body is at rest)."""
+        return self.position, self.heading
 
     def restore(self, pose: Pose) -> None:
-        """Put the body back as :meth:`save` found it."""
-        self._set(pose[0], pose[1])
+        """Put the body back at rest where :meth:`save` found it."""
+        self._set(*pose)
 
     def walk_to(self, corner: np.ndarray | tuple[float, float]) -> bool:
         """One tick toward ``corner``; returns whether the body has arrived there."""
