@@ -35,7 +35,7 @@ class Scene:
     >>> from guardsim.level import parse_level
     >>> scene = Scene.from_level(parse_level({"outer": [[0, 0], [4, 0], [4, 3], [0, 3]]}))
     >>> scene.grid.shape, scene.line_of_sight.value, scene.vision()(0, 0, 0).tolist()
-    ((3, 4), 'pymunk', [0, 1, 2, 3, 5, 6, 9])
+    ((3, 4), 'pymunk', [0, 1, 2, 3, 5, 6, 7, 10, 11])
     """
 
     level: Level

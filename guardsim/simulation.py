@@ -18,7 +18,7 @@ Step a guard tick by tick from a game loop, reading its position in world coordi
 >>> while not sim.done:
 ...     sim.step()
 >>> sim.tick, sim.outcome, sim.positions[0]
-(3, 'covered', (0.5, 2.5))
+(1, 'covered', (0.5, 1.5))
 """
 
 from __future__ import annotations
