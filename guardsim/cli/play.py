@@ -8,7 +8,9 @@ import click
 
 from guardsim.cli.common import build_scene, cli_start, limit_options, load, parse_point, reports_errors, vision_options
 from guardsim.cli.map_options import MapImport, map_options
+from guardsim.cli.motion import check_motion, motion_of, motion_options
 from guardsim.level import HEADINGS
+from guardsim.motion import run_continuous, summary_text
 from guardsim.output import write_text_atomic
 from guardsim.planners import PLANNERS, make_planner
 from guardsim.render.timeline import DEFAULT_MAX_FRAMES, GifOptions
@@ -49,6 +51,7 @@ __all__ = ["play"]
 @click.option("--frame-ms", type=click.IntRange(min=10), default=60, show_default=True, help="GIF frame duration.")
 @click.option("--max-frames", type=click.IntRange(min=1), default=DEFAULT_MAX_FRAMES, show_default=True)
 @vision_options
+@motion_options
 @map_options
 @limit_options
 @reports_errors
@@ -72,6 +75,11 @@ def play(
     los: str,
     fov: float | None,
     view_range: float | None,
+    motion: str,
+    move_speed: float | None,
+    turn_speed: float | None,
+    tick_hz: float | None,
+    max_seconds: float | None,
     max_cells: int,
     max_vertices: int,
     max_file_bytes: int,
@@ -84,16 +92,22 @@ def play(
     With --guards K, the other guards' starts and headings are drawn next from the same generator, which
     then feeds the planners, as in `guardsim bench`.
     """
+    check_motion(motion, guards, los)
     level = load(level_path, max_cells, max_vertices, max_file_bytes, map_import)
     began = time.perf_counter()
     scene = build_scene(level, los, fov, view_range)
     rng, cell, first_heading = cli_start(scene, seed=seed, episode=episode, start=start, heading=heading)
     options = {"sweeps_per_tick": sweeps_per_tick} if planner == "ripplefront" else {}
     cells, headings = team_starts(scene, (cell, first_heading), guards, rng=rng)
-    planners = [make_planner(planner, **options) for _ in range(guards)]
-    trace = run_team_episode(
-        scene, planners, cells, headings, max_steps=max_steps, seed=seed, reference=reference, rng=rng
-    )
+    if motion == "continuous":
+        trace = run_continuous(scene, planner, seed=seed, start=cell, heading=first_heading, rng=rng, max_steps=max_steps,
+                               motion=motion_of(scene, move_speed, turn_speed, tick_hz), max_seconds=max_seconds,
+                               reference=reference, **options)  # fmt: skip
+    else:
+        planners = [make_planner(planner, **options) for _ in range(guards)]
+        trace = run_team_episode(
+            scene, planners, cells, headings, max_steps=max_steps, seed=seed, reference=reference, rng=rng
+        )
     seconds = time.perf_counter() - began
     options = GifOptions(stride=stride, frame_ms=frame_ms, max_frames=max_frames)
     written = []
@@ -113,8 +127,10 @@ def play(
     seen_percent = 100.0 - trace.unseen_percent[-1]
     extra = f", {trace.unreachable} unreachable" if trace.unreachable else ""
     team = f" ({guards} guards, {trace.total_moves} moves in all)" if guards > 1 else ""
+    moved = summary_text(trace)
+    after, moved = (moved, "") if trace.motion == "continuous" else (f"{trace.steps} steps{team}", f", {moved}")
     click.echo(
-        f"{level.name}: {trace.outcome.replace('_', ' ')} after {trace.steps} steps{team}, {seen_percent:.1f}% seen "
-        f"({trace.reachable} reachable cells{extra}), {seconds:.2f} s"
+        f"{level.name}: {trace.outcome.replace('_', ' ')} after {after}, {seen_percent:.1f}% seen "
+        f"({trace.reachable} reachable cells{extra}){moved}, {seconds:.2f} s"
         + (f" -> {', '.join(written)}" if written else "")
     )
