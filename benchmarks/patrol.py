@@ -1,6 +1,6 @@
 """Patrol strategies on the shipped levels: worst and mean idleness, and the sneak check, with timings.
 
-Usage: ``python benchmarks/patrol.py [--guards 1,2] [--laps 10] [--out DIR] [LEVEL ...]``
+Usage: ``python benchmarks/patrol.py [--guards 1,2] [--laps 10] [--out DIR] [--continuous] [LEVEL ...]``
 
 For every level and team size it makes the loop patrol (``guardsim patrol``'s default) and runs the three
 walked strategies for ``--laps`` laps of that loop after two laps of warm-up, exactly as
@@ -8,7 +8,8 @@ walked strategies for ``--laps`` laps of that loop after two laps of warm-up, ex
 and team choice, then each strategy's worst and mean idleness in ticks. It also runs the
 sneak check for two entry/exit pairs per level (the goal's opposite corners along both diagonals)
 under the loop patrol and, with ``--out``, writes a GIF of each answer there. The seconds are wall
-time on this machine (shared, so indicative only); every other figure is deterministic.
+time on this machine (shared, so indicative only); every other figure is deterministic. With
+``--continuous`` it prints instead each loop walked in continuous motion and scored in seconds.
 """
 
 from __future__ import annotations
@@ -45,9 +46,15 @@ def main() -> None:
     parser.add_argument("--guards", default="1,2")
     parser.add_argument("--laps", type=int, default=10)
     parser.add_argument("--out", type=Path, help="Folder for the sneak GIFs.")
+    parser.add_argument(
+        "--continuous", action="store_true", help="Only the loops walked in continuous motion, in seconds."
+    )
     args = parser.parse_args()
     levels = args.levels or sorted((REPO / "levels").glob("*.json"))
     teams = [int(part) for part in args.guards.split(",")]
+    if args.continuous:
+        _continuous(levels, teams)
+        return
     print(
         "| level | guards | loop period | team | loop worst / mean | staleness worst / mean | ripplefront worst / mean | random worst / mean | seconds |"
     )
@@ -117,6 +124,29 @@ def main() -> None:
         print("|---|---|---|---|---|")
         for row in sneaks:
             print(row)
+
+
+def _continuous(levels: list[Path], teams: list[int]) -> None:
+    """The loop patrols walked by guardsim.motion (default speeds), as ``patrol --motion continuous``."""
+    from guardsim.patrol.continuous import continuous_patrol
+
+    print(
+        "| level | guards | grid period (ticks) | grid worst (ticks) | lap (s) | worst idleness (s) | mean idleness (s) | never seen | seconds |"
+    )
+    print("|---|---|---|---|---|---|---|---|---|")
+    for path in levels:
+        level = load_level(path)
+        scene = Scene.from_level(level)
+        for guards in teams:
+            began = time.perf_counter()
+            setup = patrol_setup(scene, guards)
+            loop, _ = plan_loop(setup, guards)
+            walked = continuous_patrol(scene, loop.patrol, setup.goal)
+            worst, mean = walked.seconds(walked.score.worst_idleness), walked.seconds(walked.score.mean_idleness)
+            print(
+                f"| {level.name} | {guards} | {loop.patrol.period} | {loop.score.worst_idleness} | {walked.period_seconds:.1f} | "
+                f"{worst:.1f} | {mean:.1f} | {walked.score.never_seen} | {time.perf_counter() - began:.1f} |"
+            )
 
 
 if __name__ == "__main__":
