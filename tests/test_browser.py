@@ -141,3 +141,23 @@ def test_every_layer_and_a_team_draw_without_errors(tmp_path: Path) -> None:
     dom = dump(page, "tick=150&layers=coverage,trail,cone,heat,field", tmp_path / "profile")
     assert element(dom, "errors") == ""
     assert element(dom, "tick-readout") == f"tick 150 / 300 \u00b7 {trace.unseen_percent[150]:.1f}% unseen"
+
+
+def readout_tick(dom: str) -> int:
+    found = re.match(r"tick (\d+) / ", element(dom, "tick-readout"))
+    assert found is not None
+    return int(found.group(1))
+
+
+def test_playback_advances_at_the_chosen_speed_and_stops_at_the_end(square_page, tmp_path: Path) -> None:
+    """#play=1 plays from the tick given; in the same (virtual) time 60 ticks/s gets further than 15, and
+    playing past the last tick stops there with the button back to Play."""
+    page, trace = square_page
+    slow = readout_tick(dump(page, "tick=10&play=1&speed=15", tmp_path / "profile"))
+    fast = readout_tick(dump(page, "tick=10&play=1&speed=60", tmp_path / "profile"))
+    assert 10 < slow < fast <= trace.steps
+    assert fast - 10 > 2 * (slow - 10)
+    dom = dump(page, f"tick={trace.steps - 5}&play=1&speed=60", tmp_path / "profile")
+    assert readout_tick(dom) == trace.steps
+    assert element(dom, "play") == "Play"
+    assert element(dom, "errors") == ""

@@ -387,9 +387,11 @@
       }
     }
 
+    // Playback runs on timers, not animation frames, so it also advances in a headless browser.
     let playing = false, last = 0, carry = 0;
-    function frame(now) {
+    function frame() {
       if (!playing) return;
+      const now = performance.now();
       carry += ((now - last) / 1000) * Number(speed.value);
       last = now;
       const advance = Math.floor(carry);
@@ -402,7 +404,7 @@
         setTick(steps, true);
         return;
       }
-      requestAnimationFrame(frame);
+      setTimeout(frame, 16);
     }
     function setPlaying(on) {
       playing = on;
@@ -411,7 +413,7 @@
         if (tick >= steps) setTick(0, false);
         last = performance.now();
         carry = 0;
-        requestAnimationFrame(frame);
+        setTimeout(frame, 16);
       }
     }
 
@@ -457,12 +459,17 @@
     }
 
     setTick(hash.tick !== undefined ? hash.tick : 0, false);
+    if (hash.speed !== undefined) {
+      const wanted = [...speed.options].find((option) => option.value === hash.speed);
+      if (wanted) speed.value = wanted.value;
+    }
     const box = canvas.getBoundingClientRect();
     const geometry = document.getElementById("canvas-geometry");
     geometry.dataset.left = String(Math.round(box.left + window.scrollX));
     geometry.dataset.top = String(Math.round(box.top + window.scrollY));
     geometry.dataset.scale = String(scale);
     status.textContent = "ready";
+    if (hash.play === "1") setPlaying(true);
   }
 
   try {
