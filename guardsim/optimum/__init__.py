@@ -22,14 +22,14 @@ must see both ends, 2 + 4 steps whichever it visits first.
 
 from __future__ import annotations
 
-import itertools
 import time
 from typing import TYPE_CHECKING, NamedTuple
 
 import numpy as np
 
-from guardsim.errors import LimitError
-from guardsim.optimum.graph import SearchGraph, build_search_graph
+from guardsim.errors import LevelError, LimitError
+from guardsim.optimum.beam import beam_route
+from guardsim.optimum.graph import build_search_graph, route_steps
 from guardsim.optimum.heuristic import build_heuristic
 from guardsim.optimum.search import (
     EXPANSIONS,
@@ -56,6 +56,8 @@ __all__ = ["DEFAULT_MEMORY_BYTES", "OptimumResult", "solve"]
 
 #: Memory the node arrays may take by default.
 DEFAULT_MEMORY_BYTES = 3 * 2**30
+#: Width of the beam search that gives the first incumbent.
+INCUMBENT_BEAM = 8
 #: Earlier nodes at the same position a new node is checked against for dominance.
 DOMINANCE_CHECKS = 16
 #: Expansions per compiled chunk between two looks at the clock.
@@ -129,7 +131,13 @@ def solve(
             f"the exact search is for small levels: {graph.positions} positions from this start (at most 20000)"
         )
     heuristic = build_heuristic(graph)
-    greedy, greedy_steps = greedy_walk(graph.successors, graph.views, graph.full, graph.start)
+    # A short first walk keeps every node whose f reaches it out of memory; the beam finds one in
+    # bounded work (the greedy walk is the fallback should the beam find none).
+    greedy, greedy_steps = beam_route(graph, heuristic, INCUMBENT_BEAM)
+    if greedy_steps < 0:
+        greedy, greedy_steps = greedy_walk(graph.successors, graph.views, graph.full, graph.start)
+    if greedy_steps < 0:
+        raise LevelError(f"{scene.level.source}: some cell reachable from the start is seen from nowhere")
     words = graph.full.size
     per_node = 8 * words + 5 * 4 + 2 * 12 + 2 * 8
     capacity = max(1024, int(memory_bytes // per_node))
@@ -159,7 +167,8 @@ def solve(
         route, incumbent = greedy, int(greedy_steps)
     proved = stopped_by == "proved"
     floor = incumbent if proved or counters[HEAP] == 0 else min(incumbent, int(state.heap_key[0] // (1 << 16)))
-    path = _walk(scene, graph, route, heading)
+    grid = scene.grid
+    path = tuple((*grid.unflat(cell), facing) for cell, facing in route_steps(graph, route, heading)[0])
     if len(path) - 1 != incumbent:
         raise RuntimeError(f"the walk has {len(path) - 1} steps, the search counted {incumbent}")
     return OptimumResult(
@@ -183,35 +192,3 @@ def _route(state: SearchState, node: int) -> np.ndarray:
         route.append(int(state.position[node]))
         node = int(state.parent[node])
     return np.array(route[::-1], dtype=np.int64)
-
-
-def _walk(scene: Scene, graph: SearchGraph, route: np.ndarray, heading: int) -> tuple[tuple[int, int, int], ...]:
-    """Every step of a walk through ``route``, shortest paths between its positions."""
-    grid = scene.grid
-    steps = [int(route[0])]
-    for target in route[1:].tolist():
-        steps.extend(_shortest_path(graph.successors, steps[-1], target)[1:])
-    walk = [(*grid.unflat(int(graph.states[steps[0]] // 4)), heading)]
-    for before, position in itertools.pairwise(steps):
-        direction = int(np.flatnonzero(graph.successors[before] == position)[0])
-        walk.append((*grid.unflat(int(graph.states[position] // 4)), direction))
-    return tuple(walk)
-
-
-def _shortest_path(successors: np.ndarray, source: int, target: int) -> list[int]:
-    """Positions of a shortest path from ``source`` to ``target`` (both included)."""
-    parent = np.full(successors.shape[0], -2, dtype=np.int64)
-    parent[source] = -1
-    frontier = [source]
-    while frontier and parent[target] == -2:
-        following = []
-        for here in frontier:
-            for there in successors[here].tolist():
-                if there >= 0 and parent[there] == -2:
-                    parent[there] = here
-                    following.append(there)
-        frontier = following
-    path = [target]
-    while parent[path[-1]] >= 0:
-        path.append(int(parent[path[-1]]))
-    return path[::-1]

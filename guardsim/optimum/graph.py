@@ -11,6 +11,7 @@ goal cell ``i`` being bit ``i % 64`` of word ``i // 64``.
 
 from __future__ import annotations
 
+import itertools
 from typing import NamedTuple
 
 import numba
@@ -19,7 +20,7 @@ import numpy as np
 from guardsim.grid import HEADINGS_PER_CELL, CoverageGrid, cell_of_state, heading_of_state, state_of
 from guardsim.vision.table import ViewTable
 
-__all__ = ["FAR", "SearchGraph", "build_search_graph", "watcher_distances"]
+__all__ = ["FAR", "SearchGraph", "build_search_graph", "goal_bits", "route_steps", "watcher_distances"]
 
 #: Distance to a target the position cannot reach; fits int16 with room to add a few steps.
 FAR = 30000
@@ -221,3 +222,48 @@ def watcher_distances(graph: SearchGraph) -> tuple[np.ndarray, np.ndarray, np.nd
 def heading_of(graph: SearchGraph, position: int) -> int:
     """The heading of a position (0 when headings do not matter)."""
     return int(heading_of_state(graph.states[position]))
+
+
+def route_steps(graph: SearchGraph, route: np.ndarray, heading: int) -> tuple[list[tuple[int, int]], list[int]]:
+    """A walk through the positions of ``route`` (the start first) along shortest paths.
+
+    Returns ``(cell, heading)`` at every step (the first heading is ``heading``, later ones the direction
+    of each step) and the step at which the walk reaches each position of ``route``.
+    """
+    steps = [int(route[0])]
+    ends = [0]
+    for target in route[1:].tolist():
+        steps.extend(_shortest_path(graph.successors, steps[-1], target)[1:])
+        ends.append(len(steps) - 1)
+    walk = [(int(cell_of_state(graph.states[steps[0]])), heading)]
+    for before, position in itertools.pairwise(steps):
+        direction = int(np.flatnonzero(graph.successors[before] == position)[0])
+        walk.append((int(cell_of_state(graph.states[position])), direction))
+    return walk, ends
+
+
+def _shortest_path(successors: np.ndarray, source: int, target: int) -> list[int]:
+    """Positions of a shortest path from ``source`` to ``target`` (both included)."""
+    parent = np.full(successors.shape[0], -2, dtype=np.int64)
+    parent[source] = -1
+    frontier = [source]
+    while frontier and parent[target] == -2:
+        following = []
+        for here in frontier:
+            for there in successors[here].tolist():
+                if there >= 0 and parent[there] == -2:
+                    parent[there] = here
+                    following.append(there)
+        frontier = following
+    path = [target]
+    while parent[path[-1]] >= 0:
+        path.append(int(parent[path[-1]]))
+    return path[::-1]
+
+
+def goal_bits(graph: SearchGraph, cells: np.ndarray) -> np.ndarray:
+    """The goal bitset of the goal cells among ``cells`` (``bool (grid cells,)``)."""
+    bits = np.flatnonzero(np.asarray(cells, dtype=bool)[graph.goal_cells])
+    words = np.zeros_like(graph.full)
+    np.bitwise_or.at(words, bits >> 6, np.left_shift(np.uint64(1), (bits & 63).astype(np.uint64)))
+    return words

@@ -27,6 +27,10 @@ from typing import NamedTuple
 
 import numpy as np
 
+from guardsim.grid import state_of
+from guardsim.optimum.beam import beam_route
+from guardsim.optimum.graph import build_search_graph, goal_bits, route_steps
+from guardsim.optimum.heuristic import build_heuristic
 from guardsim.planners.base import STAY, EpisodeSetup, GuardState
 from guardsim.planners.frontier import Frontier
 from guardsim.planners.route_walk import RouteWalk, walk_routes
@@ -39,6 +43,15 @@ __all__ = ["LevelCover", "Tour", "route_costs"]
 
 #: Rounds of routing again through the states a simulated walk arrived in.
 REFINE_ROUNDS = 8
+#: Width of the beam search over macro moves (the "beam" seed).
+BEAM_WIDTH = 8
+#: Most guard positions (states, or cells when headings do not matter) for the beam seed; above it the
+#: per-start tables (steps from every position to every cell's watchers) cost too much.
+BEAM_POSITIONS = 6000
+#: Pivot candidates of the beam's estimate (fewer than the exact search's, for a quicker setup).
+BEAM_POOL = 256
+#: Every seed, in the order tried.
+SEEDS = ("cover", "frontier", "beam")
 
 #: ``(cell, heading)`` of every guard.
 Team = tuple[tuple[int, int], ...]
@@ -71,18 +84,19 @@ class Tour:
     Parameters
     ----------
     seeds
-        Which first routes to refine: ``"cover"`` (the set-cover tour) and/or ``"frontier"`` (the empty
-        route, i.e. the frontier walk); the shorter refined walk is kept. Both by default; the others
-        are for measuring what each part contributes.
+        Which first routes to refine: ``"cover"`` (the set-cover tour), ``"frontier"`` (the empty
+        route, i.e. the frontier walk) and ``"beam"`` (the arrivals of a beam search over macro moves,
+        one guard on levels of at most :data:`BEAM_POSITIONS` positions); the shortest refined walk is
+        kept. All by default; the others are for measuring what each part contributes.
     refine_rounds
         Most rounds of routing again through the states a walk arrived in (0: walk the seed as it is).
     """
 
     name = "tour"
 
-    def __init__(self, seeds: tuple[str, ...] = ("cover", "frontier"), refine_rounds: int = REFINE_ROUNDS) -> None:
-        if not seeds or set(seeds) - {"cover", "frontier"}:
-            raise ValueError("seeds must be one or both of 'cover' and 'frontier'")
+    def __init__(self, seeds: tuple[str, ...] = SEEDS, refine_rounds: int = REFINE_ROUNDS) -> None:
+        if not seeds or set(seeds) - set(SEEDS):
+            raise ValueError(f"seeds must be some of {', '.join(SEEDS)}")
         self.seeds = seeds
         self.refine_rounds = refine_rounds
         self.cover = LevelCover(np.zeros(0, dtype=np.int64))
@@ -97,6 +111,7 @@ class Tour:
     def reset(self, setup: EpisodeSetup) -> None:
         """Load (or build, once per level and goal) the viewpoint cover; the walk waits for the start."""
         self._neighbours = setup.grid.neighbours
+        self._grid = setup.grid
         self._goal = setup.goal
         self._table = view_table(setup.grid, setup.vision)
         memo = level_memo(setup.grid, setup.vision)
@@ -142,15 +157,46 @@ class Tour:
     def _best_walk(self, seen: np.ndarray, team: Team) -> RouteWalk:
         """The shortest of the refined walks from each seed."""
         limit = 10 * int(self._goal.sum()) + 100
-        walks = [self._refine(seen, team, self._seed_routes(seed, team), limit) for seed in self.seeds]
+        walks = []
+        for seed in self.seeds:
+            routes = self._seed_routes(seed, team, seen)
+            if routes is not None:
+                walks.append(self._refine(seen, team, routes, limit))
         return min(walks, key=_walk_rank)
 
-    def _seed_routes(self, seed: str, team: Team) -> list[np.ndarray]:
-        """The set-cover tour of the viewpoints still worth visiting, or empty routes (the frontier walk)."""
+    def _seed_routes(self, seed: str, team: Team, seen: np.ndarray) -> list[np.ndarray] | None:
+        """The set-cover tour of the viewpoints still worth visiting, empty routes (the frontier walk),
+        or the beam's arrivals; None when the seed does not apply."""
         if seed == "frontier":
             return [np.zeros(0, dtype=np.int64)] * len(team)
+        if seed == "beam":
+            return self._beam_route(team, seen)
         viewpoints = self.cover.viewpoints
         return self._route(viewpoints[self._tally.counts[viewpoints] > 0], team)
+
+    def _beam_route(self, team: Team, seen: np.ndarray) -> list[np.ndarray] | None:
+        """The states a beam search's walk arrives in at its macro moves, as one guard's route."""
+        if len(team) != 1:
+            return None
+        (cell, heading), grid = team[0], self._grid
+        key = ("tour-beam", self._goal_key[1], cell, heading)
+        if key not in self._memo:
+            self._memo[key] = None
+            cells = np.flatnonzero(self._goal)
+            lengths = np.diff(self._table.sight_start)[state_of(cells[:, None], np.arange(4))]
+            # Headings matter (four positions per cell) as soon as one cell's headings see different counts.
+            if cells.size * (4 if (lengths != lengths[:, :1]).any() else 1) <= BEAM_POSITIONS:
+                graph = build_search_graph(grid, self._table, grid.unflat(cell), heading)
+                if graph.positions <= BEAM_POSITIONS:
+                    self._memo[key] = (graph, build_heuristic(graph, pool=BEAM_POOL))
+        if self._memo[key] is None:
+            return None
+        graph, heuristic = self._memo[key]
+        route, steps = beam_route(graph, heuristic, BEAM_WIDTH, goal_bits(graph, seen))
+        if steps < 0:
+            return None
+        walk, ends = route_steps(graph, route, heading)
+        return [np.array([state_of(*walk[end]) for end in ends[1:]], dtype=np.int64)]
 
     def _route(self, states: np.ndarray, team: Team) -> list[np.ndarray]:
         """Per guard, an order of its share of ``states`` (state numbers)."""
