@@ -12,7 +12,16 @@ from pytiled_parser.parsers.json import tiled_object as json_object
 from guardsim.importers.source import excerpt
 from guardsim.importers.tiled_data import Point, Properties, TiledMap, decode_tile_data
 from guardsim.importers.tiled_defaults import json_layer_defaults, json_object_defaults
-from guardsim.importers.tiled_parts import COMPRESSIONS, MAX_GROUP_DEPTH, Blocks, MapReader, dicts, word
+from guardsim.importers.tiled_parts import (
+    COMPRESSIONS,
+    MAX_GROUP_DEPTH,
+    Blocks,
+    MapReader,
+    dicts,
+    properties_of,
+    text,
+    word,
+)
 
 __all__ = ["JsonReader"]
 
@@ -38,7 +47,7 @@ class JsonReader(MapReader):
             layers, prefix, path, inherited, offset, visible, depth = stack.pop()
             pending = []
             for index, raw in enumerate(layers):
-                name = str(raw.get("name", ""))
+                name = text(raw.get("name", ""))
                 where = f"{prefix}[{index}] ({excerpt(name)})"
                 kind = raw.get("type")
                 shell = {
@@ -60,7 +69,7 @@ class JsonReader(MapReader):
                     offset[1] + self.number(raw.get("offsety"), f"{where}.offsety", 0.0),
                 )
                 shown = visible and bool(common.visible)
-                properties = {**inherited, **dict(common.properties or {})}
+                properties = {**inherited, **properties_of(common)}
                 if kind == "group":
                     if depth + 1 > MAX_GROUP_DEPTH:
                         raise self.error(where, f"group layers nested more than {MAX_GROUP_DEPTH} deep")

@@ -38,7 +38,17 @@ from guardsim.importers.tiled_data import (
 )
 from guardsim.importers.tiled_defaults import json_tileset_defaults, tmx_tileset_defaults
 
-__all__ = ["COMPRESSIONS", "MAX_GROUP_DEPTH", "TILE_ENCODINGS", "Blocks", "MapReader", "dicts", "word"]
+__all__ = [
+    "COMPRESSIONS",
+    "MAX_GROUP_DEPTH",
+    "TILE_ENCODINGS",
+    "Blocks",
+    "MapReader",
+    "dicts",
+    "properties_of",
+    "text",
+    "word",
+]
 
 #: Deepest nesting of group layers read.
 MAX_GROUP_DEPTH = 50
@@ -156,11 +166,11 @@ class MapReader:
                         self.convert_object(item, (0.0, 0.0), f"{where} collision shape")
                         for item in tile.objects.tiled_objects
                     )
-                properties = dict(tile.properties or {})
+                properties = _properties(tile.properties)
                 if tile.class_ or properties or shapes:
                     size = (float(tileset.tile_width or 0), float(tileset.tile_height or 0))
-                    infos[firstgid + int(tile_id)] = TileInfo(
-                        str(tile.class_ or ""), properties, shapes, tileset.name, size
+                    infos[firstgid + self.integer(tile_id, f"{where} id")] = TileInfo(
+                        text(tile.class_), properties, shapes, text(tileset.name), size
                     )
         return infos
 
@@ -190,12 +200,12 @@ class MapReader:
             gid = self.integer(item.gid, f"{where} gid") & GID_MASK
         return TiledObject(
             self.integer(item.id, f"{where} id", 0),
-            str(item.name or ""),
-            str(item.class_ or ""),
+            text(item.name),
+            text(item.class_),
             shape,
             object_outline(shape, x, y, width, height, rotation, points, offset),
             gid,
-            dict(item.properties or {}),
+            _properties(item.properties),
         )
 
     def load_tileset(self, firstgid: int, external: str | None, embedded: Any, where: str) -> None:
@@ -238,9 +248,9 @@ class MapReader:
             rows.append(y + index // max(width, 1))
             gids.append(values[index])
         joined = [np.concatenate(part) if part else np.zeros(0, dtype=np.int64) for part in (cols, rows, gids)]
-        properties = {**inherited, **dict(layer.properties or {})}
+        properties = {**inherited, **_properties(layer.properties)}
         self.tile_layers.append(
-            TileLayer(layer.name, path, properties, str(layer.class_ or ""), offset, visible, *joined)
+            TileLayer(text(layer.name), path, properties, text(layer.class_), offset, visible, *joined)
         )
 
     def add_object_layer(
@@ -255,10 +265,10 @@ class MapReader:
         objects = tuple(self.template_gid(item) for item in layer.tiled_objects)
         self.object_layers.append(
             ObjectLayer(
-                layer.name,
+                text(layer.name),
                 path,
-                {**inherited, **dict(layer.properties or {})},
-                str(layer.class_ or ""),
+                {**inherited, **_properties(layer.properties)},
+                text(layer.class_),
                 visible,
                 tuple(self.convert_object(item, offset, f"{where} object") for item in objects),
             )
@@ -301,6 +311,21 @@ class MapReader:
                 read_capped_bytes(path.parent / str(inner), max_file_bytes=self.max_file_bytes, kind="tileset")
 
     # -- TMX ----------------------------------------------------------------------------------------
+
+
+def text(value: Any) -> str:
+    """A name or class as text; JSON lets a map hold anything there, and pytiled-parser passes it on."""
+    return value if isinstance(value, str) else "" if value is None else excerpt(value)
+
+
+def _properties(value: Any) -> Properties:
+    """Custom properties with text names (JSON ones can be anything)."""
+    return {str(key): item for key, item in value.items()} if isinstance(value, dict) else {}
+
+
+def properties_of(layer: PtLayer) -> Properties:
+    """A pytiled-parser layer's custom properties, names as text."""
+    return _properties(layer.properties)
 
 
 def word(value: Any) -> str:

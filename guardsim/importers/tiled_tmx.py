@@ -14,7 +14,16 @@ from guardsim.errors import LevelError
 from guardsim.importers.source import display_name, excerpt
 from guardsim.importers.tiled_data import Point, Properties, TiledMap, decode_tile_data
 from guardsim.importers.tiled_defaults import layer_shell, tmx_objects_defaults
-from guardsim.importers.tiled_parts import COMPRESSIONS, MAX_GROUP_DEPTH, TILE_ENCODINGS, Blocks, MapReader, why, word
+from guardsim.importers.tiled_parts import (
+    COMPRESSIONS,
+    MAX_GROUP_DEPTH,
+    TILE_ENCODINGS,
+    Blocks,
+    MapReader,
+    properties_of,
+    why,
+    word,
+)
 
 __all__ = ["TmxReader"]
 
@@ -54,7 +63,7 @@ class TmxReader(MapReader):
                     offset[1] + self.number(element.get("offsety"), f"{where} offsety", 0.0),
                 )
                 shown = visible and bool(common.visible)
-                properties = {**inherited, **dict(common.properties or {})}
+                properties = {**inherited, **properties_of(common)}
                 if element.tag == "group":
                     if depth + 1 > MAX_GROUP_DEPTH:
                         raise self.error(where, f"group layers nested more than {MAX_GROUP_DEPTH} deep")
