@@ -93,18 +93,16 @@ class Follower:
         the space, and read the pose back; a turn that reaches ``aim`` ends exactly on it."""
         body = self.body
         turn = max(-self._turn, min(self._turn, delta))
+        # Both velocities are set every tick, so they need no reset after the step; the grid loop only
+        # places the body between ticks while planning, and never steps the space.
         body.velocity = velocity
         body.angular_velocity = math.radians(turn) / self._dt
         self.space.step(self._dt)
-        body.velocity = (0.0, 0.0)
-        body.angular_velocity = 0.0
         if abs(delta) <= self._turn:
             body.angle = math.radians(aim)
             self.heading = aim
         else:
-            heading = math.degrees(body.angle) % 360.0
-            body.angle = math.radians(heading)
-            self.heading = heading
+            self.heading = math.degrees(body.angle) % 360.0
         position = body.position
         self.position = (float(position[0]), float(position[1]))
 
