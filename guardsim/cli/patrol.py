@@ -75,7 +75,7 @@ def tiled_source_of(level_path: str, tiled_source: str | None) -> str | None:
     type=click.Choice(["auto", "cover", *PLANNERS]),
     default="auto",
     show_default=True,
-    help="loop: viewpoints from the set cover, from that planner's coverage walk, or the better of cover and tour (auto).",
+    help="loop: viewpoints from the set cover, from that planner's coverage walk, or the best of cover, tour and frontier (auto).",
 )
 @click.option("--motion", type=click.Choice(["grid", "continuous"]), default="grid", show_default=True)
 @click.option("--seed", type=click.IntRange(min=0), default=0, show_default=True, help="Start and random choices.")

@@ -71,12 +71,12 @@ def patrol_setup(scene: Scene, guards: int = 1, *, seed: int = 0) -> PatrolSetup
 
 
 #: Where ``auto`` takes a loop's viewpoints from; the loop with the lowest worst idleness wins.
-AUTO_SOURCES = ("cover", "tour")
+AUTO_SOURCES = ("cover", "tour", "frontier")
 
 
 def plan_loop(setup: PatrolSetup, guards: int, *, planner: str = "auto") -> tuple[PatrolPlan, dict[str, PatrolScore]]:
     """The loop patrol: viewpoints from the set cover (``cover``), from a planner's coverage walk (a name
-    of :data:`guardsim.planners.PLANNERS`), or the better of both of :data:`AUTO_SOURCES` (``auto``).
+    of :data:`guardsim.planners.PLANNERS`), or the best of :data:`AUTO_SOURCES` (``auto``).
 
     Also returns the score of each team strategy tried (``single`` for one guard, else ``shared`` and
     ``split``).
