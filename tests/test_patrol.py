@@ -388,3 +388,67 @@ def test_tiled_out_of_a_plain_level_needs_its_source(tmp_path: Path) -> None:
     )
     assert result.exit_code == 2
     assert "give --tiled-source MAP.tmx" in result.output and len(result.output.strip().splitlines()) == 1
+
+
+TMJ = {
+    "type": "map",
+    "orientation": "orthogonal",
+    "renderorder": "right-down",
+    "width": 10,
+    "height": 6,
+    "tilewidth": 16,
+    "tileheight": 16,
+    "infinite": False,
+    "nextlayerid": 2,
+    "nextobjectid": 1,
+    "tilesets": [
+        {
+            "firstgid": 1,
+            "name": "t",
+            "tilewidth": 16,
+            "tileheight": 16,
+            "tilecount": 2,
+            "columns": 2,
+            "tiles": [{"id": 1, "properties": [{"name": "collision", "type": "bool", "value": True}]}],
+        }
+    ],
+    "layers": [
+        {
+            "id": 1,
+            "name": "Ground",
+            "type": "tilelayer",
+            "width": 10,
+            "height": 6,
+            "x": 0,
+            "y": 0,
+            "opacity": 1,
+            "visible": True,
+            "data": [
+                int(v) for v in TMX.split('<data encoding="csv">')[1].split("</data>")[0].replace(",", " ").split()
+            ],
+        }
+    ],
+}
+
+
+def test_tiled_json_copy_reimports_to_the_same_level(tmp_path: Path) -> None:
+    from guardsim.importers import import_map
+    from guardsim.level import level_to_data
+
+    source = tmp_path / "map.tmj"
+    source.write_text(json.dumps(TMJ), encoding="utf-8")
+    copy = tmp_path / "routed.tmj"
+    result = CliRunner().invoke(main, ["patrol", str(source), "--out", str(tmp_path / "o"), "--tiled-out", str(copy)])
+    assert result.exit_code == 0, result.output
+    layers = json.loads(copy.read_text())["layers"]
+    assert [layer["name"] for layer in layers] == ["Ground", "guardsim"]
+    [route] = layers[1]["objects"]
+    assert route["type"] == "guardsim_route" and route["polyline"][0] == route["polyline"][-1]
+    routed, plain = (level_to_data(import_map(path).level) for path in (copy, source))
+    routed.pop("name"), plain.pop("name")
+    assert routed == plain
+    # A copy in the other format is refused before any work, in one line.
+    wrong = CliRunner().invoke(
+        main, ["patrol", str(source), "--out", str(tmp_path / "o"), "--tiled-out", str(tmp_path / "x.tmx")]
+    )
+    assert wrong.exit_code == 2 and wrong.output.strip().endswith("must keep its format (.tmj or .json)")

@@ -151,6 +151,10 @@ def patrol(
         raise GuardsimError(
             f"{level_path}: --tiled-out needs the Tiled map the level came from: LEVEL is a guardsim level, so give --tiled-source MAP.tmx"
         )
+    if tiled_out and tiled_source is not None:
+        from guardsim.patrol.export import check_tiled_formats
+
+        check_tiled_formats(tiled_source, tiled_out)
     level = load(level_path, max_cells, max_vertices, max_file_bytes)
     scene = build_scene(level, los, fov, view_range)
     folder = output_folder(out_dir)

@@ -26,7 +26,15 @@ from guardsim.grid import CoverageGrid
 from guardsim.patrol.format import PatrolError
 from guardsim.patrol.model import Patrol
 
-__all__ = ["DEFAULT_SPEED", "LAYER_NAME", "OBJECT_CLASS", "route_data", "tiled_with_routes", "waypoints"]
+__all__ = [
+    "DEFAULT_SPEED",
+    "LAYER_NAME",
+    "OBJECT_CLASS",
+    "check_tiled_formats",
+    "route_data",
+    "tiled_with_routes",
+    "waypoints",
+]
 
 #: World units per second a guard walks at unless told otherwise (a walking pace when a unit is a metre).
 DEFAULT_SPEED = 2.0
@@ -124,17 +132,22 @@ def tiled_with_routes(
     size. ``target`` must have the same format as ``source`` (``.tmx`` or ``.tmj``/``.json``). An
     existing ``guardsim`` layer is replaced.
     """
-    source_kind = _kind(source)
-    target_kind = _kind(target)
-    if source_kind != target_kind:
-        raise PatrolError(
-            f"{target}: a copy of {Path(source).name} must keep its format ({'.tmx' if source_kind == 'tmx' else '.tmj or .json'})"
-        )
+    source_kind = check_tiled_formats(source, target)
     routes = [waypoints(patrol, grid, guard, speed=speed) for guard in range(patrol.guards)]
     properties = _properties(patrol, grid, speed)
     if source_kind == "tmx":
         return _tmx(source, source_bytes, routes, properties)
     return _tmj(source, source_bytes, routes, properties)
+
+
+def check_tiled_formats(source: str | os.PathLike[str], target: str | os.PathLike[str]) -> str:
+    """``"tmx"`` or ``"json"``: the format of the Tiled map ``source``, which its copy ``target`` must keep."""
+    source_kind = _kind(source)
+    if _kind(target) != source_kind:
+        raise PatrolError(
+            f"{target}: a copy of {Path(source).name} must keep its format ({'.tmx' if source_kind == 'tmx' else '.tmj or .json'})"
+        )
+    return source_kind
 
 
 def _kind(path: str | os.PathLike[str]) -> str:
