@@ -46,9 +46,11 @@ class Bounds(NamedTuple):
     clusters: int
     """How many clusters (cells with disjoint watcher sets) the cluster bound used."""
     best: int
-    """The larger of the two bounds."""
+    """The largest of the bounds."""
     seconds: float
     """Wall time of the call (building the level's view table too, when it was not cached)."""
+    path: int = 0
+    """Distance from the start through some clusters in the best order (the path bound)."""
 
 
 def lower_bounds(scene: Scene, start: tuple[int, int], heading: int, vision: VisionFunction | None = None) -> Bounds:
@@ -95,5 +97,8 @@ def lower_bounds(scene: Scene, start: tuple[int, int], heading: int, vision: Vis
     seeable = nearest >= 0
     goal_cells, nearest, reachable = goal_cells[seeable], nearest[seeable], reachable[seeable]
     eccentricity = int(nearest.max(initial=0))
-    cluster, clusters = cluster_bound(neighbours, table, goal_cells, nearest, reachable, distance, grid.flat(*start))
-    return Bounds(eccentricity, cluster, clusters, max(eccentricity, cluster), time.perf_counter() - began)
+    cluster, clusters, path = cluster_bound(
+        neighbours, table, goal_cells, nearest, reachable, distance, grid.flat(*start)
+    )
+    best = max(eccentricity, cluster, path)
+    return Bounds(eccentricity, cluster, clusters, best, time.perf_counter() - began, path)

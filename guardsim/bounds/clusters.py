@@ -8,23 +8,31 @@ as the distance from the start to the nearest cluster plus a minimum spanning tr
 
 from __future__ import annotations
 
-import heapq
-
 import numba
 import numpy as np
 
-from guardsim.bounds.trees import cluster_distances, spanning_tree_weight, subset_tree_weight
+from guardsim.bounds.trees import cluster_distances, path_bound, spanning_tree_weight, subset_tree_weight
 from guardsim.vision.table import ViewTable
 
-__all__ = ["FAR_FRACTIONS", "MOST_CLUSTERS", "MOST_TRIALS", "choose_clusters", "cluster_bound", "spread_picks"]
+__all__ = [
+    "FAR_FRACTIONS",
+    "MOST_CLUSTERS",
+    "MOST_TRIALS",
+    "PATH_CLUSTERS",
+    "choose_clusters",
+    "cluster_bound",
+    "spread_picks",
+]
 
 #: Most clusters the farthest-first choice picks.
 MOST_CLUSTERS = 48
+#: Farthest-first picks the path bound orders (its work grows as ``2**n * n**2``).
+PATH_CLUSTERS = 10
 #: Most subsets of the picks the local search weighs per start.
 MOST_TRIALS = 20_000
 #: The fewest-watchers-first choices keep only cells whose nearest watcher is at least this fraction of
 #: the eccentricity bound away (far cells spread the clusters out).
-FAR_FRACTIONS: tuple[float, ...] = (0.0, 0.5, 0.75)
+FAR_FRACTIONS: tuple[float, ...] = (0.0,)
 
 
 @numba.njit(cache=True, nogil=True)
@@ -72,6 +80,44 @@ def _relax(gap: np.ndarray, queue: np.ndarray, neighbours: np.ndarray, tail: int
 
 
 @numba.njit(cache=True, nogil=True)
+def _separation(
+    cell: int,
+    watch_start: np.ndarray,
+    watchers: np.ndarray,
+    distance: np.ndarray,
+    gap: np.ndarray,
+    taken: np.ndarray,
+    far: int,
+) -> int:
+    """The smallest ``gap`` over the cells of ``cell``'s reachable watchers; -1 if one is taken."""
+    separation = far
+    for k in range(watch_start[cell], watch_start[cell + 1]):
+        state = watchers[k]
+        if distance[state] >= 0:
+            if taken[state]:
+                return -1
+            separation = min(separation, gap[state // 4])
+    return separation
+
+
+@numba.njit(cache=True, nogil=True)
+def _sift_down(keys: np.ndarray, size: int, index: int) -> None:
+    """Restore the min-heap order of ``keys[:size]`` below ``index``."""
+    key = keys[index]
+    while True:
+        child = 2 * index + 1
+        if child >= size:
+            break
+        if child + 1 < size and keys[child + 1] < keys[child]:
+            child += 1
+        if keys[child] >= key:
+            break
+        keys[index] = keys[child]
+        index = child
+    keys[index] = key
+
+
+@numba.njit(cache=True, nogil=True)
 def spread_picks(
     cells: np.ndarray,
     watch_start: np.ndarray,
@@ -87,6 +133,7 @@ def spread_picks(
     from the start cell and from the watchers of earlier picks (its separation), among candidates
     sharing no watcher with them; ties go to the earlier in ``cells``. Separations only shrink as picks
     are added, so stale ones in the heap are upper bounds and only the top needs recomputing (lazy greedy).
+    The heap is one ``int64`` key per candidate, ``(far - separation) * 2**24 + position``.
     """
     size = neighbours.shape[0]
     far = np.iinfo(np.int32).max // 2
@@ -96,26 +143,35 @@ def spread_picks(
     gap[start_cell] = 0
     queue[0] = start_cell
     _relax(gap, queue, neighbours, 1)
-    heap = [(-far, position) for position in range(cells.shape[0])]
+    shift = np.int64(1) << 24
+    keys = np.empty(cells.shape[0], dtype=np.int64)
+    heap = 0
+    for position in range(cells.shape[0]):
+        # A guard sees its own cell, so a cell's separation is at most its own distance: an upper
+        # bound, which is all the lazy greedy needs, and far cheaper than the exact value for all.
+        keys[heap] = (far - gap[cells[position]]) * shift + position
+        heap += 1
+    for index in range(heap // 2 - 1, -1, -1):
+        _sift_down(keys, heap, index)
     picks = np.empty(most, dtype=np.int64)
     count = 0
-    while count < most and len(heap) > 0:
-        _, position = heapq.heappop(heap)
+    while count < most and heap > 0:
+        stale = far - keys[0] // shift
+        position = keys[0] % shift
         cell = cells[position]
-        separation = far
-        free = True
-        for k in range(watch_start[cell], watch_start[cell + 1]):
-            state = watchers[k]
-            if distance[state] >= 0:
-                if taken[state]:
-                    free = False
-                    break
-                separation = min(separation, gap[state // 4])
-        if not free:
+        separation = _separation(cell, watch_start, watchers, distance, gap, taken, far)
+        if separation < 0:
+            heap -= 1
+            keys[0] = keys[heap]
+            _sift_down(keys, heap, 0)
             continue
-        if len(heap) > 0 and -heap[0][0] > separation:
-            heapq.heappush(heap, (-separation, position))
+        if separation < stale:
+            keys[0] = (far - separation) * shift + position
+            _sift_down(keys, heap, 0)
             continue
+        heap -= 1
+        keys[0] = keys[heap]
+        _sift_down(keys, heap, 0)
         picks[count] = cell
         count += 1
         tail = 0
@@ -187,19 +243,26 @@ def cluster_bound(
     reachable: np.ndarray,
     distance: np.ndarray,
     start_cell: int,
-) -> tuple[int, int]:
-    """The cluster bound and its number of clusters: the best over several choices of clusters.
+) -> tuple[int, int, int]:
+    """The cluster bound, its number of clusters, and the path bound: the best over several choices.
 
     Every choice keeps goal cells not seen from the start whose reachable watcher sets are pairwise
     disjoint, and is worth the minimum spanning tree over them plus the distance from the start to the
     nearest of them. Any such choice gives a valid bound, so the largest found is returned. The choices:
 
     - fewest reachable watchers first, among cells at least each of :data:`FAR_FRACTIONS` of the
-      eccentricity away; and farthest nearest watcher first (any number of clusters, each tree weighed
-      by :func:`~guardsim.bounds.trees.spanning_tree_weight`);
+      eccentricity away (any number of clusters, each tree weighed by
+      :func:`~guardsim.bounds.trees.spanning_tree_weight`); on the shipped levels and the six Moving AI
+      starts of ``docs/bounds.md`` the fractions 1/2 and 3/4 and a farthest-nearest-watcher-first order
+      never raised the best bound, so they are no longer tried (issue 15: 1.5 ms of 9 per start);
     - up to :data:`MOST_CLUSTERS` cells picked farthest first (:func:`spread_picks`): every prefix of the
       picks, then a local search over their subsets. More clusters do not always give more: a cluster
       between two others can shorten the tree.
+
+    The **path bound** orders the first :data:`PATH_CLUSTERS` farthest-first picks instead of spanning
+    them: the shortest order from the start through a subset of them, the largest over the subsets
+    (:func:`~guardsim.bounds.trees.path_bound`). A walk is a path, so this is never below the tree of
+    the same clusters and often well above it (a maze's dead ends, visited one after another).
 
     Parameters
     ----------
@@ -220,7 +283,6 @@ def cluster_bound(
     by_watchers = cells[np.lexsort((cells, reachable))]
     farthest = int(nearest.max(initial=0))
     choices = [by_watchers[start_edge_of[by_watchers] >= fraction * farthest] for fraction in FAR_FRACTIONS]
-    choices.append(cells[np.lexsort((cells, reachable, -nearest))])
     best = (0, 0)
     for choice in choices:
         label, kept = choose_clusters(choice, table.watch_start, table.watchers, distance)
@@ -231,7 +293,7 @@ def cluster_bound(
         by_watchers, table.watch_start, table.watchers, distance, neighbours, start_cell, MOST_CLUSTERS
     )
     if len(picks) < 2:
-        return best
+        return (*best, best[0])
     # The picks share no watcher, so every subset of them is a valid choice.
     label, _ = choose_clusters(picks, table.watch_start, table.watchers, distance)
     matrix = cluster_distances(neighbours, label, len(picks))
@@ -239,4 +301,5 @@ def cluster_bound(
     prefixes = [np.arange(len(picks)) < count for count in range(1, len(picks) + 1)]
     values = [_subset_bound(matrix, start_edge, prefix) for prefix in prefixes]
     value, count = _local_search(matrix, start_edge, prefixes[int(np.argmax(values))], MOST_TRIALS)
-    return max(best, (int(value), int(count)))
+    path = int(path_bound(matrix, start_edge, np.arange(min(len(picks), PATH_CLUSTERS))))
+    return (*max(best, (int(value), int(count))), path)

@@ -15,7 +15,7 @@ from __future__ import annotations
 import numba
 import numpy as np
 
-__all__ = ["cluster_distances", "spanning_tree_weight", "subset_tree_weight"]
+__all__ = ["cluster_distances", "path_bound", "spanning_tree_weight", "subset_tree_weight"]
 
 
 @numba.njit(cache=True, nogil=True)
@@ -134,40 +134,64 @@ def spanning_tree_weight(neighbours: np.ndarray, label: np.ndarray, clusters: in
 def cluster_distances(neighbours: np.ndarray, label: np.ndarray, clusters: int) -> np.ndarray:
     """``int64 (clusters, clusters)``: ``min(d(A -> B), d(B -> A))`` between clusters of ``label``.
 
-    One forward search per cluster, stopped once it has met every other cluster.
+    Any step is allowed from any heading, so the steps from state ``a`` to another state ``b`` are one
+    more than the steps between cells from ``a``'s cell to ``b``'s entry cell (the cell behind it). One
+    breadth-first search over cells per cluster, from its states' cells, then gives ``d(A -> B)`` as one
+    plus the least distance of a ``B`` state's entry cell: four times fewer nodes than over states.
     """
+    cells = neighbours.shape[0]
     states = label.shape[0]
     ahead = np.full((clusters, clusters), -1, dtype=np.int64)
-    distance = np.full(states, -1, dtype=np.int32)
-    queue = np.empty(states, dtype=np.int64)
+    distance = np.full(cells, -1, dtype=np.int32)
+    queue = np.empty(cells, dtype=np.int64)
+    members_start = np.zeros(clusters + 1, dtype=np.int64)
+    for state in range(states):
+        if 0 <= label[state] < clusters:
+            members_start[label[state] + 1] += 1
+    for cluster in range(clusters):
+        members_start[cluster + 1] += members_start[cluster]
+    members = np.empty(members_start[clusters], dtype=np.int64)
+    fill = members_start[:clusters].copy()
+    for state in range(states):
+        if 0 <= label[state] < clusters:
+            members[fill[label[state]]] = state
+            fill[label[state]] += 1
     for source in range(clusters):
         distance[:] = -1
         tail = 0
-        for state in range(states):
-            if label[state] == source:
-                distance[state] = 0
-                queue[tail] = state
+        for k in range(members_start[source], members_start[source + 1]):
+            cell = members[k] // 4
+            if distance[cell] < 0:
+                distance[cell] = 0
+                queue[tail] = cell
                 tail += 1
-        missing = clusters
         head = 0
-        while head < tail and missing > 0:
-            state = queue[head]
+        while head < tail:
+            cell = queue[head]
             head += 1
-            # States leave the queue in order of distance, so the first of a cluster is its nearest.
-            there = label[state]
-            if 0 <= there < clusters and ahead[source, there] < 0:
-                ahead[source, there] = distance[state]
-                missing -= 1
-            cell = state // 4
             for direction in range(4):
-                other_cell = neighbours[cell, direction]
-                if other_cell >= 0 and distance[other_cell * 4 + direction] < 0:
-                    distance[other_cell * 4 + direction] = distance[state] + 1
-                    queue[tail] = other_cell * 4 + direction
+                other = neighbours[cell, direction]
+                if other >= 0 and distance[other] < 0:
+                    distance[other] = distance[cell] + 1
+                    queue[tail] = other
                     tail += 1
+        for target in range(clusters):
+            if target == source:
+                continue
+            best = -1
+            for k in range(members_start[target], members_start[target + 1]):
+                state = members[k]
+                behind = neighbours[state // 4, (state % 4 + 2) % 4]
+                if behind >= 0 and distance[behind] >= 0:
+                    steps = distance[behind] + 1
+                    if best < 0 or steps < best:
+                        best = steps
+            ahead[source, target] = best
     both = np.zeros((clusters, clusters), dtype=np.int64)
     for a in range(clusters):
         for b in range(clusters):
+            if a == b:
+                continue
             forward, backward = ahead[a, b], ahead[b, a]
             if forward >= 0 and backward >= 0:
                 both[a, b] = min(forward, backward)
@@ -202,3 +226,37 @@ def subset_tree_weight(matrix: np.ndarray, members: np.ndarray) -> int:
             if not inside[k] and matrix[members[best], members[k]] < link[k]:
                 link[k] = matrix[members[best], members[k]]
     return total
+
+
+@numba.njit(cache=True, nogil=True)
+def path_bound(matrix: np.ndarray, start_edge: np.ndarray, members: np.ndarray) -> int:
+    """The largest, over subsets of ``members``, of the shortest walk order from the start through
+    every cluster of the subset: start edge to the first, then ``matrix`` between consecutive ones.
+
+    Dynamic programming over subsets (Held and Karp 1962), ``2**n * n**2`` steps for ``n`` members. A
+    covering walk enters the clusters in some order, each stretch at least the distance used here, so
+    every subset's shortest order is a lower bound, hence the largest is.
+    """
+    size = members.shape[0]
+    if size == 0:
+        return 0
+    subsets = 1 << size
+    far = np.iinfo(np.int64).max // 4
+    best_path = np.full((subsets, size), far, dtype=np.int64)
+    for k in range(size):
+        best_path[1 << k, k] = start_edge[members[k]]
+    best = 0
+    for mask in range(1, subsets):
+        shortest = far
+        for last in range(size):
+            here = best_path[mask, last]
+            if here >= far:
+                continue
+            shortest = min(shortest, here)
+            for following in range(size):
+                if not mask & (1 << following):
+                    value = here + matrix[members[last], members[following]]
+                    if value < best_path[mask | (1 << following), following]:
+                        best_path[mask | (1 << following), following] = value
+        best = max(best, shortest)
+    return best
