@@ -42,6 +42,7 @@ from guardsim.planners.base import (
     GuardState,
     Planner,
 )
+from guardsim.planners.shortest_paths import FAR
 from guardsim.scene import Scene
 from guardsim.starts import choose_start, episode_generator, episode_start, team_starts
 from guardsim.trace import OUTCOMES, Trace
@@ -85,6 +86,9 @@ class Simulation:
         Which cells a state sees; the scene's cache by default.
     reference
         Use the reference vision and no accelerator: the plain loop, for checking the fast path.
+    record_field
+        Keep guard 0's planner field (its ``distance`` array, RippleFront's D) at every tick, for the
+        trace's :attr:`~guardsim.trace.Trace.field`. The compiled tick then runs one tick per call.
     planner_options
         Options for :func:`~guardsim.planners.make_planner`.
     """
@@ -98,6 +102,7 @@ class Simulation:
         max_steps: int | None = None,
         vision: VisionFunction | None = None,
         reference: bool = False,
+        record_field: bool = False,
         **planner_options: Any,
     ) -> None:
         if isinstance(planner, str):
@@ -112,6 +117,8 @@ class Simulation:
         self.limit = default_max_steps(scene.grid) if max_steps is None else int(max_steps)
         self.vision: VisionFunction = vision or scene.vision(reference=reference)
         self.reference = reference
+        self.record_field = record_field
+        self._fields: list[np.ndarray] = []
         self.seed: int | None = None
         self._episode: EpisodeArrays | None = None
         self._accelerator: Accelerator | None = None
@@ -195,6 +202,7 @@ class Simulation:
             offer = getattr(self.planners[0], "accelerator", None)
             if offer is not None:
                 self._accelerator = offer(EpisodeSetup(grid, self._goal_view, self.vision, generator, 0, 1))
+        self._fields = []
         self._look(0)
         self._check_end()
 
@@ -208,6 +216,7 @@ class Simulation:
         if self._accelerator is not None:
             self._accelerator.advance(episode, self.limit, 1)
             self._place_guard()
+            self._record_field()
             return
         tick = int(episode.counters[TICK])
         grid = self.scene.grid
@@ -221,6 +230,7 @@ class Simulation:
             )
             for number, planner in enumerate(self.planners)
         ]
+        self._record_field()
         if all(move is None for move in moves):
             episode.counters[OUTCOME] = OUTCOMES.index("stuck")
             return
@@ -244,7 +254,7 @@ class Simulation:
         """Run the episode to its end (covered, step limit or stuck) and return its trace."""
         episode = self._require()
         if not self.done:
-            if self._accelerator is not None:
+            if self._accelerator is not None and not self.record_field:
                 self._accelerator.advance(episode, self.limit, -1)
                 self._place_guard()
             while not self.done:
@@ -271,6 +281,16 @@ class Simulation:
     def _place_guard(self) -> None:
         """Put guard 0's body in the physics space where the guard now stands (the world has one body)."""
         self.scene.world.place_guard(self.positions[0])
+
+    def _record_field(self) -> None:
+        """Keep guard 0's field as it decided this tick's move (the field of the tick before the move)."""
+        if not self.record_field:
+            return
+        distance = getattr(self.planners[0], "distance", None)
+        if distance is None:
+            raise ValueError(f"planner {self.planners[0].name} keeps no field to record")
+        field = np.asarray(distance, dtype=np.int64).reshape(self.scene.grid.shape)
+        self._fields.append(np.where(field >= FAR, -1, field).astype(np.int32))
 
     def _check_end(self) -> None:
         episode = self._require()
@@ -400,7 +420,16 @@ class Simulation:
             fov_degrees=scene.cone.fov_degrees,
             line_of_sight=scene.line_of_sight.value,
             planner_options=dict(getattr(planner, "options", {})),
+            field=self._recorded_field(ticks),
         )
+
+    def _recorded_field(self, ticks: int) -> np.ndarray | None:
+        if not self.record_field:
+            return None
+        rows, cols = self.scene.grid.shape
+        fields = self._fields[:ticks] or [np.full((rows, cols), -1, dtype=np.int32)]
+        fields += [fields[-1]] * (ticks - len(fields))
+        return np.stack(fields)
 
 
 def run_team_episode(

@@ -81,6 +81,10 @@ class Trace:
     measures: Mapping[str, Any] = field(default_factory=dict)
     """Continuous motion: seconds to cover and T50/T90/T99 in seconds, distance, turning (see
     ``docs/motion.md``)."""
+    field: np.ndarray | None = None
+    """Recorded only when asked (``Simulation(record_field=True)``, ``play --record-field``): ``int32
+    (ticks + 1, rows, cols)``, guard 0's planner field D (RippleFront's distance to unseen) as the guard
+    decided at each tick (the last tick, with no decision, repeats the one before); -1 where D has no value."""
 
     @property
     def guards(self) -> int:
@@ -174,6 +178,7 @@ class Trace:
                 if self.motion != "grid"
                 else {}
             ),
+            **({"field": self.field.tolist()} if self.field is not None else {}),
         }
 
     def to_json(self) -> str:
@@ -216,6 +221,7 @@ class Trace:
             seconds=_optional_float(data.get("seconds")),
             poses=None if data.get("poses") is None else np.asarray(data["poses"], dtype=np.float64).reshape(-1, 4),
             measures=dict(data.get("measures") or {}),
+            field=None if data.get("field") is None else np.asarray(data["field"], dtype=np.int32),
         )
 
 

@@ -193,3 +193,28 @@ def test_a_script_on_public_names_walks_the_path_of_play(tmp_path, seed: int, ep
         path.append(simulation.cells[0])
     assert tuple(path) == played.path
     assert simulation.trace().to_json() == trace_path.read_text()
+
+
+def test_the_recorded_field_is_the_field_each_decision_saw() -> None:
+    scene = scene_from(SQUARE_WITH_HOLE)
+    traces = []
+    for reference in (False, True):
+        simulation = Simulation(scene, "ripplefront", record_field=True, reference=reference)
+        simulation.reset(starts=[(0, 0)], headings=[0])
+        traces.append(simulation.run())
+    fast, plain = traces
+    assert fast.field is not None and plain.field is not None
+    assert fast.field.shape == (fast.steps + 1, *scene.grid.shape)
+    assert (fast.field == plain.field).all()
+    # Each recorded field sends the guard downhill: the move taken goes to the smallest D around it.
+    grid = scene.grid
+    for tick in range(fast.steps):
+        field = fast.field[tick].ravel()
+        here, there = grid.flat(*fast.path[tick]), grid.flat(*fast.path[tick + 1])
+        options = [field[other] for other in grid.neighbours[here] if other >= 0]
+        assert field[there] == min(options)
+    again = guardsim.Trace.from_data(json.loads(fast.to_json()))
+    assert again.field is not None and (again.field == fast.field).all()
+    unrecorded = Simulation(scene)
+    unrecorded.reset(starts=[(0, 0)], headings=[0])
+    assert unrecorded.run().path == fast.path and "field" not in json.loads(unrecorded.trace().to_json())

@@ -3,6 +3,7 @@
 from __future__ import annotations
 
 import time
+from typing import Any
 
 import click
 
@@ -12,9 +13,10 @@ from guardsim.cli.motion import check_motion, motion_of, motion_options
 from guardsim.level import HEADINGS
 from guardsim.motion import run_continuous, summary_text
 from guardsim.output import write_text_atomic
-from guardsim.planners import PLANNERS, make_planner
+from guardsim.planners import PLANNERS
+from guardsim.planners.ripplefront_compiled import compiling_pays
 from guardsim.render.timeline import DEFAULT_MAX_FRAMES, GifOptions
-from guardsim.simulation import run_team_episode, team_starts
+from guardsim.simulation import Simulation, team_starts
 
 __all__ = ["play"]
 
@@ -43,6 +45,11 @@ __all__ = ["play"]
 @click.option("--max-steps", type=click.IntRange(min=0), help="Step limit [default: 10 per traversable cell].")
 @click.option("--sweeps-per-tick", type=click.IntRange(min=1), default=1, show_default=True)
 @click.option(
+    "--record-field",
+    is_flag=True,
+    help="Record the planner's field D at every tick in the trace (the viewer's field layer; large).",
+)
+@click.option(
     "--reference",
     is_flag=True,
     help="Use the reference vision (a ray per cell per tick) and full-grid field sweeps, for checking.",
@@ -68,6 +75,7 @@ def play(
     guards: int,
     max_steps: int | None,
     sweeps_per_tick: int,
+    record_field: bool,
     reference: bool,
     stride: int | None,
     frame_ms: int,
@@ -93,28 +101,34 @@ def play(
     then feeds the planners, as in `guardsim bench`.
     """
     check_motion(motion, guards, los)
+    if record_field and planner not in ("ripplefront", "ripplefront-exact"):
+        raise click.BadParameter(f"planner {planner} keeps no field to record", param_hint="--record-field")
     level = load(level_path, max_cells, max_vertices, max_file_bytes, map_import)
     began = time.perf_counter()
     scene = build_scene(level, los, fov, view_range)
     rng, cell, first_heading = cli_start(scene, seed=seed, episode=episode, start=start, heading=heading)
-    options = {"sweeps_per_tick": sweeps_per_tick} if planner == "ripplefront" else {}
+    options: dict[str, Any] = {"sweeps_per_tick": sweeps_per_tick} if planner == "ripplefront" else {}
     cells, headings = team_starts(scene, (cell, first_heading), guards, rng=rng)
+    # One small RippleFront episode runs faster on the plain loop than the compiler takes to build the
+    # fast path on a fresh install; both give the same trace, so take whichever is quicker now.
+    plain = reference or (planner == "ripplefront" and guards == 1 and not compiling_pays(scene.grid))
     if motion == "continuous":
         trace = run_continuous(scene, planner, seed=seed, start=cell, heading=first_heading, rng=rng, max_steps=max_steps,
                                motion=motion_of(scene, move_speed, turn_speed, tick_hz), max_seconds=max_seconds,
                                reference=reference, **options)  # fmt: skip
     else:
-        planners = [make_planner(planner, **options) for _ in range(guards)]
-        trace = run_team_episode(
-            scene, planners, cells, headings, max_steps=max_steps, seed=seed, reference=reference, rng=rng
+        simulation = Simulation(
+            scene, planner, guards=guards, max_steps=max_steps, reference=plain, record_field=record_field, **options
         )
+        simulation.reset(seed=seed, starts=cells, headings=headings, rng=rng)
+        trace = simulation.run()
     seconds = time.perf_counter() - began
-    options = GifOptions(stride=stride, frame_ms=frame_ms, max_frames=max_frames)
+    gif_options = GifOptions(stride=stride, frame_ms=frame_ms, max_frames=max_frames)
     written = []
     if gif_path:
         from guardsim.render.gif import write_gif
 
-        write_gif(gif_path, level, trace, options)
+        write_gif(gif_path, level, trace, gif_options)
         written.append(gif_path)
     if html_path:
         from guardsim.viewer import write_viewer
