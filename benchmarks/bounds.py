@@ -39,8 +39,8 @@ def load_scene(path: Path):
 def measure(path: Path, starts: int) -> str:
     """One table row for a level."""
     from guardsim.bounds import lower_bounds
-    from guardsim.vision.table import view_table
     from guardsim.simulation import choose_start, episode_generator
+    from guardsim.vision.table import view_table
 
     began = time.perf_counter()
     scene = load_scene(path)
@@ -48,17 +48,23 @@ def measure(path: Path, starts: int) -> str:
     view_table(scene.grid, scene.vision())
     tabled = time.perf_counter()
     results = []
+    cpu = []
     for episode in range(starts + 1):
         cell, heading = choose_start(scene, rng=episode_generator(0, episode))
+        before = time.process_time()
         results.append(lower_bounds(scene, cell, heading))
+        cpu.append(time.process_time() - before)
     timed = results[1:]
     seconds = [result.seconds for result in timed]
     rows, cols = scene.grid.shape
     return (
         f"| {path.stem} | {rows} x {cols} | {int(scene.grid.traversable.sum())} | {built - began:.2f} "
         f"| {tabled - built:.2f} | {statistics.median(seconds) * 1000:.0f} | {max(seconds) * 1000:.0f} "
+        f"| {statistics.median(cpu[1:]) * 1000:.1f} "
         f"| {statistics.median(result.eccentricity for result in timed):g} "
         f"| {statistics.median(result.cluster for result in timed):g} "
+        f"| {statistics.median(result.path for result in timed):g} "
+        f"| {statistics.median(result.best for result in timed):g} "
         f"| {statistics.median(result.clusters for result in timed):g} |"
     )
 
@@ -69,10 +75,10 @@ def main() -> None:
     parser.add_argument("--maps", type=Path, nargs="*", default=MAPS, help="Moving AI maps to time too.")
     arguments = parser.parse_args()
     print(
-        "| level | grid | cells | scene s | view table s | bounds median ms | bounds max ms "
-        "| eccentricity | cluster | clusters |"
+        "| level | grid | cells | scene s | view table s | bounds median ms | bounds max ms | bounds CPU ms "
+        "| eccentricity | cluster | path | best | clusters |"
     )
-    print("| --- | --- | --- | --- | --- | --- | --- | --- | --- | --- |")
+    print("| --- | --- | --- | --- | --- | --- | --- | --- | --- | --- | --- | --- | --- |")
     for path in [*LEVELS, *arguments.maps]:
         print(measure(path, arguments.starts), flush=True)
 
