@@ -71,7 +71,8 @@ class Case:
     kind: str
     command: str
     files: dict[str, bytes]
-    """Relative path -> content (:data:`FIFO` or :data:`DEVICE` for special files)."""
+    """Relative path -> content (:data:`FIFO` or :data:`DEVICE` for special files); ``{dir}`` in the
+    content stands for the case's folder."""
     args: list[str]
     """The command line after ``guardsim``; ``{dir}`` stands for the case's folder."""
     named: str
@@ -93,7 +94,7 @@ class Case:
             elif content == DEVICE:
                 os.symlink("/dev/zero", path)
             else:
-                path.write_bytes(content)
+                path.write_bytes(content.replace(b"{dir}", os.fsencode(folder)))
 
     def argv(self, folder: Path) -> list[str]:
         """The command line with the folder filled in."""
@@ -276,7 +277,10 @@ def make_templates(run: Callable[[list[str]], Any], folder: Path) -> Templates:
     run(["regress", str(folder / "tiny.json"), "--renders", str(folder / "renders"), "--update"])
     references = {p.name: p.read_bytes() for p in sorted((folder / "renders" / "tiny").iterdir())}
     run(["bench", str(folder / "tiny.json"), *BENCH_OPTIONS, "--out", str(folder / "bench")])
-    bench = {p.name: p.read_bytes() for p in sorted((folder / "bench").iterdir())}
+    # The run folder names its level by path: "{dir}" in the templates stands for the case's folder.
+    bench = {
+        p.name: p.read_bytes().replace(os.fsencode(folder), b"{dir}") for p in sorted((folder / "bench").iterdir())
+    }
     shutil.rmtree(folder / "renders")
     shutil.rmtree(folder / "bench")
     return Templates(references, bench)

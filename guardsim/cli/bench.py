@@ -41,6 +41,12 @@ NOT_RUN = 1
 #: ``errors.log``, and running the same command again retries it.
 EPISODE_ERRORS = 3
 
+#: Upper bounds of the counts a command line may ask for: past them the plan alone would not fit in memory
+#: (a batch of 10^400 episodes was a list the kernel killed the process for).
+MAX_EPISODES = 1_000_000
+MAX_GUARDS = 10_000
+MAX_STEPS = 10**9
+
 #: Figure files written by --plot, in the output folder.
 PLOT_NAMES = ("steps.png", "steps.svg")
 
@@ -48,7 +54,11 @@ PLOT_NAMES = ("steps.png", "steps.svg")
 @click.command()
 @click.argument("level_paths", metavar="LEVEL...", nargs=-1, required=True)
 @click.option(
-    "--episodes", type=click.IntRange(min=1), default=200, show_default=True, help="Episodes per level and planner."
+    "--episodes",
+    type=click.IntRange(min=1, max=MAX_EPISODES),
+    default=200,
+    show_default=True,
+    help="Episodes per level and planner.",
 )
 @click.option("--seed", type=click.IntRange(min=0), default=0, show_default=True, help="Seed of the batch.")
 @click.option("--out", "out", type=click.Path(), default="results", show_default=True, help="Output folder.")
@@ -65,10 +75,12 @@ PLOT_NAMES = ("steps.png", "steps.svg")
     is_flag=True,
     help="Run the reference vision and loop instead of the fast path (for checking it; much slower).",
 )
-@click.option("--max-steps", type=click.IntRange(min=0), help="Step limit [default: 10 per traversable cell].")
+@click.option(
+    "--max-steps", type=click.IntRange(min=0, max=MAX_STEPS), help="Step limit [default: 10 per traversable cell]."
+)
 @click.option(
     "--guards",
-    type=click.IntRange(min=1),
+    type=click.IntRange(min=1, max=MAX_GUARDS),
     default=1,
     show_default=True,
     help="Guards per team, each running the planner; steps are then the makespan.",

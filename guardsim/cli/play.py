@@ -37,12 +37,14 @@ __all__ = ["play"]
 @click.option("--planner", type=click.Choice(list(PLANNERS)), default="ripplefront", show_default=True)
 @click.option(
     "--guards",
-    type=click.IntRange(min=1),
+    type=click.IntRange(min=1, max=10_000),
     default=1,
     show_default=True,
     help="Team size: the other guards start at cells drawn from the first guard's connected area.",
 )
-@click.option("--max-steps", type=click.IntRange(min=0), help="Step limit [default: 10 per traversable cell].")
+@click.option(
+    "--max-steps", type=click.IntRange(min=0, max=10**9), help="Step limit [default: 10 per traversable cell]."
+)
 @click.option("--sweeps-per-tick", type=click.IntRange(min=1), default=1, show_default=True)
 @click.option(
     "--record-field",

@@ -13,6 +13,7 @@ import csv
 import io
 import json
 import os
+import stat
 from collections.abc import Collection, Iterable, Iterator
 from contextlib import contextmanager
 from pathlib import Path
@@ -86,9 +87,11 @@ def _difference(earlier: Any, now: dict[str, Any]) -> str:
     """The first option that differs, as ``name: X there, Y here``."""
     if not isinstance(earlier, dict):
         return "not a run.json written by guardsim bench"
-    for name in sorted(set(earlier) | set(now)):
-        if earlier.get(name) != now.get(name):
-            return f"{name}: {_short(earlier.get(name))} there, {_short(now.get(name))} here"
+    for name in sorted(set(earlier) | set(now), key=str):
+        if name not in earlier or name not in now:
+            return f"{_clip(str(name), 40)}: {'missing there' if name not in earlier else 'not an option here'}"
+        if earlier[name] != now[name]:
+            return f"{name}: {_short(earlier[name])} there, {_short(now[name])} here"
     return ""
 
 
@@ -111,9 +114,10 @@ def read_results(path: Path, expected: Collection[tuple[str, str, int, int]] | N
         If another ``guardsim bench`` is appending to the file, the header is not guardsim's, a
         complete row does not parse, or a row is not one of ``expected`` or repeats an earlier one.
     """
-    if not path.exists():
+    if not path.exists() and not path.is_symlink():
         return []
     source = display_path(path)
+    _require_regular(path)
     try:
         with path.open("a", encoding="utf-8") as stream:
             _lock(stream)  # a run appending right now would make the half line below whole again
@@ -156,6 +160,18 @@ def read_results(path: Path, expected: Collection[tuple[str, str, int, int]] | N
     return records
 
 
+def _require_regular(path: Path) -> None:
+    """Refuse a results file that exists and is not a regular file (opening a FIFO to append blocks)."""
+    try:
+        mode = os.stat(path).st_mode
+    except FileNotFoundError:
+        return
+    except OSError as error:
+        raise OutputError(f"{display_path(path)}: cannot read: {error.strerror or error}") from None
+    if not stat.S_ISREG(mode):
+        raise OutputError(f"{display_path(path)}: is not a regular file; use another --out")
+
+
 def _clip(text: str, limit: int = 100) -> str:
     """``text`` on one line, cut to ``limit`` characters."""
     text = " ".join(text.split())
@@ -165,8 +181,9 @@ def _clip(text: str, limit: int = 100) -> str:
 @contextmanager
 def appending_results(path: Path) -> Iterator[ResultsFile]:
     """Open the results file for appending rows, writing the header first if the file is new or empty."""
+    _require_regular(path)
     try:
-        descriptor = os.open(path, os.O_WRONLY | os.O_APPEND | os.O_CREAT, 0o666)
+        descriptor = os.open(path, os.O_WRONLY | os.O_APPEND | os.O_CREAT | getattr(os, "O_NONBLOCK", 0), 0o666)
     except OSError as error:
         raise OutputError(f"{display_path(path)}: cannot write: {error.strerror or error}") from None
     results = ResultsFile(path, descriptor)
