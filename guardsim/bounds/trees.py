@@ -118,14 +118,14 @@ def spanning_tree_weight(neighbours: np.ndarray, label: np.ndarray, clusters: in
     parent = np.arange(clusters)
     total = 0
     joined = 0
-    for index in order:
+    for edge in order:
         if joined == clusters - 1:
             break
-        a = _root(parent, source[index])
-        b = _root(parent, target[index])
+        a = _root(parent, source[edge])
+        b = _root(parent, target[edge])
         if a != b:
             parent[a] = b
-            total += weight[index]
+            total += int(weight[edge])
             joined += 1
     return total
 

@@ -66,11 +66,11 @@ def _beam(
         if layer.shape[0] == 0:
             break
         # Children of the layer, merged on (position, seen) through a small hash table.
-        child_position = []
-        child_steps = []
-        child_parent = []
-        child_key = []
-        child_seen = []
+        child_position: list[int] = []
+        child_steps: list[int] = []
+        child_parent: list[int] = []
+        child_key: list[int] = []
+        child_seen: list[np.ndarray] = []
         slots = 1 << 4
         while slots < 2 * layer.shape[0] * positions and slots < (1 << 22):
             slots <<= 1
@@ -79,8 +79,8 @@ def _beam(
             here = node_position[node]
             found_count = _frontier(successors, views, here, node_seen[node], distance, queue, found, found_steps)
             for index in range(found_count):
-                there = found[index]
-                steps = node_steps[node] + found_steps[index]
+                there = int(found[index])
+                steps = int(node_steps[node] + found_steps[index])
                 if steps >= best_steps:
                     continue
                 complete = True
@@ -101,7 +101,7 @@ def _beam(
                         if same:
                             if steps < child_steps[other]:
                                 child_steps[other] = steps
-                                child_parent[other] = node
+                                child_parent[other] = int(node)
                             merged = True
                             break
                     slot = (slot + 1) & (slots - 1)
@@ -112,7 +112,7 @@ def _beam(
                 table[slot] = len(child_position)
                 child_position.append(there)
                 child_steps.append(steps)
-                child_parent.append(node)
+                child_parent.append(int(node))
                 child_seen.append(seen.copy())
                 child_key.append(-1 if complete else 0)
         total = len(child_position)
@@ -138,31 +138,31 @@ def _beam(
             wider[:room] = node_seen
             node_seen = wider
             room = grow
-        next_layer = []
+        next_layer: list[int] = []
         for rank in ranks:
             if len(next_layer) >= width:
                 break
             if scores[rank] >= best_steps:
                 break
-            node = count
+            kept_node = count
             count += 1
-            node_position[node] = child_position[rank]
-            node_steps[node] = child_steps[rank]
-            node_parent[node] = child_parent[rank]
-            node_seen[node] = child_seen[rank]
+            node_position[kept_node] = child_position[rank]
+            node_steps[kept_node] = child_steps[rank]
+            node_parent[kept_node] = child_parent[rank]
+            node_seen[kept_node] = child_seen[rank]
             if child_key[rank] < 0:
                 if child_steps[rank] < best_steps:
-                    best_node, best_steps = node, child_steps[rank]
+                    best_node, best_steps = kept_node, child_steps[rank]
             else:
-                next_layer.append(node)
+                next_layer.append(kept_node)
         layer = np.array(next_layer, dtype=np.int64) if next_layer else np.zeros(0, dtype=np.int64)
     if best_node < 0:
         return np.zeros(0, dtype=np.int64), -1
-    route = []
-    node = best_node
-    while node >= 0:
-        route.append(node_position[node])
-        node = node_parent[node]
+    route: list[int] = []
+    back = best_node
+    while back >= 0:
+        route.append(node_position[back])
+        back = node_parent[back]
     result = np.empty(len(route), dtype=np.int64)
     for index in range(len(route)):
         result[index] = route[len(route) - 1 - index]

@@ -121,7 +121,7 @@ def build_search_graph(grid: CoverageGrid, table: ViewTable, start: tuple[int, i
     if headings_matter:
         states = _reachable_states(neighbours, state_of(start_cell, heading))
     else:
-        states = state_of(goal_cells, 0)
+        states = state_of(goal_cells, np.zeros_like(goal_cells))
     position_of = np.full(grid.size * HEADINGS_PER_CELL, -1, dtype=np.int64)
     position_of[states] = np.arange(states.size)
     cells = cell_of_state(states)
@@ -129,7 +129,10 @@ def build_search_graph(grid: CoverageGrid, table: ViewTable, start: tuple[int, i
     for direction in range(4):
         there = neighbours[cells, direction]
         ok = there >= 0
-        arrive = state_of(there[ok], direction if headings_matter else 0)
+        arrive: np.ndarray = state_of(
+            np.asarray(there[ok], dtype=np.int64),
+            np.full(int(ok.sum()), direction if headings_matter else 0, dtype=np.int64),
+        )
         successors[ok, direction] = position_of[arrive]
     first = state_of(start_cell, heading if headings_matter else 0)
     views = _views(states, table.sight_start, table.sight, goal_index, words)

@@ -13,8 +13,11 @@ Per episode, at the first decision, for the whole team at once:
    (:mod:`guardsim.planners.route_walk`): viewpoints whose cells have all been seen meanwhile are
    skipped, and a guard whose tour is done falls back to the frontier rule;
 3. the states the walk actually arrived in are routed again and walked again, as long as the walk gets
-   shorter. Steps 2-3 start from two seeds, the set-cover tour and the empty tour (the frontier walk,
-   which the refinement turns into a tour of the frontier states it used); the shorter walk wins.
+   shorter. Steps 2-3 start from three seeds, the set-cover tour, the empty tour (the frontier walk,
+   which the refinement turns into a tour of the frontier states it used) and, for one guard on a level
+   of at most :data:`BEAM_POSITIONS` positions, the arrivals of a beam search over the exact search's
+   macro moves (:mod:`guardsim.optimum.beam`), which weighs each viewpoint's cost against what it adds;
+   the shortest walk wins.
 
 The guard then plays its part of that walk move by move. The view table gives the loop's own vision, so
 the walk is what the loop records; should the world ever differ from it (say a teammate running another
