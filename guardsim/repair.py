@@ -232,20 +232,20 @@ def _merged_holes(
     groups = _groups(polygons, outer)
     result: list[tuple[str | None, Ring]] = []
     done: set[int] = set()
-    for index, hole in enumerate(holes):
+    for index, named in enumerate(holes):
         if index in done:
             continue
         group = groups.get(index, [index])
         done.update(group)
         if len(group) == 1 and index not in split:
-            result.append(hole)
+            result.append(named)
             continue
-        members = [polygons[i] for i in group if polygons[i] is not None]
+        members: list[shapely.Geometry] = [shape for i in group if (shape := polygons[i]) is not None]
         rings, _ = hole_rings(members, outer)
         if (
             index not in split
             and len(rings) >= len(group)
-            and shapely.union_all(members).area == sum(m.area for m in members)
+            and shapely.area(shapely.union_all(members)) == sum(shapely.area(m) for m in members)
         ):
             # Walls that only share edges and cannot become fewer rings (a band cut open around a pocket) stay.
             result.extend(holes[i] for i in group)
@@ -270,7 +270,7 @@ def _groups(polygons: list[shapely.Geometry | None], outer: Polygon) -> dict[int
 
     if len(usable) < 2:
         return {}
-    shapes = [polygons[i] for i in usable]
+    shapes: list[shapely.Geometry] = [shape for i in usable if (shape := polygons[i]) is not None]
     tree = shapely.STRtree(shapes)
     pairs: list[tuple[int, int]] = []
     for a, shape in enumerate(shapes):

@@ -336,7 +336,7 @@ def _check_geometry(
     # designer drew. `guardsim import` and `guardsim validate --fix` merge them and say so.
     if len(valid_holes) > 1 and _overlap_problems(valid_holes, problems, max_pairs=max_pairs):
         return  # the free area of a stack of overlapping holes is not worth its cost: the level is invalid
-    free_area = free_area_of(outer, [tuple(polygon.exterior.coords) for _, polygon in valid_holes])
+    free_area = free_area_of(outer, [hole for index, _ in valid_holes if (hole := holes[index]) is not None])
     candidates: list[tuple[str, Point]] = []
     if guard is not None and guard.start is not None:
         candidates.append(("guard.start", guard.start))
@@ -344,7 +344,7 @@ def _check_geometry(
     for where, point in candidates:
         if not outer_polygon.covers(shapely.Point(point)):
             problems.append(Problem(f"{where} {_fmt(point)}", "start lies outside the level"))
-        elif not free_area.contains(shapely.Point(point)):
+        elif not shapely.contains(free_area, shapely.Point(point)):
             problems.append(Problem(f"{where} {_fmt(point)}", "start lies inside a wall"))
 
 
