@@ -27,10 +27,9 @@ from pathlib import Path
 
 sys.path.insert(0, str(Path(__file__).resolve().parent))
 
-from results import MAPS, REPO, SHARED, guardsim  # the sibling benchmark's map list and runner
-
 from guardsim.experiment import RESULTS_NAME, EpisodeRecord, read_results
 from guardsim.planners import PLANNERS
+from results import MAPS, REPO, SHARED, guardsim  # the sibling benchmark's map list and runner
 
 LEVELS = sorted((REPO / "levels").glob("*.json"))
 RANDOM = "random-walk"
@@ -105,6 +104,45 @@ def level_table(level: str, rows: Sequence[EpisodeRecord]) -> tuple[list[str], d
     return [*lines, ""], ranks
 
 
+def overview(rows: Sequence[EpisodeRecord]) -> str:
+    """One line per level: each planner's median grid steps and median seconds, with both ranks; then one
+    line per planner: the medians over the levels of its per-level motion figures."""
+    names = [name for name in PLANNERS if any(row.planner == name for row in rows)]
+    lines = ["| level | " + " | ".join(f"`{name}`" for name in names) + " |", "| --- |" + " ---: |" * len(names)]
+    per_planner: dict[str, list[dict[str, float]]] = {}
+    for file in dict.fromkeys(row.level_file for row in rows):
+        members = [row for row in rows if row.level_file == file]
+        _, ranks = level_table(members[0].level, members)
+        cells = []
+        for name in names:
+            grid = [row for row in members if row.planner == name and row.motion == "grid"]
+            walk = [row for row in members if row.planner == name and row.motion == "continuous"]
+            if not grid or not walk:
+                cells.append("")
+                continue
+            steps, seconds = median([row.steps for row in grid]), median([row.game_seconds for row in walk])
+            cells.append(f"{number(steps, 0)} / {number(seconds, 0)} s ({ranks[name][0]}→{ranks[name][1]})")
+            per_planner.setdefault(name, []).append({
+                "per_step": (seconds or 0) / (steps or 1),
+                "distance": (median([row.distance for row in walk]) or 0) / (steps or 1),
+                "per_min": median([row.turns_per_minute for row in walk]) or 0,
+                "u_per_min": median([60 * (row.u_turns or 0) / row.game_seconds for row in walk if row.game_seconds]) or 0,
+                "in_place": median([100 * (row.in_place_s or 0) / row.game_seconds for row in walk if row.game_seconds]) or 0,
+                "per100": median([100 * (row.turns or 0) / row.steps for row in grid if row.steps]) or 0,
+            })  # fmt: skip
+        lines.append(f"| {members[0].level} | " + " | ".join(cells) + " |")
+    lines += ["", "| planner | levels | turns / 100 grid steps | s / grid step | distance / grid steps | turns / min "
+              "| U-turns / min | % of time turning in place |", "| --- | ---: | ---: | ---: | ---: | ---: | ---: | ---: |"]  # fmt: skip
+    for name, figures in per_planner.items():
+
+        def mid(key: str, figures: list[dict[str, float]] = figures) -> float:
+            return statistics.median(figure[key] for figure in figures)
+
+        lines.append(f"| `{name}` | {len(figures)} | {mid('per100'):.1f} | {mid('per_step'):.2f} | {mid('distance'):.2f} "
+                     f"| {mid('per_min'):.1f} | {mid('u_per_min'):.2f} | {mid('in_place'):.1f} |")  # fmt: skip
+    return "\n".join(lines) + "\n"
+
+
 def main() -> None:
     parser = argparse.ArgumentParser(description=__doc__, formatter_class=argparse.RawDescriptionHelpFormatter)
     parser.add_argument("--episodes", type=int, default=10, help="Episodes per planner on each shipped level.")
@@ -146,6 +184,7 @@ def main() -> None:
         best_walk = min(ranks, key=lambda name: ranks[name][1])
         if best_grid != best_walk:
             best_changes.append(f"{members[0].level}: `{best_grid}` on the grid, `{best_walk}` in seconds")
+    print(overview(rows))
     print("| planner | levels | mean rank, grid steps | mean rank, seconds | better in seconds | worse in seconds |")
     print("| --- | ---: | ---: | ---: | ---: | ---: |")
     for name, pairs in all_ranks.items():
