@@ -452,3 +452,16 @@ def test_tiled_json_copy_reimports_to_the_same_level(tmp_path: Path) -> None:
         main, ["patrol", str(source), "--out", str(tmp_path / "o"), "--tiled-out", str(tmp_path / "x.tmx")]
     )
     assert wrong.exit_code == 2 and wrong.output.strip().endswith("must keep its format (.tmj or .json)")
+
+
+@pytest.mark.parametrize("strategy", ["loop", "random", "staleness"])
+def test_same_seed_same_patrol(tmp_path: Path, strategy: str) -> None:
+    level = write_level(tmp_path, TINY_LEVELS["square-with-hole"])
+    written = []
+    for run in range(2):
+        out = tmp_path / f"run{run}"
+        args = ["patrol", str(level), "--out", str(out), "--strategy", strategy, "--guards", "2", "--laps", "3"]
+        result = CliRunner().invoke(main, args)
+        assert result.exit_code == 0, result.output
+        written.append((out / "patrol.json").read_bytes())
+    assert written[0] == written[1]
