@@ -15,7 +15,7 @@ A team (:func:`team_loops`) gets both of the two standard cyclic strategies, sco
 and keeps the better: one shared cycle with the guards spaced evenly along it (for the worst idleness of
 a single cycle shared by ``k`` agents is its length over ``k``, the strategy Chevaleyre 2004, "Theoretical
 analysis of the multi-agent patrolling problem", shows near-optimal), or the cycle cut into ``k``
-arcs, each closed into a loop of its own (better when the level is made of distant parts).
+arcs, each closed into a loop of its own (it lost to the shared cycle on every level tried so far).
 """
 
 from __future__ import annotations
