@@ -289,3 +289,74 @@ def test_a_tiled_json_is_told_from_a_guardsim_level_by_content(tmp_path: Path) -
     plain = {"outer": [[0, 0], [3, 0], [3, 3], [0, 3]]}
     level, imported = load_any(write(tmp_path, json.dumps(plain), "level.json"))
     assert imported is None and level.bounds == (0.0, 0.0, 3.0, 3.0)
+
+
+def test_a_resized_template_instance_keeps_its_own_size_and_the_templates_properties(tmp_path: Path) -> None:
+    """Tiled stores what the instance changed; the instance wins, the rest comes from the template."""
+    (tmp_path / "block.tx").write_text(
+        '<?xml version="1.0"?>\n<template><object name="block" type="crate" width="96" height="16">'
+        '<properties><property name="collision" type="bool" value="true"/></properties></object></template>\n',
+        encoding="utf-8",
+    )
+    objects = ' <objectgroup name="Things"><object id="4" template="block.tx" x="0" y="0" width="32"/></objectgroup>\n'
+    cells = free_cells(write(tmp_path, tmx(layer("Ground", ROOM) + objects)))
+    assert (0, 0) not in cells and (1, 0) not in cells and (2, 0) in cells and (0, 1) in cells
+    (tmp_path / "block.tj").write_text(
+        json.dumps(
+            {
+                "type": "template",
+                "object": {
+                    "name": "block",
+                    "type": "crate",
+                    "width": 96,
+                    "height": 16,
+                    "rotation": 0,
+                    "visible": True,
+                    "properties": [{"name": "collision", "type": "bool", "value": True}],
+                },
+            }
+        ),
+        encoding="utf-8",
+    )
+    data = {
+        "type": "map",
+        "orientation": "orthogonal",
+        "tilewidth": 16,
+        "tileheight": 16,
+        "width": 6,
+        "height": 6,
+        "tilesets": [],
+        "layers": [
+            {"type": "tilelayer", "name": "Ground", "width": 6, "height": 6, "data": [1] * 36},
+            {
+                "type": "objectgroup",
+                "name": "Things",
+                "objects": [{"id": 4, "template": "block.tj", "x": 0, "y": 0, "width": 32}],
+            },
+        ],
+    }
+    cells = free_cells(write(tmp_path, json.dumps(data), "map.json"))
+    assert (0, 0) not in cells and (1, 0) not in cells and (2, 0) in cells
+
+
+def test_a_tile_template_counts_its_tile_in_the_maps_tilesets(tmp_path: Path) -> None:
+    """A template's tile id is relative to the template's own tileset; the map loads that tileset at 5."""
+    (tmp_path / "t.tsx").write_text(
+        '<?xml version="1.0"?>\n<tileset name="t" tilewidth="16" tileheight="16" tilecount="4" columns="2">'
+        '<tile id="1"><properties><property name="collision" type="bool" value="true"/></properties></tile>'
+        "</tileset>\n",
+        encoding="utf-8",
+    )
+    (tmp_path / "crate.tx").write_text(
+        '<?xml version="1.0"?>\n<template><tileset firstgid="1" source="t.tsx"/>'
+        '<object name="crate" gid="2" width="16" height="16"/></template>\n',
+        encoding="utf-8",
+    )
+    text = tmx(
+        layer("Ground", ROOM)
+        + ' <objectgroup name="Things"><object id="9" template="crate.tx" x="32" y="48"/></objectgroup>\n'
+    )
+    text = text.replace("</tileset>\n", '</tileset>\n <tileset firstgid="5" source="t.tsx"/>\n', 1)
+    cells = free_cells(write(tmp_path, text))
+    # Tile objects hang from their bottom-left corner: (32, 48) is the bottom-left of cell (2, 2).
+    assert (2, 2) not in cells and len(cells) == 35

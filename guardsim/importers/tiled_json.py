@@ -88,11 +88,10 @@ class JsonReader(MapReader):
                     blocks = self.json_tile_data(raw, where)
                     self.add_tile_layer(common, (*path, name), inherited, shift, shown, blocks)
                 elif kind == "objectgroup":
-                    raw_objects = dicts(raw.get("objects", []), f"{self.source}: {where}.objects")
-                    self.check_templates(
-                        [(o.get("id"), str(o["template"])) for o in raw_objects if o.get("template")],
-                        f"{where}.objects",
-                    )
+                    raw_objects = [
+                        self.templates.json(item, f"{where}.objects[{number}]")
+                        for number, item in enumerate(dicts(raw.get("objects", []), f"{self.source}: {where}.objects"))
+                    ]
                     objects = [
                         self.call(
                             f"{where}.objects[{number}]",

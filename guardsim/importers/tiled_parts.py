@@ -37,6 +37,7 @@ from guardsim.importers.tiled_data import (
     object_outline,
 )
 from guardsim.importers.tiled_defaults import json_tileset_defaults, tmx_tileset_defaults
+from guardsim.importers.tiled_templates import Templates
 
 __all__ = [
     "COMPRESSIONS",
@@ -91,7 +92,9 @@ class MapReader:
         self.tile_layers: list[TileLayer] = []
         self.object_layers: list[ObjectLayer] = []
         self.notes: list[str] = []
-        self.checked_files: set[Path] = set()
+        self.tileset_files: dict[Path, int] = {}
+        """External tileset files (resolved) -> firstgid, for tile templates."""
+        self.templates = Templates(self.source, self.folder, max_file_bytes, self.tileset_files)
         self.infinite = False
 
     # -- shared -------------------------------------------------------------------------------------
@@ -152,7 +155,7 @@ class MapReader:
             tuple(self.tile_layers),
             tuple(self.object_layers),
             self.tile_infos(),
-            tuple(self.notes),
+            tuple(self.notes + self.templates.notes),
         )
 
     def tile_infos(self) -> dict[int, TileInfo]:
@@ -217,6 +220,7 @@ class MapReader:
                 return
             path, data = found
             folder = path.parent
+            self.tileset_files[path.resolve()] = firstgid
             embedded = (
                 parse_xml_bytes(data, display_name(path))
                 if data.lstrip()[:1] == b"<"
@@ -262,7 +266,7 @@ class MapReader:
         visible: bool,
         where: str,
     ) -> None:
-        objects = tuple(self.template_gid(item) for item in layer.tiled_objects)
+        objects = layer.tiled_objects
         self.object_layers.append(
             ObjectLayer(
                 text(layer.name),
@@ -273,44 +277,6 @@ class MapReader:
                 tuple(self.convert_object(item, offset, f"{where} object") for item in objects),
             )
         )
-
-    def template_gid(self, item: pto.TiledObject) -> pto.TiledObject:
-        """A tile object from a template: its gid counted in the map's tilesets (as parse_map does)."""
-        new = getattr(item, "new_tileset", None)
-        if isinstance(item, pto.Tile) and new is not None:
-            name = new.get("name") if isinstance(new, (dict, ElementTree.Element)) else None
-            match = next((ts for ts in self.tilesets.values() if ts.name == name), None)
-            if match is not None:
-                item.gid = item.gid + match.firstgid - 1
-            item.new_tileset = None
-        return item
-
-    def check_templates(self, uses: list[tuple[Any, str]], where: str) -> None:
-        """Templates (and their tilesets) pass the file rules before pytiled-parser opens them.
-
-        ``uses`` are ``(object id, template file)`` pairs of one layer.
-        """
-        for identifier, name in uses:
-            path = self.folder / name
-            if path in self.checked_files:
-                continue
-            if not path.is_file():
-                raise self.error(f"{where} object {identifier}", f"template {display_name(name)} not found")
-            self.checked_files.add(path)
-            data = read_capped_bytes(path, max_file_bytes=self.max_file_bytes, kind="template")
-            source = display_name(path)
-            if data.lstrip()[:1] == b"<":
-                root = parse_xml_bytes(data, source)
-                tileset = root.find("tileset")
-                inner = tileset.get("source") if tileset is not None else None
-            else:
-                value = parse_json_bytes(data, source)
-                tileset = value.get("tileset") if isinstance(value, dict) else None
-                inner = tileset.get("source") if isinstance(tileset, dict) else None
-            if inner:
-                read_capped_bytes(path.parent / str(inner), max_file_bytes=self.max_file_bytes, kind="tileset")
-
-    # -- TMX ----------------------------------------------------------------------------------------
 
 
 def text(value: Any) -> str:

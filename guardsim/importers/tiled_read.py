@@ -16,10 +16,12 @@ do for untrusted files:
   attribute recent Tiled versions write (old maps without ``infinite`` or ``tilecount`` fail): each part
   is given Tiled's documented defaults (:mod:`~guardsim.importers.tiled_defaults`), and any exception
   becomes one :class:`LevelError` naming the file, the layer and the object;
-* it prints to stdout when a template brings a tileset the map lacks.
+* it prints to stdout when a template brings a tileset the map lacks, and its JSON template merge lets
+  the template override the instance (a resized instance gets the template's size): templates are
+  merged here (:mod:`~guardsim.importers.tiled_templates`) and handed over as plain objects.
 
 Used as-is: the TMX and JSON parsers of layers (their names, properties, offsets, visibility, class),
-objects (every shape, templates merged), properties (typed) and tilesets (tile classes, properties,
+objects (every shape), properties (typed) and tilesets (tile classes, properties,
 collision shapes). :mod:`~guardsim.importers.tiled_tmx` and :mod:`~guardsim.importers.tiled_json` walk
 each format; :mod:`~guardsim.importers.tiled_parts` is what they share.
 """

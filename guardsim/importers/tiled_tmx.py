@@ -72,11 +72,7 @@ class TmxReader(MapReader):
                     blocks = self.tmx_tile_data(element, where)
                     self.add_tile_layer(common, (*path, name), inherited, shift, shown, blocks)
                 elif element.tag == "objectgroup":
-                    self.check_templates(
-                        [(o.get("id"), o.get("template", "")) for o in element.findall("object") if o.get("template")],
-                        where,
-                    )
-                    layer = self.tmx_object_layer(element, where)
+                    layer = self.tmx_object_layer(self.templates.tmx(element, where), where)
                     self.add_object_layer(layer, (*path, name), inherited, shift, shown, where)
             stack.extend(reversed(pending))
         return self.result(root.get("tilewidth"), root.get("tileheight"), root.get("width"), root.get("height"))
