@@ -1,6 +1,6 @@
 """Reading Tiled maps (TMX and Tiled JSON) with pytiled-parser, inside guardsim's input limits.
 
-pytiled-parser (the Arcade project's Tiled reader) turns layers, objects (with their templates),
+pytiled-parser (the Arcade project's Tiled reader) turns layers, objects,
 properties and tilesets (with tile classes and collision shapes) into typed objects. guardsim calls it
 part by part rather than through ``pytiled_parser.parse_map``, because of what that entry point does not
 do for untrusted files:
