@@ -348,3 +348,22 @@ def test_play_continuous_in_a_real_process() -> None:
     )  # fmt: skip
     assert result.returncode == 0, result.stderr
     assert result.stdout.startswith("Square: covered after ") and "s of game time" in result.stdout
+
+
+@pytest.mark.parametrize(("seed", "episode"), [(0, None), (3, 4)])
+def test_continuous_starts_where_the_grid_episode_starts(seed: int, episode: int | None) -> None:
+    from guardsim.simulation import Simulation
+
+    scene = shipped("passages")
+    grid_run = Simulation(scene, "tour")
+    grid_run.reset(seed=seed, episode=episode)
+    grid_trace = grid_run.run()
+    trace = run_continuous(scene, "tour", seed=seed, episode=episode, motion=MOTION, max_seconds=5)
+    assert trace.poses is not None
+    assert trace.start == grid_trace.start and trace.headings[0] == grid_trace.headings[0]
+    x, y = scene.grid.centre(*grid_trace.start)
+    assert trace.poses[0].tolist() == [0.0, x, y, 90.0 * grid_trace.headings[0]]
+    # The first plan is the grid episode itself: the guard heads for the grid route's first corner.
+    second = grid_trace.path[1]
+    cx, cy = scene.grid.centre(*second)
+    assert np.hypot(trace.poses[1, 1] - cx, trace.poses[1, 2] - cy) <= np.hypot(x - cx, y - cy)
