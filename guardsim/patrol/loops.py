@@ -14,8 +14,9 @@ One guard (:func:`cover_loop`):
 A team (:func:`team_loops`) gets both of the two standard cyclic strategies, scored by worst idleness,
 and keeps the better: one shared cycle with the guards spaced evenly along it (for the worst idleness of
 a single cycle shared by ``k`` agents is its length over ``k``, the strategy Chevaleyre 2004, "Theoretical
-analysis of the multi-agent patrolling problem", shows near-optimal), or the cycle cut into ``k``
-arcs, each closed into a loop of its own (it lost to the shared cycle on every level tried so far).
+analysis of the multi-agent patrolling problem", shows near-optimal), or split loops, a loop of its own
+per guard: the better of the lap cut into ``k`` stretches of equal ticks and the goal cut into ``k``
+regions by walking distance.
 """
 
 from __future__ import annotations
@@ -26,7 +27,7 @@ from guardsim.grid import CoverageGrid, cell_of_state, heading_of_state, state_o
 from guardsim.patrol.model import Patrol
 from guardsim.patrol.scoring import PatrolScore, score_patrol, score_rank
 from guardsim.planners.open_tour import improve_tour, nearest_neighbour_tour
-from guardsim.planners.shortest_paths import FAR, distances_from
+from guardsim.planners.shortest_paths import FAR, distance_fields, distances_from
 from guardsim.planners.tour import route_costs
 from guardsim.planners.viewpoint_cover import greedy_cover
 from guardsim.vision.table import ViewTable
@@ -245,8 +246,53 @@ def _split(builder: LoopBuilder, lap: np.ndarray, guards: int) -> np.ndarray:
         if period < 8 * guards:
             break
     assert best is not None
-    longest = max(part.size for part in best)
-    return np.stack([np.concatenate([part, np.full(longest - part.size, part[-1], dtype=np.int64)]) for part in best])
+    return _padded(best)
+
+
+def _regions(builder: LoopBuilder, guards: int, rounds: int = 10) -> np.ndarray:
+    """The goal cut into ``guards`` regions by walking distance, each patrolled by a loop of its own.
+
+    Seeds are spread by farthest-point sampling over walking distance, each goal cell goes to its
+    nearest seed, and each seed moves to the cell nearest its region's centroid, for up to ``rounds``
+    rounds (Lloyd's iteration on the grid). Each region gets the single-guard loop of its cells.
+    """
+    goal_cells = np.flatnonzero(builder.goal)
+    cols = builder.grid.shape[1]
+    seeds = [int(goal_cells[0])]
+    for _ in range(guards - 1):
+        nearest = distance_fields(builder.neighbours, np.asarray(seeds, dtype=np.int64)).min(axis=0)
+        seeds.append(int(np.argmax(np.where(builder.goal, nearest, -1))))
+    owner = np.zeros(goal_cells.size, dtype=np.int64)
+    for _ in range(rounds):
+        fields = distance_fields(builder.neighbours, np.asarray(seeds, dtype=np.int64))
+        owner = np.argmin(fields[:, goal_cells], axis=0)
+        moved = []
+        for part in range(guards):
+            members = goal_cells[owner == part]
+            if members.size == 0:
+                moved.append(seeds[part])
+                continue
+            x, y = members % cols, members // cols
+            moved.append(int(members[np.argmin((x - x.mean()) ** 2 + (y - y.mean()) ** 2)]))
+        if moved == seeds:
+            break
+        seeds = moved
+    laps = []
+    for part in range(guards):
+        part_goal = np.zeros_like(builder.goal)
+        part_goal[goal_cells[owner == part]] = True
+        if not part_goal.any():
+            laps.append(builder.walk(builder.cycle(builder.cover_viewpoints()))[:1])
+            continue
+        sub = LoopBuilder(builder.grid, builder.table, part_goal, fields=builder.fields)
+        laps.append(sub.loop(sub.cover_viewpoints()))
+    return _padded(laps)
+
+
+def _padded(laps: list[np.ndarray]) -> np.ndarray:
+    """Laps of one team at the common period: the shorter ones wait at their last state."""
+    longest = max(part.size for part in laps)
+    return np.stack([np.concatenate([part, np.full(longest - part.size, part[-1], dtype=np.int64)]) for part in laps])
 
 
 def team_loops(
@@ -262,7 +308,10 @@ def team_loops(
         patrol = Patrol(lap[None, :], lap.size, "loop", planner=planner)
         return patrol, {"single": score_patrol(builder.table, patrol, builder.goal)}
     shared_states = _spaced(lap, guards)
-    split_states = _split(builder, lap, guards)
+    # Split loops two ways, the lap cut into stretches and the goal cut into regions; the better is "split".
+    cuts = [_split(builder, lap, guards), _regions(builder, guards)]
+    cut_scores = [score_patrol(builder.table, Patrol(cut, cut.shape[1], "loop"), builder.goal) for cut in cuts]
+    split_states = cuts[min(range(2), key=lambda index: score_rank(cut_scores[index]))]
     candidates = {
         "shared": Patrol(shared_states, shared_states.shape[1], "loop", planner=planner, team="shared"),
         "split": Patrol(split_states, split_states.shape[1], "loop", planner=planner, team="split"),
