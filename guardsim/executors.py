@@ -233,13 +233,14 @@ class DaskCluster:
             from distributed import Client
         except ImportError:
             raise GuardsimError(
-                "--scheduler needs dask.distributed, which is not installed: pip install 'guardsim[cluster]'"
+                "running on a Dask scheduler needs dask.distributed, which is not installed: "
+                "pip install 'guardsim[cluster]'"
             ) from None
         try:
             self._client = Client(address, timeout=timeout, set_as_default=False)
         except (OSError, ValueError, TypeError) as error:
             message = " ".join(str(error).split()) or type(error).__name__
-            raise GuardsimError(f"--scheduler {address}: cannot connect to a Dask scheduler: {message}") from None
+            raise GuardsimError(f"Dask scheduler {address}: cannot connect to it: {message}") from None
         workers = len(self._client.scheduler_info().get("workers", {}))
         self.description = f"Dask scheduler {address} ({workers} workers now)"
         self._futures: list[Any] = []

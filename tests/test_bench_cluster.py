@@ -57,5 +57,5 @@ def test_unreachable_scheduler_is_a_guardsim_error() -> None:
     with pytest.raises(GuardsimError) as caught:
         DaskCluster(address, timeout=1)
     message = str(caught.value)
-    assert message.startswith(f"--scheduler {address}: cannot connect to a Dask scheduler")
+    assert message.startswith(f"Dask scheduler {address}: cannot connect to it")
     assert "\n" not in message

@@ -33,7 +33,7 @@ from tests import fuzz_cases
 from tests.fuzz_cases import IMPORTER_KINDS, KINDS, Templates, generate, make_templates, run_in_process
 
 #: Cases per (kind, command) pair in CI; regress and bench cases re-play episodes, so they get fewer.
-CASES = {"level": 160, "option": 40, "manifest": 60, "reference": 40, "trace": 60, "bench-folder": 50}
+CASES = {"level": 600, "option": 240, "manifest": 120, "reference": 80, "trace": 120, "bench-folder": 100}
 #: (command, first word of the case's note) left out in CI: `bounds` of a 10 x 10 level at cell_size
 #: 0.05 builds a view table of every state (about 3 GB, a minute) with no limit tripping first. The
 #: view table is guardsim/vision/table.py's; benchmarks/fuzz.py still runs and counts these cases.
@@ -59,7 +59,7 @@ def test_generated_inputs_keep_the_rule(kind: str, command: str, templates: Temp
     """Every generated input of this kind ends in exit 0 with a correct result or one named error line."""
     failures: Counter[str] = Counter()
     examples: dict[str, str] = {}
-    for index in range(CASES[kind] // len(KINDS[kind]) * (2 if kind == "level" else 1)):
+    for index in range(CASES[kind] // len(KINDS[kind])):
         rng = np.random.default_rng([SEED, index, *map(ord, kind + command)])
         case = generate(kind, command, rng, templates)
         if (command, case.note.split(" ")[0]) in KNOWN_HEAVY:
@@ -100,7 +100,7 @@ level_like = st.fixed_dictionaries(
 )
 
 
-@settings(derandomize=True, max_examples=300, deadline=None, suppress_health_check=[HealthCheck.too_slow])
+@settings(derandomize=True, max_examples=500, deadline=None, suppress_health_check=[HealthCheck.too_slow])
 @given(data=level_like | json_values)
 def test_level_check_never_raises_and_speaks_in_short_lines(data: Any) -> None:
     """Any decoded JSON gives a level or problems, never an exception; each problem is one short line."""
@@ -111,7 +111,7 @@ def test_level_check_never_raises_and_speaks_in_short_lines(data: Any) -> None:
         assert "\n" not in text and len(text) < 6 * EXCERPT_CHARS
 
 
-@settings(derandomize=True, max_examples=300, deadline=None)
+@settings(derandomize=True, max_examples=500, deadline=None)
 @given(text=st.text(max_size=200) | st.binary(max_size=200).map(lambda b: b.decode("latin-1")))
 def test_json_reader_fails_only_with_one_located_line(text: str) -> None:
     """Any text is a value or one LevelError line naming the source; NaN and Infinity never get through."""
@@ -133,7 +133,7 @@ def _finite(value: Any) -> bool:
     return True
 
 
-@settings(derandomize=True, max_examples=200, deadline=None)
+@settings(derandomize=True, max_examples=400, deadline=None)
 @given(data=st.dictionaries(st.sampled_from(["path", "headings", "shape", "cell_size", "guard_paths", "guards"]),
                             json_values, max_size=4))  # fmt: skip
 def test_stored_trace_check_never_raises_anything_else(data: dict[str, Any]) -> None:

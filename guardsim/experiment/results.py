@@ -70,7 +70,7 @@ def check_run_options(folder: Path, options: dict[str, Any]) -> None:
     run_path = folder / RUN_NAME
     if not run_path.exists():
         if (folder / RESULTS_NAME).exists():
-            raise OutputError(f"{folder / RESULTS_NAME}: found without {RUN_NAME}; use another --out")
+            raise OutputError(f"{folder / RESULTS_NAME}: found without {RUN_NAME}; use another output folder")
         try:
             text = json.dumps(options, indent=2, allow_nan=False)
         except ValueError:  # a NaN option would make a run.json its own resume refuses
@@ -80,7 +80,7 @@ def check_run_options(folder: Path, options: dict[str, Any]) -> None:
     earlier = read_json_file(run_path, max_file_bytes=MAX_RUN_BYTES, kind="run.json", error=OutputError)
     if earlier != options:
         raise OutputError(f"{run_path}: {folder} holds a run with other options ({_difference(earlier, options)}); "
-                          "use another --out, or delete the folder to start again")  # fmt: skip
+                          "use another output folder, or delete this one to start again")  # fmt: skip
 
 
 def _difference(earlier: Any, now: dict[str, Any]) -> str:
@@ -135,7 +135,7 @@ def read_results(path: Path, expected: Collection[tuple[str, str, int, int]] | N
     if header is None:
         return []
     if tuple(header) != CSV_COLUMNS and tuple(header) != CSV_COLUMNS[: CSV_COLUMNS.index("motion")]:
-        raise OutputError(f"{source}: line 1 is not the header of guardsim bench results; use another --out")
+        raise OutputError(f"{source}: line 1 is not the header of guardsim bench results; use another output folder")
     records = []
     seen: dict[tuple[str, str, int, int], int] = {}
     wanted = set(expected) if expected is not None else None
@@ -169,7 +169,7 @@ def _require_regular(path: Path) -> None:
     except OSError as error:
         raise OutputError(f"{display_path(path)}: cannot read: {error.strerror or error}") from None
     if not stat.S_ISREG(mode):
-        raise OutputError(f"{display_path(path)}: is not a regular file; use another --out")
+        raise OutputError(f"{display_path(path)}: is not a regular file; use another output folder")
 
 
 def _clip(text: str, limit: int = 100) -> str:

@@ -268,6 +268,14 @@ def read_png(
     if not path.exists() and not path.is_symlink():
         raise RegressionError(f"{source}: missing: the references need rewriting (update)")
     data = read_limited_bytes(path, max_file_bytes=max_file_bytes, kind="reference file", error=RegressionError)
+    if data[:8] == b"\x89PNG\r\n\x1a\n" and data[12:16] == b"IHDR" and len(data) >= 24:
+        # The size from the header, before Pillow sees the file (it refuses bombs only past 178 million pixels).
+        width, height = struct.unpack(">II", data[16:24])
+        if max(width, height) > FRAME_SLACK * max_size:
+            raise RegressionError(
+                f"{source}: a key frame of {width} x {height} pixels, larger than any frame drawn at "
+                f"frame_size {max_size}"
+            )
     try:
         with captured_warnings(), Image.open(io.BytesIO(data), formats=["PNG"]) as image:
             width, height = image.size
