@@ -360,3 +360,23 @@ def test_a_tile_template_counts_its_tile_in_the_maps_tilesets(tmp_path: Path) ->
     cells = free_cells(write(tmp_path, text))
     # Tile objects hang from their bottom-left corner: (32, 48) is the bottom-left of cell (2, 2).
     assert (2, 2) not in cells and len(cells) == 35
+
+
+def test_guardsims_own_route_layer_is_neither_walls_nor_spawns(tmp_path: Path) -> None:
+    """`patrol --tiled-out` writes routes as polylines in a layer 'guardsim' (class guardsim_route); even
+    inside a group whose name says guards, re-importing must not make walls or spawns of them."""
+    route = (
+        '<object id="{id}" name="route 0" type="guardsim_route" x="24" y="24">'
+        '<polyline points="0,0 48,0 48,48 0,48 0,0"/></object>'
+    )
+    body = (
+        layer("Ground", ROOM)
+        + layer("Walls", BORDER)
+        + f' <group name="Guards"><objectgroup name="guardsim">{route.format(id=1)}</objectgroup>'
+        + f'<objectgroup name="patrol">{route.format(id=2)}</objectgroup></group>\n'
+    )
+    path = write(tmp_path, tmx(body, tiles='<tile id="1" type="wall"/>'))
+    imported = import_map(path)
+    assert free_cells(path) == INSIDE
+    assert imported.level.guard.start is None
+    assert "spawns from" not in imported.summary()

@@ -190,6 +190,11 @@ def _object_boundary(layer: ObjectLayer, item: TiledObject) -> bool:
     )
 
 
+#: The object layer and object class guardsim writes patrol routes in; never walls, spawns or boundary.
+ROUTE_LAYER = "guardsim"
+ROUTE_CLASS = "guardsim_route"
+
+
 def assign_roles(tiled: TiledMap, options: RoleOptions) -> Guesses:
     """Floor layers, wall tiles and objects, spawns and boundary objects of ``tiled``."""
     found = Guesses()
@@ -235,11 +240,15 @@ def assign_roles(tiled: TiledMap, options: RoleOptions) -> Guesses:
             found.floor_layers = candidates[:1]
             found.floor_rule = "the lowest visible tile layer not named wall, spawn or above"
 
-    # Walls and spawns: objects.
+    # Walls and spawns: objects. guardsim's own route layer (`guardsim patrol --tiled-out`) is neither.
     for layer in tiled.object_layers:
+        if layer.name == ROUTE_LAYER:
+            continue
         wall_layer = _wall_layer(layer, options)
         mixed = wall_layer and any(_says(item.name, WALL_WORDS) for item in layer.objects)
         for item in layer.objects:
+            if item.kind == ROUTE_CLASS:
+                continue
             if _object_boundary(layer, item):
                 if item.closed:
                     found.boundary_objects.append((layer, item))
