@@ -45,7 +45,7 @@ def test_bounds_never_exceed_any_planners_steps(shipped_comparison: tuple[Path, 
     for row in table:
         assert row["guards"] == "1"
         best, eccentricity, cluster = (int(row[name]) for name in BOUND_COLUMNS)
-        assert best == max(eccentricity, cluster) > 0
+        assert best >= max(eccentricity, cluster) > 0  # best also counts the path bound (issue 15)
         if row["outcome"] != "covered":
             assert (row["planner"], row["outcome"]) == ("random-walk", "step_limit"), row
             continue
