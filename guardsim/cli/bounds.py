@@ -3,6 +3,8 @@
 from __future__ import annotations
 
 import time
+from collections.abc import Callable
+from typing import Any, TypeVar
 
 import click
 
@@ -11,19 +13,37 @@ from guardsim.cli.common import build_scene, cli_start, limit_options, load, par
 from guardsim.level import HEADINGS
 from guardsim.vision.table import view_table
 
-__all__ = ["bounds"]
+__all__ = ["bounds", "start_options"]
+
+
+F = TypeVar("F", bound=Callable[..., Any])
+
+
+def start_options(command: F) -> F:
+    """--start, --heading, --seed and --episode: one guard's start, chosen as by `guardsim play`."""
+    for option in reversed(
+        (
+            click.option("--start", callback=parse_point, metavar="X,Y", help="Start position in world units."),
+            click.option(
+                "--heading", type=click.Choice(list(HEADINGS)), help="First heading (default: the level's, or drawn)."
+            ),
+            click.option(
+                "--seed", type=click.IntRange(min=0), default=0, show_default=True, help="Seed for random choices."
+            ),
+            click.option(
+                "--episode",
+                type=click.IntRange(min=0),
+                help="The start of episode K of a batch seeded with --seed, drawn as in `guardsim bench`.",
+            ),
+        )
+    ):
+        command = option(command)
+    return command
 
 
 @click.command()
 @click.argument("level_path", metavar="LEVEL")
-@click.option("--start", callback=parse_point, metavar="X,Y", help="Start position in world units.")
-@click.option("--heading", type=click.Choice(list(HEADINGS)), help="First heading (default: the level's, or drawn).")
-@click.option("--seed", type=click.IntRange(min=0), default=0, show_default=True, help="Seed for random choices.")
-@click.option(
-    "--episode",
-    type=click.IntRange(min=0),
-    help="The start of episode K of a batch seeded with --seed, drawn as in `guardsim bench`.",
-)
+@start_options
 @vision_options
 @limit_options
 @reports_errors

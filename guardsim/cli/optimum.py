@@ -6,7 +6,8 @@ import json
 
 import click
 
-from guardsim.cli.common import build_scene, cli_start, limit_options, load, parse_point, reports_errors, vision_options
+from guardsim.cli.bounds import start_options
+from guardsim.cli.common import build_scene, cli_start, limit_options, load, reports_errors, vision_options
 from guardsim.cli.map_options import MapImport, map_options
 from guardsim.level import HEADINGS
 from guardsim.optimum import DEFAULT_MEMORY_BYTES, solve
@@ -17,14 +18,7 @@ __all__ = ["optimum"]
 
 @click.command()
 @click.argument("level_path", metavar="LEVEL")
-@click.option("--start", callback=parse_point, metavar="X,Y", help="Start position in world units.")
-@click.option("--heading", type=click.Choice(list(HEADINGS)), help="First heading (default: the level's, or drawn).")
-@click.option("--seed", type=click.IntRange(min=0), default=0, show_default=True, help="Seed for random choices.")
-@click.option(
-    "--episode",
-    type=click.IntRange(min=0),
-    help="The start of episode K of a batch seeded with --seed, drawn as in `guardsim bench`.",
-)
+@start_options
 @click.option(
     "--max-expansions",
     type=click.IntRange(min=1),

@@ -14,8 +14,8 @@ import numba
 import numpy as np
 
 from guardsim.optimum.graph import SearchGraph
-from guardsim.optimum.heuristic import Heuristic, estimate
-from guardsim.optimum.search import _frontier, _hash
+from guardsim.optimum.heuristic import Heuristic, estimate, estimate_work
+from guardsim.optimum.search import _frontier, _hash, frontier_work
 
 __all__ = ["beam_route"]
 
@@ -40,14 +40,8 @@ def _beam(
     node_parent = np.empty(room, dtype=np.int64)
     node_seen = np.empty((room, words), dtype=np.uint64)
     count = 0
-    distance = np.full(positions, -1, dtype=np.int32)
-    queue = np.empty(positions, dtype=np.int64)
-    found = np.empty(positions, dtype=np.int64)
-    found_steps = np.empty(positions, dtype=np.int32)
-    kept = np.empty(heuristic.pivots, dtype=np.int64)
-    link = np.empty(heuristic.pool.shape[0], dtype=np.int64)
-    gap = np.empty(heuristic.pool.shape[0], dtype=np.int64)
-    order = np.empty((1 << heuristic.pivots) * heuristic.pivots, dtype=np.int64)
+    distance, queue, found, found_steps = frontier_work(positions)
+    kept, link, gap, order = estimate_work(heuristic)
     node_position[0] = start
     node_steps[0] = 0
     node_parent[0] = -1

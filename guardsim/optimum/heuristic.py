@@ -20,7 +20,7 @@ import numpy as np
 
 from guardsim.optimum.graph import SearchGraph, watcher_distances
 
-__all__ = ["PIVOTS", "POOL", "Heuristic", "build_heuristic", "eccentricity", "estimate"]
+__all__ = ["PIVOTS", "POOL", "Heuristic", "build_heuristic", "eccentricity", "estimate", "estimate_work"]
 
 #: Goal cells whose watcher-set distances are precomputed as pivot candidates.
 POOL = 1024
@@ -69,6 +69,18 @@ def build_heuristic(graph: SearchGraph, pool: int = POOL, pivots: int = PIVOTS) 
     order = np.lexsort((np.arange(counts.size), counts))[:pool].astype(np.int64)
     between = _between(to_watchers, watch_start, watchers, order)
     return Heuristic(np.ascontiguousarray(to_watchers.T), order, between, pivots)
+
+
+@numba.njit(cache=True, nogil=True)
+def estimate_work(heuristic: Heuristic) -> tuple[np.ndarray, np.ndarray, np.ndarray, np.ndarray]:
+    """The work arrays ``kept, link, gap, order`` of :func:`estimate`, allocated once per search."""
+    pool = heuristic.pool.shape[0]
+    return (
+        np.empty(heuristic.pivots, dtype=np.int64),
+        np.empty(pool, dtype=np.int64),
+        np.empty(pool, dtype=np.int64),
+        np.empty((1 << heuristic.pivots) * heuristic.pivots, dtype=np.int64),
+    )
 
 
 @numba.njit(cache=True, nogil=True, inline="always")

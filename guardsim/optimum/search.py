@@ -22,7 +22,7 @@ from typing import NamedTuple
 import numba
 import numpy as np
 
-from guardsim.optimum.heuristic import Heuristic, eccentricity, estimate
+from guardsim.optimum.heuristic import Heuristic, eccentricity, estimate, estimate_work
 
 __all__ = ["FULL", "PROVED", "RUNNING", "SearchState", "greedy_walk", "new_search_state", "run_search", "start_search"]
 
@@ -201,6 +201,17 @@ def _frontier(
 
 
 @numba.njit(cache=True, nogil=True)
+def frontier_work(positions: int) -> tuple[np.ndarray, np.ndarray, np.ndarray, np.ndarray]:
+    """The work arrays ``distance, queue, found, found_steps`` of :func:`_frontier` (``distance`` all -1)."""
+    return (
+        np.full(positions, -1, dtype=np.int32),
+        np.empty(positions, dtype=np.int64),
+        np.empty(positions, dtype=np.int64),
+        np.empty(positions, dtype=np.int32),
+    )
+
+
+@numba.njit(cache=True, nogil=True)
 def greedy_walk(successors: np.ndarray, views: np.ndarray, full: np.ndarray, start: int) -> tuple[np.ndarray, int]:
     """The nearest-frontier walk: its macro-move positions (the start first) and its steps.
 
@@ -208,10 +219,7 @@ def greedy_walk(successors: np.ndarray, views: np.ndarray, full: np.ndarray, sta
     """
     positions = successors.shape[0]
     words = full.shape[0]
-    distance = np.full(positions, -1, dtype=np.int32)
-    queue = np.empty(positions, dtype=np.int64)
-    found = np.empty(positions, dtype=np.int64)
-    found_steps = np.empty(positions, dtype=np.int32)
+    distance, queue, found, found_steps = frontier_work(positions)
     seen = views[start].copy()
     route = [start]
     steps = 0
@@ -292,10 +300,7 @@ def start_search(
     counters[:] = 0
     counters[INCUMBENT] = incumbent
     counters[INCUMBENT_NODE] = -1
-    kept = np.empty(heuristic.pivots, dtype=np.int64)
-    link = np.empty(heuristic.pool.shape[0], dtype=np.int64)
-    gap = np.empty(heuristic.pool.shape[0], dtype=np.int64)
-    order = np.empty((1 << heuristic.pivots) * heuristic.pivots, dtype=np.int64)
+    kept, link, gap, order = estimate_work(heuristic)
     seen = views[start].copy()
     h = estimate(heuristic, start, seen, full, kept, link, gap, order)
     _, slot = _find(state, start, seen)
@@ -335,14 +340,8 @@ def run_search(
     words = full.shape[0]
     capacity = state.position.shape[0]
     heap_room = state.heap_key.shape[0]
-    distance = np.full(positions, -1, dtype=np.int32)
-    queue = np.empty(positions, dtype=np.int64)
-    found = np.empty(positions, dtype=np.int64)
-    found_steps = np.empty(positions, dtype=np.int32)
-    kept = np.empty(heuristic.pivots, dtype=np.int64)
-    link = np.empty(heuristic.pool.shape[0], dtype=np.int64)
-    gap = np.empty(heuristic.pool.shape[0], dtype=np.int64)
-    order = np.empty((1 << heuristic.pivots) * heuristic.pivots, dtype=np.int64)
+    distance, queue, found, found_steps = frontier_work(positions)
+    kept, link, gap, order = estimate_work(heuristic)
     seen = np.empty(words, dtype=np.uint64)
     expanded = 0
     while counters[STATUS] == RUNNING and expanded < budget:
