@@ -56,7 +56,8 @@ class Worker:
     def __init__(self, templates: Templates) -> None:
         context = multiprocessing.get_context("spawn")
         self.connection, child = context.Pipe()
-        self.process = context.Process(target=_worker, args=(child, templates), daemon=True)
+        # Not a daemon: a bench case may start a pool of its own, which a daemon process cannot.
+        self.process = context.Process(target=_worker, args=(child, templates), daemon=False)
         self.process.start()
 
     def rss(self) -> int:

@@ -441,7 +441,14 @@ def option_case(rng: np.random.Generator, command: str) -> Case:
     value = NASTY_OPTION_VALUES[int(rng.integers(len(NASTY_OPTION_VALUES)))]
     tail = {
         "play": ["--trace", "{dir}/out.json", "--max-steps", "20"] if option != "--max-steps" else [],
-        "bench": [*BENCH_OPTIONS[2:], "--episodes", "1", "--out", "{dir}/out"] if option != "--episodes" else [],
+        "bench": [
+            "--workers",
+            "1",
+            "--no-bounds",
+            "--out",
+            "{dir}/out",
+            *(["--episodes", "1"] if option != "--episodes" else []),
+        ],
         "render": ["--png", "{dir}/out.png", "--size", "64"] if option != "--size" else ["--png", "{dir}/out.png"],
         "regress": ["--renders", "{dir}/renders", "--update"],
     }.get(command, [])

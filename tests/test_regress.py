@@ -175,7 +175,7 @@ def test_folders_expand_and_duplicate_names_are_refused(tmp_path: Path) -> None:
     [
         ("manifest-not-json", "manifest.json: not valid JSON"),
         ("manifest-bad-episode", "episodes[0]: name must be"),
-        ("frame-missing", "level-start-050.png: missing: the references need rewriting (update: run with --update)"),
+        ("frame-missing", "level-start-050.png: missing (listed in"),
         ("frame-not-png", "level-start-050.png: not a PNG image"),
     ],
 )

@@ -240,10 +240,13 @@ def _is_number(value: Any) -> bool:
     return isinstance(value, (int, float)) and not isinstance(value, bool)
 
 
-def read_text(path: Path, *, max_file_bytes: int = DEFAULT_MAX_FILE_BYTES) -> str:
-    """The text of a stored reference, or a RegressionError saying it is missing or unreadable."""
+def read_text(path: Path, *, max_file_bytes: int = DEFAULT_MAX_FILE_BYTES, listed_in: Path | None = None) -> str:
+    """The text of a stored reference, or a RegressionError saying it is missing or unreadable.
+
+    ``listed_in`` is the manifest that names the file, for the message when it is missing.
+    """
     if not path.exists() and not path.is_symlink():
-        raise RegressionError(f"{display_path(path)}: missing: the references need rewriting (update)")
+        raise RegressionError(_missing(path, listed_in))
     return read_text_file(path, max_file_bytes=max_file_bytes, kind="reference file", error=RegressionError)
 
 
@@ -253,8 +256,17 @@ def read_json(path: Path, *, max_file_bytes: int = DEFAULT_MAX_FILE_BYTES) -> An
     return parse_json(text, source=display_path(path), error=RegressionError)
 
 
+def _missing(path: Path, listed_in: Path | None) -> str:
+    listed = f" (listed in {display_path(listed_in)})" if listed_in is not None else ""
+    return f"{display_path(path)}: missing{listed}: the references need rewriting (update)"
+
+
 def read_png(
-    path: Path, *, max_size: int = DEFAULT_MAX_FRAME_SIZE, max_file_bytes: int = DEFAULT_MAX_FILE_BYTES
+    path: Path,
+    *,
+    max_size: int = DEFAULT_MAX_FRAME_SIZE,
+    max_file_bytes: int = DEFAULT_MAX_FILE_BYTES,
+    listed_in: Path | None = None,
 ) -> np.ndarray:
     """A stored key frame decoded as RGB ``uint8``, or a RegressionError if it is missing, not a PNG, or
     declares a side longer than :data:`FRAME_SLACK` times ``max_size`` pixels (checked from the header,
@@ -266,7 +278,7 @@ def read_png(
 
     source = display_path(path)
     if not path.exists() and not path.is_symlink():
-        raise RegressionError(f"{source}: missing: the references need rewriting (update)")
+        raise RegressionError(_missing(path, listed_in))
     data = read_limited_bytes(path, max_file_bytes=max_file_bytes, kind="reference file", error=RegressionError)
     if data[:8] == b"\x89PNG\r\n\x1a\n" and data[12:16] == b"IHDR" and len(data) >= 24:
         # The size from the header, before Pillow sees the file (it refuses bombs only past 178 million pixels).

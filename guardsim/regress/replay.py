@@ -199,7 +199,7 @@ def _compare_episode(
 ) -> tuple[EpisodeResult, list[DiffRow]]:
     stored_trace = trace_path(folder, spec.name)
     source = display_path(stored_trace)
-    reference_text = read_text(stored_trace, max_file_bytes=limits.max_file_bytes)
+    reference_text = read_text(stored_trace, max_file_bytes=limits.max_file_bytes, listed_in=folder / MANIFEST)
     data = parse_json(reference_text, source=source, error=RegressionError)
     reference = trace_from_stored(data, source=source, max_cells=limits.max_cells)
     size = manifest.frame_size
@@ -219,7 +219,10 @@ def _compare_episode(
     last: DiffRow | None = None
     for percent in KEY_PERCENTS:
         stored = read_png(
-            key_frame_path(folder, spec.name, percent), max_size=size, max_file_bytes=limits.max_file_bytes
+            key_frame_path(folder, spec.name, percent),
+            max_size=size,
+            max_file_bytes=limits.max_file_bytes,
+            listed_in=folder / MANIFEST,
         )
         before, after = key_tick(reference.steps, percent), key_tick(trace.steps, percent)
         frame = render_frame(level, trace, after, size=size)
