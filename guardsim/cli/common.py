@@ -64,10 +64,11 @@ def _inputs() -> str:
     context = click.get_current_context(silent=True)
     if context is None:
         return ""
+    arguments = [param.name for param in context.command.params if isinstance(param, click.Argument)]
     given = [
         str(item)
-        for name, value in context.params.items()
-        if name.endswith(("path", "paths")) and value
+        for name in arguments
+        if (value := context.params.get(name or ""))
         for item in (value if isinstance(value, (tuple, list)) else (value,))
     ]
     return f"{', '.join(display_path(item) for item in given[:3])}: " if given else ""
