@@ -26,7 +26,7 @@ from guardsim.planners.frontier import nearest_frontier_kernel
 from guardsim.planners.shortest_paths import FAR, fill_distances
 from guardsim.vision.table import ViewTable
 
-__all__ = ["RouteWalk", "walk_routes"]
+__all__ = ["RouteWalk", "descent_states", "walk_routes"]
 
 
 class RouteWalk(NamedTuple):
@@ -218,4 +218,66 @@ def walk_routes(
         facing[:, : ticks + 1],
         bool((seen | ~goal).all()),
         [visits[guard, : visit_count[guard]].copy() for guard in range(guards)],
+    )
+
+
+@numba.njit(cache=True, nogil=True)
+def _descent(
+    neighbours: np.ndarray,
+    sight_start: np.ndarray,
+    sight: np.ndarray,
+    goal: np.ndarray,
+    seen: np.ndarray,
+    cell: int,
+    heading: int,
+    limit: int,
+    far: int,
+) -> np.ndarray:
+    cells = neighbours.shape[0]
+    field = np.empty(cells, dtype=np.int32)
+    sources = np.empty(cells, dtype=np.int64)
+    states = np.empty(limit, dtype=np.int64)
+    count = 0
+    for _ in range(limit):
+        unseen = 0
+        for other in range(cells):
+            if goal[other] and not seen[other]:
+                sources[unseen] = other
+                unseen += 1
+        if unseen == 0:
+            break
+        fill_distances(neighbours, sources[:unseen], far, field)
+        move, best = -1, field[cell]
+        for choice in range(5):
+            direction = heading if choice == 0 else choice - 1
+            there = neighbours[cell, direction]
+            if there >= 0 and field[there] < best:
+                move, best = direction, field[there]
+        if move < 0:
+            break
+        cell, heading = neighbours[cell, move], move
+        state = cell * 4 + heading
+        states[count] = state
+        count += 1
+        for index in range(sight_start[state], sight_start[state + 1]):
+            seen[sight[index]] = True
+    return states[:count]
+
+
+def descent_states(
+    table: ViewTable, neighbours: np.ndarray, goal: np.ndarray, seen: np.ndarray, cell: int, heading: int, *, limit: int
+) -> np.ndarray:
+    """The states of a walk that steps, every tick, down the distance to the nearest unseen goal cell
+    (ties: keep the heading, then right, down, left, up), as ``ripplefront-exact`` does; as a route, the
+    tour planner's walk skips those of them that see nothing new by then."""
+    return _descent(
+        np.ascontiguousarray(neighbours, dtype=np.int64),
+        table.sight_start,
+        table.sight,
+        np.ascontiguousarray(goal, dtype=np.bool_),
+        seen.copy(),
+        cell,
+        heading,
+        limit,
+        int(FAR),
     )

@@ -36,7 +36,7 @@ from guardsim.optimum.graph import build_search_graph, goal_bits, route_steps
 from guardsim.optimum.heuristic import build_heuristic
 from guardsim.planners.base import STAY, EpisodeSetup, GuardState
 from guardsim.planners.frontier import Frontier
-from guardsim.planners.route_walk import RouteWalk, walk_routes
+from guardsim.planners.route_walk import RouteWalk, descent_states, walk_routes
 from guardsim.planners.shortest_paths import distances_between
 from guardsim.planners.team_routes import plan_routes
 from guardsim.planners.viewpoint_cover import greedy_cover
@@ -54,7 +54,7 @@ BEAM_POSITIONS = 6000
 #: Pivot candidates of the beam's estimate (fewer than the exact search's, for a quicker setup).
 BEAM_POOL = 256
 #: Every seed, in the order tried.
-SEEDS = ("cover", "frontier", "beam")
+SEEDS = ("cover", "frontier", "beam", "descent")
 
 #: ``(cell, heading)`` of every guard.
 Team = tuple[tuple[int, int], ...]
@@ -174,6 +174,11 @@ class Tour:
             return [np.zeros(0, dtype=np.int64)] * len(team)
         if seed == "beam":
             return self._beam_route(team, seen)
+        if seed == "descent":
+            if len(team) != 1:
+                return None
+            (cell, heading), limit = team[0], 10 * int(self._goal.sum()) + 100
+            return [descent_states(self._table, self._neighbours, self._goal, seen, cell, heading, limit=limit)]
         viewpoints = self.cover.viewpoints
         return self._route(viewpoints[self._tally.counts[viewpoints] > 0], team)
 
