@@ -135,8 +135,16 @@ def test_every_known_key_is_in_the_schema() -> None:
         TINY_LEVELS["square-with-hole"],
         cell_size=1,
         starts=[[0.5, 0.5]],
-        guard={"view_range": 5, "fov_degrees": 90, "radius": 0.3, "start": [0.5, 0.5], "heading": "up",
-               "move_speed": 2, "turn_speed": 180, "tick_hz": 30},  # fmt: skip
+        guard={
+            "view_range": 5,
+            "fov_degrees": 90,
+            "radius": 0.3,
+            "start": [0.5, 0.5],
+            "heading": "up",
+            "move_speed": 2,
+            "turn_speed": 180,
+            "tick_hz": 30,
+        },
     )
     assert set(schema["properties"]) == set(full)
     assert set(schema["properties"]["guard"]["properties"]) == set(full["guard"])
