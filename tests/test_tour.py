@@ -48,5 +48,5 @@ def test_tour_is_deterministic() -> None:
 
 
 def test_tour_rejects_unknown_seeds() -> None:
-    with pytest.raises(ValueError, match="seeds must be some of cover, frontier, beam, descent"):
+    with pytest.raises(ValueError, match="seeds must be some of cover, frontier, beam, descent, descent-view"):
         Tour(seeds=("nearest",))

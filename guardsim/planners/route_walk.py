@@ -232,6 +232,7 @@ def _descent(
     heading: int,
     limit: int,
     far: int,
+    by_view: bool,
 ) -> np.ndarray:
     cells = neighbours.shape[0]
     field = np.empty(cells, dtype=np.int32)
@@ -247,12 +248,19 @@ def _descent(
         if unseen == 0:
             break
         fill_distances(neighbours, sources[:unseen], far, field)
-        move, best = -1, field[cell]
+        move, best, best_view = -1, field[cell], -1
         for choice in range(5):
             direction = heading if choice == 0 else choice - 1
             there = neighbours[cell, direction]
-            if there >= 0 and field[there] < best:
-                move, best = direction, field[there]
+            if there < 0 or field[there] > best or (field[there] == best and (move < 0 or not by_view)):
+                continue
+            view = 0
+            if by_view:
+                arrive = there * 4 + direction
+                for index in range(sight_start[arrive], sight_start[arrive + 1]):
+                    view += goal[sight[index]] and not seen[sight[index]]
+            if field[there] < best or view > best_view:
+                move, best, best_view = direction, field[there], view
         if move < 0:
             break
         cell, heading = neighbours[cell, move], move
@@ -265,10 +273,19 @@ def _descent(
 
 
 def descent_states(
-    table: ViewTable, neighbours: np.ndarray, goal: np.ndarray, seen: np.ndarray, cell: int, heading: int, *, limit: int
+    table: ViewTable,
+    neighbours: np.ndarray,
+    goal: np.ndarray,
+    seen: np.ndarray,
+    cell: int,
+    heading: int,
+    *,
+    limit: int,
+    by_view: bool = False,
 ) -> np.ndarray:
     """The states of a walk that steps, every tick, down the distance to the nearest unseen goal cell
-    (ties: keep the heading, then right, down, left, up), as ``ripplefront-exact`` does; as a route, the
+    (ties: keep the heading, then right, down, left, up, as ``ripplefront-exact`` does; with
+    ``by_view``, first the step whose arrival state sees the most unseen goal cells); as a route, the
     tour planner's walk skips those of them that see nothing new by then."""
     return _descent(
         np.ascontiguousarray(neighbours, dtype=np.int64),
@@ -280,4 +297,5 @@ def descent_states(
         heading,
         limit,
         int(FAR),
+        by_view,
     )

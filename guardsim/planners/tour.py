@@ -54,7 +54,7 @@ BEAM_POSITIONS = 6000
 #: Pivot candidates of the beam's estimate (fewer than the exact search's, for a quicker setup).
 BEAM_POOL = 256
 #: Every seed, in the order tried.
-SEEDS = ("cover", "frontier", "beam", "descent")
+SEEDS = ("cover", "frontier", "beam", "descent", "descent-view")
 
 #: ``(cell, heading)`` of every guard.
 Team = tuple[tuple[int, int], ...]
@@ -174,11 +174,13 @@ class Tour:
             return [np.zeros(0, dtype=np.int64)] * len(team)
         if seed == "beam":
             return self._beam_route(team, seen)
-        if seed == "descent":
+        if seed in ("descent", "descent-view"):
             if len(team) != 1:
                 return None
             (cell, heading), limit = team[0], 10 * int(self._goal.sum()) + 100
-            return [descent_states(self._table, self._neighbours, self._goal, seen, cell, heading, limit=limit)]
+            by_view = seed == "descent-view"
+            table, neighbours, goal = self._table, self._neighbours, self._goal
+            return [descent_states(table, neighbours, goal, seen, cell, heading, limit=limit, by_view=by_view)]
         viewpoints = self.cover.viewpoints
         return self._route(viewpoints[self._tally.counts[viewpoints] > 0], team)
 
