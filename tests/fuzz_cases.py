@@ -629,20 +629,22 @@ def _level_is_acceptable(content: bytes) -> bool:
 
     from guardsim.schema import level_schema
 
-    def finite(value: Any) -> bool:
-        if isinstance(value, float):
-            return math.isfinite(value) and abs(value) <= 1e15
+    def finite(value: Any, bound: float = math.inf) -> bool:
+        if isinstance(value, (int, float)) and not isinstance(value, bool):
+            return math.isfinite(value) and abs(value) <= bound
         if isinstance(value, list):
-            return all(finite(item) for item in value)
+            return all(finite(item, bound) for item in value)
         if isinstance(value, dict):
-            return all(finite(item) for item in value.values())
+            return all(finite(item, bound) for item in value.values())
         return True
 
     try:
         jsonschema.validate(data, level_schema())
     except jsonschema.ValidationError:
         return False
-    return finite(data)
+    guard = data.get("guard") or {}
+    points = [data.get("outer"), data.get("holes"), data.get("starts"), guard.get("start")]
+    return finite(data) and all(finite(item, 1e15) for item in points if item is not None)
 
 
 def verdict(case: Case, folder: Path, exit_code: int, stdout: str, stderr: str, exception: str = "") -> str:

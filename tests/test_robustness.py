@@ -295,3 +295,20 @@ def test_deeply_nested_run_json_is_one_line(tmp_path: Path) -> None:
     command, out = bench_folder(tmp_path)
     (out / "run.json").write_text(nested(100_000), encoding="utf-8")
     assert "over the limit of 64" in one_error_line(run("bench", *command), out / "run.json")
+
+
+def test_level_without_free_area_is_not_ok(tmp_path: Path) -> None:
+    """Walls covering the whole floor (a TMX imported with exit 0) made a level validate called ok; a level
+    whose holes cover the outer ring, or where the guard fits in no cell, is invalid."""
+    covered = write_level(
+        tmp_path,
+        {**SQUARE_ROOM, "holes": [[[0, 0], [5, 0], [5, 10], [0, 10]], [[5, 0], [10, 0], [10, 10], [5, 10]]]},
+        "covered.json",
+    )
+    result = run("validate", covered)
+    assert result.exit_code == 2
+    assert f"{covered}: holes: the holes cover the whole outer ring: the level has no free area" in result.stdout
+    tight = write_level(tmp_path, {**SQUARE_ROOM, "guard": {"radius": 6}}, "tight.json")
+    result = run("validate", tight)
+    assert result.exit_code == 2
+    assert "no cell where the guard (radius 6) fits" in result.stdout

@@ -12,7 +12,7 @@ import numpy as np
 from guardsim.cli.common import limit_options, reports_errors, with_options
 from guardsim.cli.map_options import STRICT_EXIT, MapImport, level_data, map_options
 from guardsim.diagnostics import DEFAULT_MAX_RAYS, DesignerWarning, level_warnings
-from guardsim.errors import GuardsimError
+from guardsim.errors import GuardsimError, LevelError
 from guardsim.level import Level, check_level_data, level_json_text
 from guardsim.output import write_text_atomic
 from guardsim.reading import captured_warnings, display_path, warning_note
@@ -131,7 +131,13 @@ def _scene_and_reachable(level: Level) -> tuple[Scene, np.ndarray]:
     if level.guard.start is not None:
         cell, _ = choose_start(scene, rng=np.random.default_rng(0), point=level.guard.start, heading="right")
         return scene, scene.grid.component(*cell)
-    return scene, scene.grid.largest_component()
+    largest = scene.grid.largest_component()
+    if not largest.any():
+        # Valid geometry, but a level no guard can stand in is not a level to ship.
+        raise LevelError(
+            f"{level.source}: no cell where the guard (radius {level.guard.radius:g}) fits; nothing to cover"
+        )
+    return scene, largest
 
 
 def _echo_warnings(path: str, warnings: list[DesignerWarning]) -> None:

@@ -9,6 +9,7 @@ stops after :data:`MAX_OVERLAPS_LISTED` overlaps or a budget of pairs.
 from __future__ import annotations
 
 import contextlib
+import math
 from pathlib import Path
 from typing import Any
 
@@ -152,7 +153,10 @@ def _number(
     maximum: float | None = None,
 ) -> float | None:
     try:
-        return finite_number(data.get(key, default), positive=positive, minimum=minimum, maximum=maximum)
+        # Any finite size: a view range of 1e300 means "sees everything"; only coordinates are capped.
+        return finite_number(
+            data.get(key, default), positive=positive, minimum=minimum, maximum=maximum, magnitude=math.inf
+        )
     except NumberError as error:
         problems.append(Problem(where or key, str(error)))
         return None
@@ -337,6 +341,9 @@ def _check_geometry(
     if len(valid_holes) > 1 and _overlap_problems(valid_holes, problems, max_pairs=max_pairs):
         return  # the free area of a stack of overlapping holes is not worth its cost: the level is invalid
     free_area = free_area_of(outer, [hole for index, _ in valid_holes if (hole := holes[index]) is not None])
+    if valid_holes and shapely.area(free_area) <= 1e-12 * shapely.area(outer_polygon):
+        problems.append(Problem("holes", "the holes cover the whole outer ring: the level has no free area"))
+        return
     candidates: list[tuple[str, Point]] = []
     if guard is not None and guard.start is not None:
         candidates.append(("guard.start", guard.start))
