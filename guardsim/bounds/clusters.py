@@ -26,6 +26,8 @@ __all__ = [
 
 #: Most clusters the farthest-first choice picks.
 MOST_CLUSTERS = 48
+#: Candidates of the farthest-first picks: the cells with the fewest reachable watchers.
+SPREAD_CANDIDATES = 1000
 #: Farthest-first picks the path bound orders (its work grows as ``2**n * n**2``).
 PATH_CLUSTERS = 10
 #: Most subsets of the picks the local search weighs per start.
@@ -290,7 +292,13 @@ def cluster_bound(
             tree = int(spanning_tree_weight(neighbours, label, len(kept)))
             best = max(best, (tree + int(start_edge_of[kept].min()), len(kept)))
     picks = spread_picks(
-        by_watchers, table.watch_start, table.watchers, distance, neighbours, start_cell, MOST_CLUSTERS
+        by_watchers[:SPREAD_CANDIDATES],
+        table.watch_start,
+        table.watchers,
+        distance,
+        neighbours,
+        start_cell,
+        MOST_CLUSTERS,
     )
     if len(picks) < 2:
         return (*best, best[0])
