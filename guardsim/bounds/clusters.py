@@ -19,6 +19,7 @@ __all__ = [
     "MOST_CLUSTERS",
     "MOST_TRIALS",
     "PATH_CLUSTERS",
+    "SPREAD_CANDIDATES",
     "choose_clusters",
     "cluster_bound",
     "spread_picks",
@@ -257,7 +258,8 @@ def cluster_bound(
       :func:`~guardsim.bounds.trees.spanning_tree_weight`); on the shipped levels and the six Moving AI
       starts of ``docs/bounds.md`` the fractions 1/2 and 3/4 and a farthest-nearest-watcher-first order
       never raised the best bound, so they are no longer tried (issue 15: 1.5 ms of 9 per start);
-    - up to :data:`MOST_CLUSTERS` cells picked farthest first (:func:`spread_picks`): every prefix of the
+    - up to :data:`MOST_CLUSTERS` cells picked farthest first (:func:`spread_picks`) among the
+      :data:`SPREAD_CANDIDATES` cells with the fewest reachable watchers: every prefix of the
       picks, then a local search over their subsets. More clusters do not always give more: a cluster
       between two others can shorten the tree.
 
