@@ -45,7 +45,7 @@ KINDS: dict[str, tuple[str, ...]] = {
     "level": ("validate", "validate-fix", "play", "render", "bounds"),
     "manifest": ("regress",),
     "reference": ("regress",),
-    "trace": ("regress",),
+    "trace": ("regress", "view"),
     "bench-folder": ("bench",),
     "option": ("play", "bench", "validate", "render", "bounds", "regress"),
     "movingai": ("import",),
@@ -325,6 +325,23 @@ def regress_case(rng: np.random.Generator, kind: str, templates: Templates) -> C
     )
 
 
+def view_case(rng: np.random.Generator, templates: Templates) -> Case:
+    """A damaged trace file given to ``guardsim view``."""
+    original = next(content for name, content in templates.references.items() if name.endswith(".trace.json"))
+    roll = rng.random()
+    if roll < 0.05:
+        content, note = special_file(rng)
+    elif roll < 0.5:
+        content, note = _trace_mutation(json.loads(original), rng)
+    elif roll < 0.75:
+        data, note = mutate_json(json.loads(original), rng)
+        content = json.dumps(data, allow_nan=True).encode()
+    else:
+        content, note = mutate_text(original, rng)
+    return Case("trace", "view", {"t.trace.json": content}, ["view", "{dir}/t.trace.json", "--html", "{dir}/out.html"],
+                "t.trace.json", ["out.html"], note=note)  # fmt: skip
+
+
 def _trace_mutation(data: dict[str, Any], rng: np.random.Generator) -> tuple[bytes, str]:
     """The damage to stored traces that once raised inside regress."""
     what = int(rng.integers(5))
@@ -596,6 +613,9 @@ def generate(kind: str, command: str, rng: np.random.Generator, templates: Templ
     """One case of ``kind`` read by ``command``."""
     if kind == "level":
         return level_case(rng, command)
+    if kind == "trace" and command == "view":
+        assert templates is not None
+        return view_case(rng, templates)
     if kind in ("manifest", "reference", "trace"):
         assert templates is not None
         return regress_case(rng, kind, templates)
