@@ -43,9 +43,9 @@ from pathlib import Path
 from guardsim.level import load_level
 from guardsim.planners import PLANNERS, EpisodeSetup, GuardState, Planner, Tour
 from guardsim.planners.viewpoint_cover import greedy_cover
-from guardsim.vision.table import view_table
 from guardsim.simulation import Scene, choose_start, episode_generator, run_team_episode, team_starts
 from guardsim.trace import Trace
+from guardsim.vision.table import view_table
 
 LEVELS = sorted(Path(__file__).resolve().parent.parent.joinpath("levels").glob("*.json"))
 

@@ -67,14 +67,28 @@ def __dir__() -> list[str]:
 
 
 if TYPE_CHECKING:
-    from guardsim.errors import GuardsimError, LevelError, LimitError, OutputError
-    from guardsim.grid import CoverageGrid
-    from guardsim.level import GuardSpec, Level, load_level, parse_level
-    from guardsim.motion import ContinuousSimulation, GuardMotion, run_continuous
-    from guardsim.planners import PLANNERS, Planner, make_planner
-    from guardsim.scene import Scene
-    from guardsim.simulation import Simulation, run_batch_episode, run_episode, run_team_episode
-    from guardsim.starts import episode_generator
-    from guardsim.trace import Trace
-    from guardsim.vision import LineOfSight, VisionCone
-    from guardsim.world import World
+    from guardsim.errors import GuardsimError as GuardsimError
+    from guardsim.errors import LevelError as LevelError
+    from guardsim.errors import LimitError as LimitError
+    from guardsim.errors import OutputError as OutputError
+    from guardsim.grid import CoverageGrid as CoverageGrid
+    from guardsim.level import GuardSpec as GuardSpec
+    from guardsim.level import Level as Level
+    from guardsim.level import load_level as load_level
+    from guardsim.level import parse_level as parse_level
+    from guardsim.motion import ContinuousSimulation as ContinuousSimulation
+    from guardsim.motion import GuardMotion as GuardMotion
+    from guardsim.motion import run_continuous as run_continuous
+    from guardsim.planners import PLANNERS as PLANNERS
+    from guardsim.planners import Planner as Planner
+    from guardsim.planners import make_planner as make_planner
+    from guardsim.scene import Scene as Scene
+    from guardsim.simulation import Simulation as Simulation
+    from guardsim.simulation import run_batch_episode as run_batch_episode
+    from guardsim.simulation import run_episode as run_episode
+    from guardsim.simulation import run_team_episode as run_team_episode
+    from guardsim.starts import episode_generator as episode_generator
+    from guardsim.trace import Trace as Trace
+    from guardsim.vision import LineOfSight as LineOfSight
+    from guardsim.vision import VisionCone as VisionCone
+    from guardsim.world import World as World

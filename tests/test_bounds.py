@@ -23,9 +23,9 @@ from guardsim.bounds.trees import cluster_distances, spanning_tree_weight, subse
 from guardsim.cli import main
 from guardsim.level import load_level
 from guardsim.planners import PLANNERS, make_planner
+from guardsim.simulation import Scene, run_batch_episode, run_episode
 from guardsim.vision.rules import VisionFunction
 from guardsim.vision.table import view_table
-from guardsim.simulation import Scene, run_batch_episode, run_episode
 from tests.common import EMPTY_SQUARE, L_ROOM, LEVELS, SQUARE_WITH_HOLE, scene_from, shipped_levels, write_level
 from tests.test_cli import guardsim_command
 

@@ -9,10 +9,10 @@ import numpy as np
 import pytest
 from click.testing import CliRunner
 
-from guardsim.vision.bresenham import bresenham_line
 from guardsim.cli import main
 from guardsim.cli.common import build_scene
 from guardsim.importers import import_map
+from guardsim.vision.bresenham import bresenham_line
 from tests.common import SQUARE_WITH_HOLE, level_from, write_level
 
 SHARED = Path(__file__).resolve().parents[2] / "shared" / "maps" / "movingai"

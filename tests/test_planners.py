@@ -24,7 +24,6 @@ from guardsim.planners.open_tour import improve_tour, nearest_neighbour_tour, to
 from guardsim.planners.ripplefront import FAR, ripple_sweep
 from guardsim.planners.team_share import guard_share
 from guardsim.planners.viewpoint_cover import greedy_cover
-from guardsim.vision.table import view_table
 from guardsim.simulation import (
     Scene,
     choose_start,
@@ -34,6 +33,7 @@ from guardsim.simulation import (
     run_team_episode,
 )
 from guardsim.trace import Trace
+from guardsim.vision.table import view_table
 from tests.common import L_ROOM, LEVELS, TINY_LEVELS, level_from, scene_from, shipped_levels, tiny_levels, write_level
 from tests.test_cli import guardsim_command
 

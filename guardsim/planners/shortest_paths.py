@@ -114,4 +114,3 @@ def distances_between(neighbours: np.ndarray, sources: np.ndarray, targets: np.n
     out = np.empty((sources.size, targets.size), dtype=np.int32)
     _between(np.ascontiguousarray(neighbours, dtype=np.int64), sources, targets, int(FAR), out)
     return out
-
