@@ -1,7 +1,7 @@
 """Walking viewpoint routes ahead of time: the whole team's episode, simulated with the level's view table.
 
 The rule each guard follows, every tick, all guards deciding on the same state and then moving at once
-(as :func:`guardsim.simulation.run_team_episode` does):
+(as :class:`guardsim.simulation.Simulation` does):
 
 1. drop the head of its route while that viewpoint would see no unseen goal cell;
 2. its target is the head; with the route done, the nearest state that would see an unseen goal cell
@@ -17,16 +17,21 @@ loop will see, tick for tick.
 
 from __future__ import annotations
 
+from collections.abc import Callable
 from typing import NamedTuple
 
 import numba
 import numpy as np
 
+from guardsim.grid import heading_of_state, state_of
 from guardsim.planners.frontier import nearest_frontier_kernel
 from guardsim.planners.shortest_paths import FAR, fill_distances
 from guardsim.vision.table import ViewTable
 
 __all__ = ["RouteWalk", "descent_states", "walk_routes"]
+
+_state_of: Callable[[int, int], int] = numba.njit(inline="always")(state_of)
+_heading_of_state: Callable[[int], int] = numba.njit(inline="always")(heading_of_state)
 
 
 class RouteWalk(NamedTuple):
@@ -54,29 +59,46 @@ class RouteWalk(NamedTuple):
         return int((self.moves >= 0).sum())
 
 
+class WalkTeam(NamedTuple):
+    """The team a compiled walk starts from: each guard's cell, heading and route."""
+
+    cells: np.ndarray
+    """``int64 (guards,)``: flat cells, moved in place."""
+    headings: np.ndarray
+    """``int64 (guards,)``: heading numbers, turned in place."""
+    routes: np.ndarray
+    """``int64 (guards, longest)``: each guard's viewpoint states, padded with -1."""
+    lengths: np.ndarray
+    """``int64 (guards,)``: each route's length."""
+
+
+class WalkLog(NamedTuple):
+    """What a compiled walk writes: moves, cells and headings per tick, and each guard's arrivals."""
+
+    moves: np.ndarray
+    path: np.ndarray
+    facing: np.ndarray
+    visits: np.ndarray
+    visit_count: np.ndarray
+
+
 @numba.njit(cache=True, nogil=True)
 def _walk(
     neighbours: np.ndarray,
-    entry: np.ndarray,
-    sight_start: np.ndarray,
-    sight: np.ndarray,
-    watch_start: np.ndarray,
-    watchers: np.ndarray,
+    table: ViewTable,
     goal: np.ndarray,
     seen: np.ndarray,
     counts: np.ndarray,
-    cells: np.ndarray,
-    headings: np.ndarray,
-    routes: np.ndarray,
-    lengths: np.ndarray,
+    team: WalkTeam,
     limit: int,
     far: int,
-    moves: np.ndarray,
-    path: np.ndarray,
-    facing: np.ndarray,
-    visits: np.ndarray,
-    visit_count: np.ndarray,
+    log: WalkLog,
 ) -> int:
+    entry, sight_start, sight, watch_start, watchers = (
+        table.entry, table.sight_start, table.sight, table.watch_start, table.watchers,
+    )  # fmt: skip
+    cells, headings, routes, lengths = team.cells, team.headings, team.routes, team.lengths
+    moves, path, facing, visits, visit_count = log.moves, log.path, log.facing, log.visits, log.visit_count
     guards = cells.shape[0]
     cell_count = neighbours.shape[0]
     unseen = 0
@@ -112,7 +134,7 @@ def _walk(
                 field = fields[guard]
                 cell = cells[guard]
                 if cell == entry[goal_state]:
-                    move = goal_state % 4
+                    move = _heading_of_state(goal_state)
                 else:
                     best_view = -1
                     for choice in range(5):
@@ -120,7 +142,7 @@ def _walk(
                         other = neighbours[cell, direction]
                         if other < 0 or field[other] >= field[cell]:
                             continue
-                        view = counts[other * 4 + direction]
+                        view = counts[_state_of(other, direction)]
                         if view > best_view:
                             move, best_view = direction, view
             decided[guard] = move
@@ -134,7 +156,7 @@ def _walk(
         for guard in range(guards):
             path[guard, tick] = cells[guard]
             facing[guard, tick] = headings[guard]
-            state = cells[guard] * 4 + headings[guard]
+            state = _state_of(cells[guard], headings[guard])
             if state == target[guard] and decided[guard] >= 0:
                 visits[guard, visit_count[guard]] = state
                 visit_count[guard] += 1
@@ -192,25 +214,19 @@ def walk_routes(
     seen = seen.copy()
     ticks = _walk(
         np.ascontiguousarray(neighbours, dtype=np.int64),
-        table.entry,
-        table.sight_start,
-        table.sight,
-        table.watch_start,
-        table.watchers,
+        table,
         np.ascontiguousarray(goal, dtype=np.bool_),
         seen,
         counts.copy(),
-        np.array([cell for cell, _ in team], dtype=np.int64),
-        np.array([heading for _, heading in team], dtype=np.int64),
-        padded,
-        np.array([route.size for route in routes], dtype=np.int64),
+        WalkTeam(
+            np.array([cell for cell, _ in team], dtype=np.int64),
+            np.array([heading for _, heading in team], dtype=np.int64),
+            padded,
+            np.array([route.size for route in routes], dtype=np.int64),
+        ),
         limit,
         int(FAR),
-        moves,
-        path,
-        facing,
-        visits,
-        visit_count,
+        WalkLog(moves, path, facing, visits, visit_count),
     )
     return RouteWalk(
         moves[:, :ticks],
@@ -256,7 +272,7 @@ def _descent(
                 continue
             view = 0
             if by_view:
-                arrive = there * 4 + direction
+                arrive = _state_of(there, direction)
                 for index in range(sight_start[arrive], sight_start[arrive + 1]):
                     view += goal[sight[index]] and not seen[sight[index]]
             if field[there] < best or view > best_view:
@@ -264,7 +280,7 @@ def _descent(
         if move < 0:
             break
         cell, heading = neighbours[cell, move], move
-        state = cell * 4 + heading
+        state = _state_of(cell, heading)
         states[count] = state
         count += 1
         for index in range(sight_start[state], sight_start[state + 1]):
