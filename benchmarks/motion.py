@@ -29,6 +29,7 @@ sys.path.insert(0, str(Path(__file__).resolve().parent))
 
 from guardsim.experiment import RESULTS_NAME, EpisodeRecord, read_results
 from guardsim.planners import PLANNERS
+
 from results import MAPS, REPO, SHARED, guardsim  # the sibling benchmark's map list and runner
 
 LEVELS = sorted((REPO / "levels").glob("*.json"))
