@@ -26,6 +26,7 @@ from shapely.geometry import LinearRing, Polygon
 
 from guardsim.importers.walls import hole_rings
 from guardsim.level import compact_numbers
+from guardsim.reading import MAX_MAGNITUDE
 
 __all__ = ["MAX_PAIRS", "Repair", "repair_level_data"]
 
@@ -95,7 +96,12 @@ def _read_ring(value: Any) -> Ring | None:
     for item in value:
         if not (isinstance(item, list) and len(item) == 2):
             return None
-        if not all(isinstance(v, (int, float)) and not isinstance(v, bool) and math.isfinite(v) for v in item):
+        # Coordinates past the loader's bound are the loader's to report: GEOS loses every digit of the
+        # level's size next to 1e40 and "repairs" the ring into another one.
+        if not all(
+            isinstance(v, (int, float)) and not isinstance(v, bool) and math.isfinite(v) and abs(v) <= MAX_MAGNITUDE
+            for v in item
+        ):
             return None
         points.append((float(item[0]), float(item[1])))
     return points
@@ -223,8 +229,9 @@ def _merged_holes(
     for index, (name, hole) in enumerate(holes):
         if len(hole) >= 3 and LinearRing(hole).is_simple and Polygon(hole).area > 0:
             polygons.append(Polygon(hole))
-        elif _touches_itself_only(hole):
-            polygons.append(shapely.make_valid(Polygon(hole)))
+        elif _touches_itself_only(hole) and outer.covers(valid := shapely.make_valid(Polygon(hole))):
+            # Only inside the outer ring: a ring reaching far outside is the loader's to report.
+            polygons.append(valid)
             split.add(index)
             repairs.append(Repair(name or "outer", "split where it touches itself"))
         else:

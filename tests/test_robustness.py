@@ -312,3 +312,15 @@ def test_level_without_free_area_is_not_ok(tmp_path: Path) -> None:
     result = run("validate", tight)
     assert result.exit_code == 2
     assert "no cell where the guard (radius 6) fits" in result.stdout
+
+
+def test_fix_leaves_a_ring_with_an_absurd_coordinate_to_the_loader(tmp_path: Path) -> None:
+    """A hole reaching to x = 1e40 was "repaired" by --fix into another hole (GEOS loses the level's
+    digits next to 1e40) and written with exit 0; it is now reported, and nothing is written."""
+    level = {**SQUARE_WITH_HOLE, "holes": [[[2, 2], [4, 2], [4, 4], [10**40, 4]]]}
+    path = write_level(tmp_path, level)
+    fixed = tmp_path / "fixed.json"
+    result = run("validate", path, "--fix", fixed)
+    assert result.exit_code == 2
+    assert "holes[0] point 3: coordinate must be a number of at most 1e+15 in size" in result.stdout
+    assert not fixed.exists()
