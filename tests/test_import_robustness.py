@@ -11,6 +11,7 @@ from __future__ import annotations
 
 import base64
 import io
+import json
 import os
 import struct
 import subprocess
@@ -93,6 +94,21 @@ def test_moving_ai_header_numbers_are_one_located_line(tmp_path: Path, header: s
 def test_tiled_json_with_a_5001_digit_integer(tmp_path: Path) -> None:
     text = '{"orientation": "orthogonal",\n "tilewidth": ' + "7" * 5001 + ', "tileheight": 8, "layers": []}'
     imported_error(tmp_path, "m.json", text, "line 2 column 15", "5001 digits")
+
+
+@pytest.mark.parametrize("key", ["tileheight", "tilewidth", "tilecount", "firstgid"])
+def test_tiled_json_tileset_numbers_that_are_not_numbers(tmp_path: Path, key: str) -> None:
+    """Found by benchmarks/fuzz.py (20,000 cases): a tileset's tileheight given as a string was a traceback."""
+    tileset = {"firstgid": 1, "name": "t", "tilewidth": 16, "tileheight": 16, "tilecount": 4, "columns": 2}
+    tileset[key] = "sixteen"
+    text = json.dumps(
+        {
+            "type": "map", "orientation": "orthogonal", "width": 2, "height": 2, "tilewidth": 16, "tileheight": 16,
+            "infinite": False, "tilesets": [tileset],
+            "layers": [{"type": "tilelayer", "name": "Ground", "width": 2, "height": 2, "data": [1, 1, 1, 1]}],
+        }
+    )  # fmt: skip
+    imported_error(tmp_path, "m.json", text, "tilesets[0]", key, "must be a number")
 
 
 @pytest.mark.parametrize(

@@ -218,3 +218,24 @@ def test_the_recorded_field_is_the_field_each_decision_saw() -> None:
     unrecorded = Simulation(scene)
     unrecorded.reset(starts=[(0, 0)], headings=[0])
     assert unrecorded.run().path == fast.path and "field" not in json.loads(unrecorded.trace().to_json())
+
+
+def test_a_view_table_past_its_limit_is_one_line_naming_the_level(monkeypatch: pytest.MonkeyPatch) -> None:
+    """A fine grid with a long view range would fill billions of (state, cell) pairs: stop at the limit."""
+    from click.testing import CliRunner
+
+    from guardsim.cli import main
+    from guardsim.errors import LimitError
+    from guardsim.vision import table
+
+    scene = scene_from(SQUARE_WITH_HOLE)
+    with pytest.raises(LimitError, match="max_view_entries"):
+        table.build_view_table(scene.grid, scene.vision(), max_entries=100)
+    assert table.build_view_table(scene.grid, scene.vision()).sight.size > 100
+    monkeypatch.setattr(table, "MAX_VIEW_ENTRIES", 10_000)
+    level = str(REPO / "levels" / "square.json")
+    result = CliRunner().invoke(main, ["bounds", level])
+    assert result.exit_code == 2
+    lines = result.stderr.splitlines()
+    assert len(lines) == 1 and lines[0].startswith(f"guardsim: error: {level}: ")
+    assert "max_view_entries: shorten the view range or use larger cells" in lines[0]

@@ -13,7 +13,7 @@ from typing import Any, TypeVar
 import click
 import numpy as np
 
-from guardsim.errors import GuardsimError
+from guardsim.errors import GuardsimError, LimitError
 from guardsim.level import DEFAULT_MAX_CELLS, DEFAULT_MAX_FILE_BYTES, DEFAULT_MAX_VERTICES, Level
 from guardsim.reading import display_path
 from guardsim.scene import Scene
@@ -45,6 +45,7 @@ LIMIT_OPTIONS = {
     "max_rays": "raise it with --max-rays",
     "max_frames": "raise it with --max-frames",
     "max_frame_size": "raise it with --max-frame-size",
+    "max_view_entries": "shorten the view range or use larger cells",
     "update": "run with --update",
 }
 _LIMIT_KEYWORD = re.compile(r"\((" + "|".join(LIMIT_OPTIONS) + r")\b([^()]*)\)")
@@ -83,7 +84,16 @@ def reports_errors(command: F) -> F:
         try:
             return command(*args, **kwargs)
         except GuardsimError as error:
-            click.echo(f"guardsim: error: {one_line(with_options(str(error)))}", err=True)
+            message = str(error)
+            inputs = _inputs()
+            # A limit met deep in the work (a view table, say) knows no file: name the command's input.
+            if (
+                isinstance(error, LimitError)
+                and inputs
+                and not any(part.strip() in message for part in inputs.rstrip(": ").split(", "))
+            ):
+                message = inputs + message
+            click.echo(f"guardsim: error: {one_line(with_options(message))}", err=True)
             sys.exit(2)
         except MemoryError:
             # Only reachable when a size limit was raised past what this machine holds.

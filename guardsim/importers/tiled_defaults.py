@@ -78,6 +78,11 @@ def json_tileset_defaults(raw: Any) -> dict[str, Any]:
     if not isinstance(raw, dict):
         raise LevelError("a JSON tileset must be an object")
     tileset = {"name": "", "tilecount": 0, "tilewidth": 1, "tileheight": 1, "spacing": 0, "margin": 0, **raw}
+    for key in ("tilewidth", "tileheight", "tilecount", "columns", "spacing", "margin", "firstgid"):
+        value = tileset.get(key, 0)
+        # pytiled-parser does arithmetic on these; anything but a number would surface as its TypeError.
+        if isinstance(value, bool) or not isinstance(value, (int, float)):
+            raise LevelError(f"a JSON tileset's {key} must be a number, not {type(value).__name__}")
     tiles = tileset.get("tiles")
     if isinstance(tiles, list):
         fixed = []

@@ -230,7 +230,10 @@ class MapReader:
             element = tmx_tileset_defaults(embedded)
             self.tilesets[firstgid] = self.call(where, lambda: tmx_tileset.parse(element, firstgid, "utf-8", folder))
         else:
-            raw = json_tileset_defaults(embedded)
+            try:
+                raw = json_tileset_defaults(embedded)
+            except LevelError as error:
+                raise self.error(where, str(error)) from None
             self.tilesets[firstgid] = self.call(
                 where, lambda: json_tileset.parse(cast(Any, raw), firstgid, "utf-8", folder)
             )

@@ -14,6 +14,7 @@ from typing import Any, NamedTuple
 import numba
 import numpy as np
 
+from guardsim.errors import LimitError
 from guardsim.grid import HEADINGS_PER_CELL, CoverageGrid, state_of
 from guardsim.vision.rules import VisionFunction
 
@@ -42,17 +43,34 @@ class ViewTable(NamedTuple):
         return self.sight[self.sight_start[state] : self.sight_start[state + 1]]
 
 
-def build_view_table(grid: CoverageGrid, vision: VisionFunction) -> ViewTable:
-    """Ask ``vision`` about every state of every traversable cell; states of other cells see nothing."""
+#: Most (state, cell seen) pairs a view table may hold: about 1.2 GB with its inverse. A fine grid with a
+#: long view range asks for billions; the table stops there with a one-line error instead.
+MAX_VIEW_ENTRIES = 150_000_000
+
+
+def build_view_table(grid: CoverageGrid, vision: VisionFunction, *, max_entries: int | None = None) -> ViewTable:
+    """Ask ``vision`` about every state of every traversable cell; states of other cells see nothing.
+
+    Raises :class:`~guardsim.errors.LimitError` once the table would hold more than ``max_entries``
+    (state, cell) pairs (:data:`MAX_VIEW_ENTRIES` by default).
+    """
+    limit = MAX_VIEW_ENTRIES if max_entries is None else max_entries
     states = state_of(grid.size, 0)
     lengths = np.zeros(states, dtype=np.int64)
     parts: list[np.ndarray] = []
+    total = 0
     for cell in np.flatnonzero(grid.traversable.ravel()).tolist():
         col, row = grid.unflat(cell)
         for heading in range(HEADINGS_PER_CELL):
             cells = np.asarray(vision(col, row, heading), dtype=np.int32)
             lengths[state_of(cell, heading)] = cells.size
             parts.append(cells)
+            total += cells.size
+        if total > limit:
+            raise LimitError(
+                f"what every guard state sees would fill more than {limit} cells (max_view_entries), "
+                f"on a grid of {grid.shape[0]} x {grid.shape[1]} cells"
+            )
     sight = np.concatenate(parts) if parts else np.zeros(0, dtype=np.int32)
     del parts
     sight_start = np.zeros(states + 1, dtype=np.int64)
