@@ -86,10 +86,11 @@ def reports_errors(command: F) -> F:
         except GuardsimError as error:
             message = str(error)
             inputs = _inputs()
-            # A limit met deep in the work (a view table, say) knows no file: name the command's input.
+            # A library limit met deep in the work (a view table, say) knows no file: name the command's input.
             if (
                 isinstance(error, LimitError)
                 and inputs
+                and _LIMIT_KEYWORD.search(message)
                 and not any(part.strip() in message for part in inputs.rstrip(": ").split(", "))
             ):
                 message = inputs + message
