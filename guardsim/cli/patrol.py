@@ -270,8 +270,17 @@ def patrol(
             written.append(str(folder / "patrol.gif"))
         if html:
             from guardsim.viewer import write_viewer
+            from guardsim.viewer.patrols import patrol_overlays
 
-            write_viewer(folder / "patrol.html", level, trace)
+            overlays = patrol_overlays(
+                chosen,
+                scene.grid,
+                setup.table,
+                idleness=shown.gaps.reshape(scene.grid.shape),
+                never=shown.never.reshape(scene.grid.shape),
+                unit=shown.unit,
+            )
+            write_viewer(folder / "patrol.html", level, trace, overlays=overlays)
             written.append(str(folder / "patrol.html"))
     if export_path:
         from guardsim.patrol.export import route_data

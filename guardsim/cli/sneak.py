@@ -45,7 +45,9 @@ def sneak_cell(scene_grid: CoverageGrid, point: tuple[float, float], option: str
 )
 @click.option("--out", "out_dir", type=click.Path(file_okay=False), help="Folder for sneak.json and hiding.png.")
 @click.option("--gif", is_flag=True, help="Write DIR/sneak.gif: the guards and the intruder's path.")
-@click.option("--html", is_flag=True, help="Write DIR/sneak.html: the viewer, the intruder as the last guard.")
+@click.option(
+    "--html", is_flag=True, help="Write DIR/sneak.html: the viewer, with the lap, the hiding spots and the intruder."
+)
 @vision_options
 @limit_options
 @reports_errors
@@ -146,14 +148,13 @@ def sneak(
                 write_sneak_gif(folder / "sneak.gif", level, trace, cells, seen_ticks=seen_at)
                 written.append(str(folder / "sneak.gif"))
             if html:
-                import dataclasses
-
                 from guardsim.viewer import write_viewer
+                from guardsim.viewer.patrols import sneak_overlays
 
-                guards = (*trace.team_paths(), tuple(cells))
-                headings = (*trace.team_headings(), tuple([0] * len(cells)))
-                with_intruder = dataclasses.replace(trace, guard_paths=guards, guard_headings=headings)
-                write_viewer(folder / "sneak.html", level, with_intruder)
+                # The page runs in lap ticks from lap tick 0; the intruder enters at its start tick.
+                lap = patrol_trace(scene, table, patrol, trace.goal.ravel(), start=0, ticks=patrol.ticks, label="sneak")
+                overlays = sneak_overlays(patrol, grid, result, source=source, target=target)
+                write_viewer(folder / "sneak.html", level, lap, overlays=overlays)
                 written.append(str(folder / "sneak.html"))
     if path.found:
         answer = f"sneaks: unseen from tick {path.start_tick} of the lap, {path.ticks} ticks"

@@ -8,7 +8,6 @@ that: a 512 x 512 episode stays near 2 MB. Nothing is fetched from the network.
 
 from __future__ import annotations
 
-import base64
 import json
 from importlib import resources
 from pathlib import Path
@@ -20,8 +19,10 @@ from guardsim.errors import GuardsimError
 from guardsim.level import GuardSpec, Level
 from guardsim.output import write_text_atomic
 from guardsim.render.frames import VisionSettings
-from guardsim.render.palette import COLOURS, GUARD_COLOURS
+from guardsim.render.palette import COLOURS, GUARD_COLOURS, PALETTE, guard_index
 from guardsim.trace import Trace
+from guardsim.viewer.layers import Overlays, overlay_data
+from guardsim.viewer.packing import packed
 from guardsim.viewer.walls import rings_from_grid
 
 __all__ = ["FIELD_BUDGET_BYTES", "build_page", "page_data", "write_viewer"]
@@ -35,12 +36,6 @@ _OTHER, _GOAL, _UNREACHABLE = 0, 1, 2
 
 def _hex(colour: tuple[int, int, int]) -> str:
     return "#" + "".join(f"{channel:02x}" for channel in colour)
-
-
-def _b64(array: Any, dtype: str) -> str:
-    return base64.b64encode(np.ascontiguousarray(array, dtype=np.dtype(dtype).newbyteorder("<")).tobytes()).decode(
-        "ascii"
-    )
 
 
 def _field_snapshots(field: np.ndarray, steps: int, shape: tuple[int, int]) -> dict[str, Any]:
@@ -57,12 +52,20 @@ def _field_snapshots(field: np.ndarray, steps: int, shape: tuple[int, int]) -> d
     finite = np.isfinite(values) & (values >= 0)
     top = float(values[finite].max()) if finite.any() else 1.0
     # Unreached or infinite entries become -1, drawn as no value.
-    packed = np.where(finite, values, -1.0).astype(np.float32)
-    return {"ticks": ticks, "max": top, "data": _b64(packed, "f4")}
+    shipped = np.where(finite, values, -1.0).astype(np.float32)
+    return {"ticks": ticks, "max": top, "data": packed(shipped, "f4")}
 
 
-def page_data(level: Level | None, trace: Trace, *, field: np.ndarray | None = None) -> dict[str, Any]:
+#: The intruder's colour: the GIF's (guard colour 6), which teams of up to five guards leave free.
+_INTRUDER_COLOUR = GUARD_COLOURS[5]
+
+
+def page_data(
+    level: Level | None, trace: Trace, *, field: np.ndarray | None = None, overlays: Overlays | None = None
+) -> dict[str, Any]:
     """Everything the page needs, as JSON-ready data.
+
+    ``overlays`` adds a patrol's or a sneak's layers (see :mod:`guardsim.viewer.layers`).
 
     With ``level`` ``None`` the walls are rebuilt from the trace's grid (see
     :func:`guardsim.viewer.walls.rings_from_grid`) and vision the trace does not record takes the
@@ -92,10 +95,10 @@ def page_data(level: Level | None, trace: Trace, *, field: np.ndarray | None = N
         "fov_degrees": vision.fov_degrees,
         "line_of_sight": trace.line_of_sight,
         "unseen_text": [f"{percent:.1f}" for percent in trace.unseen_percent],
-        "first_seen": _b64(trace.first_seen.ravel(), "i4"),
-        "kinds": _b64(kinds.ravel(), "u1"),
-        "paths": [_b64([row * cols + col for col, row in path], "i4") for path in paths],
-        "headings": [_b64(list(headings), "u1") for headings in trace.team_headings()],
+        "first_seen": packed(trace.first_seen.ravel(), "i4"),
+        "kinds": packed(kinds.ravel(), "u1"),
+        "paths": [packed([row * cols + col for col, row in path], "i4") for path in paths],
+        "headings": [packed(list(headings), "u1") for headings in trace.team_headings()],
         "rings": [[[float(x), float(y)] for x, y in ring] for ring in rings],
         "walls_from_grid": level is None,
         "colours": {name: _hex(COLOURS[name]) for name in ("wall", "free", "unseen", "unreachable", "outline", "cone")},
@@ -104,10 +107,15 @@ def page_data(level: Level | None, trace: Trace, *, field: np.ndarray | None = N
     poses = getattr(trace, "poses", None)
     if poses is not None:
         # Continuous motion: guard 0's recorded [x, y, heading_degrees] per tick, drawn instead of its cell.
-        data["poses"] = _b64(np.asarray(poses)[:, 1:4], "f4")
+        data["poses"] = packed(np.asarray(poses)[:, 1:4], "f4")
     data["tick_hz"] = getattr(trace, "tick_hz", None)
     if field is not None:
         data["field"] = _field_snapshots(np.asarray(field), trace.steps, trace.shape)
+    if overlays is not None:
+        data.update(overlay_data(overlays, trace))
+        data["colours"]["intruder"] = _hex(_INTRUDER_COLOUR)
+        # Routes in each guard's dark shade (as the GIF's), apart from its trail.
+        data["route_colours"] = [_hex(PALETTE[guard_index(guard, dark=True)]) for guard in range(len(paths))]
     return data
 
 
@@ -115,27 +123,41 @@ def _asset(name: str) -> str:
     return resources.files("guardsim.viewer").joinpath(name).read_text(encoding="utf-8")
 
 
-def build_page(level: Level | None, trace: Trace, *, field: np.ndarray | None = None) -> str:
-    """The viewer page for ``trace`` as HTML text (self-contained: script and data inline)."""
-    data = json.dumps(page_data(level, trace, field=field), separators=(",", ":"))
+def build_page(
+    level: Level | None, trace: Trace, *, field: np.ndarray | None = None, overlays: Overlays | None = None
+) -> str:
+    """The viewer page for ``trace`` as HTML text (self-contained: script and data inline).
+
+    ``overlays`` adds a patrol's idleness, laps and routes, or a sneak's intruder.
+    """
+    data = json.dumps(page_data(level, trace, field=field, overlays=overlays), separators=(",", ":"))
     # Inside <script>, "</" would end the element early; JSON allows the escaped form.
     data = data.replace("</", "<\\/")
     title = f"{trace.level}: {trace.planner}, {trace.steps} ticks"
     page = _asset("template.html")
     page = page.replace("__TITLE__", _escape(title))
     page = page.replace("/*__DATA__*/", data)
-    return page.replace("/*__SCRIPT__*/", _asset("viewer.js"))
+    # layers.js defines the patrol layers viewer.js draws when the data has them.
+    return page.replace("/*__SCRIPT__*/", _asset("layers.js") + "\n" + _asset("viewer.js"))
 
 
 def _escape(text: str) -> str:
     return text.replace("&", "&amp;").replace("<", "&lt;").replace(">", "&gt;").replace('"', "&quot;")
 
 
-def write_viewer(path: str | Path, level: Level | None, trace: Trace, *, field: np.ndarray | None = None) -> None:
+def write_viewer(
+    path: str | Path,
+    level: Level | None,
+    trace: Trace,
+    *,
+    field: np.ndarray | None = None,
+    overlays: Overlays | None = None,
+) -> None:
     """Write the viewer page for ``trace`` to ``path`` (atomically).
 
-    ``field`` defaults to the trace's recorded planner field (``trace.field``) when it has one.
+    ``field`` defaults to the trace's recorded planner field (``trace.field``) when it has one;
+    ``overlays`` adds a patrol's or a sneak's layers (:func:`guardsim.viewer.patrols.patrol_overlays`).
     """
     if field is None:
         field = getattr(trace, "field", None)
-    write_text_atomic(path, build_page(level, trace, field=field))
+    write_text_atomic(path, build_page(level, trace, field=field, overlays=overlays))

@@ -170,11 +170,21 @@
     for (const box of document.querySelectorAll("#layers input[data-layer]")) {
       layers[box.dataset.layer] = box.checked;
     }
-    if (hash.layers !== undefined) {
-      const wanted = new Set(hash.layers.split(",").filter(Boolean));
+    const chosen = hash.layers !== undefined ? hash.layers : data.default_layers ? data.default_layers.join(",") : undefined;
+    if (chosen !== undefined) {
+      const wanted = new Set(chosen.split(",").filter(Boolean));
       for (const name of Object.keys(layers)) layers[name] = wanted.has(name);
       for (const box of document.querySelectorAll("#layers input[data-layer]")) box.checked = layers[box.dataset.layer];
     }
+
+    const bar = {
+      box: document.getElementById("colour-bar"),
+      label: document.getElementById("bar-label"),
+      max: document.getElementById("bar-max"),
+      unit: document.getElementById("bar-unit"),
+      canvas: document.getElementById("bar"),
+    };
+    if (data.idleness || data.laps) bar.box.hidden = false;
 
     // Whole pixels per cell, so every cell is a solid block of one colour.
     const stage = document.getElementById("stage");
@@ -251,6 +261,9 @@
       const cell = paths[guard][tick];
       return [[ox + ((cell % cols) + 0.5) * data.cell_size, oy + (Math.floor(cell / cols) + 0.5) * data.cell_size], 90 * headings[guard][tick]];
     };
+    // Where a guard's trail passes at a tick, in canvas pixels: through its poses when it has them.
+    const trailPoint = (guard, tick) =>
+      poses && guard === 0 ? [px(poses[3 * tick]), py(poses[3 * tick + 1])] : centre(paths[guard][tick]);
     const block = Math.max(1, Math.ceil(steps / TRAIL_BLOCKS));
     const trailLevel = (walked, tick) => {
       const age = Math.floor(tick / block) - Math.floor(walked / block);
@@ -260,7 +273,6 @@
     };
 
     function drawTrail(guard, tick) {
-      const path = paths[guard];
       context.strokeStyle = data.guard_colours[guard];
       context.lineWidth = Math.max(1.5, scale / 3);
       context.lineJoin = "round";
@@ -270,10 +282,10 @@
         const level = trailLevel(step, tick);
         context.globalAlpha = TRAIL_ALPHAS[level];
         context.beginPath();
-        const [x0, y0] = centre(path[step - 1]);
+        const [x0, y0] = trailPoint(guard, step - 1);
         context.moveTo(x0, y0);
         while (step <= tick && trailLevel(step, tick) === level) {
-          const [x, y] = centre(path[step]);
+          const [x, y] = trailPoint(guard, step);
           context.lineTo(x, y);
           step++;
         }
@@ -305,8 +317,23 @@
       context.fill();
     }
 
+    const extra =
+      typeof GuardsimLayers !== "undefined" && (data.laps || data.idleness || data.routes || data.intruder)
+        ? GuardsimLayers.make({ data, context, scale, px, py, decode, ramp, cellImage, centre, kinds })
+        : null;
+    const total = extra ? extra.total(steps, hash.laps) : steps;
+    const local = (value) => (extra ? extra.local(value, steps) : value);
+    timeline.max = String(total);
+    if (extra) {
+      for (const name of extra.present) document.querySelector('[data-layer="' + name + '"]').parentElement.hidden = false;
+      if (data.idleness) document.getElementById("idleness-name").textContent = data.idleness.label;
+      extra.paintBar(bar.canvas);
+    }
+    const intruderReadout = document.getElementById("intruder-readout");
+
     let tick = 0;
     function draw() {
+      const now = local(tick);
       context.imageSmoothingEnabled = false;
       context.fillStyle = colours.wall;
       context.fillRect(0, 0, canvas.width, canvas.height);
@@ -314,13 +341,14 @@
       context.fill(floor, "evenodd");
       context.save();
       context.clip(floor, "evenodd");
-      if (layers.coverage) context.drawImage(coverageAt(tick), 0, 0, canvas.width, canvas.height);
-      if (layers.heat) context.drawImage(heatAt(tick), 0, 0, canvas.width, canvas.height);
-      if (layers.field && field) context.drawImage(fieldAt(tick), 0, 0, canvas.width, canvas.height);
+      if (layers.coverage) context.drawImage(coverageAt(now), 0, 0, canvas.width, canvas.height);
+      if (layers.heat) context.drawImage(heatAt(now), 0, 0, canvas.width, canvas.height);
+      if (layers.field && field) context.drawImage(fieldAt(now), 0, 0, canvas.width, canvas.height);
+      if (extra) extra.drawUnder(tick, layers, canvas);
       const cones = [];
       if (layers.cone) {
         for (let guard = 0; guard < guards; guard++) {
-          const [eye, facing] = pose(guard, tick);
+          const [eye, facing] = pose(guard, now);
           const ring = visibility(walls, eye, facing, data.fov_degrees, data.view_range);
           const shape = new Path2D();
           ring.forEach((p, i) => (i === 0 ? shape.moveTo(px(p[0]), py(p[1])) : shape.lineTo(px(p[0]), py(p[1]))));
@@ -341,10 +369,10 @@
         context.lineWidth = 1;
         context.stroke(shape);
       });
-      if (layers.trail) for (let guard = 0; guard < guards; guard++) drawTrail(guard, tick);
+      if (layers.trail) for (let guard = 0; guard < guards; guard++) drawTrail(guard, now);
       const radius = Math.max(MIN_GUARD_RADIUS, 0.45 * scale);
       for (let guard = 0; guard < guards; guard++) {
-        const [x, y] = centre(paths[guard][0]);
+        const [x, y] = trailPoint(guard, 0);
         const half = Math.max(radius + 2, 0.5 * scale);
         context.strokeStyle = data.guard_colours[guard];
         context.lineWidth = 2;
@@ -353,7 +381,7 @@
       // Guards in one place are spread round it so that each stays visible.
       const sharing = new Map();
       for (let guard = 0; guard < guards; guard++) {
-        const [point, facing] = pose(guard, tick);
+        const [point, facing] = pose(guard, now);
         const key = point[0] + "," + point[1];
         if (!sharing.has(key)) sharing.set(key, { point: point, team: [] });
         sharing.get(key).team.push([guard, facing]);
@@ -366,12 +394,20 @@
           drawGuard(cx + spread * Math.cos(angle), cy + spread * Math.sin(angle), facing, radius, data.guard_colours[guard]);
         });
       }
+      if (extra) extra.drawOver(tick, layers, radius);
       const clock = data.tick_hz ? " (" + (tick / data.tick_hz).toFixed(1) + " s)" : "";
-      readout.textContent = "tick " + tick + " / " + steps + clock + " \u00b7 " + data.unseen_text[tick] + "% unseen";
+      const lap = extra ? extra.describe(tick, total) : null;
+      readout.textContent =
+        "tick " + tick + " / " + total + clock + (lap ? " \u00b7 " + lap : "") + " \u00b7 " +
+        data.unseen_text[now] + (lap ? "% unseen this lap" : "% unseen");
+      if (extra) {
+        intruderReadout.textContent = extra.intruderText(tick);
+        extra.colourBar(layers, bar);
+      }
     }
 
     function setTick(value, updateHash) {
-      const next = Math.max(0, Math.min(steps, Math.round(Number(value)) || 0));
+      const next = Math.max(0, Math.min(total, Math.round(Number(value)) || 0));
       tick = next;
       timeline.value = String(next);
       draw();
@@ -397,11 +433,11 @@
       const advance = Math.floor(carry);
       if (advance > 0) {
         carry -= advance;
-        setTick(Math.min(steps, tick + advance), false);
+        setTick(Math.min(total, tick + advance), false);
       }
-      if (tick >= steps) {
+      if (tick >= total) {
         setPlaying(false);
-        setTick(steps, true);
+        setTick(total, true);
         return;
       }
       setTimeout(frame, 16);
@@ -410,7 +446,7 @@
       playing = on;
       playButton.textContent = on ? "Pause" : "Play";
       if (on) {
-        if (tick >= steps) setTick(0, false);
+        if (tick >= total) setTick(0, false);
         last = performance.now();
         carry = 0;
         setTimeout(frame, 16);
@@ -431,7 +467,7 @@
       if (event.key === "ArrowRight") setTick(tick + jump, true);
       else if (event.key === "ArrowLeft") setTick(tick - jump, true);
       else if (event.key === "Home") setTick(0, true);
-      else if (event.key === "End") setTick(steps, true);
+      else if (event.key === "End") setTick(total, true);
       else if (event.key === " ") setPlaying(!playing);
       else return;
       event.preventDefault();
@@ -448,6 +484,7 @@
       [colours.cone, "sees now"],
       ["linear-gradient(90deg,#fff6aa,#ee7a28,#6e105a)", "first seen: early \u2192 late"],
       ...data.guard_colours.map((colour, guard) => [colour, guards > 1 ? "guard " + (guard + 1) : "guard (square: start)"]),
+      ...(extra ? extra.legend() : []),
     ];
     for (const [colour, label] of items) {
       const item = document.createElement("span");
@@ -468,6 +505,11 @@
     geometry.dataset.left = String(Math.round(box.left + window.scrollX));
     geometry.dataset.top = String(Math.round(box.top + window.scrollY));
     geometry.dataset.scale = String(scale);
+    if (extra) {
+      const barBox = bar.canvas.getBoundingClientRect();
+      geometry.dataset.barLeft = String(Math.round(barBox.left + window.scrollX));
+      geometry.dataset.barTop = String(Math.round(barBox.top + window.scrollY));
+    }
     status.textContent = "ready";
     if (hash.play === "1") setPlaying(true);
   }

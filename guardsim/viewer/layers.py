@@ -1,0 +1,219 @@
+"""Extra layers of the viewer page for patrols and sneaks, beside the trace it always draws.
+
+A trace says where the guards were and what they had seen so far. A patrol page also needs what a trace
+does not hold: each cell's worst unwatched gap (an :class:`IdlenessMap`), the lap the trace repeats and
+what the team sees at each of its ticks (:class:`LapViews`, from which the page works out each cell's
+idleness at the current tick), each guard's loop (:attr:`Overlays.routes`) and a sneaking player who is
+not a guard (:class:`Intruder`). These are plain arrays; :mod:`guardsim.viewer.patrols` builds them from
+patrol and sneak results.
+"""
+
+from __future__ import annotations
+
+from collections.abc import Sequence
+from dataclasses import dataclass, field
+from typing import Any
+
+import numpy as np
+
+from guardsim.errors import GuardsimError
+from guardsim.trace import Trace
+from guardsim.viewer.packing import packed
+
+__all__ = ["DEFAULT_LAPS", "IDLENESS_RAMP", "IdlenessMap", "Intruder", "LapViews", "Overlays", "overlay_data"]
+
+#: Colour stops of every idleness layer and of its colour bar: matplotlib's viridis (as ``idleness.png``
+#: draws), sampled at ninths; the page interpolates linearly between stops and rounds each channel.
+IDLENESS_RAMP: tuple[tuple[float, tuple[int, int, int]], ...] = (
+    (0.0, (68, 1, 84)),
+    (0.125, (71, 45, 123)),
+    (0.25, (59, 82, 139)),
+    (0.375, (44, 114, 142)),
+    (0.5, (33, 145, 140)),
+    (0.625, (40, 174, 128)),
+    (0.75, (94, 201, 98)),
+    (0.875, (173, 220, 48)),
+    (1.0, (253, 231, 37)),
+)
+
+#: Laps a patrol page's timeline spans unless the address asks for more (``#laps=N``).
+DEFAULT_LAPS = 3
+
+
+@dataclass(frozen=True, eq=False)
+class IdlenessMap:
+    """A number per cell drawn as a heat map with a colour bar: patrol.json's ``idleness`` (each cell's
+    worst gap) or sneak.json's ``longest_unseen``."""
+
+    values: np.ndarray
+    """``float (rows, cols)``; NaN where nothing is drawn (walls, cells outside the goal)."""
+    unit: str = "ticks"
+    """What the numbers count, shown under the colour bar (``"ticks"`` or ``"seconds"``)."""
+    label: str = "worst gap"
+    """What the numbers are, shown in the layer's toggle and the colour bar."""
+    never: np.ndarray | None = None
+    """``bool (rows, cols)``: cells never seen, drawn apart (black) whatever their value."""
+
+
+@dataclass(frozen=True, eq=False)
+class LapViews:
+    """The lap a periodic trace repeats: tick ``t`` of the page is tick ``t % period`` of the trace."""
+
+    period: int
+    """Ticks per lap; the trace must hold at least one lap."""
+    seen: np.ndarray
+    """``bool (period, cells)``: the cells some guard sees at each tick of the lap (a guard's own cell
+    included). The page derives each cell's idleness at the current tick from it, in steady state."""
+    laps: int = DEFAULT_LAPS
+    """Laps the timeline spans by default."""
+
+
+@dataclass(frozen=True, eq=False)
+class Intruder:
+    """A player sneaking through the patrol: drawn in its own colour, with no cone."""
+
+    cells: Sequence[tuple[int, int]]
+    """``(col, row)`` at each tick from :attr:`start_tick`."""
+    start_tick: int
+    """The page tick at which it enters."""
+    in_view: Sequence[bool] = ()
+    """Per tick of :attr:`cells`, whether a guard sees it then (a closest call's ticks); empty: never."""
+    source: tuple[float, float] | None = None
+    """The point it enters from (world units)."""
+    target: tuple[float, float] | None = None
+    """The point it must reach (world units)."""
+    label: str = "intruder"
+
+
+@dataclass(frozen=True, eq=False)
+class Overlays:
+    """Everything a patrol or sneak page shows beyond its trace; every part optional."""
+
+    idleness: IdlenessMap | None = None
+    laps: LapViews | None = None
+    routes: Sequence[Sequence[tuple[float, float]]] = ()
+    """Each guard's loop as a closed polyline of world points (the route.json waypoints), drawn in the
+    guard's colour under the animation."""
+    intruder: Intruder | None = None
+    layers: Sequence[str] = field(default=())
+    """Layers shown when the page opens (empty: the page's usual ones); ``#layers=...`` overrides."""
+
+
+def _seen_runs(seen: np.ndarray) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
+    """Each cell's runs of seen lap ticks, ``[start, end]`` inclusive, as CSR arrays (cell-major):
+    ``offsets`` (cells + 1), ``starts``, ``ends``."""
+    period, cells = seen.shape
+    padded = np.zeros((period + 2, cells), dtype=np.int8)
+    padded[1:-1] = seen
+    # Transposed, nonzero lists the changes cell by cell, in tick order within a cell.
+    change = np.diff(padded, axis=0).T
+    start_cell, starts = np.nonzero(change == 1)
+    _, ends = np.nonzero(change == -1)
+    offsets = np.concatenate([[0], np.cumsum(np.bincount(start_cell, minlength=cells))])
+    return offsets, starts, ends - 1
+
+
+def _worst_idleness(offsets: np.ndarray, starts: np.ndarray, ends: np.ndarray, period: int) -> np.ndarray:
+    """``int64 (cells,)``: each cell's largest idleness over the lap, taken cyclically; -1 when never seen.
+
+    Idleness climbs by one each unseen tick, so its largest value is the longest unseen run.
+    """
+    cells = offsets.size - 1
+    worst = np.full(cells, -1, dtype=np.int64)
+    counts = np.diff(offsets)
+    has = counts > 0
+    if not has.any():
+        return worst
+    first, last = offsets[:-1][has], offsets[1:][has] - 1
+    worst[has] = starts[first] + period - ends[last] - 1
+    inner = np.ones(starts.size, dtype=bool)
+    inner[offsets[1:][has] - 1] = False  # a cell's last run has no next run within the lap
+    owner = np.repeat(np.arange(cells), counts)
+    gaps = np.zeros(starts.size, dtype=np.int64)
+    gaps[inner] = starts[np.flatnonzero(inner) + 1] - ends[inner] - 1
+    np.maximum.at(worst, owner[inner], gaps[inner])
+    return worst
+
+
+def _idleness_data(layer: IdlenessMap, shape: tuple[int, int]) -> dict[str, Any]:
+    values = np.asarray(layer.values, dtype=np.float64)
+    if values.shape != shape:
+        raise GuardsimError(f"the idleness layer has shape {values.shape}, expected the trace's grid {shape}")
+    never = np.zeros(shape, dtype=bool) if layer.never is None else np.asarray(layer.never, dtype=bool)
+    if never.shape != shape:
+        raise GuardsimError(f"the never-seen cells have shape {never.shape}, expected the trace's grid {shape}")
+    drawn = np.isfinite(values) & ~never
+    top = float(values[drawn].max()) if drawn.any() else 0.0
+    return {
+        # NaN (nothing drawn) travels as -1: idleness is never negative.
+        "values": packed(np.where(drawn, values, -1.0), "f4"),
+        "never": packed(never.ravel(), "u1"),
+        "max": top,
+        "unit": layer.unit,
+        "label": layer.label,
+    }
+
+
+def _laps_data(laps: LapViews, trace: Trace) -> dict[str, Any]:
+    seen = np.asarray(laps.seen, dtype=bool)
+    cells = trace.shape[0] * trace.shape[1]
+    if laps.period < 1 or seen.shape != (laps.period, cells):
+        raise GuardsimError(
+            f"the lap's views have shape {seen.shape}, expected ({laps.period}, {cells}) (one row per lap tick)"
+        )
+    if trace.steps < laps.period:
+        raise GuardsimError(f"the trace holds {trace.steps} ticks, less than one lap of {laps.period}")
+    offsets, starts, ends = _seen_runs(seen)
+    worst = _worst_idleness(offsets, starts, ends, laps.period)[trace.goal.ravel()]
+    return {
+        "period": laps.period,
+        "laps": max(1, laps.laps),
+        "offsets": packed(offsets, "i4"),
+        "starts": packed(starts, "i4"),
+        "ends": packed(ends, "i4"),
+        # The animated layer's colour bar runs from 0 to the largest idleness a goal cell reaches.
+        "max": int(worst.max()) if worst.size and worst.max() > 0 else 0,
+    }
+
+
+def _intruder_data(intruder: Intruder, shape: tuple[int, int]) -> dict[str, Any]:
+    rows, cols = shape
+    cells = list(intruder.cells)
+    if not cells:
+        raise GuardsimError("the intruder's path is empty")
+    if any(not (0 <= col < cols and 0 <= row < rows) for col, row in cells):
+        raise GuardsimError(f"the intruder's path leaves the trace's grid of {cols} x {rows} cells")
+    in_view = list(intruder.in_view) or [False] * len(cells)
+    if len(in_view) != len(cells):
+        raise GuardsimError(f"the intruder has {len(in_view)} in-view flags for {len(cells)} ticks of path")
+    return {
+        "path": packed([row * cols + col for col, row in cells], "i4"),
+        "start": int(intruder.start_tick),
+        "in_view": packed(in_view, "u1"),
+        "ticks_in_view": int(sum(in_view)),
+        "from": None if intruder.source is None else [float(v) for v in intruder.source],
+        "to": None if intruder.target is None else [float(v) for v in intruder.target],
+        "label": intruder.label,
+    }
+
+
+def overlay_data(overlays: Overlays, trace: Trace) -> dict[str, Any]:
+    """The page-data keys of ``overlays`` (JSON-ready), checked against ``trace``'s grid.
+
+    Raises
+    ------
+    GuardsimError
+        When a layer's shape does not match the trace.
+    """
+    data: dict[str, Any] = {"ramp": [[stop, list(colour)] for stop, colour in IDLENESS_RAMP]}
+    if overlays.idleness is not None:
+        data["idleness"] = _idleness_data(overlays.idleness, trace.shape)
+    if overlays.laps is not None:
+        data["laps"] = _laps_data(overlays.laps, trace)
+    if overlays.routes:
+        data["routes"] = [[[float(x), float(y)] for x, y in route] for route in overlays.routes]
+    if overlays.intruder is not None:
+        data["intruder"] = _intruder_data(overlays.intruder, trace.shape)
+    if overlays.layers:
+        data["default_layers"] = list(overlays.layers)
+    return data
