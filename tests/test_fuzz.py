@@ -34,10 +34,6 @@ from tests.fuzz_cases import IMPORTER_KINDS, KINDS, Templates, generate, make_te
 
 #: Cases per (kind, command) pair in CI; regress and bench cases re-play episodes, so they get fewer.
 CASES = {"level": 600, "option": 240, "manifest": 120, "reference": 80, "trace": 120, "bench-folder": 100}
-#: (command, first word of the case's note) left out in CI: `bounds` of a 10 x 10 level at cell_size
-#: 0.05 builds a view table of every state (about 3 GB, a minute) with no limit tripping first. The
-#: view table is guardsim/vision/table.py's; benchmarks/fuzz.py still runs and counts these cases.
-KNOWN_HEAVY = {("bounds", "cell_size")}
 #: The seed of the CI cases: derandomised, so a failure here fails the same way on every machine.
 SEED = 16
 
@@ -62,8 +58,6 @@ def test_generated_inputs_keep_the_rule(kind: str, command: str, templates: Temp
     for index in range(CASES[kind] // len(KINDS[kind])):
         rng = np.random.default_rng([SEED, index, *map(ord, kind + command)])
         case = generate(kind, command, rng, templates)
-        if (command, case.note.split(" ")[0]) in KNOWN_HEAVY:
-            continue
         with tempfile.TemporaryDirectory() as folder:
             outcome = run_in_process(case, Path(folder))
         if outcome != "ok":

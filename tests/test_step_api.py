@@ -239,3 +239,36 @@ def test_a_view_table_past_its_limit_is_one_line_naming_the_level(monkeypatch: p
     lines = result.stderr.splitlines()
     assert len(lines) == 1 and lines[0].startswith(f"guardsim: error: {level}: ")
     assert "max_view_entries: shorten the view range or use larger cells" in lines[0]
+
+
+def test_the_view_table_size_is_estimated_before_it_is_built() -> None:
+    """A level whose table would pass the limit is refused from a sample of its states, not after
+    filling the table: the vision is asked about at most the sample's states."""
+    from guardsim.errors import LimitError
+    from guardsim.vision import table
+
+    small = scene_from(SQUARE_WITH_HOLE)
+    # A level no bigger than the sample is asked whole: the estimate is the count.
+    assert small.grid.traversable.sum() <= table.ESTIMATE_SAMPLE_CELLS
+    exact = table.build_view_table(small.grid, small.vision()).sight.size
+    assert table.estimate_entries(small.grid, small.vision()) == exact
+    scene = Scene.from_level(load_level(REPO / "levels" / "square.json"))
+    vision = scene.vision()
+    asked: list[int] = []
+
+    def counted(col: int, row: int, heading: int) -> np.ndarray:
+        asked.append(heading)
+        return np.asarray(vision(col, row, heading))
+
+    with pytest.raises(LimitError, match=r"about \d+ cells, over the limit of 1000 \(max_view_entries\)"):
+        table.build_view_table(scene.grid, counted, max_entries=1000)
+    assert 0 < len(asked) <= 4 * table.ESTIMATE_SAMPLE_CELLS < 4 * int(scene.grid.traversable.sum())
+
+
+@pytest.mark.parametrize("name", ["square", "mgs_docks", "king_snurre"])
+def test_the_view_table_estimate_is_close_on_shipped_levels(name: str) -> None:
+    from guardsim.vision import table
+
+    scene = Scene.from_level(load_level(REPO / "levels" / f"{name}.json"))
+    exact = table.view_table(scene.grid, scene.vision()).sight.size
+    assert table.estimate_entries(scene.grid, scene.vision()) == pytest.approx(exact, rel=0.05)

@@ -15,6 +15,7 @@ from typing import Any, TypeVar, cast
 
 import click
 
+from guardsim.cli.common import FiniteFloatRange
 from guardsim.importers import FORMATS, ImportedLevel, ImportOptions, load_any
 from guardsim.importers.image import DEFAULT_THRESHOLD
 from guardsim.importers.loading import is_tiled_json
@@ -92,7 +93,7 @@ def map_options(command: F) -> F:
 _OPTIONS = [
     click.option(
         "--cell-size",
-        type=click.FloatRange(min=0, min_open=True, max=1e6),
+        type=FiniteFloatRange(min=0, min_open=True, max=1e6),
         help="Maps: the level's cell_size in world units; one map cell, tile or pixel is one unit. [default: 1]",
     ),
     click.option(

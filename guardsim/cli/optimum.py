@@ -7,7 +7,15 @@ import json
 import click
 
 from guardsim.cli.bounds import start_options
-from guardsim.cli.common import build_scene, cli_start, limit_options, load, reports_errors, vision_options
+from guardsim.cli.common import (
+    FiniteFloatRange,
+    build_scene,
+    cli_start,
+    limit_options,
+    load,
+    reports_errors,
+    vision_options,
+)
 from guardsim.cli.map_options import MapImport, map_options
 from guardsim.level import HEADINGS
 from guardsim.optimum import DEFAULT_MEMORY_BYTES, solve
@@ -26,7 +34,7 @@ __all__ = ["optimum"]
 )
 @click.option(
     "--time-limit",
-    type=click.FloatRange(min=0, min_open=True),
+    type=FiniteFloatRange(min=0, min_open=True),
     help="Stop after about this many seconds [default: none]. Where a timed run stops, hence its best walk "
     "and bound, can depend on the machine's speed; --max-expansions does not.",
 )

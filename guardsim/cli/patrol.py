@@ -11,7 +11,7 @@ from typing import NamedTuple
 import click
 import numpy as np
 
-from guardsim.cli.common import build_scene, limit_options, load, reports_errors, vision_options
+from guardsim.cli.common import FiniteFloatRange, build_scene, limit_options, load, reports_errors, vision_options
 from guardsim.errors import GuardsimError
 from guardsim.output import write_text_atomic
 from guardsim.patrol.scoring import NEVER, PatrolScore
@@ -99,7 +99,7 @@ def tiled_source_of(level_path: str, tiled_source: str | None) -> str | None:
 @click.option("--export", "export_path", type=str, help="Write the route as waypoints (route.json).")
 @click.option(
     "--speed",
-    type=click.FloatRange(min=0, min_open=True, max=1e6),
+    type=FiniteFloatRange(min=0, min_open=True, max=1e6),
     help="World units per second: route times, and the walk in continuous motion [default: the level guard's move_speed, else 2].",
 )
 @click.option(

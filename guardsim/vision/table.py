@@ -18,7 +18,7 @@ from guardsim.errors import LimitError
 from guardsim.grid import HEADINGS_PER_CELL, CoverageGrid, state_of
 from guardsim.vision.rules import VisionFunction
 
-__all__ = ["UnseenTally", "ViewTable", "level_memo", "view_table"]
+__all__ = ["UnseenTally", "ViewTable", "estimate_entries", "level_memo", "view_table"]
 
 
 class ViewTable(NamedTuple):
@@ -43,36 +43,91 @@ class ViewTable(NamedTuple):
         return self.sight[self.sight_start[state] : self.sight_start[state + 1]]
 
 
-#: Most (state, cell seen) pairs a view table may hold: about 1.2 GB with its inverse. A fine grid with a
-#: long view range asks for billions; the table stops there with a one-line error instead.
-MAX_VIEW_ENTRIES = 150_000_000
+#: Most (state, cell seen) pairs a view table may hold. The table, its inverse and the vision cache behind it
+#: keep about 12 bytes a pair, so this is about 600 MB and 10 s of sight checks; the largest real map here
+#: (Berlin_1_256, 256 x 256) needs 8.1 million. A fine grid with a long view range asks for billions; the
+#: table stops there with a one-line error instead.
+MAX_VIEW_ENTRIES = 50_000_000
+
+#: Traversable cells whose states are asked first, spread evenly over the level, to estimate the table's
+#: size before any of it is built (a 500 x 500 open level at a long range used to take 46 s and 2.3 GB
+#: to reach the limit).
+ESTIMATE_SAMPLE_CELLS = 256
+
+#: The sample stops early once its states have seen this many cells (and at least
+#: :data:`ESTIMATE_MIN_CELLS` cells were asked): a budget in work, so the estimate stays deterministic.
+ESTIMATE_BUDGET = 2_000_000
+ESTIMATE_MIN_CELLS = 16
+
+
+def _spread_order(count: int) -> np.ndarray:
+    """``0 .. count - 1`` in bit-reversed order, so any prefix is spread over the whole range."""
+    bits = max(1, (count - 1).bit_length())
+    keys = [int(f"{index:0{bits}b}"[::-1], 2) for index in range(count)]
+    return np.argsort(np.asarray(keys), kind="stable")
+
+
+def estimate_entries(grid: CoverageGrid, vision: VisionFunction) -> int:
+    """How many (state, cell seen) pairs the view table of ``grid`` and ``vision`` will hold.
+
+    Extrapolated from the states of at most :data:`ESTIMATE_SAMPLE_CELLS` traversable cells spread
+    evenly over the level, fewer when they see a lot (:data:`ESTIMATE_BUDGET`); exact when the level has
+    no more traversable cells than the sample.
+    """
+    cells = np.flatnonzero(grid.traversable.ravel())
+    if cells.size == 0:
+        return 0
+    picks = np.unique(cells[np.linspace(0, cells.size - 1, min(cells.size, ESTIMATE_SAMPLE_CELLS)).astype(np.int64)])
+    seen = 0
+    asked = 0
+    for cell in picks[_spread_order(picks.size)].tolist():
+        col, row = grid.unflat(cell)
+        for heading in range(HEADINGS_PER_CELL):
+            seen += len(vision(col, row, heading))
+        asked += 1
+        if seen > ESTIMATE_BUDGET and asked >= ESTIMATE_MIN_CELLS:
+            break
+    if asked == cells.size:
+        return seen
+    return seen * int(cells.size) // asked
+
+
+def _too_big(grid: CoverageGrid, limit: int, entries: int, estimated: bool) -> LimitError:
+    about = "about " if estimated else "more than "
+    return LimitError(
+        f"what every guard state sees would fill {about}{entries} cells, over the limit of {limit} "
+        f"(max_view_entries), on a grid of {grid.shape[0]} x {grid.shape[1]} cells"
+    )
 
 
 def build_view_table(grid: CoverageGrid, vision: VisionFunction, *, max_entries: int | None = None) -> ViewTable:
     """Ask ``vision`` about every state of every traversable cell; states of other cells see nothing.
 
-    Raises :class:`~guardsim.errors.LimitError` once the table would hold more than ``max_entries``
-    (state, cell) pairs (:data:`MAX_VIEW_ENTRIES` by default).
+    Raises :class:`~guardsim.errors.LimitError` when the table would hold more than ``max_entries``
+    (state, cell) pairs (:data:`MAX_VIEW_ENTRIES` by default): before building it when the estimate of
+    :func:`estimate_entries` is over, else as soon as the count passes the limit.
     """
     limit = MAX_VIEW_ENTRIES if max_entries is None else max_entries
+    estimate = estimate_entries(grid, vision)
+    if estimate > limit:
+        raise _too_big(grid, limit, estimate, estimated=True)
     states = state_of(grid.size, 0)
     lengths = np.zeros(states, dtype=np.int64)
-    parts: list[np.ndarray] = []
+    # One growing buffer rather than an array per state: millions of small arrays cost ~100 bytes each.
+    sight = np.empty(min(limit, max(1024, estimate + estimate // 8)), dtype=np.int32)
     total = 0
     for cell in np.flatnonzero(grid.traversable.ravel()).tolist():
         col, row = grid.unflat(cell)
         for heading in range(HEADINGS_PER_CELL):
             cells = np.asarray(vision(col, row, heading), dtype=np.int32)
             lengths[state_of(cell, heading)] = cells.size
-            parts.append(cells)
+            if total + cells.size > limit:
+                raise _too_big(grid, limit, limit, estimated=False)
+            if total + cells.size > sight.size:
+                sight = np.resize(sight, min(limit, 2 * (total + cells.size)))
+            sight[total : total + cells.size] = cells
             total += cells.size
-        if total > limit:
-            raise LimitError(
-                f"what every guard state sees would fill more than {limit} cells (max_view_entries), "
-                f"on a grid of {grid.shape[0]} x {grid.shape[1]} cells"
-            )
-    sight = np.concatenate(parts) if parts else np.zeros(0, dtype=np.int32)
-    del parts
+    sight = sight[:total].copy()
     sight_start = np.zeros(states + 1, dtype=np.int64)
     np.cumsum(lengths, out=sight_start[1:])
     watch_start, watchers = _invert(sight_start, sight, grid.size)
