@@ -196,3 +196,130 @@ def test_view_runs_as_a_real_process(square_trace, tmp_path: Path) -> None:
     done = subprocess.run([*command, "--html", str(out)], capture_output=True, text=True, timeout=120)
     assert done.returncode == 0, done.stderr
     assert out.read_text().startswith("<!DOCTYPE html>")
+
+
+# --- Patrol and sneak pages (guardsim.viewer.layers, guardsim.viewer.patrols) ---
+
+CORRIDOR_POST = {"shape": [3, 11], "guards": [{"loop": [[5, 1]], "headings": [0]}]}
+
+
+def patrol_pages(folder: Path) -> Path:
+    """`patrol --html --export` and `sneak --html` on Square (an unseen path exists), and `sneak --html`
+    past a post in a one-cell corridor (caught: the closest call is in view for some ticks)."""
+    from tests.test_patrol import CORRIDOR
+
+    runner = CliRunner()
+    p, s, c = folder / "p", folder / "s", folder / "c"
+    result = runner.invoke(main, ["patrol", str(SQUARE), "--out", str(p), "--html", "--export", str(p / "route.json")])
+    assert result.exit_code == 0, result.output
+    args = ["--from", "2.5,2.5", "--to", "57.5,57.5", "--out", str(s), "--html"]
+    result = runner.invoke(main, ["sneak", str(SQUARE), "--patrol", str(p / "patrol.json"), *args])
+    assert result.exit_code == 0 and "sneaks" in result.output, result.output
+    level = write_level(folder, CORRIDOR, "corridor.json")
+    (folder / "post.json").write_text(json.dumps(CORRIDOR_POST))
+    args = ["--from", "0.5,0.5", "--to", "10.5,2.5", "--out", str(c), "--html"]
+    result = runner.invoke(main, ["sneak", str(level), "--patrol", str(folder / "post.json"), *args])
+    assert result.exit_code == 0 and "caught" in result.output, result.output
+    return folder
+
+
+@pytest.fixture(scope="module")
+def pages(tmp_path_factory) -> Path:
+    return patrol_pages(tmp_path_factory.mktemp("pages"))
+
+
+def decoded(text: str, dtype: str) -> np.ndarray:
+    return np.frombuffer(base64.b64decode(text), dtype=np.dtype(dtype).newbyteorder("<"))
+
+
+def test_seen_runs_give_each_cells_worst_idleness_as_brute_force() -> None:
+    """The page's run-length views decode to the seen ticks, and the largest idleness they give equals
+    the longest unseen run over three laps walked tick by tick (random laps, cells never seen too)."""
+    from guardsim.viewer.layers import _seen_runs, _worst_idleness
+
+    rng = np.random.default_rng(1)
+    for _ in range(300):
+        period, cells = int(rng.integers(1, 12)), int(rng.integers(1, 6))
+        seen = rng.random((period, cells)) < rng.random()
+        offsets, starts, ends = _seen_runs(seen)
+        worst = _worst_idleness(offsets, starts, ends, period)
+        for cell in range(cells):
+            rebuilt = np.zeros(period, dtype=bool)
+            for run in range(offsets[cell], offsets[cell + 1]):
+                rebuilt[starts[run] : ends[run] + 1] = True
+            assert (rebuilt == seen[:, cell]).all()
+            best, last = -1 if not seen[:, cell].any() else 0, None
+            for tick, value in enumerate(np.tile(seen[:, cell], 3)):
+                if value:
+                    last = tick
+                elif last is not None and tick >= period:
+                    best = max(best, tick - last)
+            assert worst[cell] == best
+
+
+def test_patrol_page_carries_idleness_laps_and_routes(pages: Path) -> None:
+    """patrol.html holds patrol.json's idleness grid (nulls as holes), the lap, each guard's loop as the
+    route.json waypoints, and an animated layer whose largest idleness is the patrol's worst."""
+    patrol = json.loads((pages / "p" / "patrol.json").read_text())
+    route = json.loads((pages / "p" / "route.json").read_text())
+    data = page_json((pages / "p" / "patrol.html").read_text())
+    rows, cols = patrol["shape"]
+    values = decoded(data["idleness"]["values"], "f4").reshape(rows, cols)
+    expected = np.array([[-1 if v is None else v for v in row] for row in patrol["idleness"]], dtype=float)
+    assert (values == expected).all()
+    assert (values < 0).any() and (values >= 0).any()
+    assert data["idleness"]["unit"] == "ticks" and data["idleness"]["max"] == patrol["worst_idleness"]
+    assert not decoded(data["idleness"]["never"], "u1").any()
+    assert data["laps"]["period"] == patrol["period"] and data["laps"]["laps"] >= 2
+    assert data["laps"]["max"] == patrol["worst_idleness"]
+    assert data["routes"] == [[[w["x"], w["y"]] for w in guard["waypoints"]] for guard in route["guards"]]
+    assert all(loop[0] == loop[-1] for loop in data["routes"])
+    assert "intruder" not in data and data["default_layers"] == ["idleness", "route", "trail", "cone"]
+    assert not re.search(r"""(src|href)\s*=\s*["']?(https?:)?//""", (pages / "p" / "patrol.html").read_text())
+
+
+def test_sneak_page_draws_the_intruder_apart_from_the_guards(pages: Path) -> None:
+    """sneak.html keeps the patrol's guards only; the intruder travels as its own path from its start
+    tick, with from/to points; in view nowhere on an unseen path, and for exactly the closest call's
+    ticks in view past the post. Its heat map is the hiding spots, never-seen cells marked."""
+    for folder, guards in (("s", 1), ("c", 1)):
+        answer = json.loads((pages / folder / "sneak.json").read_text())
+        data = page_json((pages / folder / "sneak.html").read_text())
+        cols = data["cols"]
+        assert len(data["paths"]) == guards
+        intruder = data["intruder"]
+        path = decoded(intruder["path"], "i4")
+        assert [[int(i % cols), int(i // cols)] for i in path] == answer["path"]
+        assert intruder["start"] == answer["start_tick"]
+        assert (intruder["from"], intruder["to"]) == (answer["from"], answer["to"])
+        in_view = decoded(intruder["in_view"], "u1")
+        assert int(in_view.sum()) == answer["ticks_in_view"] == intruder["ticks_in_view"]
+        assert data["laps"]["period"] == answer["period"]
+        assert data["laps"]["laps"] * answer["period"] >= answer["start_tick"] + answer["ticks"]
+        hiding = np.array([[-1 if v is None else v for v in row] for row in answer["longest_unseen"]], dtype=float)
+        never = decoded(data["idleness"]["never"], "u1").reshape(hiding.shape).astype(bool)
+        assert int(never.sum()) == answer["never_seen_cells"]
+        values = decoded(data["idleness"]["values"], "f4").reshape(hiding.shape)
+        assert (values[~never] == hiding[~never]).all()
+    assert decoded(page_json((pages / "c" / "sneak.html").read_text())["intruder"]["in_view"], "u1").any()
+
+
+def test_layers_that_do_not_fit_the_trace_are_refused(square_trace) -> None:
+    """A layer of the wrong shape is a library error naming what is wrong, not a broken page."""
+    from guardsim.viewer.layers import IdlenessMap, Intruder, LapViews, Overlays
+
+    _, trace = square_trace
+    rows, cols = trace.shape
+    cases = [
+        (Overlays(idleness=IdlenessMap(np.zeros((rows, cols + 1)))), "idleness layer has shape"),
+        (Overlays(laps=LapViews(10, np.zeros((9, rows * cols), dtype=bool))), "lap's views have shape"),
+        (
+            Overlays(laps=LapViews(trace.steps + 1, np.zeros((trace.steps + 1, rows * cols), dtype=bool))),
+            "less than one lap",
+        ),
+        (Overlays(intruder=Intruder([(cols, 0)], 0)), "leaves the trace's grid"),
+        (Overlays(intruder=Intruder([(0, 0), (1, 0)], 0, in_view=[True])), "1 in-view flags for 2 ticks"),
+    ]
+    for overlays, message in cases:
+        with pytest.raises(GuardsimError, match=message):
+            page_data(None, trace, overlays=overlays)
