@@ -53,7 +53,7 @@ def test_committed_references_are_small_and_complete() -> None:
         folder = RENDERS / level_path.stem
         manifest = json.loads((folder / "manifest.json").read_text(encoding="utf-8"))
         assert manifest["frame_size"] == REFERENCE_FRAME_SIZE
-        assert 1 <= len(manifest["episodes"]) <= 2
+        assert 1 <= len(manifest["episodes"]) <= 3
         for episode in manifest["episodes"]:
             assert (folder / f"{episode['name']}.trace.json").is_file()
             for percent in KEY_PERCENTS:
@@ -63,7 +63,7 @@ def test_committed_references_are_small_and_complete() -> None:
     assert sum(path.stat().st_size for path in RENDERS.rglob("*") if path.is_file()) < 1_000_000
 
 
-@pytest.mark.parametrize("name", ["level-start", "seed0-episode0"])
+@pytest.mark.parametrize("name", ["level-start", "seed0-episode0", "seed0-continuous"])
 def test_play_options_rerun_the_stored_episode(tmp_path: Path, name: str) -> None:
     """The manifest's `play_options` make `guardsim play` write the stored trace, byte for byte."""
     manifest = json.loads((RENDERS / "square" / "manifest.json").read_text(encoding="utf-8"))
@@ -142,6 +142,91 @@ def test_stored_trace_tampered_names_the_first_tick(tmp_path: Path) -> None:
     assert result.exit_code == 1
     assert "level-start: path from tick 3, steps " in result.stdout
     assert "seed0-episode0 " in result.stdout
+
+
+def test_shipped_continuous_case_replays_the_physics_walk() -> None:
+    """The square's continuous reference is a walk of poses at game speeds, and regress passes on it."""
+    manifest = json.loads((RENDERS / "square" / "manifest.json").read_text(encoding="utf-8"))
+    [case] = [episode for episode in manifest["episodes"] if episode.get("motion") == "continuous"]
+    stored = json.loads((RENDERS / "square" / f"{case['name']}.trace.json").read_text(encoding="utf-8"))
+    assert stored["motion"] == "continuous" and stored["outcome"] == "covered"
+    assert len(stored["poses"]) == len(stored["path"]) == case["steps"] + 1
+    assert stored["tick_hz"] == case["tick_hz"]
+
+
+def test_update_in_continuous_motion_then_overrides_and_tampered_poses(tmp_path: Path) -> None:
+    """`--update --motion continuous` stores continuous episodes that later runs re-play without the
+    option; another turning speed differs by field and tick; a pose moved with the cells unchanged is
+    'poses from tick N'; speeds with --motion grid are refused."""
+    level = write_level(tmp_path, SQUARE_WITH_HOLE, "pillar.json")
+    renders = tmp_path / "renders"
+    written = run("regress", level, "--renders", renders, "--update", "--motion", "continuous", "--tick-hz", "10")
+    assert written.exit_code == 0, written.output
+    manifest = json.loads((renders / "pillar" / "manifest.json").read_text(encoding="utf-8"))
+    for episode in manifest["episodes"]:
+        assert (episode["motion"], episode["tick_hz"]) == ("continuous", 10.0)
+        assert episode["play_options"].endswith("--motion continuous --tick-hz 10")
+        assert "move_speed" not in episode  # the level's (or the default) speed, read at each re-play
+    passed = run("regress", level, "--renders", renders)
+    assert passed.exit_code == 0, passed.output
+    slower = run("regress", level, "--renders", renders, "--turn-speed", "45")
+    assert slower.exit_code == 1
+    assert "turn_speed 180.0 -> 45.0" in slower.stdout and "path from tick " in slower.stdout
+    as_grid = run("regress", level, "--renders", renders, "--motion", "grid")
+    assert "motion continuous -> grid" in as_grid.stdout
+    trace_path = renders / "pillar" / "level-start.trace.json"
+    data = json.loads(trace_path.read_text(encoding="utf-8"))
+    data["poses"][5][1] += 0.01
+    trace_path.write_text(json.dumps(data), encoding="utf-8")
+    moved = run("regress", level, "--renders", renders)
+    assert moved.exit_code == 1
+    assert "level-start: poses from tick 5, steps " in moved.stdout
+    refused = run("regress", level, "--renders", renders, "--motion", "grid", "--move-speed", "3")
+    assert refused.exit_code == 2 and "continuous-motion parameters" in refused.output
+
+
+@pytest.mark.parametrize(
+    ("change", "fragment"),
+    [
+        ({"motion": "teleport"}, 'episodes[0]: motion must be one of grid, continuous, not "teleport"'),
+        ({"move_speed": 3}, 'episodes[0]: move_speed is a continuous-motion parameter; add "motion": "continuous"'),
+        ({"motion": "continuous", "tick_hz": -5}, "episodes[0]: tick_hz must be a positive number"),
+        ({"motion": "continuous", "turn_speed": "fast"}, "episodes[0]: turn_speed must be a positive number"),
+    ],
+    ids=["unknown-motion", "speed-on-grid-episode", "negative-rate", "speed-not-a-number"],
+)
+def test_bad_motion_in_a_manifest_is_one_line(tmp_path: Path, change: dict, fragment: str) -> None:
+    """A manifest episode's motion or speed that is wrong is one line naming the manifest, exit 2."""
+    folder = copied_references(tmp_path / "renders", "square") / "square"
+    manifest = json.loads((folder / "manifest.json").read_text(encoding="utf-8"))
+    manifest["episodes"][0].update(change)
+    (folder / "manifest.json").write_text(json.dumps(manifest), encoding="utf-8")
+    line = assert_one_line_error(run("regress", SQUARE, "--renders", folder.parent), folder / "manifest.json")
+    assert fragment in line
+
+
+@pytest.mark.parametrize(
+    ("damage", "fragment"),
+    [
+        ("short", "poses must be a list of one [t, x, y, heading] per tick of the path"),
+        ("not-finite", "poses[2] must be [t, x, y, heading] of finite numbers"),
+        ("no-poses", "a continuous trace needs poses"),
+    ],
+)
+def test_damaged_continuous_reference_trace_is_one_line(tmp_path: Path, damage: str, fragment: str) -> None:
+    """A stored continuous trace whose poses the renderer could not read is refused before drawing."""
+    folder = copied_references(tmp_path / "renders", "square") / "square"
+    trace_path = folder / "seed0-continuous.trace.json"
+    data = json.loads(trace_path.read_text(encoding="utf-8"))
+    if damage == "short":
+        data["poses"] = data["poses"][:-1]
+    elif damage == "not-finite":
+        data["poses"][2][1] = None
+    else:
+        del data["poses"]
+    trace_path.write_text(json.dumps(data), encoding="utf-8")
+    line = assert_one_line_error(run("regress", SQUARE, "--renders", folder.parent), trace_path)
+    assert fragment in line
 
 
 @pytest.mark.parametrize("channel_change", [20, 200], ids=["within-channel-tolerance", "over-it"])

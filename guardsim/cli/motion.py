@@ -9,36 +9,49 @@ import click
 
 from guardsim.cli.common import FiniteFloatRange
 from guardsim.errors import GuardsimError
-from guardsim.motion.parameters import DEFAULT_MOVE_SPEED, DEFAULT_TICK_HZ, DEFAULT_TURN_SPEED, GuardMotion
+from guardsim.motion.parameters import DEFAULT_MOVE_SPEED, DEFAULT_TICK_HZ, DEFAULT_TURN_SPEED, MOTIONS, GuardMotion
 from guardsim.scene import Scene
 
-__all__ = ["MOTIONS", "check_motion", "motion_of", "motion_options"]
+__all__ = ["MOTIONS", "check_motion", "motion_of", "motion_options", "motion_override_options"]
 
 F = TypeVar("F", bound=Callable[..., Any])
 
-#: The two motion models: the paper's grid steps, or the physics body at game speeds (docs/motion.md).
-MOTIONS = ("grid", "continuous")
+
+_SPEED_HELP = (
+    ("--move-speed", f"Continuous motion: walking speed, world units/s [default: the level's, else {DEFAULT_MOVE_SPEED:g}]."),
+    ("--turn-speed", f"Continuous motion: turning speed, degrees/s [default: the level's, else {DEFAULT_TURN_SPEED:g}]."),
+    ("--tick-hz", f"Continuous motion: physics ticks per second [default: the level's, else {DEFAULT_TICK_HZ:g}]."),
+)  # fmt: skip
+_MOTION_HELP = (
+    "grid: a cell per tick, turning free (the paper's model); continuous: a physics body walking and turning "
+    "at game speeds along the planner's route (docs/motion.md)."
+)
+
+
+def _speed_options(command: F, options: tuple[tuple[str, str], ...]) -> F:
+    positive = FiniteFloatRange(min=0, min_open=True)
+    for name, help_text in reversed(options):
+        command = click.option(name, type=positive, help=help_text)(command)
+    return command
 
 
 def motion_options(command: F) -> F:
     """--motion, --move-speed, --turn-speed, --tick-hz, --max-seconds."""
-    positive = FiniteFloatRange(min=0, min_open=True)
-    for name, help_text in reversed(
-        (
-            ("--move-speed", f"Continuous motion: walking speed, world units/s [default: the level's, else {DEFAULT_MOVE_SPEED:g}]."),
-            ("--turn-speed", f"Continuous motion: turning speed, degrees/s [default: the level's, else {DEFAULT_TURN_SPEED:g}]."),
-            ("--tick-hz", f"Continuous motion: physics ticks per second [default: the level's, else {DEFAULT_TICK_HZ:g}]."),
-            ("--max-seconds", "Continuous motion: game-time limit [default: --max-steps walked at --move-speed]."),
-        )
-    ):  # fmt: skip
-        command = click.option(name, type=positive, help=help_text)(command)
+    max_seconds = ("--max-seconds", "Continuous motion: game-time limit [default: --max-steps walked at --move-speed].")
+    command = _speed_options(command, (*_SPEED_HELP, max_seconds))
+    return click.option("--motion", type=click.Choice(MOTIONS), default="grid", show_default=True, help=_MOTION_HELP)(
+        command
+    )
+
+
+def motion_override_options(command: F) -> F:
+    """``regress``'s --motion (no default: each reference episode's own) and the speeds over the episodes'."""
+    command = _speed_options(command, _SPEED_HELP)
     return click.option(
         "--motion",
         type=click.Choice(MOTIONS),
-        default="grid",
-        show_default=True,
-        help="grid: a cell per tick, turning free (the paper's model); continuous: a physics body walking and "
-        "turning at game speeds along the planner's route (docs/motion.md).",
+        help="Re-play every episode in this motion [default: each episode's, from its manifest]; with --update, "
+        "the references are rewritten in it. " + _MOTION_HELP,
     )(command)
 
 

@@ -9,10 +9,11 @@ import click
 
 from guardsim.cli.common import limit_options, load, one_line, reports_errors, with_options
 from guardsim.cli.map_options import MapImport, map_options
+from guardsim.cli.motion import motion_override_options
 from guardsim.errors import GuardsimError, LevelError, OutputError
 from guardsim.reading import display_path
 from guardsim.regress import regress_level
-from guardsim.regress.references import DEFAULT_MAX_FRAME_SIZE
+from guardsim.regress.references import DEFAULT_MAX_FRAME_SIZE, MotionOverride
 
 __all__ = ["level_files", "regress"]
 
@@ -68,6 +69,7 @@ def level_files(paths: tuple[str, ...]) -> list[Path]:
     type=click.Path(file_okay=False),
     help="Write diff images here as LEVEL.diff.png [default: diff.png in each level's reference folder].",
 )
+@motion_override_options
 @map_options
 @click.option(
     "--max-frame-size",
@@ -84,6 +86,10 @@ def regress(
     update: bool,
     diff_dir: str | None,
     max_frame_size: int,
+    motion: str | None,
+    move_speed: float | None,
+    turn_speed: float | None,
+    tick_hz: float | None,
     max_cells: int,
     max_vertices: int,
     max_file_bytes: int,
@@ -93,8 +99,14 @@ def regress(
 
     Compares the trace exactly and the key frames within a tolerance; prints one line per level.
     Exit status: 0 all match, 1 some level differs or has no references (a diff image is written),
-    2 bad input.
+    2 bad input. Each episode is re-played in the motion its manifest names (grid when it names none);
+    --motion and the speeds re-play every episode another way (with --update: rewrite them so).
     """
+    if motion == "grid" and (move_speed, turn_speed, tick_hz) != (None, None, None):
+        raise click.BadParameter("the speeds are continuous-motion parameters", param_hint="--motion grid")
+    override = None
+    if (motion, move_speed, turn_speed, tick_hz) != (None, None, None, None):
+        override = MotionOverride(motion, move_speed, turn_speed, tick_hz)
     files = level_files(level_paths)
     renders_folder = Path(renders)
     if not renders_folder.is_dir():
@@ -117,6 +129,7 @@ def regress(
                 max_frame_size=max_frame_size,
                 max_cells=max_cells,
                 max_file_bytes=max_file_bytes,
+                override=override,
             )
         except GuardsimError as error:
             # One bad level must not hide the results of the others: report it and go on.

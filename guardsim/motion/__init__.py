@@ -18,6 +18,7 @@ from guardsim.motion.parameters import (
     DEFAULT_MOVE_SPEED,
     DEFAULT_TICK_HZ,
     DEFAULT_TURN_SPEED,
+    MOTIONS,
     STEER_DEGREES,
     GuardMotion,
 )
@@ -28,6 +29,7 @@ __all__ = [
     "DEFAULT_MOVE_SPEED",
     "DEFAULT_TICK_HZ",
     "DEFAULT_TURN_SPEED",
+    "MOTIONS",
     "STEER_DEGREES",
     "U_TURN_DEGREES",
     "ContinuousSimulation",

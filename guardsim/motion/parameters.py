@@ -7,7 +7,10 @@ from dataclasses import dataclass
 
 from guardsim.level import GuardSpec
 
-__all__ = ["DEFAULT_MOVE_SPEED", "DEFAULT_TICK_HZ", "DEFAULT_TURN_SPEED", "STEER_DEGREES", "GuardMotion"]
+__all__ = ["DEFAULT_MOVE_SPEED", "DEFAULT_TICK_HZ", "DEFAULT_TURN_SPEED", "MOTIONS", "STEER_DEGREES", "GuardMotion"]
+
+#: The two motion models: the paper's grid steps, or the physics body at game speeds (docs/motion.md).
+MOTIONS = ("grid", "continuous")
 
 #: World units per second: a patrolling walk (1.5-2 m/s) on levels whose unit is about a metre.
 DEFAULT_MOVE_SPEED = 2.0

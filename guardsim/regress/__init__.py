@@ -9,7 +9,7 @@ draws the diff image. ``docs/regression.md`` describes the command built on this
 from __future__ import annotations
 
 from guardsim.regress.frames import Tolerance, compare_frames
-from guardsim.regress.references import KEY_PERCENTS, REFERENCE_FRAME_SIZE, ReplaySpec, default_specs
+from guardsim.regress.references import KEY_PERCENTS, REFERENCE_FRAME_SIZE, MotionOverride, ReplaySpec, default_specs
 from guardsim.regress.replay import EpisodeResult, FrameDifference, LevelResult, regress_level, replay_trace
 
 __all__ = [
@@ -18,6 +18,7 @@ __all__ = [
     "EpisodeResult",
     "FrameDifference",
     "LevelResult",
+    "MotionOverride",
     "ReplaySpec",
     "Tolerance",
     "compare_frames",

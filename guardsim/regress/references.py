@@ -17,7 +17,7 @@ import io
 import json
 import math
 import re
-from dataclasses import dataclass
+from dataclasses import dataclass, replace
 from pathlib import Path
 from typing import Any
 
@@ -25,6 +25,7 @@ import numpy as np
 
 from guardsim.errors import OutputError, RegressionError
 from guardsim.level import DEFAULT_MAX_FILE_BYTES, Level, level_json_text
+from guardsim.motion.parameters import MOTIONS
 from guardsim.output import atomic_path, write_text_atomic
 from guardsim.reading import (
     captured_warnings,
@@ -45,6 +46,7 @@ __all__ = [
     "MANIFEST",
     "REFERENCE_FRAME_SIZE",
     "Manifest",
+    "MotionOverride",
     "ReplaySpec",
     "default_specs",
     "key_frame_path",
@@ -73,6 +75,11 @@ MIN_FRAME_SIZE = 16
 MAX_EPISODES = 1000
 #: Largest seed or episode number (numpy seeds are unbounded, but a 5,000-digit seed is not a test).
 MAX_SEED = 2**63 - 1
+#: The continuous-motion parameters an episode may set, as in a level's ``guard`` object.
+SPEED_KEYS = ("move_speed", "turn_speed", "tick_hz")
+#: Largest speed or rate a manifest may set: past this a walk is not a guard (and 1e300 ticks per second
+#: would be a plan of 1e300 ticks).
+MAX_SPEED = 1e6
 #: Key frames, as percentages of an episode's steps.
 KEY_PERCENTS = (0, 25, 50, 75, 100)
 MANIFEST = "manifest.json"
@@ -90,11 +97,54 @@ class ReplaySpec:
     episode: int | None = None
     """Batch episode number (start and heading drawn as ``guardsim bench`` does), or ``None`` for the
     level's own start and heading, as ``guardsim play LEVEL --seed SEED`` runs it."""
+    motion: str = "grid"
+    """``"grid"`` (a step per tick) or ``"continuous"`` (the physics body at game speeds, docs/motion.md)."""
+    move_speed: float | None = None
+    """Continuous motion: walking speed; ``None`` for the level guard's, else the default."""
+    turn_speed: float | None = None
+    """Continuous motion: turning speed; ``None`` for the level guard's, else the default."""
+    tick_hz: float | None = None
+    """Continuous motion: physics rate; ``None`` for the level guard's, else the default."""
+
+    @property
+    def speeds(self) -> dict[str, float]:
+        """The continuous-motion parameters this episode sets (the others come from the level)."""
+        return {name: value for name in SPEED_KEYS if (value := getattr(self, name)) is not None}
 
     @property
     def play_options(self) -> str:
         """The ``guardsim play`` options that re-run this episode alone."""
-        return f"--seed {self.seed}" + ("" if self.episode is None else f" --episode {self.episode}")
+        options = f"--seed {self.seed}" + ("" if self.episode is None else f" --episode {self.episode}")
+        if self.motion != "grid":
+            options += f" --motion {self.motion}"
+            options += "".join(f" --{name.replace('_', '-')} {value:g}" for name, value in self.speeds.items())
+        return options
+
+    def manifest_entry(self) -> dict[str, Any]:
+        """What the manifest stores of this episode (grid episodes keep the format-1 keys only)."""
+        entry: dict[str, Any] = {"name": self.name, "seed": self.seed, "episode": self.episode}
+        if self.motion != "grid":
+            entry.update(motion=self.motion, **self.speeds)
+        return entry
+
+
+@dataclass(frozen=True)
+class MotionOverride:
+    """``guardsim regress --motion M [--move-speed ...]``: re-play every episode in motion ``motion``
+    (``None``: each episode's own), with the speeds given over the episode's."""
+
+    motion: str | None = None
+    move_speed: float | None = None
+    turn_speed: float | None = None
+    tick_hz: float | None = None
+
+    def applied(self, spec: ReplaySpec) -> ReplaySpec:
+        """``spec`` re-played this way; speeds apply to continuous episodes only (a grid step has none)."""
+        motion = self.motion or spec.motion
+        if motion == "grid":
+            return replace(spec, motion="grid", move_speed=None, turn_speed=None, tick_hz=None)
+        given = {name: value for name in SPEED_KEYS if (value := getattr(self, name)) is not None}
+        return replace(spec, motion=motion, **given)
 
 
 @dataclass(frozen=True)
@@ -154,9 +204,7 @@ def write_references(folder: Path, level: Level, manifest: Manifest, traces: lis
             write_png(key_frame_path(folder, spec.name, percent), frame)
         episodes.append(
             {
-                "name": spec.name,
-                "seed": spec.seed,
-                "episode": spec.episode,
+                **spec.manifest_entry(),
                 "play_options": spec.play_options,
                 "steps": trace.steps,
                 "outcome": trace.outcome,
@@ -222,10 +270,29 @@ def read_manifest(
             raise bad(f"episodes[{index}]: name must be letters, digits, - and _ (at most 64), not {excerpt(name, 40)}")
         if not _is_seed(seed) or not (number is None or _is_seed(number)):
             raise bad(f"episodes[{index}]: seed and episode must be whole numbers from 0 to {MAX_SEED}")
-        specs.append(ReplaySpec(name, seed, number))
+        specs.append(ReplaySpec(name, seed, number, *_motion_of(episode, f"{display_path(path)}: episodes[{index}]: ")))
     if len({spec.name for spec in specs}) != len(specs):
         raise bad("two episodes have the same name")
     return Manifest(frame_size, Tolerance(channel, float(fraction)), tuple(specs))
+
+
+def _motion_of(episode: dict[str, Any], where: str) -> tuple[str, float | None, float | None, float | None]:
+    """An episode's ``motion`` (``grid`` when absent, as manifests written before continuous motion say)
+    and its speeds, or a RegressionError starting with ``where``."""
+    motion = episode.get("motion", "grid")
+    if motion not in MOTIONS:
+        raise RegressionError(f"{where}motion must be one of {', '.join(MOTIONS)}, not {excerpt(motion, 40)}")
+    speeds: list[float | None] = []
+    for key in SPEED_KEYS:
+        value = episode.get(key)
+        if value is not None and motion == "grid":
+            raise RegressionError(f'{where}{key} is a continuous-motion parameter; add "motion": "continuous"')
+        if value is not None and not (_is_number(value) and 0 < value <= MAX_SPEED):
+            raise RegressionError(
+                f"{where}{key} must be a positive number up to {MAX_SPEED:g}, not {excerpt(value, 40)}"
+            )
+        speeds.append(None if value is None else float(value))
+    return motion, speeds[0], speeds[1], speeds[2]
 
 
 def _is_count(value: Any) -> bool:

@@ -6,12 +6,15 @@
 from __future__ import annotations
 
 from collections.abc import Sequence
-from dataclasses import dataclass
+from dataclasses import dataclass, replace
 from pathlib import Path
 from typing import NamedTuple
 
+import numpy as np
+
 from guardsim.errors import RegressionError
 from guardsim.level import DEFAULT_MAX_CELLS, DEFAULT_MAX_FILE_BYTES, Level, level_to_data, parse_level
+from guardsim.motion import GuardMotion, run_continuous
 from guardsim.reading import display_path, excerpt, parse_json
 from guardsim.regress.frames import DiffRow, Tolerance, compare_frames, diff_image
 from guardsim.regress.references import (
@@ -21,6 +24,7 @@ from guardsim.regress.references import (
     MANIFEST,
     REFERENCE_FRAME_SIZE,
     Manifest,
+    MotionOverride,
     ReplaySpec,
     default_specs,
     key_frame_path,
@@ -41,7 +45,12 @@ from guardsim.trace import Trace
 
 __all__ = ["EpisodeResult", "FrameDifference", "LevelResult", "regress_level", "replay_trace"]
 
-_FIELD_WORDS = {"goal": "reachable cells", "traversable": "traversable cells", "shape": "grid shape"}
+_FIELD_WORDS = {
+    "goal": "reachable cells",
+    "traversable": "traversable cells",
+    "shape": "grid shape",
+    "measures": "motion measures",
+}
 
 
 class FrameDifference(NamedTuple):
@@ -116,6 +125,12 @@ class LevelResult:
 
 def replay_trace(scene: Scene, spec: ReplaySpec) -> Trace:
     """Run the episode ``spec`` names, exactly as ``guardsim play LEVEL`` with its play options does."""
+    if spec.motion == "continuous":
+        motion = GuardMotion.of_guard(scene.level.guard, **spec.speeds)
+        # play passes RippleFront's sweeps per tick (default 1) on, and the trace records it.
+        return run_continuous(
+            scene, "ripplefront", seed=spec.seed, episode=spec.episode, motion=motion, sweeps_per_tick=1
+        )
     simulation = Simulation(scene, "ripplefront")
     simulation.reset(seed=spec.seed, episode=spec.episode)
     return simulation.run()
@@ -130,6 +145,7 @@ def regress_level(
     max_frame_size: int = DEFAULT_MAX_FRAME_SIZE,
     max_cells: int = DEFAULT_MAX_CELLS,
     max_file_bytes: int = DEFAULT_MAX_FILE_BYTES,
+    override: MotionOverride | None = None,
 ) -> LevelResult:
     """Re-play ``level`` and compare it with its references in ``renders/<file stem>/``, or rewrite them.
 
@@ -147,6 +163,9 @@ def regress_level(
     max_frame_size, max_cells, max_file_bytes
         Limits on what the stored references may ask for: the manifest's frame size, a stored trace's
         grid, and the size of each stored file. Each is checked before the work it would cost.
+    override
+        A motion (and speeds) to re-play every episode in instead of the manifest's; with ``update`` the
+        references are rewritten in it, so that later runs without it re-play the same.
 
     Raises
     ------
@@ -161,6 +180,8 @@ def regress_level(
         return LevelResult(level.source, folder, "missing")
     if manifest is None:
         manifest = Manifest(REFERENCE_FRAME_SIZE, Tolerance(), default_specs(level))
+    if override is not None:
+        manifest = replace(manifest, specs=tuple(override.applied(spec) for spec in manifest.specs))
     scene = Scene.from_level(level)
     traces = [replay_trace(scene, spec) for spec in manifest.specs]
     default_diff = folder / "diff.png"
@@ -251,18 +272,28 @@ def _trace_changes(reference: Trace, current: Trace) -> tuple[tuple[str, ...], i
     """What differs between two traces, in words, and the first tick where the episodes part."""
     moved = _first_difference(list(zip(reference.path, reference.headings)), list(zip(current.path, current.headings)))
     coverage = _first_difference(reference.unseen_percent, current.unseen_percent)
+    posed = _first_difference(_pose_rows(reference), _pose_rows(current))
     changes = []
     if moved is not None:
         changes.append(f"path from tick {moved}")
+    elif posed is not None:
+        # Same cells, another walk through them (a speed, a turn): the ticks at which the poses part.
+        changes.append(f"poses from tick {posed}")
+        moved = posed
     elif coverage is not None:
         changes.append(f"coverage from tick {coverage}")
     old, new = reference.to_data(), current.to_data()
     if old["outcome"] != new["outcome"]:
         changes.append(f"outcome {old['outcome']} -> {new['outcome']}")
     # Per-tick fields are summed up by the first difference above; "goal" by "reachable" when it changed.
-    said = {"path", "headings", "unseen_percent", "first_seen", "steps", "covered", "start", "outcome"}
+    said = {"path", "headings", "unseen_percent", "first_seen", "steps", "covered", "start", "outcome", "poses"}
     if old["reachable"] != new["reachable"]:
         said.add("goal")
+    # Grid traces carry no motion fields: a change of motion is one clause, not one per field.
+    before_motion, after_motion = old.get("motion", "grid"), new.get("motion", "grid")
+    if before_motion != after_motion:
+        changes.append(f"motion {before_motion} -> {after_motion}")
+        said |= {"motion", "move_speed", "turn_speed", "tick_hz", "seconds", "measures"}
     # A key only the reference has (a stored team trace against a one-guard run) is a change; a key only
     # the current trace has is a field added since the reference was written, and is not.
     for key in old:
@@ -273,3 +304,10 @@ def _trace_changes(reference: Trace, current: Trace) -> tuple[tuple[str, ...], i
                 f"{key} {excerpt(before, 40)} -> {excerpt(after, 40)}" if plain else _FIELD_WORDS.get(key, key)
             )
     return tuple(changes or ["trace text"]), moved if moved is not None else coverage
+
+
+def _pose_rows(trace: Trace) -> list[tuple[float, ...]]:
+    """The poses as the trace's JSON writes them (6 decimals), one tuple per tick; none for grid traces."""
+    if trace.poses is None:
+        return []
+    return [tuple(row) for row in np.round(trace.poses, 6).tolist()]

@@ -13,6 +13,7 @@ from typing import Any
 import numpy as np
 
 from guardsim.errors import RegressionError
+from guardsim.motion.parameters import MOTIONS
 from guardsim.reading import excerpt, json_type
 from guardsim.trace import OUTCOMES, Trace
 
@@ -63,6 +64,7 @@ def trace_from_stored(data: Any, *, source: str, max_cells: int) -> Trace:
         _check_path(path, log, f"guard_paths[{index}]", f"guard_headings[{index}]", rows, cols, bad)
     if paths and data.get("guards", len(paths)) != len(paths):
         raise bad(f"guards is {excerpt(data.get('guards'), 20)} but guard_paths holds {len(paths)} paths")
+    _check_motion(data, len(data["path"]), bad)
     try:
         return Trace.from_data(data)
     except (ValueError, KeyError, TypeError, IndexError, OverflowError) as error:
@@ -90,6 +92,28 @@ def _check_path(path: Any, headings: Any, name: str, headings_name: str, rows: i
         raise bad(f"{headings_name} must be a list as long as {name} ({len(path)})")
     if not all(_is_int(h) and 0 <= h <= 3 for h in headings):
         raise bad(f"{headings_name} must hold heading numbers 0 to 3")
+
+
+def _check_motion(data: dict[str, Any], ticks: int, bad: Any) -> None:
+    """A continuous trace's rate and poses: ``[t, x, y, heading]`` of finite numbers, one per tick of the
+    path (the renderer reads the pose of every tick it draws)."""
+    motion = data.get("motion", "grid")
+    if motion not in MOTIONS:
+        raise bad(f"motion must be one of {', '.join(MOTIONS)}, not {excerpt(motion, 40)}")
+    for key in ("move_speed", "turn_speed", "tick_hz"):
+        value = data.get(key)
+        if value is not None and not (_is_number(value) and math.isfinite(value) and value > 0):
+            raise bad(f"{key} must be a positive number, not {excerpt(value, 40)}")
+    poses = data.get("poses")
+    if motion == "continuous" and poses is None:
+        raise bad("a continuous trace needs poses")
+    if poses is None:
+        return
+    if not (isinstance(poses, list) and len(poses) == ticks):
+        raise bad(f"poses must be a list of one [t, x, y, heading] per tick of the path ({ticks})")
+    for index, pose in enumerate(poses):
+        if not (isinstance(pose, list) and len(pose) == 4 and all(_is_number(v) and math.isfinite(v) for v in pose)):
+            raise bad(f"poses[{index}] must be [t, x, y, heading] of finite numbers, not {excerpt(pose, 40)}")
 
 
 def _check_grid(value: Any, name: str, rows: int, cols: int, bad: Any) -> None:
