@@ -4,8 +4,11 @@ says are unseen at that tick. Skipped only when no Chromium is installed (CI ins
 
 from __future__ import annotations
 
+import base64
 import html
+import itertools
 import json
+import math
 import re
 import shutil
 import subprocess
@@ -17,6 +20,7 @@ import pytest
 from click.testing import CliRunner
 
 from guardsim.cli import main
+from guardsim.level import load_level
 from guardsim.render import COLOURS
 from guardsim.trace import Trace
 from guardsim.viewer import write_viewer
@@ -161,3 +165,285 @@ def test_playback_advances_at_the_chosen_speed_and_stops_at_the_end(square_page,
     assert readout_tick(dom) == trace.steps
     assert element(dom, "play") == "Play"
     assert element(dom, "errors") == ""
+
+
+# --- Patrol and sneak pages: laps, idleness layers, routes, the intruder; the continuous trail ---
+
+
+def rgb_ramp(stops: list, fraction: float) -> tuple[int, int, int]:
+    """The page's colour ramp (viewer.js ``ramp``), with JavaScript's Math.round."""
+    fraction = min(1.0, max(0.0, fraction))
+    for (f0, c0), (f1, c1) in itertools.pairwise(stops):
+        if fraction <= f1:
+            t = (fraction - f0) / (f1 - f0) if f1 > f0 else 0
+            return tuple(math.floor(c0[k] + t * (c1[k] - c0[k]) + 0.5) for k in range(3))  # type: ignore[return-value]
+    return tuple(stops[-1][1])
+
+
+def view(page: Path, fragment: str, profile: Path) -> tuple[str, np.ndarray]:
+    """The page's DOM and a screenshot (RGB) at ``fragment``."""
+    dom = dump(page, fragment, profile)
+    shot = profile.parent / "shot.png"
+    done = chromium(f"{page.as_uri()}#{fragment}", profile, f"--screenshot={shot}")
+    assert done.returncode == 0, done.stderr[-2000:]
+    return dom, iio.imread(shot)[:, :, :3]
+
+
+def cell_pixels(image: np.ndarray, dom: str, cells: np.ndarray) -> np.ndarray:
+    """The centre pixel of each ``(col, row)`` in ``cells``."""
+    left, top, scale = geometry(dom)
+    return image[top + cells[:, 1] * scale + scale // 2, left + cells[:, 0] * scale + scale // 2].astype(int)
+
+
+def away_from(cells: np.ndarray, *points: tuple[int, int], reach: int = 2) -> np.ndarray:
+    """Which ``cells`` lie more than ``reach`` cells from every point (guards and markers are drawn there)."""
+    keep = np.ones(len(cells), dtype=bool)
+    for col, row in points:
+        keep &= (np.abs(cells[:, 0] - col) > reach) | (np.abs(cells[:, 1] - row) > reach)
+    return keep
+
+
+def page_data_of(page: Path) -> dict:
+    from tests.test_viewer import page_json
+
+    return page_json(page.read_text())
+
+
+@pytest.fixture(scope="module")
+def pages(tmp_path_factory) -> Path:
+    from tests.test_viewer import patrol_pages
+
+    return patrol_pages(tmp_path_factory.mktemp("patrol-pages"))
+
+
+def test_patrol_timeline_plays_several_laps_and_tick_period_plus_k_is_lap_tick_k(pages: Path, tmp_path: Path) -> None:
+    """The timeline spans three laps; #tick=period+k reads 'lap 2 / 3 · lap tick k' and draws exactly
+    what tick k draws, and not what tick k+7 draws (the guard has moved)."""
+    page = pages / "p" / "patrol.html"
+    period = page_data_of(page)["laps"]["period"]
+    k = 100
+    fragment = "scale=8&layers=idleness,route,trail,cone&tick="
+    dom, later = view(page, fragment + str(period + k), tmp_path / "profile")
+    assert element(dom, "errors") == ""
+    assert f"tick {period + k} / {3 * period} \u00b7 lap 2 / 3 \u00b7 lap tick {k} / {period} \u00b7" in element(
+        dom, "tick-readout"
+    )
+    left, top, scale = geometry(dom)
+    rows, cols = page_data_of(page)["rows"], page_data_of(page)["cols"]
+    box = (slice(top, top + rows * scale), slice(left, left + cols * scale))
+    dom_first, first = view(page, fragment + str(k), tmp_path / "profile")
+    assert geometry(dom_first) == (left, top, scale)
+    _, moved = view(page, fragment + str(k + 7), tmp_path / "profile")
+    assert (later[box] == first[box]).all()
+    assert (later[box] != moved[box]).any()
+    dom = dump(page, f"tick={10 * period}", tmp_path / "profile")
+    assert element(dom, "tick-readout").startswith(f"tick {3 * period} / {3 * period} ")
+    dom = dump(
+        page,
+        f"tick={4 * period + 3}&laps=5&layers=coverage,trail,cone,heat,idleness,idle-now,route",
+        tmp_path / "profile",
+    )
+    assert element(dom, "errors") == ""
+    assert f"lap 5 / 5 \u00b7 lap tick 3 / {period}" in element(dom, "tick-readout")
+
+
+def test_idleness_layer_has_the_colour_bars_colours_and_holes(pages: Path, tmp_path: Path) -> None:
+    """With the worst-gap layer alone, every goal cell's pixel is the ramp colour of its value over the
+    colour bar's range, and the bar shows that colour where the value lies on it; null cells show the
+    floor or the wall, not a heat colour."""
+    page = pages / "p" / "patrol.html"
+    data = page_data_of(page)
+    rows, cols = data["rows"], data["cols"]
+    values = np.frombuffer(base64.b64decode(data["idleness"]["values"]), dtype="<f4").reshape(rows, cols)
+    top_value = data["idleness"]["max"]
+    dom, image = view(page, "tick=0&layers=idleness&scale=8", tmp_path / "profile")
+    assert element(dom, "bar-label") == "worst gap" and element(dom, "bar-unit") == "ticks"
+    assert float(element(dom, "bar-max")) == top_value
+    path = np.frombuffer(base64.b64decode(data["paths"][0]), dtype="<i4")
+    guard = (int(path[0] % cols), int(path[0] // cols))
+    rr, cc = np.nonzero(values >= 0)
+    cells = np.stack([cc, rr], axis=1)
+    cells = cells[away_from(cells, guard)]
+    pixels = cell_pixels(image, dom, cells)
+    expected = np.array([rgb_ramp(data["ramp"], float(values[r, c]) / top_value) for c, r in cells])
+    assert (pixels == expected).all()
+    assert len(np.unique(expected, axis=0)) > 20
+    bar_left = int(re.search(r'data-bar-left="(\d+)"', dom).group(1))  # type: ignore[union-attr]
+    bar_top = int(re.search(r'data-bar-top="(\d+)"', dom).group(1))  # type: ignore[union-attr]
+    for c, r in cells[:: max(1, len(cells) // 40)]:
+        x = bar_left + 1 + round(float(values[r, c]) / top_value * 255)
+        bar = image[bar_top + 1 + 7, x].astype(int)
+        assert np.abs(bar - np.array(rgb_ramp(data["ramp"], float(values[r, c]) / top_value))).max() <= 3
+    rr, cc = np.nonzero(values < 0)
+    holes = np.stack([cc, rr], axis=1)
+    holes = holes[away_from(holes, guard)]
+    hole_pixels = cell_pixels(image, dom, holes)
+    floor_or_wall = (hole_pixels == COLOURS["free"]).all(axis=1) | (hole_pixels == COLOURS["wall"]).all(axis=1)
+    assert len(holes) > 0 and floor_or_wall.all()
+
+
+def test_never_seen_cells_are_drawn_apart(pages: Path, tmp_path: Path) -> None:
+    """Past the corridor post, the hiding-spot layer draws the never-seen cells black and the others in
+    the ramp's colours."""
+    page = pages / "c" / "sneak.html"
+    data = page_data_of(page)
+    rows, cols = data["rows"], data["cols"]
+    never = np.frombuffer(base64.b64decode(data["idleness"]["never"]), dtype=np.uint8).reshape(rows, cols) == 1
+    values = np.frombuffer(base64.b64decode(data["idleness"]["values"]), dtype="<f4").reshape(rows, cols)
+    dom, image = view(page, "tick=0&layers=idleness&scale=20", tmp_path / "profile")
+    assert element(dom, "errors") == ""
+    rr, cc = np.nonzero(never)
+    pixels = cell_pixels(image, dom, np.stack([cc, rr], axis=1))
+    assert len(pixels) > 0 and (pixels == 0).all()
+    rr, cc = np.nonzero(values >= 0)
+    cells = np.stack([cc, rr], axis=1)
+    cells = cells[away_from(cells, (5, 1), reach=0)]
+    pixels = cell_pixels(image, dom, cells)
+    assert len(cells) > 0 and (pixels != 0).any(axis=1).all()
+
+
+def _steady_idleness(seen: np.ndarray, tau: int) -> np.ndarray:
+    """Each cell's ticks since last seen at lap tick ``tau``, the lap repeating for ever; -1 if never."""
+    period = seen.shape[0]
+    two = np.concatenate([seen, seen])
+    ticks = np.arange(2 * period)[:, None]
+    last = np.where(two[: period + tau + 1], ticks[: period + tau + 1], -1).max(axis=0)
+    return np.where(seen.any(axis=0), period + tau - last, -1)
+
+
+def test_idleness_now_is_the_ticks_since_each_cell_was_last_seen(pages: Path, tmp_path: Path) -> None:
+    """At page tick period+k the animated layer colours each goal cell by its idleness at lap tick k, as
+    replayed here from the patrol's own views (steady state: the lap repeats), over the bar's range."""
+    from guardsim.patrol import read_patrol, seen_timeline
+    from guardsim.scene import Scene
+    from guardsim.vision.table import view_table
+
+    page = pages / "p" / "patrol.html"
+    data = page_data_of(page)
+    rows, cols, period = data["rows"], data["cols"], data["laps"]["period"]
+    scene = Scene.from_level(load_level(SQUARE))
+    patrol = read_patrol(pages / "p" / "patrol.json", scene.grid)
+    seen = seen_timeline(view_table(scene.grid, scene.vision()), patrol.states, scene.grid.size)
+    k = 300
+    idle = _steady_idleness(seen, k).reshape(rows, cols)
+    dom, image = view(page, f"tick={period + k}&layers=idle-now&scale=8", tmp_path / "profile")
+    assert element(dom, "bar-label") == "idleness now"
+    assert element(dom, "bar-max") == str(data["laps"]["max"])
+    kinds = np.frombuffer(base64.b64decode(data["kinds"]), dtype=np.uint8).reshape(rows, cols)
+    path = np.frombuffer(base64.b64decode(data["paths"][0]), dtype="<i4")
+    guards = [(int(path[t] % cols), int(path[t] // cols)) for t in (0, k)]
+    rr, cc = np.nonzero(kinds == 1)
+    cells = np.stack([cc, rr], axis=1)
+    cells = cells[away_from(cells, *guards)]
+    pixels = cell_pixels(image, dom, cells)
+    expected = np.array([rgb_ramp(data["ramp"], idle[r, c] / data["laps"]["max"]) for c, r in cells])
+    assert (pixels == expected).all()
+    assert (idle[cells[:, 1], cells[:, 0]] == 0).any() and (idle[cells[:, 1], cells[:, 0]] > 300).any()
+
+
+def test_each_guards_loop_is_drawn_as_a_closed_polyline(pages: Path, tmp_path: Path) -> None:
+    """With the route layer, the cell centres along every straight run between two waypoints are the
+    guard's dark route colour; without it they are not."""
+    page = pages / "p" / "patrol.html"
+    data = page_data_of(page)
+    cols = data["cols"]
+    path = np.frombuffer(base64.b64decode(data["paths"][0]), dtype="<i4")
+    start = (int(path[0] % cols), int(path[0] // cols))
+    along = []
+    route = data["routes"][0]
+    for (x0, y0), (x1, y1) in itertools.pairwise(route):
+        c0, r0, c1, r1 = int(x0), int(y0), int(x1), int(y1)
+        steps = max(abs(c1 - c0), abs(r1 - r0))
+        along += [(c0 + (c1 - c0) * i // steps, r0 + (r1 - r0) * i // steps) for i in range(1, steps)]
+    cells = np.asarray(along)
+    cells = cells[away_from(cells, start)]
+    assert len(cells) > 100
+    colour = tuple(int(data["route_colours"][0][i : i + 2], 16) for i in (1, 3, 5))
+    dom, image = view(page, "tick=0&layers=route&scale=8", tmp_path / "profile")
+    assert (cell_pixels(image, dom, cells) == colour).all(axis=1).all()
+    dom, image = view(page, "tick=0&layers=trail&scale=8", tmp_path / "profile")
+    assert (cell_pixels(image, dom, cells) == colour).all(axis=1).mean() < 0.05
+
+
+def test_the_intruder_has_no_cone_and_is_marked_while_in_view(pages: Path, tmp_path: Path) -> None:
+    """Past the corridor post: as it enters, the intruder is a white disc with floor all round it (no cone
+    of its own) while the post's cone tints the corridor; at a tick in view it is black, ringed red, and
+    the readout says so."""
+    page = pages / "c" / "sneak.html"
+    data = page_data_of(page)
+    intruder = data["intruder"]
+    cols = data["cols"]
+    path = np.frombuffer(base64.b64decode(intruder["path"]), dtype="<i4")
+    in_view = np.frombuffer(base64.b64decode(intruder["in_view"]), dtype=np.uint8)
+    fragment = "layers=cone,intruder&scale=20&tick="
+    dom, image = view(page, fragment + str(intruder["start"]), tmp_path / "profile")
+    assert element(dom, "errors") == "" and element(dom, "intruder-readout").endswith(": unseen")
+    left, top, scale = geometry(dom)
+    col, row = int(path[0] % cols), int(path[0] // cols)
+    x, y = left + col * scale + scale // 2, top + row * scale + scale // 2
+    assert tuple(image[y, x]) == (255, 255, 255)
+    around = [(x + dx, y + dy) for dx, dy in ((30, 0), (0, 30), (30, 30), (40, 10), (10, 40))]
+    assert all(tuple(image[py, px]) == COLOURS["free"] for px, py in around)
+    assert tuple(image[top + scale + scale // 2, left + 7 * scale + scale // 2]) != COLOURS["free"]
+    step = int(np.flatnonzero(in_view)[0])
+    dom, image = view(page, fragment + str(intruder["start"] + step), tmp_path / "profile")
+    assert element(dom, "intruder-readout").endswith(": IN VIEW")
+    col, row = int(path[step] % cols), int(path[step] // cols)
+    x, y = left + col * scale + scale // 2, top + row * scale + scale // 2
+    assert tuple(image[y, x]) == (0, 0, 0)
+    radius = max(7, 0.45 * scale)
+    red = image[y - 2 : y + 3, x + round(radius) + 3 : x + round(radius) + 6].reshape(-1, 3).astype(int)
+    assert ((red[:, 0] > 200) & (red[:, 1] < 90) & (red[:, 2] < 90)).any()
+
+
+def test_the_square_sneak_page_plays_the_intruders_walk(pages: Path, tmp_path: Path) -> None:
+    """sneak.html on Square: the intruder is not in before its start tick, walks unseen and arrives."""
+    page = pages / "s" / "sneak.html"
+    intruder = page_data_of(page)["intruder"]
+    ticks = len(np.frombuffer(base64.b64decode(intruder["path"]), dtype="<i4")) - 1
+    dom = dump(page, f"tick={intruder['start'] + 5}", tmp_path / "profile")
+    assert element(dom, "errors") == ""
+    assert element(dom, "intruder-readout") == f"intruder tick 5 / {ticks}: unseen"
+    dom = dump(page, f"tick={intruder['start'] + ticks}", tmp_path / "profile")
+    assert element(dom, "intruder-readout") == f"intruder arrived after {ticks} ticks, 0 in view"
+
+
+def test_continuous_trail_passes_through_the_poses_not_the_cell_centres(tmp_path: Path) -> None:
+    """A guard walking along y = 5.9 (row 5, whose centres are at y = 5.5): the trail covers the pixels
+    of its poses and leaves the cell-centre line bare."""
+    ticks = 36
+    xs = 2.5 + 0.5 * np.arange(ticks + 1)
+    poses = np.stack([np.arange(ticks + 1) / 30, xs, np.full(ticks + 1, 5.9), np.zeros(ticks + 1)], axis=1)
+    free = np.ones((12, 24), dtype=bool)
+    trace = Trace(
+        level="walk",
+        planner="synthetic",
+        seed=0,
+        cell_size=1.0,
+        origin=(0.0, 0.0),
+        shape=(12, 24),
+        path=tuple((int(x), 5) for x in xs),
+        headings=(0,) * (ticks + 1),
+        unseen_percent=(50.0,) * (ticks + 1),
+        outcome="step_limit",
+        reachable=int(free.sum()),
+        unreachable=0,
+        first_seen=np.zeros((12, 24), dtype=int),
+        goal=free,
+        traversable=free,
+        motion="continuous",
+        tick_hz=30.0,
+        poses=poses,
+    )
+    page = tmp_path / "walk.html"
+    write_viewer(page, None, trace)
+    dom, image = view(page, f"tick={ticks}&layers=trail&scale=10", tmp_path / "profile")
+    assert element(dom, "errors") == ""
+    left, top, scale = geometry(dom)
+    xs_px = left + np.arange(5 * scale, 15 * scale)
+    on_poses = image[top + 59, xs_px].astype(int)
+    on_centres = image[top + 55, xs_px].astype(int)
+    assert (on_centres == COLOURS["free"]).all(axis=1).all()
+    # The oldest stretch fades towards the floor, as the GIF's does; it stays red over the floor's white.
+    reddish = (on_poses[:, 0] > on_poses[:, 1] + 20) & (on_poses[:, 0] > on_poses[:, 2] + 20)
+    assert reddish.all()
