@@ -147,6 +147,11 @@ def test_every_layer_and_a_team_draw_without_errors(tmp_path: Path) -> None:
     assert element(dom, "tick-readout") == f"tick 150 / 300 \u00b7 {trace.unseen_percent[150]:.1f}% unseen"
 
 
+def timeline_marks(dom: str) -> str:
+    """The inside of the timeline's datalist."""
+    return dom.split('id="timeline-marks"')[1].split("</datalist>")[0]
+
+
 def readout_tick(dom: str) -> int:
     found = re.match(r"tick (\d+) / ", element(dom, "tick-readout"))
     assert found is not None
@@ -217,8 +222,8 @@ def pages(tmp_path_factory) -> Path:
 
 
 def test_patrol_timeline_plays_several_laps_and_tick_period_plus_k_is_lap_tick_k(pages: Path, tmp_path: Path) -> None:
-    """The timeline spans three laps; #tick=period+k reads 'lap 2 / 3 · lap tick k' and draws exactly
-    what tick k draws, and not what tick k+7 draws (the guard has moved)."""
+    """The timeline spans three laps, marked where each begins; #tick=period+k reads 'lap 2 / 3 · lap
+    tick k' and draws exactly what tick k draws, and not what tick k+7 draws (the guard has moved)."""
     page = pages / "p" / "patrol.html"
     period = page_data_of(page)["laps"]["period"]
     k = 100
@@ -236,6 +241,8 @@ def test_patrol_timeline_plays_several_laps_and_tick_period_plus_k_is_lap_tick_k
     _, moved = view(page, fragment + str(k + 7), tmp_path / "profile")
     assert (later[box] == first[box]).all()
     assert (later[box] != moved[box]).any()
+    marks = {int(v) for v in re.findall(r'<option value="(\d+)">', timeline_marks(dom))}
+    assert marks == {period, 2 * period}
     dom = dump(page, f"tick={10 * period}", tmp_path / "profile")
     assert element(dom, "tick-readout").startswith(f"tick {3 * period} / {3 * period} ")
     dom = dump(
@@ -388,6 +395,9 @@ def test_the_intruder_has_no_cone_and_is_marked_while_in_view(pages: Path, tmp_p
     step = int(np.flatnonzero(in_view)[0])
     dom, image = view(page, fragment + str(intruder["start"] + step), tmp_path / "profile")
     assert element(dom, "intruder-readout").endswith(": IN VIEW")
+    # The timeline marks where the intruder enters, where it comes into view and where it arrives.
+    marks = {int(v) for v in re.findall(r'<option value="(\d+)">', timeline_marks(dom))}
+    assert {intruder["start"], intruder["start"] + step, intruder["start"] + len(path) - 1} <= marks
     col, row = int(path[step] % cols), int(path[step] // cols)
     x, y = left + col * scale + scale // 2, top + row * scale + scale // 2
     assert tuple(image[y, x]) == (0, 0, 0)

@@ -193,6 +193,21 @@ const GuardsimLayers = (function () {
       barContext.putImageData(image, 0, 0);
     }
 
+    // Ticks marked on the timeline: where each lap begins, where the intruder enters, each stretch in
+    // view begins, and where it arrives.
+    function marks(total) {
+      const found = new Set();
+      if (laps && total / period <= 50) for (let t = period; t < total; t += period) found.add(t);
+      if (intruder) {
+        found.add(intruder.start);
+        for (let step = 0; step < intruder.path.length; step++) {
+          if (intruder.inView[step] === 1 && (step === 0 || intruder.inView[step - 1] !== 1)) found.add(intruder.start + step);
+        }
+        found.add(intruder.start + intruder.path.length - 1);
+      }
+      return [...found].filter((t) => t >= 0 && t <= total).sort((a, b) => a - b);
+    }
+
     const present = [];
     if (heat) present.push("idleness");
     if (runs) present.push("idle-now");
@@ -210,7 +225,7 @@ const GuardsimLayers = (function () {
       return items;
     }
 
-    return { total, local, drawUnder, drawOver, describe, intruderText, colourBar, paintBar, present, legend, idleAt };
+    return { total, local, drawUnder, drawOver, describe, intruderText, colourBar, paintBar, present, legend, marks };
   }
 
   return { make: make };

@@ -328,6 +328,12 @@
       for (const name of extra.present) document.querySelector('[data-layer="' + name + '"]').parentElement.hidden = false;
       if (data.idleness) document.getElementById("idleness-name").textContent = data.idleness.label;
       extra.paintBar(bar.canvas);
+      const list = document.getElementById("timeline-marks");
+      for (const mark of extra.marks(total)) {
+        const option = document.createElement("option");
+        option.value = String(mark);
+        list.append(option);
+      }
     }
     const intruderReadout = document.getElementById("intruder-readout");
 
