@@ -1,7 +1,21 @@
-"""The interactive episode viewer: one offline HTML page per trace (see ``docs/rendering.md``)."""
+"""The interactive episode viewer: one offline HTML page per trace (see ``docs/rendering.md``).
+
+A patrol's or a sneak's page adds :class:`Overlays` (see ``docs/patrols.md``); build them from results
+with :mod:`guardsim.viewer.patrols`.
+"""
 
 from __future__ import annotations
 
+from guardsim.viewer.layers import IdlenessMap, Intruder, LapViews, Overlays
 from guardsim.viewer.page import FIELD_BUDGET_BYTES, build_page, page_data, write_viewer
 
-__all__ = ["FIELD_BUDGET_BYTES", "build_page", "page_data", "write_viewer"]
+__all__ = [
+    "FIELD_BUDGET_BYTES",
+    "IdlenessMap",
+    "Intruder",
+    "LapViews",
+    "Overlays",
+    "build_page",
+    "page_data",
+    "write_viewer",
+]
