@@ -420,7 +420,7 @@ def test_the_square_sneak_page_plays_the_intruders_walk(pages: Path, tmp_path: P
 
 def test_continuous_trail_passes_through_the_poses_not_the_cell_centres(tmp_path: Path) -> None:
     """A guard walking along y = 5.9 (row 5, whose centres are at y = 5.5): the trail covers the pixels
-    of its poses and leaves the cell-centre line bare."""
+    of its poses and leaves the cell-centre line bare. The speed menu says which speed is game time."""
     ticks = 36
     xs = 2.5 + 0.5 * np.arange(ticks + 1)
     poses = np.stack([np.arange(ticks + 1) / 30, xs, np.full(ticks + 1, 5.9), np.zeros(ticks + 1)], axis=1)
@@ -449,6 +449,7 @@ def test_continuous_trail_passes_through_the_poses_not_the_cell_centres(tmp_path
     write_viewer(page, None, trace)
     dom, image = view(page, f"tick={ticks}&layers=trail&scale=10", tmp_path / "profile")
     assert element(dom, "errors") == ""
+    assert ">30 ticks/s (real time)<" in dom and ">60 ticks/s (\u00d72)<" in dom
     left, top, scale = geometry(dom)
     xs_px = left + np.arange(5 * scale, 15 * scale)
     on_poses = image[top + 59, xs_px].astype(int)

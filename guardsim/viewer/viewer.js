@@ -164,6 +164,13 @@
     const context = canvas.getContext("2d");
     timeline.max = String(steps);
     if (field) document.getElementById("field-toggle").hidden = false;
+    // Continuous motion: say which speed is game time (a physics tick is 1 / tick_hz s).
+    if (data.tick_hz) {
+      for (const option of speed.options) {
+        const times = Number(option.value) / data.tick_hz;
+        option.textContent += times === 1 ? " (real time)" : " (\u00d7" + (Math.round(times * 100) / 100) + ")";
+      }
+    }
 
     const hash = parseHash();
     const layers = {};
