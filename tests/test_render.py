@@ -488,3 +488,143 @@ def test_continuous_motion_draws_the_recorded_pose_and_game_time() -> None:
     assert frame[drawer.layout.top + y, drawer.layout.left + x - 2] == guard_index(0)
     ring = drawer.cone_polygon(0, 1)
     assert ring[0] == drawer.to_pixels((4.9, 6.2))
+
+
+# -- continuous motion: the trail through the poses, frames in game time ------------------------------
+
+CONTINUOUS_SQUARE = Path("renders/square/seed0-continuous.trace.json")
+
+
+def trail_mask(drawer: FrameDrawer, frame: np.ndarray) -> np.ndarray:
+    """``bool`` over the play area: pixels in guard 0's faded trail colours, from RGB. The newest level is
+    left out: it is the guard's own colour, also used by its disc, start marker and cone outline."""
+    layout = drawer.layout
+    play = frame[layout.top : layout.top + layout.play[1], layout.left : layout.left + layout.play[0]]
+    colours = palette_rgb()[[trail_index(0, level) for level in range(1, 5)]]
+    return (play[:, :, None, :] == colours[None, None]).all(axis=3).any(axis=2)
+
+
+def pixel_centres(mask: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
+    """Play-area coordinates of the centres of the pixels set in ``mask``."""
+    rows, cols = np.nonzero(mask)
+    return cols + 0.5, rows + 0.5
+
+
+def colour_of(index: int) -> tuple[int, ...]:
+    return tuple(int(v) for v in palette_rgb()[index])
+
+
+def continuous_hand_trace(poses: np.ndarray, tick_hz: float = 10.0) -> tuple:
+    """A continuous trace by hand on the shadow room: ``poses`` and the cells they lie in."""
+    cells = [(int(x), int(y)) for _, x, y, _ in poses]
+    level, trace = hand_trace(SHADOW_ROOM, cells, [0] * len(cells))
+    fields = {name: getattr(trace, name) for name in trace.__dataclass_fields__}
+    return level, Trace(**{**fields, "motion": "continuous", "tick_hz": tick_hz, "poses": poses})
+
+
+def test_continuous_trail_is_the_diagonal_walked_not_the_cell_staircase() -> None:
+    """A guard walking a string-pulled diagonal leaves its trail along the diagonal: every trail pixel of the
+    decoded GIF lies within half the trail's width (and a pixel of rasterising) of the segment, and most lie
+    off the bands between cell centres that a staircase through the same cells would draw. The guard then
+    stands 200 ticks, so the whole trail has faded to colours of its own."""
+    walk, steps = 40, 240
+    t = np.minimum(np.arange(steps + 1) / walk, 1.0)
+    start, end = np.array([1.5, 1.5]), np.array([6.5, 10.5])
+    xy = start + t[:, None] * (end - start)
+    heading = math.degrees(math.atan2(*(end - start)[::-1]))
+    poses = np.column_stack([np.arange(steps + 1) / 10, xy, np.full(steps + 1, heading)])
+    level, trace = continuous_hand_trace(poses)
+    drawer = FrameDrawer(level, trace)
+    frame = decode(encode_gif(level, trace, GifOptions(stride=walk)))[-1]
+    xs, ys = pixel_centres(trail_mask(drawer, frame))
+    assert xs.size > 100
+    a, b = np.array(drawer.to_pixels(tuple(start))), np.array(drawer.to_pixels(tuple(end)))
+    along = np.clip(((xs - a[0]) * (b - a)[0] + (ys - a[1]) * (b - a)[1]) / ((b - a) ** 2).sum(), 0, 1)
+    distance = np.hypot(xs - (a[0] + along * (b - a)[0]), ys - (a[1] + along * (b - a)[1]))
+    assert distance.max() <= drawer.trail_width / 2 + 1.5
+    scale = drawer.layout.scale
+    # Distance to the nearest line through cell centres (rows or columns): a staircase's bands stay
+    # within half the trail's width of them, so none of its pixels would be this far off.
+    off_row = np.abs((ys - PLAY_PAD) / scale % 1 - 0.5) * scale
+    off_col = np.abs((xs - PLAY_PAD) / scale % 1 - 0.5) * scale
+    assert (np.minimum(off_row, off_col) > drawer.trail_width / 2 + 1).mean() > 0.2
+
+
+def test_continuous_trail_follows_the_recorded_poses_frame_by_frame() -> None:
+    """The square's continuous reference episode, decoded frame by frame: the trail is the polyline through
+    the poses up to the frame's tick, never ahead of the guard, and it covers that polyline (except where
+    the guard's disc, the start marker or the cone outline is drawn over it)."""
+    from shapely import LineString, Point, contains_xy
+
+    level = load_level(SQUARE)
+    trace = Trace.from_data(json.loads(CONTINUOUS_SQUARE.read_text(encoding="utf-8")))
+    options = GifOptions(max_frames=12)
+    frames = decode(encode_gif(level, trace, options))
+    drawer = FrameDrawer(level, trace)
+    points = np.column_stack(drawer.to_pixels((trace.poses[:, 1], trace.poses[:, 2])))
+    half = drawer.trail_width / 2
+    checked = 0
+    for frame, tick in zip(frames, frame_ticks(trace.steps, options), strict=True):
+        if tick < 2:
+            continue
+        walked = LineString(points[: tick + 1])
+        mask = trail_mask(drawer, frame)
+        xs, ys = pixel_centres(mask)
+        assert contains_xy(walked.buffer(half + 1.5), xs, ys).all(), tick
+        # Every pose point walked is under trail colour, or under a marker drawn on top of it.
+        layout = drawer.layout
+        play = frame[layout.top : layout.top + layout.play[1], layout.left : layout.left + layout.play[0]]
+        guard_colour = palette_rgb()[guard_index(0)]
+        marked = mask | (play == guard_colour).all(axis=2)
+        eye = Point(points[tick]).buffer(2.5 * max(7, 0.45 * layout.scale))
+        for x, y in points[: tick + 1 : 7]:
+            if not eye.contains(Point(x, y)):
+                assert marked[int(y), int(x)] or marked[int(y - 0.5), int(x - 0.5)], (tick, x, y)
+        checked += 1
+    assert checked >= 10
+
+
+def test_speed_up_shows_frames_in_game_time(tmp_path: Path) -> None:
+    """--speed-up 4: each frame is shown for the game time to the next frame over 4 (hundredths on the
+    running clock, never under 20 ms), the caption says 4x, and the frames are the poses' frames."""
+    trace_path = tmp_path / "walk.json"
+    gif = tmp_path / "walk.gif"
+    result = CliRunner().invoke(
+        main,
+        ["play", str(SQUARE), "--motion", "continuous", "--tick-hz", "10", "--max-seconds", "30",
+         "--speed-up", "4", "--gif", str(gif), "--trace", str(trace_path)],
+    )  # fmt: skip
+    assert result.exit_code == 0, result.output
+    trace = Trace.from_data(json.loads(trace_path.read_text()))
+    options = GifOptions(speed_up=4.0)
+    ticks = frame_ticks(trace.steps, options, trace.tick_hz)
+    assert ticks[1] == 3  # 60 ms of GIF at 4x is 0.24 s of game time: 3 ticks at 10 Hz
+    with Image.open(gif) as image:
+        durations = []
+        for number in range(image.n_frames):
+            image.seek(number)
+            durations.append(image.info["duration"])
+    assert len(durations) == len(ticks)
+    assert min(durations) >= 20 and all(d % 10 == 0 for d in durations)
+    clock = np.cumsum([0, *durations[:-1]])
+    game = np.asarray(ticks) / trace.tick_hz / 4 * 1000
+    assert np.abs(clock - game).max() <= 5
+    drawer = FrameDrawer(load_level(SQUARE), trace, speed_up=4.0)
+    assert "4x" in drawer.caption(ticks[1])[0]
+    frames = decode(gif)
+    layout = drawer.layout
+    for index in (1, len(ticks) // 2, -1):
+        # The guard's disc at the pose of the frame's tick (the trace's poses are rounded to 6 decimals,
+        # so the frame drawn from it may differ from the GIF's by a pixel of rasterising here and there).
+        (x, y), heading = drawer.pose(0, ticks[index])
+        px, py = drawer.to_pixels((x, y))
+        # Behind the centre, away from the white eye and the nose.
+        px, py = px - 4 * math.cos(math.radians(heading)), py - 4 * math.sin(math.radians(heading))
+        assert tuple(frames[index][layout.top + int(py), layout.left + int(px)]) == colour_of(guard_index(0))
+
+
+def test_speed_up_needs_continuous_motion(tmp_path: Path) -> None:
+    """Grid ticks have no game time: --speed-up with --motion grid is a usage error (exit 2)."""
+    result = CliRunner().invoke(main, ["play", str(SQUARE), "--gif", str(tmp_path / "g.gif"), "--speed-up", "2"])
+    assert result.exit_code == 2
+    assert "--speed-up" in result.output and "--motion continuous" in result.output

@@ -12,7 +12,15 @@ from guardsim.errors import GuardsimError
 from guardsim.motion.parameters import DEFAULT_MOVE_SPEED, DEFAULT_TICK_HZ, DEFAULT_TURN_SPEED, MOTIONS, GuardMotion
 from guardsim.scene import Scene
 
-__all__ = ["MOTIONS", "check_motion", "motion_of", "motion_options", "motion_override_options"]
+__all__ = [
+    "MOTIONS",
+    "check_motion",
+    "check_speed_up",
+    "motion_of",
+    "motion_options",
+    "motion_override_options",
+    "speed_up_option",
+]
 
 F = TypeVar("F", bound=Callable[..., Any])
 
@@ -53,6 +61,22 @@ def motion_override_options(command: F) -> F:
         help="Re-play every episode in this motion [default: each episode's, from its manifest]; with --update, "
         "the references are rewritten in it. " + _MOTION_HELP,
     )(command)
+
+
+def speed_up_option(command: F) -> F:
+    """``play``'s --speed-up: the GIF of a continuous episode in game time."""
+    return click.option(
+        "--speed-up",
+        type=FiniteFloatRange(min=0, min_open=True),
+        help="Continuous motion: the GIF plays this many game seconds a second (1 = real time), frames at "
+        "least --frame-ms apart [default: each frame shown --frame-ms].",
+    )(command)
+
+
+def check_speed_up(motion: str, speed_up: float | None) -> None:
+    """Refuse --speed-up for grid episodes, whose ticks have no game time."""
+    if speed_up is not None and motion != "continuous":
+        raise click.BadParameter("grid ticks have no game time; it needs --motion continuous", param_hint="--speed-up")
 
 
 def check_motion(motion: str, guards: int, los: str) -> None:

@@ -9,7 +9,7 @@ import click
 
 from guardsim.cli.common import build_scene, cli_start, limit_options, load, parse_point, reports_errors, vision_options
 from guardsim.cli.map_options import MapImport, map_options
-from guardsim.cli.motion import check_motion, motion_of, motion_options
+from guardsim.cli.motion import check_motion, check_speed_up, motion_of, motion_options, speed_up_option
 from guardsim.level import HEADINGS
 from guardsim.motion import run_continuous, summary_text
 from guardsim.output import write_text_atomic
@@ -59,6 +59,7 @@ __all__ = ["play"]
 @click.option("--stride", type=click.IntRange(min=1), help="Ticks between GIF frames [default: fit --max-frames].")
 @click.option("--frame-ms", type=click.IntRange(min=10), default=60, show_default=True, help="GIF frame duration.")
 @click.option("--max-frames", type=click.IntRange(min=1), default=DEFAULT_MAX_FRAMES, show_default=True)
+@speed_up_option
 @vision_options
 @motion_options
 @map_options
@@ -82,6 +83,7 @@ def play(
     stride: int | None,
     frame_ms: int,
     max_frames: int,
+    speed_up: float | None,
     los: str,
     fov: float | None,
     view_range: float | None,
@@ -103,6 +105,7 @@ def play(
     then feeds the planners, as in `guardsim bench`.
     """
     check_motion(motion, guards, los)
+    check_speed_up(motion, speed_up)
     if record_field and planner not in ("ripplefront", "ripplefront-exact"):
         raise click.BadParameter(f"planner {planner} keeps no field to record", param_hint="--record-field")
     level = load(level_path, max_cells, max_vertices, max_file_bytes, map_import)
@@ -125,7 +128,7 @@ def play(
         simulation.reset(seed=seed, starts=cells, headings=headings, rng=rng)
         trace = simulation.run()
     seconds = time.perf_counter() - began
-    gif_options = GifOptions(stride=stride, frame_ms=frame_ms, max_frames=max_frames)
+    gif_options = GifOptions(stride=stride, frame_ms=frame_ms, max_frames=max_frames, speed_up=speed_up)
     written = []
     if gif_path:
         from guardsim.render.gif import write_gif

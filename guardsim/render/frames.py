@@ -7,19 +7,24 @@ frame are repainted, trail segments walked since then are added to a layer that 
 tick it was last walked, and only the cones are recomputed. The trail fades in whole blocks of ticks, so
 between two block boundaries a frame differs from the previous one only near the guards and in the
 caption, which keeps the GIF's per-frame rectangles small.
+
+Under continuous motion the trace records the body's pose at every physics tick; the guard and its cone
+are drawn at the pose and the trail is the polyline through the poses (a diagonal walked as a diagonal),
+rather than the band between the centres of the cells the body passed through.
 """
 
 from __future__ import annotations
 
 import math
 from dataclasses import dataclass
+from typing import Any
 
 import numpy as np
 from PIL import Image, ImageDraw
 
 from guardsim.level import GuardSpec, Level
 from guardsim.render.legend import draw_legend
-from guardsim.render.palette import Index, guard_index, palette_rgb, text_index
+from guardsim.render.palette import Index, guard_index, palette_rgb, text_index, trail_index
 from guardsim.render.sight import SightCaster
 from guardsim.render.text import Typesetter
 from guardsim.render.timeline import DEFAULT_FRAME_SIZE
@@ -103,9 +108,14 @@ class FrameDrawer:
         The episode.
     size
         Longest side of the play area in pixels (approximate: cells are whole pixels).
+    speed_up
+        Under continuous motion, game seconds per second of animation, named in the caption (``None``:
+        not named, as when a frame is drawn alone).
     """
 
-    def __init__(self, level: Level, trace: Trace, *, size: int = DEFAULT_FRAME_SIZE) -> None:
+    def __init__(
+        self, level: Level, trace: Trace, *, size: int = DEFAULT_FRAME_SIZE, speed_up: float | None = None
+    ) -> None:
         self.level = level
         self.trace = trace
         self.vision = VisionSettings.of(level, trace)
@@ -134,12 +144,17 @@ class FrameDrawer:
         self._seen_cells, self._seen_ticks = flat[order], ticks[order]
         self.trail_block = max(1, math.ceil(trace.steps / TRAIL_BLOCKS))
         self.trail_width = max(1, round(scale / 3))
+        self.speed_up = speed_up
+        # Pose points in the coordinates Pillow draws in (pixel centres on whole numbers), for the trail.
+        self._pose_points: np.ndarray | None = None
+        if trace.poses is not None and self.guards == 1:
+            self._pose_points = np.column_stack(self.to_pixels((trace.poses[:, 1], trace.poses[:, 2]))) - 0.5
         self._reset()
 
     # -- static parts ------------------------------------------------------------------------------
 
-    def to_pixels(self, point: tuple[float, float]) -> tuple[float, float]:
-        """A world point in play-area pixels."""
+    def to_pixels(self, point: tuple[Any, Any]) -> tuple[Any, Any]:
+        """A world point (or arrays of coordinates) in play-area pixels."""
         origin = self.trace.origin
         return (
             PLAY_PAD + (point[0] - origin[0]) * self.pixels_per_unit,
@@ -184,6 +199,7 @@ class FrameDrawer:
         self._walked = np.full(self.static.shape, -1, dtype=np.int64)
         self._trail = np.zeros(self.static.shape, dtype=np.uint8)
         self._trail_box: tuple[int, int, int, int] | None = None
+        self._current: tuple[int, int, np.ndarray] | None = None
 
     def _trail_level(self, walked: np.ndarray | int, tick: int) -> np.ndarray:
         age = tick // self.trail_block - np.asarray(walked) // self.guards // self.trail_block
@@ -212,20 +228,8 @@ class FrameDrawer:
             rows = ((cells // cols) * scale)[:, None, None] + offsets[None, :, None]
             columns = ((cells % cols) * scale)[:, None, None] + offsets[None, None, :]
             self._background[rows, columns] = self.static[rows, columns]
-        box = self._trail_box
-        for step in range(self._tick + 1, tick + 1):
-            for guard, path in enumerate(self.paths):
-                if path[step - 1] == path[step]:
-                    continue
-                x0, y0, x1, y1 = self._segment_box(path[step - 1], path[step])
-                code = step * self.guards + guard
-                self._walked[y0:y1, x0:x1] = code
-                self._trail[y0:y1, x0:x1] = self._trail_colour(np.asarray(code), tick)
-                box = (
-                    (x0, y0, x1, y1)
-                    if box is None
-                    else (min(box[0], x0), min(box[1], y0), max(box[2], x1), max(box[3], y1))
-                )
+        walk = self._walk_cells if self._pose_points is None else self._walk_poses
+        box = walk(self._tick, tick, self._trail_box)
         self._trail_box = box
         if box is not None and tick // self.trail_block != self._tick // self.trail_block:
             x0, y0, x1, y1 = box
@@ -233,6 +237,68 @@ class FrameDrawer:
             drawn = walked >= 0
             self._trail[y0:y1, x0:x1][drawn] = self._trail_colour(walked[drawn], tick)
         self._tick = tick
+
+    def _walk_cells(
+        self, start: int, tick: int, box: tuple[int, int, int, int] | None
+    ) -> tuple[int, int, int, int] | None:
+        """Add the bands between the cell centres of ticks ``start`` to ``tick`` to the trail layers;
+        returns the box of trail pixels grown to hold them."""
+        for step in range(start + 1, tick + 1):
+            for guard, path in enumerate(self.paths):
+                if path[step - 1] == path[step]:
+                    continue
+                x0, y0, x1, y1 = self._segment_box(path[step - 1], path[step])
+                code = step * self.guards + guard
+                self._walked[y0:y1, x0:x1] = code
+                self._trail[y0:y1, x0:x1] = self._trail_colour(np.asarray(code), tick)
+                box = _grown(box, (x0, y0, x1, y1))
+        return box
+
+    def _walk_poses(
+        self, start: int, tick: int, box: tuple[int, int, int, int] | None
+    ) -> tuple[int, int, int, int] | None:
+        """Add the polyline through the poses of the blocks finished between ticks ``start`` and ``tick``
+        to the trail layers, and draw the block ``tick`` is in (from its first step) as the current piece.
+
+        A trail pixel needs only the fading block of its last walk, so each block is one Pillow polyline,
+        drawn whole once the guard has left it; the block being walked is redrawn from its start at every
+        frame. So a frame is the same whichever frames were drawn before it.
+        """
+        block = self.trail_block
+        for number in range(start // block, tick // block):
+            piece = self._polyline(number * block, (number + 1) * block - 1)
+            if piece is not None:
+                x0, y0, mask = piece
+                x1, y1 = x0 + mask.shape[1], y0 + mask.shape[0]
+                code = number * block * self.guards
+                self._walked[y0:y1, x0:x1][mask] = code
+                self._trail[y0:y1, x0:x1][mask] = self._trail_colour(np.asarray(code), tick)
+                box = _grown(box, (x0, y0, x1, y1))
+        self._current = self._polyline(tick // block * block, tick)
+        return box
+
+    def _polyline(self, first: int, last: int) -> tuple[int, int, np.ndarray] | None:
+        """The trail pixels of steps ``first`` to ``last`` (each from the pose before it to its own): the
+        corner ``(x0, y0)`` of a box and a ``bool`` mask over it; ``None`` if the guard did not move."""
+        points = self._pose_points
+        if points is None or last < 1:
+            return None
+        run = points[max(0, first - 1) : last + 1]
+        moved = np.any(run[1:] != run[:-1], axis=1)
+        if not moved.any():
+            return None
+        run = run[np.concatenate([[True], moved])]
+        reach = self.trail_width / 2 + 2
+        width, height = self.layout.play
+        x0, y0 = max(0, math.floor(run[:, 0].min() - reach)), max(0, math.floor(run[:, 1].min() - reach))
+        x1 = min(width, math.ceil(run[:, 0].max() + reach) + 1)
+        y1 = min(height, math.ceil(run[:, 1].max() + reach) + 1)
+        if x1 <= x0 or y1 <= y0:
+            return None
+        image = Image.new("L", (x1 - x0, y1 - y0), 0)
+        line = [(x - x0, y - y0) for x, y in run.tolist()]
+        ImageDraw.Draw(image).line(line, fill=1, width=self.trail_width, joint="curve")
+        return x0, y0, np.asarray(image) > 0
 
     def pose(self, guard: int, tick: int) -> tuple[tuple[float, float], float]:
         """Where guard ``guard`` is at ``tick`` (a world point) and where it faces (degrees, clockwise on
@@ -268,12 +334,14 @@ class FrameDrawer:
         region[mask] += Index.CONE_BASE
 
     def _paint_trail(self, play: np.ndarray) -> None:
-        if self._trail_box is None:
-            return
-        x0, y0, x1, y1 = self._trail_box
-        trail = self._trail[y0:y1, x0:x1]
-        drawn = trail > 0
-        play[y0:y1, x0:x1][drawn] = trail[drawn]
+        if self._trail_box is not None:
+            x0, y0, x1, y1 = self._trail_box
+            trail = self._trail[y0:y1, x0:x1]
+            drawn = trail > 0
+            play[y0:y1, x0:x1][drawn] = trail[drawn]
+        if self._current is not None:
+            x0, y0, mask = self._current
+            play[y0 : y0 + mask.shape[0], x0 : x0 + mask.shape[1]][mask] = trail_index(0, 0)
 
     def _draw_markers(self, play: np.ndarray, tick: int, rings: list[list[tuple[float, float]]]) -> np.ndarray:
         image = Image.fromarray(play)
@@ -304,7 +372,10 @@ class FrameDrawer:
         trace = self.trace
         team = f"{self.guards} guards" if self.guards > 1 else "1 guard"
         tick_hz = getattr(trace, "tick_hz", None)
-        clock = f" ({tick / tick_hz:.1f} s)" if tick_hz else ""
+        pace = ""
+        if tick_hz and self.speed_up is not None:
+            pace = ", real time" if self.speed_up == 1 else f", {self.speed_up:g}x"
+        clock = f" ({tick / tick_hz:.1f} s{pace})" if tick_hz else ""
         first = f"{trace.level}  |  tick {tick} / {trace.steps}{clock}  |  {trace.planner}, {team}"
         second = f"{trace.unseen_percent[tick]:.1f}% of {trace.reachable} reachable cells unseen"
         if trace.unreachable:
@@ -332,6 +403,13 @@ class FrameDrawer:
         inked = coverage > 0
         canvas[: layout.top][inked] = text_index(coverage[inked])
         return canvas
+
+
+def _grown(box: tuple[int, int, int, int] | None, part: tuple[int, int, int, int]) -> tuple[int, int, int, int]:
+    """The smallest box ``(x0, y0, x1, y1)`` holding ``box`` (if any) and ``part``."""
+    if box is None:
+        return part
+    return min(box[0], part[0]), min(box[1], part[1]), max(box[2], part[2]), max(box[3], part[3])
 
 
 def _draw_guard(

@@ -19,7 +19,7 @@ from guardsim.level import Level
 from guardsim.output import atomic_path
 from guardsim.render.frames import FrameDrawer
 from guardsim.render.palette import PALETTE, Index
-from guardsim.render.timeline import GifOptions, frame_ticks
+from guardsim.render.timeline import GifOptions, frame_durations, frame_ticks
 from guardsim.trace import Trace
 
 __all__ = ["GifStream", "encode_gif", "write_gif"]
@@ -74,12 +74,14 @@ class GifStream:
 
 
 def _stream(level: Level, trace: Trace, options: GifOptions, file: BinaryIO) -> int:
-    ticks = frame_ticks(trace.steps, options)
-    drawer = FrameDrawer(level, trace, size=options.size)
+    # Frames keep game time only when the trace has one (continuous motion records its tick rate).
+    tick_hz = trace.tick_hz if trace.motion == "continuous" else None
+    ticks = frame_ticks(trace.steps, options, tick_hz)
+    speed_up = options.speed_up if tick_hz is not None else None
+    drawer = FrameDrawer(level, trace, size=options.size, speed_up=speed_up)
     stream = GifStream(file)
-    for number, tick in enumerate(ticks):
-        last = number == len(ticks) - 1
-        stream.add(drawer.frame(tick), max(options.frame_ms, options.hold_ms) if last else options.frame_ms)
+    for tick, duration in zip(ticks, frame_durations(ticks, options, tick_hz), strict=True):
+        stream.add(drawer.frame(tick), duration)
     stream.close()
     return len(ticks)
 

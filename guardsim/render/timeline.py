@@ -2,12 +2,21 @@
 
 from __future__ import annotations
 
+import itertools
 import math
 from dataclasses import dataclass
 
 from guardsim.errors import LimitError
 
-__all__ = ["DEFAULT_FRAME_SIZE", "DEFAULT_MAX_FRAMES", "FRAME_CEILING", "GifOptions", "frame_ticks"]
+__all__ = [
+    "DEFAULT_FRAME_SIZE",
+    "DEFAULT_MAX_FRAMES",
+    "FRAME_CEILING",
+    "MIN_FRAME_MS",
+    "GifOptions",
+    "frame_durations",
+    "frame_ticks",
+]
 
 #: Longest side of the play area in pixels, before rounding to whole pixels per cell.
 DEFAULT_FRAME_SIZE = 480
@@ -15,6 +24,8 @@ DEFAULT_FRAME_SIZE = 480
 DEFAULT_MAX_FRAMES = 200
 #: Hard ceiling on frames, whatever the options, to keep GIFs bounded.
 FRAME_CEILING = 5000
+#: Shortest frame a timed GIF shows: browsers play a GIF frame of less than 20 ms for 100 ms.
+MIN_FRAME_MS = 20
 
 
 @dataclass(frozen=True)
@@ -31,10 +42,17 @@ class GifOptions:
     """Most frames the GIF may have."""
     size: int = DEFAULT_FRAME_SIZE
     """Longest side of the play area in pixels (approximate: cells are whole pixels)."""
+    speed_up: float | None = None
+    """Continuous motion: game seconds per second of GIF (1 is real time). Each frame is then shown for
+    the game time to the next frame divided by this, and frames are at least ``frame_ms`` apart; ``None``
+    shows each frame ``frame_ms``."""
 
 
-def frame_ticks(steps: int, options: GifOptions) -> list[int]:
+def frame_ticks(steps: int, options: GifOptions, tick_hz: float | None = None) -> list[int]:
     """The ticks drawn: every ``stride``-th from 0, and always the last.
+
+    With ``options.speed_up`` and the trace's ``tick_hz`` (continuous motion), the stride chosen also
+    keeps frames at least ``frame_ms`` (and :data:`MIN_FRAME_MS`) of animation apart.
 
     Raises
     ------
@@ -48,16 +66,49 @@ def frame_ticks(steps: int, options: GifOptions) -> list[int]:
     if options.stride is None:
         # The last tick is always added, so leave room for it.
         stride = max(1, math.ceil(steps / (options.max_frames - 1)))
+        if options.speed_up is not None and tick_hz is not None:
+            shortest = max(options.frame_ms, MIN_FRAME_MS) / 1000
+            stride = max(stride, math.ceil(shortest * tick_hz * options.speed_up - 1e-9))
     else:
         if options.stride < 1:
             raise LimitError(f"frame stride must be at least 1, not {options.stride}")
         stride = options.stride
     ticks = list(range(0, steps + 1, stride))
     if ticks[-1] != steps:
-        ticks.append(steps)
+        timed = options.speed_up is not None and tick_hz is not None
+        # A timed GIF cannot show a frame for less than a stride: the last replaces the one before it.
+        if timed and len(ticks) > 1:
+            ticks[-1] = steps
+        else:
+            ticks.append(steps)
     if len(ticks) > options.max_frames:
         raise LimitError(
             f"{len(ticks)} frames at stride {stride} is over the limit of {options.max_frames} "
             "(raise --stride or --max-frames)"
         )
     return ticks
+
+
+def frame_durations(ticks: list[int], options: GifOptions, tick_hz: float | None = None) -> list[int]:
+    """How long each frame of ``ticks`` is shown, in milliseconds (multiples of 10: GIF counts hundredths).
+
+    Without ``options.speed_up`` (or a tick rate) each frame is shown ``frame_ms``. With them, frame k is
+    shown from its tick's game time divided by the speed-up to the next one's, rounded to hundredths on
+    the running clock, so the animation keeps game time however the stride divides it. The last frame
+    is held at least ``hold_ms``.
+
+    Examples
+    --------
+    >>> frame_durations([0, 1, 2, 3], GifOptions(speed_up=1.0, hold_ms=0), tick_hz=30)
+    [30, 40, 30, 30]
+    >>> frame_durations([0, 5, 7], GifOptions(frame_ms=60, hold_ms=2000))
+    [60, 60, 2000]
+    """
+    if options.speed_up is None or tick_hz is None:
+        durations = [options.frame_ms] * len(ticks)
+    else:
+        starts = [round(100 * tick / tick_hz / options.speed_up) for tick in ticks]
+        durations = [10 * (after - before) for before, after in itertools.pairwise(starts)]
+        durations.append(max(durations[-1:] or [options.frame_ms]))
+    durations[-1] = max(durations[-1], options.hold_ms)
+    return durations
