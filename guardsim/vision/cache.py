@@ -115,6 +115,29 @@ def try_fill(state: int, fill: FillArrays, data: np.ndarray, used: int, start: n
     return visible
 
 
+@numba.njit(cache=True, nogil=True)
+def _try_fill_many(
+    states: np.ndarray, fill: FillArrays, data: np.ndarray, used: int, start: np.ndarray, length: np.ndarray
+) -> tuple[int, int, np.ndarray]:
+    """:func:`try_fill` over ``states`` in order, skipping known ones: returns the new ``used``, where it
+    stopped (``len(states)`` when done; earlier when ``data`` is full) and the close calls passed over."""
+    close = np.empty(states.shape[0], dtype=np.int64)
+    closes = 0
+    for index in range(states.shape[0]):
+        state = states[index]
+        if length[state] >= 0:
+            continue
+        stored = try_fill(state, fill, data, used, start, length)
+        if stored == -2:
+            return used, index, close[:closes]
+        if stored == -1:
+            close[closes] = state
+            closes += 1
+        else:
+            used += stored
+    return used, states.shape[0], close[:closes]
+
+
 class VisionCache:
     """Visible cells per state, filled on first use.
 
@@ -199,6 +222,36 @@ class VisionCache:
         for index in np.flatnonzero(verdicts == CLOSE_CALL).tolist():
             visible[index] = self.world.line_of_sight(eye, (float(targets[index, 0]), float(targets[index, 1])))
         self._store(state, np.sort(np.append(candidates[visible], cell)))
+
+    def fill_many(self, states: np.ndarray) -> None:
+        """Compute every state of ``states`` not yet known, as :meth:`fill` would: in compiled code where
+        the screen settles every ray (a whole level's table in a tenth of the time), the rest by :meth:`fill`."""
+        states = np.asarray(states, dtype=np.int64)
+        if not self.compiled_fill:
+            for state in states.tolist():
+                self.fill(state)
+            return
+        while states.size:
+            self.used, stopped, close = _try_fill_many(
+                states, self.fill_arrays, self.data, self.used, self.start, self.length
+            )
+            for state in close.tolist():
+                self.fill(state)
+            states = states[stopped:]
+            if states.size:
+                self.data = np.concatenate([self.data, np.zeros(len(self.data), dtype=np.int32)])
+
+    def sights(self, states: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
+        """How many cells each of ``states`` sees, and those cells one state after another (each ascending),
+        all computed first by :meth:`fill_many`."""
+        states = np.asarray(states, dtype=np.int64)
+        self.fill_many(states)
+        lengths = self.length[states]
+        ends = np.cumsum(lengths)
+        flat = self.data[
+            np.repeat(self.start[states] - ends + lengths, lengths) + np.arange(int(ends[-1]) if ends.size else 0)
+        ]
+        return lengths, flat
 
     def _store(self, state: int, cells: np.ndarray) -> None:
         needed = self.used + len(cells)

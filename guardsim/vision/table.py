@@ -116,7 +116,17 @@ def build_view_table(grid: CoverageGrid, vision: VisionFunction, *, max_entries:
     # One growing buffer rather than an array per state: millions of small arrays cost ~100 bytes each.
     sight = np.empty(min(limit, max(1024, estimate + estimate // 8)), dtype=np.int32)
     total = 0
-    for cell in np.flatnonzero(grid.traversable.ravel()).tolist():
+    traversable = np.flatnonzero(grid.traversable.ravel())
+    sights = getattr(vision, "sights", None)
+    if sights is not None:  # a VisionCache computes the states in bulk, in compiled code (issue 15)
+        asked = state_of(traversable[:, None], np.arange(HEADINGS_PER_CELL)).ravel()
+        lengths[asked], sight = sights(asked)
+        if sight.size > limit:
+            raise _too_big(grid, limit, limit, estimated=False)
+        sight = sight.astype(np.int32, copy=False)
+        total = sight.size
+        traversable = traversable[:0]
+    for cell in traversable.tolist():
         col, row = grid.unflat(cell)
         for heading in range(HEADINGS_PER_CELL):
             cells = np.asarray(vision(col, row, heading), dtype=np.int32)
