@@ -458,3 +458,26 @@ def test_continuous_trail_passes_through_the_poses_not_the_cell_centres(tmp_path
     # The oldest stretch fades towards the floor, as the GIF's does; it stays red over the floor's white.
     reddish = (on_poses[:, 0] > on_poses[:, 1] + 20) & (on_poses[:, 0] > on_poses[:, 2] + 20)
     assert reddish.all()
+
+
+def test_cell_readout_gives_a_cells_worst_gap_and_idleness_now(pages: Path, tmp_path: Path) -> None:
+    """#cell=COL,ROW (or the pointer) reads out the cell's worst gap from patrol.json and its idleness
+    at the current lap tick as replayed from the patrol's views."""
+    from guardsim.patrol import read_patrol, seen_timeline
+    from guardsim.scene import Scene
+    from guardsim.vision.table import view_table
+
+    page = pages / "p" / "patrol.html"
+    patrol_json = json.loads((pages / "p" / "patrol.json").read_text())
+    period = patrol_json["period"]
+    scene = Scene.from_level(load_level(SQUARE))
+    patrol = read_patrol(pages / "p" / "patrol.json", scene.grid)
+    seen = seen_timeline(view_table(scene.grid, scene.vision()), patrol.states, scene.grid.size)
+    rows, cols = patrol_json["shape"]
+    for k, (col, row) in ((17, (30, 40)), (250, (5, 55)), (400, (50, 8))):
+        idle = _steady_idleness(seen, k).reshape(rows, cols)[row, col]
+        dom = dump(page, f"tick={2 * period + k}&cell={col},{row}", tmp_path / "profile")
+        worst = patrol_json["idleness"][row][col]
+        assert (
+            element(dom, "cell-readout") == f"cell [{col}, {row}]: worst gap {worst} ticks \u00b7 idle now {idle} ticks"
+        )

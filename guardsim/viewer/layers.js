@@ -193,6 +193,21 @@ const GuardsimLayers = (function () {
       barContext.putImageData(image, 0, 0);
     }
 
+    // What the idleness layers say of one cell at page tick `tick` (the inspected cell's readout).
+    function cellText(cell, tick) {
+      const parts = [];
+      if (heat) {
+        const value = heat.values[cell];
+        const text = heat.never[cell] ? "never seen" : value >= 0 ? Math.round(value * 1000) / 1000 + " " + data.idleness.unit : "-";
+        parts.push(data.idleness.label + " " + text);
+      }
+      if (runs && kinds[cell] === 1) {
+        const value = idleAt(cell, tick % period);
+        parts.push("idle now " + (value < 0 ? "never seen" : value + " ticks"));
+      }
+      return parts.join(" \u00b7 ");
+    }
+
     // Ticks marked on the timeline: where each lap begins, where the intruder enters, each stretch in
     // view begins, and where it arrives.
     function marks(total) {
@@ -225,7 +240,7 @@ const GuardsimLayers = (function () {
       return items;
     }
 
-    return { total, local, drawUnder, drawOver, describe, intruderText, colourBar, paintBar, present, legend, marks };
+    return { total, local, drawUnder, drawOver, describe, intruderText, colourBar, paintBar, present, legend, marks, cellText };
   }
 
   return { make: make };

@@ -343,6 +343,13 @@
       }
     }
     const intruderReadout = document.getElementById("intruder-readout");
+    const cellReadout = document.getElementById("cell-readout");
+    // The cell whose idleness is read out: under the pointer, or from the address (#cell=COL,ROW).
+    let inspected = null;
+    if (extra && hash.cell) {
+      const [col, row] = hash.cell.split(",").map((v) => parseInt(v, 10));
+      if (col >= 0 && col < cols && row >= 0 && row < rows) inspected = [col, row];
+    }
 
     let tick = 0;
     function draw() {
@@ -415,6 +422,9 @@
         data.unseen_text[now] + (lap ? "% unseen this lap" : "% unseen");
       if (extra) {
         intruderReadout.textContent = extra.intruderText(tick);
+        cellReadout.textContent = inspected
+          ? "cell [" + inspected[0] + ", " + inspected[1] + "]: " + extra.cellText(inspected[1] * cols + inspected[0], tick)
+          : "";
         extra.colourBar(layers, bar);
       }
     }
@@ -467,6 +477,14 @@
     }
 
     playButton.addEventListener("click", () => setPlaying(!playing));
+    if (extra) {
+      canvas.addEventListener("mousemove", (event) => {
+        const box = canvas.getBoundingClientRect();
+        const col = Math.floor((event.clientX - box.left) / scale), row = Math.floor((event.clientY - box.top) / scale);
+        inspected = col >= 0 && col < cols && row >= 0 && row < rows ? [col, row] : null;
+        if (!playing) draw();
+      });
+    }
     timeline.addEventListener("input", () => setTick(timeline.value, true));
     for (const box of document.querySelectorAll("#layers input[data-layer]")) {
       box.addEventListener("change", () => {
