@@ -80,13 +80,10 @@ def check_speed_up(motion: str, speed_up: float | None) -> None:
 
 
 def check_motion(motion: str, guards: int, los: str) -> None:
-    """Refuse what continuous motion does not do: teams and the Bresenham rule."""
-    if motion != "continuous":
-        return
-    if guards > 1:
+    """Refuse what continuous motion does not do: teams (``los`` is accepted either way: under
+    Bresenham the continuous guard sees along grid lines from the cell its eye is in)."""
+    if motion == "continuous" and guards > 1:
         raise GuardsimError("--motion continuous walks one guard; drop --guards")
-    if los != "pymunk":
-        raise GuardsimError("--motion continuous sees by pymunk rays; --los bresenham is a grid rule")
 
 
 def motion_of(scene: Scene, move_speed: float | None, turn_speed: float | None, tick_hz: float | None) -> GuardMotion:

@@ -28,7 +28,6 @@ from guardsim.scene import Scene
 from guardsim.simulation import Simulation, default_max_steps
 from guardsim.starts import episode_start
 from guardsim.trace import Trace
-from guardsim.vision.rules import LineOfSight
 
 __all__ = ["ContinuousSimulation", "default_max_seconds", "run_continuous"]
 
@@ -49,7 +48,8 @@ class ContinuousSimulation:
     Parameters
     ----------
     scene
-        The level, world, grid and vision (pymunk line of sight only).
+        The level, world, grid and vision: pymunk rays from the pose, or the Bresenham line from the
+        cell the eye is in (``LineOfSight.BRESENHAM``), the cone along the heading either way.
     planner
         A planner name (a fresh planner, made with ``planner_options``, decides each plan).
     motion
@@ -83,8 +83,6 @@ class ContinuousSimulation:
         reference: bool = False,
         **planner_options: Any,
     ) -> None:
-        if scene.line_of_sight is not LineOfSight.PYMUNK:
-            raise ValueError("continuous motion sees by pymunk rays; the Bresenham rule is a grid rule")
         self.scene = scene
         self.planner = planner
         self.planner_options = planner_options
@@ -94,7 +92,9 @@ class ContinuousSimulation:
         self.plan_steps = max_steps
         self.reference = reference
         cache = scene.vision_cache
-        self._vision = PoseVision(scene.world, scene.grid, scene.cone, cache.fill_arrays.walls)
+        self._vision = PoseVision(
+            scene.world, scene.grid, scene.cone, cache.fill_arrays.walls, rule=scene.line_of_sight
+        )
         self.seed: int | None = None
         self._ready = False
 
@@ -255,7 +255,10 @@ class ContinuousSimulation:
         follower = self.follower
         x, y = follower.position
         if self.reference:
-            visible = pose_visible_cells(self.scene.world, self.scene.grid, self.scene.cone, x, y, follower.heading)
+            scene = self.scene
+            visible = pose_visible_cells(
+                scene.world, scene.grid, scene.cone, x, y, follower.heading, rule=scene.line_of_sight
+            )
             new = visible[~self._seen[visible]]
         else:
             new = self._vision.unseen_visible(x, y, follower.heading, self._seen)

@@ -3,7 +3,9 @@
 The rule is the grid's (:mod:`guardsim.vision.rays`) with the eye at the body's position: a traversable
 cell is seen when its centre is within ``view_range`` of the eye, within ``fov_degrees / 2`` of the
 heading, and the segment from the eye to the centre touches no wall; the cell the eye stands in is always
-seen. At a cell centre facing one of the four headings it sees what the grid guard sees there.
+seen. At a cell centre facing one of the four headings it sees what the grid guard sees there. Under the
+Bresenham rule (:mod:`guardsim.vision.bresenham`, a grid rule) the cone is the same, taken from the pose,
+and the segment test is replaced by the grid line from the cell the eye is in to the target cell.
 
 :func:`pose_visible_cells` is the reference: numpy for the cone and one pymunk ray per cell.
 :class:`PoseVision` is the fast path: a compiled kernel finds the cells in the cone and screens their rays
@@ -19,7 +21,9 @@ import numba
 import numpy as np
 
 from guardsim.grid import CoverageGrid
+from guardsim.vision.bresenham import bresenham_clear, bresenham_line
 from guardsim.vision.cone import VisionCone
+from guardsim.vision.rules import LineOfSight
 from guardsim.vision.screen import CLEAR, CLOSE_CALL, WallIndex, screen
 from guardsim.world import World
 
@@ -50,11 +54,19 @@ def _cell_span(eye: float, origin: float, cell_size: float, reach: float, count:
 
 
 def pose_visible_cells(
-    world: World, grid: CoverageGrid, cone: VisionCone, x: float, y: float, heading_degrees: float
+    world: World,
+    grid: CoverageGrid,
+    cone: VisionCone,
+    x: float,
+    y: float,
+    heading_degrees: float,
+    *,
+    rule: LineOfSight = LineOfSight.PYMUNK,
 ) -> np.ndarray:
     """Flat indices of the cells seen from ``(x, y)`` facing ``heading_degrees``, ascending: the reference.
 
-    One pymunk segment query per traversable cell in the cone.
+    One pymunk segment query per traversable cell in the cone; under ``LineOfSight.BRESENHAM``, one
+    Bresenham line (in Python) from the eye's cell instead.
     """
     rows, cols = grid.shape
     hx, hy, cos_half, full, reach = _cone_terms(cone, heading_degrees)
@@ -82,7 +94,13 @@ def pose_visible_cells(
             centre_x[inside].tolist(),
             centre_y[inside].tolist(),
         ):
-            if world.line_of_sight((x, y), (target_x, target_y)):
+            if rule is LineOfSight.BRESENHAM:
+                clear = own is not None and all(
+                    grid.traversable[r, c] for c, r in bresenham_line(own[0], own[1], col, row)[1:]
+                )
+            else:
+                clear = world.line_of_sight((x, y), (target_x, target_y))
+            if clear:
                 seen.append(row * cols + col)
     return np.unique(np.asarray(seen, dtype=np.int64))
 
@@ -138,10 +156,19 @@ def _cone_cells(
 class PoseVision:
     """The fast vision from continuous poses on one scene's world, grid and cone.
 
-    Calls return the same cells as :func:`pose_visible_cells`.
+    Calls return the same cells as :func:`pose_visible_cells` with the same ``rule``.
     """
 
-    def __init__(self, world: World, grid: CoverageGrid, cone: VisionCone, walls: WallIndex) -> None:
+    def __init__(
+        self,
+        world: World,
+        grid: CoverageGrid,
+        cone: VisionCone,
+        walls: WallIndex,
+        *,
+        rule: LineOfSight = LineOfSight.PYMUNK,
+    ) -> None:
+        self.rule = rule
         self.world = world
         self.grid = grid
         self.cone = cone
@@ -184,6 +211,8 @@ class PoseVision:
         if count == 0:
             return np.asarray(found, dtype=np.int64)
         candidates, targets, verdicts = self._candidates[:count], self._targets[:count], self._verdicts[:count]
+        if self.rule is LineOfSight.BRESENHAM:
+            return np.concatenate([np.asarray(found, dtype=np.int64), self._bresenham(own, candidates)])
         if self.walls.walls.shape[0]:
             screen(x, y, targets, self.walls, self._stamp, verdicts)
         else:
@@ -193,3 +222,14 @@ class PoseVision:
             visible[index] = self.world.line_of_sight((x, y), (float(targets[index, 0]), float(targets[index, 1])))
         clear = candidates[visible]
         return np.concatenate([np.asarray(found, dtype=np.int64), clear]) if found else clear.copy()
+
+    def _bresenham(self, own: tuple[int, int] | None, candidates: np.ndarray) -> np.ndarray:
+        """The candidates whose Bresenham line from the eye's cell ``own`` is clear (compiled)."""
+        if own is None:
+            return np.zeros(0, dtype=np.int64)
+        rows, cols = self.grid.shape
+        offsets = np.column_stack([candidates % cols - own[0], candidates // cols - own[1]])
+        out = np.empty(len(candidates) + 1, dtype=np.int64)
+        count = bresenham_clear(self._traversable, rows, cols, own[0], own[1], offsets, out)
+        # The first entry is the eye's own cell, which the caller has already handled.
+        return out[1:count].copy()
