@@ -50,6 +50,8 @@ class SneakRule(NamedTuple):
     target: tuple[float, float]
     expect: str
     """``"caught"`` (no unseen path may exist) or ``"sneaks"`` (one must)."""
+    where: str = "--sneak"
+    """Where the rule was given, for error lines: ``--sneak`` or ``checks.toml: sneak[0]``."""
 
 
 @dataclass(frozen=True)
@@ -145,6 +147,9 @@ def parse_checks(data: Any, *, source: str = "<checks>", base: Path | None = Non
         raise CheckError(f"{source}: patrol: expected a file name, got {json_type(patrol)}")
     if patrol is not None and base is not None and not Path(patrol).is_absolute():
         patrol = str(base / patrol)
+    if patrol is not None and not os.path.lexists(patrol):
+        # Named here, or the line would name only a file the user never typed (the path joined to the folder).
+        raise CheckError(f"{source}: patrol: {display_path(patrol)}: no such file")
     sneaks_data = data.get("sneak", [])
     if not isinstance(sneaks_data, list):
         raise CheckError(
@@ -177,13 +182,13 @@ def _sneak_rule(item: Any, where: str) -> SneakRule:
         raise CheckError(f"{where}: expected a table with exactly from, to and expect")
     if item["expect"] not in ("caught", "sneaks"):
         raise CheckError(f"{where}: expect: {item['expect']!r} is not 'caught' or 'sneaks'"[:160])
-    return SneakRule(_point(item["from"], f"{where}: from"), _point(item["to"], f"{where}: to"), item["expect"])
+    return SneakRule(_point(item["from"], f"{where}: from"), _point(item["to"], f"{where}: to"), item["expect"], where)
 
 
-def _cell(scene: Scene, point: tuple[float, float], what: str) -> int:
+def _cell(scene: Scene, point: tuple[float, float], where: str, what: str) -> int:
     cell = scene.grid.cell_of(point)
     if cell is None or not scene.grid.traversable[cell[1], cell[0]]:
-        raise CheckError(f"{what} {point[0]:g},{point[1]:g} is not a cell a guard-sized player can stand in")
+        raise CheckError(f"{where}: {what} {point[0]:g},{point[1]:g} is not a cell a guard-sized player can stand in")
     return scene.grid.flat(*cell)
 
 
@@ -243,10 +248,11 @@ def run_checks(scene: Scene, rules: CheckRules, *, seed: int = 0) -> list[CheckR
         assert patrol is not None
         if patrol.period is None:
             raise CheckError(f"{what}: the sneak rules need a repeating patrol (period null)")
-        source, target = _cell(scene, rule.source, "sneak from"), _cell(scene, rule.target, "sneak to")
+        source, target = _cell(scene, rule.source, rule.where, "from"), _cell(scene, rule.target, rule.where, "to")
         if scene.grid.component_labels[source] != scene.grid.component_labels[target]:
             raise CheckError(
-                f"sneak to {rule.target[0]:g},{rule.target[1]:g} cannot be reached from {rule.source[0]:g},{rule.source[1]:g}"
+                f"{rule.where}: to {rule.target[0]:g},{rule.target[1]:g} cannot be reached from "
+                f"{rule.source[0]:g},{rule.source[1]:g}"
             )
         result = sneak_check(scene.grid, setup.table, patrol, source, target)
         path = result.path

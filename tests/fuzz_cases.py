@@ -47,7 +47,9 @@ KINDS: dict[str, tuple[str, ...]] = {
     "reference": ("regress",),
     "trace": ("regress", "view"),
     "bench-folder": ("bench",),
-    "option": ("play", "bench", "validate", "render", "bounds", "regress"),
+    "option": ("play", "bench", "validate", "render", "bounds", "regress", "patrol", "sneak", "check", "optimum"),
+    "patrol": ("evaluate", "sneak", "check"),
+    "checks": ("check",),
     "movingai": ("import",),
     "png": ("import",),
     "tmx": ("import",),
@@ -268,6 +270,8 @@ class Templates:
     """The files of ``renders/tiny/`` after ``guardsim regress tiny.json --update``."""
     bench: dict[str, bytes]
     """The files of a bench run folder after a 3-episode run of ``tiny.json``."""
+    patrol: bytes
+    """The patrol.json of ``guardsim patrol tiny.json``."""
 
 
 def make_templates(run: Callable[[list[str]], Any], folder: Path) -> Templates:
@@ -281,9 +285,12 @@ def make_templates(run: Callable[[list[str]], Any], folder: Path) -> Templates:
     bench = {
         p.name: p.read_bytes().replace(os.fsencode(folder), b"{dir}") for p in sorted((folder / "bench").iterdir())
     }
+    run(["patrol", str(folder / "tiny.json"), "--out", str(folder / "patrol")])
+    patrol = (folder / "patrol" / "patrol.json").read_bytes()
     shutil.rmtree(folder / "renders")
     shutil.rmtree(folder / "bench")
-    return Templates(references, bench)
+    shutil.rmtree(folder / "patrol")
+    return Templates(references, bench, patrol)
 
 
 #: The bench options of the template run; a case reruns the same command on a damaged folder.
@@ -447,13 +454,18 @@ _OPTIONS = {
     "render": ("--size", "--start", "--cone", "--max-cells"),
     "bounds": ("--fov", "--view-range", "--seed", "--start"),
     "regress": ("--max-frame-size", "--max-cells"),
+    "patrol": ("--guards", "--fov", "--view-range", "--speed", "--laps", "--warmup-laps", "--max-cells"),
+    "sneak": ("--from", "--to", "--fov", "--max-cells"),
+    "check": ("--max-cover-steps", "--max-idleness", "--guards", "--fov"),
+    "optimum": ("--start", "--heading", "--fov", "--view-range", "--time-limit", "--max-expansions", "--memory-mb"),
 }  # fmt: skip
 #: Options whose value must be a finite number in a range: exit 0 with nan, inf or out of range is a bug.
 _FINITE = {"--fov": (0, 360), "--view-range": (0, math.inf), "--move-speed": (0, math.inf),
-           "--turn-speed": (0, math.inf), "--tick-hz": (0, math.inf), "--max-seconds": (0, math.inf)}  # fmt: skip
+           "--turn-speed": (0, math.inf), "--tick-hz": (0, math.inf), "--max-seconds": (0, math.inf),
+           "--speed": (0, 1e6), "--time-limit": (0, math.inf)}  # fmt: skip
 
 
-def option_case(rng: np.random.Generator, command: str) -> Case:
+def option_case(rng: np.random.Generator, command: str, templates: Templates | None = None) -> Case:
     option = _OPTIONS[command][int(rng.integers(len(_OPTIONS[command])))]
     value = NASTY_OPTION_VALUES[int(rng.integers(len(NASTY_OPTION_VALUES)))]
     tail = {
@@ -468,6 +480,19 @@ def option_case(rng: np.random.Generator, command: str) -> Case:
         ],
         "render": ["--png", "{dir}/out.png", "--size", "64"] if option != "--size" else ["--png", "{dir}/out.png"],
         "regress": ["--renders", "{dir}/renders", "--update"],
+        "patrol": ["--out", "{dir}/out"],
+        "sneak": [
+            "--patrol",
+            "{dir}/in.patrol.json",
+            "--out",
+            "{dir}/out",
+            *([] if option == "--from" else ["--from", _TINY_FROM]),
+            *([] if option == "--to" else ["--to", _TINY_TO]),
+        ],
+        "check": ["--patrol", "{dir}/in.patrol.json", *_CHECK_RULES] if option != "--guards" else _CHECK_RULES,
+        "optimum": ["--max-expansions", "20000", "--out", "{dir}/out.json"]
+        if option != "--max-expansions"
+        else ["--out", "{dir}/out.json"],
     }.get(command, [])
     bad = False
     if option in _FINITE:
@@ -477,10 +502,14 @@ def option_case(rng: np.random.Generator, command: str) -> Case:
             bad = not (math.isfinite(number) and low < number <= high)
         except ValueError:
             bad = True
+    files = {"tiny.json": _TINY_LEVEL}
+    if command in ("sneak", "check"):
+        assert templates is not None
+        files["in.patrol.json"] = templates.patrol
     return Case(
         "option",
         command,
-        {"tiny.json": _TINY_LEVEL},
+        files,
         [command, "{dir}/tiny.json", *tail, option, value],
         option,
         bad=bad,
@@ -609,6 +638,50 @@ def tiled_json_case(rng: np.random.Generator) -> Case:
                 "map.json", ["out.json"], note=note)  # fmt: skip
 
 
+#: Two points of ``tiny.json`` (world units) and the rules of the check cases: all hold on the template
+#: patrol, so exit 1 comes only from a damaged patrol that breaks them.
+_TINY_FROM, _TINY_TO = "0.5,0.5", "5.5,5.5"
+_CHECK_RULES = ["--max-idleness", "1000", "--sneak", _TINY_FROM, _TINY_TO, "--expect", "sneaks"]
+
+
+def _damaged_json(original: bytes, rng: np.random.Generator) -> tuple[bytes, str]:
+    roll = rng.random()
+    if roll < 0.05:
+        return special_file(rng)
+    if roll < 0.65:
+        data, note = mutate_json(json.loads(original), rng)
+        return json.dumps(data, allow_nan=True).encode(), note
+    return mutate_text(original, rng)
+
+
+def patrol_case(rng: np.random.Generator, command: str, templates: Templates) -> Case:
+    """A damaged patrol.json read by ``patrol --evaluate``, ``sneak --patrol`` or ``check --patrol``."""
+    content, note = _damaged_json(templates.patrol, rng)
+    args, outputs = {
+        "evaluate": (["patrol", "{dir}/tiny.json", "--evaluate", "{dir}/in.patrol.json", "--out", "{dir}/out"],
+                     ["out/patrol.json", "out/idleness.png"]),
+        "sneak": (["sneak", "{dir}/tiny.json", "--patrol", "{dir}/in.patrol.json", "--from", _TINY_FROM,
+                   "--to", _TINY_TO, "--out", "{dir}/out"], ["out/sneak.json", "out/hiding.png"]),
+        "check": (["check", "{dir}/tiny.json", "--patrol", "{dir}/in.patrol.json", *_CHECK_RULES], []),
+    }[command]  # fmt: skip
+    files = {"tiny.json": _TINY_LEVEL, "in.patrol.json": content}
+    return Case("patrol", command, files, args, "in.patrol.json", outputs, note=note)
+
+
+def checks_case(rng: np.random.Generator, templates: Templates) -> Case:
+    """A damaged checks file (JSON) read by ``check --checks``."""
+    checks = {
+        "max_idleness": 1000,
+        "no_unreachable": True,
+        "patrol": "in.patrol.json",
+        "sneak": [{"from": [0.5, 0.5], "to": [5.5, 5.5], "expect": "sneaks"}],
+    }
+    content, note = _damaged_json(json.dumps(checks).encode(), rng)
+    files = {"tiny.json": _TINY_LEVEL, "in.patrol.json": templates.patrol, "checks.json": content}
+    return Case("checks", "check", files, ["check", "{dir}/tiny.json", "--checks", "{dir}/checks.json"],
+                "checks.json", note=note)  # fmt: skip
+
+
 def generate(kind: str, command: str, rng: np.random.Generator, templates: Templates | None) -> Case:
     """One case of ``kind`` read by ``command``."""
     if kind == "level":
@@ -623,7 +696,10 @@ def generate(kind: str, command: str, rng: np.random.Generator, templates: Templ
         assert templates is not None
         return bench_case(rng, templates)
     if kind == "option":
-        return option_case(rng, command)
+        return option_case(rng, command, templates)
+    if kind in ("patrol", "checks"):
+        assert templates is not None
+        return patrol_case(rng, command, templates) if kind == "patrol" else checks_case(rng, templates)
     return {"movingai": movingai_case, "png": png_case, "tmx": tmx_case, "tiled-json": tiled_json_case}[kind](rng)
 
 
@@ -679,6 +755,10 @@ def verdict(case: Case, folder: Path, exit_code: int, stdout: str, stderr: str, 
         return _check_success(case, folder, stdout)
     if exit_code == 1 and case.command == "regress":
         return "ok" if "DIFFERS" in stdout or "no references" in stdout else "bad-status"
+    if exit_code == 1 and case.command == "check":
+        # A damaged patrol may break a rule: one "broken:" line per rule, nothing else.
+        lines = stdout.splitlines()
+        return "ok" if lines and all(": broken: " in line for line in lines) else "bad-status"
     if exit_code != 2:
         return "bad-status"
     lines = stderr.splitlines()

@@ -96,7 +96,7 @@ def test_rules_from_a_checks_file(corridor: tuple[Path, Path], tmp_path: Path) -
     [
         ([], "no rule to check"),
         (["--sneak", "0.5,0.5", "10.5,2.5"], "each --sneak needs its --expect"),
-        (["--sneak", "4.5,0.5", "10.5,2.5", "--expect", "caught"], "sneak from 4.5,0.5 is not a cell"),
+        (["--sneak", "4.5,0.5", "10.5,2.5", "--expect", "caught"], "--sneak: from 4.5,0.5 is not a cell"),
         (["--patrol", "missing.json", "--max-idleness", "3"], "missing.json"),
     ],
     ids=["no-rule", "no-expect", "wall-point", "missing-patrol"],
@@ -129,3 +129,25 @@ def test_sneak_rule_library_call() -> None:
     scene = scene_from(CORRIDOR)
     [result] = run_checks(scene, CheckRules(sneaks=(SneakRule((0.5, 0.5), (10.5, 2.5), "sneaks"),)))
     assert result.holds and "unseen path" in result.message
+
+
+def test_a_bad_sneak_point_in_a_checks_file_names_the_file_and_the_rule(
+    corridor: tuple[Path, Path], tmp_path: Path
+) -> None:
+    """Fuzz case seed 1000146: a point far outside the level, in a checks file, named no file."""
+    level, _ = corridor
+    checks = tmp_path / "rules.json"
+    checks.write_text(json.dumps({"sneak": [{"from": [2**63, 0.5], "to": [10.5, 2.5], "expect": "caught"}]}))
+    code, lines = _run(str(level), "--checks", str(checks))
+    assert code == 2 and lines == [
+        f"guardsim: error: {checks}: sneak[0]: from 9.22337e+18,0.5 is not a cell a guard-sized player can stand in"
+    ]
+
+
+def test_a_missing_patrol_in_a_checks_file_names_the_checks_file(corridor: tuple[Path, Path], tmp_path: Path) -> None:
+    """Fuzz case seed 1131: the line named only the joined path of a patrol that does not exist."""
+    level, _ = corridor
+    checks = tmp_path / "rules.json"
+    checks.write_text(json.dumps({"max_idleness": 10, "patrol": "1"}))
+    code, lines = _run(str(level), "--checks", str(checks))
+    assert code == 2 and lines == [f"guardsim: error: {checks}: patrol: {tmp_path / '1'}: no such file"]

@@ -33,7 +33,16 @@ from tests import fuzz_cases
 from tests.fuzz_cases import IMPORTER_KINDS, KINDS, Templates, generate, make_templates, run_in_process
 
 #: Cases per (kind, command) pair in CI; regress and bench cases re-play episodes, so they get fewer.
-CASES = {"level": 600, "option": 240, "manifest": 120, "reference": 80, "trace": 120, "bench-folder": 100}
+CASES = {
+    "level": 600,
+    "option": 300,
+    "manifest": 120,
+    "reference": 80,
+    "trace": 120,
+    "bench-folder": 100,
+    "patrol": 90,
+    "checks": 40,
+}
 #: The seed of the CI cases: derandomised, so a failure here fails the same way on every machine.
 SEED = 16
 
