@@ -23,9 +23,8 @@ from __future__ import annotations
 import time
 from typing import TYPE_CHECKING, NamedTuple
 
-import numpy as np
-
-from guardsim.bounds.clusters import cluster_bound
+from guardsim.bounds.area import area_watchers
+from guardsim.bounds.clusters import SPREAD_CANDIDATES, cluster_bound
 from guardsim.bounds.watchers import nearest_watchers, state_distances
 from guardsim.vision.rules import VisionFunction
 from guardsim.vision.table import view_table
@@ -89,16 +88,10 @@ def lower_bounds(scene: Scene, start: tuple[int, int], heading: int, vision: Vis
     """
     began = time.perf_counter()
     grid = scene.grid
-    table = view_table(grid, scene.vision() if vision is None else vision)
-    neighbours = grid.neighbours
-    distance = state_distances(neighbours, grid.flat(*start) * 4 + heading)
-    goal_cells = np.flatnonzero(grid.component(*start).ravel())
-    nearest, reachable = nearest_watchers(goal_cells, table.watch_start, table.watchers, distance)
-    seeable = nearest >= 0
-    goal_cells, nearest, reachable = goal_cells[seeable], nearest[seeable], reachable[seeable]
-    eccentricity = int(nearest.max(initial=0))
-    cluster, clusters, path = cluster_bound(
-        neighbours, table, goal_cells, nearest, reachable, distance, grid.flat(*start)
-    )
+    vision = scene.vision() if vision is None else vision
+    table = view_table(grid, vision)
+    start_cell = grid.flat(*start)
+    area = area_watchers(grid, vision, table, start_cell, SPREAD_CANDIDATES)
+    eccentricity, cluster, clusters, path = cluster_bound(grid.neighbours, table, area, start_cell * 4 + heading)
     best = max(eccentricity, cluster, path)
     return Bounds(eccentricity, cluster, clusters, best, time.perf_counter() - began, path)

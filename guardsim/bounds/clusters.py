@@ -11,18 +11,18 @@ from __future__ import annotations
 import numba
 import numpy as np
 
-from guardsim.bounds.trees import cluster_distances, path_bound, spanning_tree_weight, subset_tree_weight
+from guardsim.bounds.area import AreaWatchers, cell_distances, choose_clusters, pick_matrix, spread_picks, start_edges
+from guardsim.bounds.trees import path_bound, spanning_tree_weight, subset_tree_weight
+from guardsim.bounds.watchers import state_distances
 from guardsim.vision.table import ViewTable
 
 __all__ = [
-    "FAR_FRACTIONS",
     "MOST_CLUSTERS",
     "MOST_TRIALS",
     "PATH_CLUSTERS",
     "SPREAD_CANDIDATES",
     "choose_clusters",
     "cluster_bound",
-    "spread_picks",
 ]
 
 #: Most clusters the farthest-first choice picks.
@@ -33,170 +33,53 @@ SPREAD_CANDIDATES = 1000
 PATH_CLUSTERS = 10
 #: Most subsets of the picks the local search weighs per start.
 MOST_TRIALS = 20_000
-#: The fewest-watchers-first choices keep only cells whose nearest watcher is at least this fraction of
-#: the eccentricity bound away (far cells spread the clusters out).
-FAR_FRACTIONS: tuple[float, ...] = (0.0,)
-
-
-@numba.njit(cache=True, nogil=True)
-def choose_clusters(
-    order: np.ndarray, watch_start: np.ndarray, watchers: np.ndarray, distance: np.ndarray
-) -> tuple[np.ndarray, np.ndarray]:
-    """Greedy: keep each cell of ``order`` none of whose reachable watchers a cell kept before holds.
-
-    Only watchers with ``distance >= 0`` (reachable from the start) count. Returns the cluster number of
-    every state (-1 for none) and the kept cells, cluster by cluster.
-    """
-    label = np.full(distance.shape[0], -1, dtype=np.int32)
-    kept = np.empty(order.shape[0], dtype=np.int64)
-    clusters = 0
-    for cell in order:
-        free = True
-        for k in range(watch_start[cell], watch_start[cell + 1]):
-            state = watchers[k]
-            if distance[state] >= 0 and label[state] >= 0:
-                free = False
-                break
-        if free:
-            for k in range(watch_start[cell], watch_start[cell + 1]):
-                state = watchers[k]
-                if distance[state] >= 0:
-                    label[state] = clusters
-            kept[clusters] = cell
-            clusters += 1
-    return label, kept[:clusters]
-
-
-@numba.njit(cache=True, nogil=True)
-def _relax(gap: np.ndarray, queue: np.ndarray, neighbours: np.ndarray, tail: int) -> None:
-    """Lower the cell distances ``gap`` by a breadth-first search from the ``tail`` cells queued."""
-    head = 0
-    while head < tail:
-        cell = queue[head]
-        head += 1
-        for direction in range(4):
-            other = neighbours[cell, direction]
-            if other >= 0 and gap[other] > gap[cell] + 1:
-                gap[other] = gap[cell] + 1
-                queue[tail] = other
-                tail += 1
-
-
-@numba.njit(cache=True, nogil=True)
-def _separation(
-    cell: int,
-    watch_start: np.ndarray,
-    watchers: np.ndarray,
-    distance: np.ndarray,
-    gap: np.ndarray,
-    taken: np.ndarray,
-    far: int,
-) -> int:
-    """The smallest ``gap`` over the cells of ``cell``'s reachable watchers; -1 if one is taken."""
-    separation = far
-    for k in range(watch_start[cell], watch_start[cell + 1]):
-        state = watchers[k]
-        if distance[state] >= 0:
-            if taken[state]:
-                return -1
-            separation = min(separation, gap[state // 4])
-    return separation
-
-
-@numba.njit(cache=True, nogil=True)
-def _sift_down(keys: np.ndarray, size: int, index: int) -> None:
-    """Restore the min-heap order of ``keys[:size]`` below ``index``."""
-    key = keys[index]
-    while True:
-        child = 2 * index + 1
-        if child >= size:
-            break
-        if child + 1 < size and keys[child + 1] < keys[child]:
-            child += 1
-        if keys[child] >= key:
-            break
-        keys[index] = keys[child]
-        index = child
-    keys[index] = key
-
-
-@numba.njit(cache=True, nogil=True)
-def spread_picks(
-    cells: np.ndarray,
-    watch_start: np.ndarray,
-    watchers: np.ndarray,
-    distance: np.ndarray,
-    neighbours: np.ndarray,
-    start_cell: int,
-    most: int,
-) -> np.ndarray:
-    """Up to ``most`` cells picked farthest first, their reachable watcher sets pairwise disjoint.
-
-    Each pick is the candidate whose reachable watchers' cells lie farthest, in steps between cells,
-    from the start cell and from the watchers of earlier picks (its separation), among candidates
-    sharing no watcher with them; ties go to the earlier in ``cells``. Separations only shrink as picks
-    are added, so stale ones in the heap are upper bounds and only the top needs recomputing (lazy greedy).
-    The heap is one ``int64`` key per candidate, ``(far - separation) * 2**24 + position``.
-    """
-    size = neighbours.shape[0]
-    far = np.iinfo(np.int32).max // 2
-    gap = np.full(size, far, dtype=np.int32)
-    taken = np.zeros(distance.shape[0], dtype=np.bool_)
-    queue = np.empty(size * 4 + 1, dtype=np.int64)
-    gap[start_cell] = 0
-    queue[0] = start_cell
-    _relax(gap, queue, neighbours, 1)
-    shift = np.int64(1) << 24
-    keys = np.empty(cells.shape[0], dtype=np.int64)
-    heap = 0
-    for position in range(cells.shape[0]):
-        # A guard sees its own cell, so a cell's separation is at most its own distance: an upper
-        # bound, which is all the lazy greedy needs, and far cheaper than the exact value for all.
-        keys[heap] = (far - gap[cells[position]]) * shift + position
-        heap += 1
-    for index in range(heap // 2 - 1, -1, -1):
-        _sift_down(keys, heap, index)
-    picks = np.empty(most, dtype=np.int64)
-    count = 0
-    while count < most and heap > 0:
-        stale = far - keys[0] // shift
-        position = keys[0] % shift
-        cell = cells[position]
-        separation = _separation(cell, watch_start, watchers, distance, gap, taken, far)
-        if separation < 0:
-            heap -= 1
-            keys[0] = keys[heap]
-            _sift_down(keys, heap, 0)
-            continue
-        if separation < stale:
-            keys[0] = (far - separation) * shift + position
-            _sift_down(keys, heap, 0)
-            continue
-        heap -= 1
-        keys[0] = keys[heap]
-        _sift_down(keys, heap, 0)
-        picks[count] = cell
-        count += 1
-        tail = 0
-        for k in range(watch_start[cell], watch_start[cell + 1]):
-            state = watchers[k]
-            if distance[state] >= 0:
-                taken[state] = True
-                if gap[state // 4] > 0:
-                    gap[state // 4] = 0
-                    queue[tail] = state // 4
-                    tail += 1
-        _relax(gap, queue, neighbours, tail)
-    return picks[:count]
 
 
 @numba.njit(cache=True, nogil=True)
 def _subset_bound(matrix: np.ndarray, start_edge: np.ndarray, chosen: np.ndarray) -> int:
     """The cluster bound of the chosen clusters: their tree plus the shortest start edge among them."""
-    members = np.flatnonzero(chosen)
-    if members.shape[0] == 0:
+    size = chosen.shape[0]
+    return _chosen_bound(
+        matrix, start_edge, chosen, np.empty(size, np.int64), np.empty(size, np.int64), np.empty(size, np.bool_)
+    )
+
+
+@numba.njit(cache=True, nogil=True)
+def _chosen_bound(
+    matrix: np.ndarray,
+    start_edge: np.ndarray,
+    chosen: np.ndarray,
+    members: np.ndarray,
+    link: np.ndarray,
+    inside: np.ndarray,
+) -> int:
+    """:func:`_subset_bound` in the scratch arrays ``members``, ``link`` and ``inside`` (Prim's algorithm
+    as in :func:`~guardsim.bounds.trees.subset_tree_weight`, without allocating: the local search
+    weighs thousands of small subsets)."""
+    count = 0
+    for cluster in range(chosen.shape[0]):
+        if chosen[cluster]:
+            members[count] = cluster
+            count += 1
+    if count == 0:
         return 0
-    return subset_tree_weight(matrix, members) + start_edge[members].min()
+    nearest = start_edge[members[0]]
+    for k in range(count):
+        nearest = min(nearest, start_edge[members[k]])
+        link[k] = matrix[members[0], members[k]]
+        inside[k] = k == 0
+    total = 0
+    for _ in range(count - 1):
+        best = -1
+        for k in range(count):
+            if not inside[k] and (best < 0 or link[k] < link[best]):
+                best = k
+        inside[best] = True
+        total += link[best]
+        for k in range(count):
+            if not inside[k] and matrix[members[best], members[k]] < link[k]:
+                link[k] = matrix[members[best], members[k]]
+    return total + nearest
 
 
 @numba.njit(cache=True, nogil=True)
@@ -205,7 +88,10 @@ def _local_search(matrix: np.ndarray, start_edge: np.ndarray, chosen: np.ndarray
     ``most_trials`` subsets weighed. Returns the bound and the number of clusters."""
     clusters = matrix.shape[0]
     chosen = chosen.copy()
-    value = _subset_bound(matrix, start_edge, chosen)
+    members = np.empty(clusters, dtype=np.int64)
+    link = np.empty(clusters, dtype=np.int64)
+    inside = np.empty(clusters, dtype=np.bool_)
+    value = _chosen_bound(matrix, start_edge, chosen, members, link, inside)
     trials = 0
     improved = True
     while improved and trials < most_trials:
@@ -223,7 +109,7 @@ def _local_search(matrix: np.ndarray, start_edge: np.ndarray, chosen: np.ndarray
                     chosen[out] = False
                 if into >= 0:
                     chosen[into] = True
-                trial = _subset_bound(matrix, start_edge, chosen)
+                trial = _chosen_bound(matrix, start_edge, chosen, members, link, inside)
                 trials += 1
                 if trial > value:
                     value = trial
@@ -238,30 +124,68 @@ def _local_search(matrix: np.ndarray, start_edge: np.ndarray, chosen: np.ndarray
     return value, int(chosen.sum())
 
 
+@numba.njit(cache=True, nogil=True)
+def _eccentricity(
+    order: np.ndarray, entry_start: np.ndarray, entry_cells: np.ndarray, gap: np.ndarray, seen: np.ndarray, lower: int
+) -> int:
+    """The largest nearest-watcher distance over the cells of ``order`` not ``seen`` (at least
+    ``lower``): a cell stops being scanned as soon as one watcher is known to be no farther than the
+    largest so far, which is all the maximum needs."""
+    largest = lower
+    for index in range(order.shape[0]):
+        if seen[order[index]]:
+            continue
+        nearest = -1
+        for k in range(entry_start[index], entry_start[index + 1]):
+            here = gap[entry_cells[k]]
+            if here >= 0 and (nearest < 0 or here + 1 < nearest):
+                nearest = here + 1
+                if nearest <= largest:
+                    break
+        largest = max(largest, nearest)
+    return largest
+
+
+@numba.njit(cache=True, nogil=True)
+def _best_subset(
+    matrix: np.ndarray, start_edge: np.ndarray, most_trials: int, path_clusters: int
+) -> tuple[int, int, int]:
+    """The best prefix of the picks, improved by :func:`_local_search`, and the path bound of the first
+    ``path_clusters``: (cluster bound, its clusters, path bound)."""
+    size = matrix.shape[0]
+    best_count, best_value = 1, -1
+    for count in range(1, size + 1):
+        value = subset_tree_weight(matrix, np.arange(count)) + start_edge[:count].min()
+        if value > best_value:
+            best_count, best_value = count, value
+    value, clusters = _local_search(matrix, start_edge, np.arange(size) < best_count, most_trials)
+    path = path_bound(matrix, start_edge, np.arange(min(size, path_clusters)))
+    return value, clusters, path
+
+
 def cluster_bound(
     neighbours: np.ndarray,
     table: ViewTable,
-    goal_cells: np.ndarray,
-    nearest: np.ndarray,
-    reachable: np.ndarray,
-    distance: np.ndarray,
-    start_cell: int,
-) -> tuple[int, int, int]:
-    """The cluster bound, its number of clusters, and the path bound: the best over several choices.
+    area: AreaWatchers,
+    start_state: int,
+) -> tuple[int, int, int, int]:
+    """The eccentricity bound, the cluster bound, its number of clusters, and the path bound.
 
-    Every choice keeps goal cells not seen from the start whose reachable watcher sets are pairwise
-    disjoint, and is worth the minimum spanning tree over them plus the distance from the start to the
-    nearest of them. Any such choice gives a valid bound, so the largest found is returned. The choices:
+    The cluster bound is the best over several choices. Every choice keeps goal cells not seen from
+    the start whose reachable watcher sets are pairwise disjoint, and is worth the minimum spanning
+    tree over them plus the distance from the start to the nearest of them. Any such choice gives a
+    valid bound, so the largest found is returned. The choices:
 
-    - fewest reachable watchers first, among cells at least each of :data:`FAR_FRACTIONS` of the
-      eccentricity away (any number of clusters, each tree weighed by
-      :func:`~guardsim.bounds.trees.spanning_tree_weight`); on the shipped levels and the six Moving AI
-      starts of ``docs/bounds.md`` the fractions 1/2 and 3/4 and a farthest-nearest-watcher-first order
-      never raised the best bound, so they are no longer tried (issue 15: 1.5 ms of 9 per start);
-    - up to :data:`MOST_CLUSTERS` cells picked farthest first (:func:`spread_picks`) among the
-      :data:`SPREAD_CANDIDATES` cells with the fewest reachable watchers: every prefix of the
-      picks, then a local search over their subsets. More clusters do not always give more: a cluster
-      between two others can shorten the tree.
+    - fewest reachable watchers first, among the cells not seen from the start (any number of clusters,
+      each tree weighed by :func:`~guardsim.bounds.trees.spanning_tree_weight`); when the start sees
+      none of the cells this keeps over all of the area, it keeps the same cells, so the area's tree
+      serves (:mod:`guardsim.bounds.area`). On the shipped levels and the six Moving AI starts of
+      ``docs/bounds.md`` further orders (cells at least 1/2 or 3/4 of the eccentricity away,
+      farthest nearest watcher first) never raised the best bound, so they are not tried (issue 15);
+    - up to :data:`MOST_CLUSTERS` cells picked farthest first (:func:`~guardsim.bounds.area.spread_picks`) among the
+      :data:`SPREAD_CANDIDATES` cells with the fewest reachable watchers not seen from the start:
+      every prefix of the picks, then a local search over their subsets. More clusters do not always
+      give more: a cluster between two others can shorten the tree.
 
     The **path bound** orders the first :data:`PATH_CLUSTERS` farthest-first picks instead of spanning
     them: the shortest order from the start through a subset of them, the largest over the subsets
@@ -274,42 +198,66 @@ def cluster_bound(
         The grid's connectivity.
     table
         The level's visible cells per state and watchers per cell.
-    goal_cells, nearest, reachable
-        Goal cells, the distance from the start to their nearest reachable watcher, and how many of their
-        watchers are reachable (:func:`~guardsim.bounds.watchers.nearest_watchers`).
-    distance, start_cell
-        State distances from the start state, and the start cell.
+    area
+        The start's area (:func:`~guardsim.bounds.area.area_watchers`, built with
+        :data:`SPREAD_CANDIDATES`).
+    start_state
+        The start cell times 4 plus the first heading.
     """
-    unseen = nearest > 0
-    cells, nearest, reachable = goal_cells[unseen], nearest[unseen], reachable[unseen]
-    start_edge_of = np.zeros(neighbours.shape[0], dtype=np.int64)
-    start_edge_of[cells] = nearest
-    by_watchers = cells[np.lexsort((cells, reachable))]
-    farthest = int(nearest.max(initial=0))
-    choices = [by_watchers[start_edge_of[by_watchers] >= fraction * farthest] for fraction in FAR_FRACTIONS]
-    best = (0, 0)
-    for choice in choices:
-        label, kept = choose_clusters(choice, table.watch_start, table.watchers, distance)
-        if len(kept):
-            tree = int(spanning_tree_weight(neighbours, label, len(kept)))
-            best = max(best, (tree + int(start_edge_of[kept].min()), len(kept)))
-    picks = spread_picks(
-        by_watchers[:SPREAD_CANDIDATES],
-        table.watch_start,
-        table.watchers,
-        distance,
-        neighbours,
-        start_cell,
-        MOST_CLUSTERS,
+    seen = np.zeros(neighbours.shape[0], dtype=np.bool_)
+    seen[table.sees(start_state)] = True
+    kept, tree = area.greedy, area.greedy_tree
+    greedy_only = False
+    if len(kept) and seen[area.order[kept]].any():
+        if area.usable[start_state]:
+            # The start state is a usable watcher, so it watches one kept cell at most: the walk enters
+            # that cluster at step 0, the others later, and the tree alone is a bound (start edge 0).
+            greedy_only = True
+        else:
+            # Choose again without the cells seen at step 0, as for one start alone.
+            order = area.order[~seen[area.order]]
+            distance = state_distances(neighbours, start_state)
+            label, cells = choose_clusters(order, table.watch_start, table.watchers, distance)
+            kept = area.position[cells]
+            tree = int(spanning_tree_weight(neighbours, label, len(kept))) if len(kept) else 0
+    eccentricity, greedy_edge, value, count, path, picks = _start_bounds(
+        area, kept, seen, start_state // 4, neighbours, SPREAD_CANDIDATES, MOST_CLUSTERS, MOST_TRIALS, PATH_CLUSTERS
     )
-    if len(picks) < 2:
-        return (*best, best[0])
+    best = (tree + (0 if greedy_only else int(greedy_edge)), len(kept)) if len(kept) else (0, 0)
+    if picks < 2:
+        return int(eccentricity), *best, best[0]
+    return int(eccentricity), *max(best, (int(value), int(count))), int(path)
+
+
+@numba.njit(cache=True, nogil=True)
+def _start_bounds(
+    area: AreaWatchers,
+    kept: np.ndarray,
+    seen: np.ndarray,
+    start_cell: int,
+    neighbours: np.ndarray,
+    candidates: int,
+    most: int,
+    most_trials: int,
+    path_clusters: int,
+) -> tuple[int, int, int, int, int, int]:
+    """The per-start work in one compiled call (passing the area costs 0.1 ms a call): the eccentricity,
+    the greedy clusters' start edge, the picks' cluster bound, its clusters, the path bound and the
+    number of picks."""
+    gap = cell_distances(neighbours, np.full(1, start_cell, dtype=np.int64))
+    greedy_edge = start_edges(area, kept, gap).min() if kept.shape[0] else 0
+    alive = np.zeros(area.pool.shape[0], dtype=np.bool_)
+    count = 0
+    for position in range(area.pool.shape[0]):
+        if not seen[area.pool[position]] and count < candidates:
+            alive[position] = True
+            count += 1
+    picks = spread_picks(area, alive, gap, neighbours, most)
+    edges = start_edges(area, picks, gap)
+    lower = edges.max() if edges.shape[0] else 0
+    eccentricity = _eccentricity(area.order, area.entry_start, area.entry_cells, gap, seen, lower)
+    if picks.shape[0] < 2:
+        return eccentricity, greedy_edge, 0, 0, 0, picks.shape[0]
     # The picks share no watcher, so every subset of them is a valid choice.
-    label, _ = choose_clusters(picks, table.watch_start, table.watchers, distance)
-    matrix = cluster_distances(neighbours, label, len(picks))
-    start_edge = start_edge_of[picks]
-    prefixes = [np.arange(len(picks)) < count for count in range(1, len(picks) + 1)]
-    values = [_subset_bound(matrix, start_edge, prefix) for prefix in prefixes]
-    value, count = _local_search(matrix, start_edge, prefixes[int(np.argmax(values))], MOST_TRIALS)
-    path = int(path_bound(matrix, start_edge, np.arange(min(len(picks), PATH_CLUSTERS))))
-    return (*max(best, (int(value), int(count))), path)
+    value, clusters, path = _best_subset(pick_matrix(area, picks), edges, most_trials, path_clusters)
+    return eccentricity, greedy_edge, value, clusters, path, picks.shape[0]

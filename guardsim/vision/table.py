@@ -80,6 +80,9 @@ def estimate_entries(grid: CoverageGrid, vision: VisionFunction) -> int:
     picks = np.unique(cells[np.linspace(0, cells.size - 1, min(cells.size, ESTIMATE_SAMPLE_CELLS)).astype(np.int64)])
     seen = 0
     asked = 0
+    fill_many = getattr(vision, "fill_many", None)
+    if fill_many is not None:  # a VisionCache computes the sample in compiled code, as the table after it
+        fill_many(state_of(picks[:, None], np.arange(HEADINGS_PER_CELL)).ravel())
     for cell in picks[_spread_order(picks.size)].tolist():
         col, row = grid.unflat(cell)
         for heading in range(HEADINGS_PER_CELL):
