@@ -12,7 +12,7 @@ import numba
 import numpy as np
 
 from guardsim.bounds.area import AreaWatchers, cell_distances, choose_clusters, pick_matrix, spread_picks, start_edges
-from guardsim.bounds.trees import path_bound, spanning_tree_weight, subset_tree_weight
+from guardsim.bounds.trees import path_bound, spanning_tree_weight
 from guardsim.bounds.watchers import state_distances
 from guardsim.vision.table import ViewTable
 
@@ -154,8 +154,13 @@ def _best_subset(
     ``path_clusters``: (cluster bound, its clusters, path bound)."""
     size = matrix.shape[0]
     best_count, best_value = 1, -1
+    chosen = np.zeros(size, dtype=np.bool_)
+    members = np.empty(size, dtype=np.int64)
+    link = np.empty(size, dtype=np.int64)
+    inside = np.empty(size, dtype=np.bool_)
     for count in range(1, size + 1):
-        value = subset_tree_weight(matrix, np.arange(count)) + start_edge[:count].min()
+        chosen[count - 1] = True
+        value = _chosen_bound(matrix, start_edge, chosen, members, link, inside)
         if value > best_value:
             best_count, best_value = count, value
     value, clusters = _local_search(matrix, start_edge, np.arange(size) < best_count, most_trials)
