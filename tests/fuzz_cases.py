@@ -762,9 +762,6 @@ def verdict(case: Case, folder: Path, exit_code: int, stdout: str, stderr: str, 
     if exit_code != 2:
         return "bad-status"
     lines = stderr.splitlines()
-    if case.kind == "option" and lines and lines[0].startswith("Usage:"):
-        # A click usage error: usage, hint and the error line, which names the option.
-        return "ok" if case.named in lines[-1] else "unnamed"
     if case.command in ("regress", "bench"):
         # Progress lines (the run folder's, the episode count) are not part of the error.
         lines = [line for line in lines if not (line.startswith(str(folder)) or _PROGRESS.match(line))]

@@ -172,13 +172,14 @@ def test_play_writes_gif_and_trace(tmp_path: Path) -> None:
 
 
 @pytest.mark.parametrize("value", ["1", "a,b", "1,2,3", "nan,1", "1,inf", ""], ids=repr)
-def test_play_malformed_start_is_a_usage_error(tmp_path: Path, value: str) -> None:
-    """`--start` must be two finite numbers X,Y; anything else is a click usage error with status 2."""
+def test_play_malformed_start_is_one_usage_line(tmp_path: Path, value: str) -> None:
+    """`--start` must be two finite numbers X,Y; anything else is one usage line with status 2."""
     result = run("play", SQUARE, "--start", value, "--gif", tmp_path / "out.gif")
     assert result.exit_code == 2
     assert "Traceback" not in result.output
-    assert "Usage:" in result.stderr
-    assert "--start" in result.stderr
+    [line] = result.stderr.splitlines()
+    assert line.startswith("guardsim: error: Invalid value for '--start': ")
+    assert line.endswith(" (see guardsim play --help)")
     assert not (tmp_path / "out.gif").exists()
 
 
@@ -252,3 +253,21 @@ def test_console_script_bad_level(tmp_path: Path) -> None:
     assert lines[0].startswith(f"guardsim: error: {path}: holes[0] point ")
     assert "crosses or touches itself" in lines[0]
     assert completed.stdout == ""
+
+
+@pytest.mark.parametrize("option", ["--move-speed", "--turn-speed", "--tick-hz", "--max-seconds"])
+@pytest.mark.parametrize("command", ["play", "bench"])
+def test_game_speeds_without_continuous_motion_are_refused(tmp_path: Path, command: str, option: str) -> None:
+    """A speed given to a grid episode was ignored without a word: the run looked like it used it."""
+    extra = ["--out", str(tmp_path / "out")] if command == "bench" else []
+    result = run(command, SQUARE, *extra, option, "3")
+    assert result.exit_code == 2 and not (tmp_path / "out").exists()
+    assert result.stderr.splitlines() == [
+        f"guardsim: error: Invalid value for {option}: grid episodes have no game time; it needs --motion "
+        f"continuous (see guardsim {command} --help)"
+    ]
+
+
+def test_unknown_commands_and_missing_arguments_are_one_line() -> None:
+    assert run("plya").stderr.splitlines() == ["guardsim: error: No such command 'plya'. (see guardsim --help)"]
+    assert run("play").stderr.splitlines() == ["guardsim: error: Missing argument 'LEVEL'. (see guardsim play --help)"]

@@ -324,3 +324,16 @@ def test_fix_leaves_a_ring_with_an_absurd_coordinate_to_the_loader(tmp_path: Pat
     assert result.exit_code == 2
     assert "holes[0] point 3: coordinate must be a number of at most 1e+15 in size" in result.stdout
     assert not fixed.exists()
+
+
+def test_optimum_memory_beyond_reach_is_one_line(tmp_path: Path) -> None:
+    """Fuzz case seed 243: ``--memory-mb 10000000000000000000`` was numpy's traceback ("Maximum allowed
+    dimension exceeded"); a size past the machine is now one line naming the level and the option."""
+    level = write_level(tmp_path, SQUARE_WITH_HOLE)
+    huge = run("optimum", level, "--memory-mb", "10000000000000000000")
+    assert huge.exit_code == 2 and "'--memory-mb'" in huge.stderr.splitlines()[-1]
+    result = run("optimum", level, "--memory-mb", str(2**20), "--max-expansions", "10")
+    assert result.exit_code == 2 and "Traceback" not in result.output
+    assert result.stderr.splitlines() == [
+        f"guardsim: error: {level}: cannot reserve 1048576 MB for the search nodes (memory_bytes: lower --memory-mb)"
+    ]

@@ -8,7 +8,11 @@ with exit status 2 (see :func:`guardsim.cli.common.reports_errors`).
 
 from __future__ import annotations
 
+import contextlib
 import importlib
+import sys
+from collections.abc import Iterator
+from typing import Any
 
 import click
 
@@ -40,6 +44,20 @@ COMMANDS: dict[str, tuple[str, str, str]] = {
 }
 
 
+@contextlib.contextmanager
+def _one_line_usage_errors() -> Iterator[None]:
+    """A bad option or argument is one ``guardsim: error:`` line naming it, like every other error, not
+    click's usage block (usage, hint, blank line, error)."""
+    try:
+        yield
+    except click.UsageError as error:
+        command = error.ctx.info_name if error.ctx is not None and error.ctx.parent is not None else None
+        hint = f" (see guardsim {command} --help)" if command else " (see guardsim --help)"
+        message = " ".join(error.format_message().split())
+        click.echo(f"guardsim: error: {message}{hint}", err=True)
+        sys.exit(error.exit_code)
+
+
 class _LazyGroup(click.Group):
     """A group whose commands are imported when used; the listing reads :data:`COMMANDS` alone."""
 
@@ -55,6 +73,14 @@ class _LazyGroup(click.Group):
         if not isinstance(command, click.Command):
             raise TypeError(f"{module}.{name} is not a click command")
         return command
+
+    def parse_args(self, ctx: click.Context, args: list[str]) -> list[str]:
+        with _one_line_usage_errors():
+            return super().parse_args(ctx, args)
+
+    def invoke(self, ctx: click.Context) -> Any:
+        with _one_line_usage_errors():
+            return super().invoke(ctx)
 
     def format_commands(self, ctx: click.Context, formatter: click.HelpFormatter) -> None:
         rows = [(name, COMMANDS[name][2]) for name in self.list_commands(ctx)]

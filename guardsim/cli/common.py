@@ -46,6 +46,7 @@ LIMIT_OPTIONS = {
     "max_frames": "raise it with --max-frames",
     "max_frame_size": "raise it with --max-frame-size",
     "max_view_entries": "shorten the view range or use larger cells",
+    "memory_bytes": "lower --memory-mb",
     "update": "run with --update",
 }
 _LIMIT_KEYWORD = re.compile(r"\((" + "|".join(LIMIT_OPTIONS) + r")\b([^()]*)\)")

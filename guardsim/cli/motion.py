@@ -79,11 +79,16 @@ def check_speed_up(motion: str, speed_up: float | None) -> None:
         raise click.BadParameter("grid ticks have no game time; it needs --motion continuous", param_hint="--speed-up")
 
 
-def check_motion(motion: str, guards: int, los: str) -> None:
+def check_motion(motion: str, guards: int, los: str, **speeds: float | None) -> None:
     """Refuse what continuous motion does not do: teams (``los`` is accepted either way: under
-    Bresenham the continuous guard sees along grid lines from the cell its eye is in)."""
+    Bresenham the continuous guard sees along grid lines from the cell its eye is in); and speeds given
+    to a grid episode, which would be ignored without a word (``speeds``: ``move_speed=`` ... by name)."""
     if motion == "continuous" and guards > 1:
         raise GuardsimError("--motion continuous walks one guard; drop --guards")
+    given = [name for name, value in speeds.items() if value is not None]
+    if motion != "continuous" and given:
+        option = "--" + given[0].replace("_", "-")
+        raise click.BadParameter("grid episodes have no game time; it needs --motion continuous", param_hint=option)
 
 
 def motion_of(scene: Scene, move_speed: float | None, turn_speed: float | None, tick_hz: float | None) -> GuardMotion:

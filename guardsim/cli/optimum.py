@@ -40,7 +40,7 @@ __all__ = ["optimum"]
 )
 @click.option(
     "--memory-mb",
-    type=click.IntRange(min=16),
+    type=click.IntRange(min=16, max=2**20),
     default=DEFAULT_MEMORY_BYTES // 2**20,
     show_default=True,
     help="Most memory for the search's stored nodes; the search stops unproved when they are full.",

@@ -104,7 +104,9 @@ def play(
     With --guards K, the other guards' starts and headings are drawn next from the same generator, which
     then feeds the planners, as in `guardsim bench`.
     """
-    check_motion(motion, guards, los)
+    check_motion(
+        motion, guards, los, move_speed=move_speed, turn_speed=turn_speed, tick_hz=tick_hz, max_seconds=max_seconds
+    )
     check_speed_up(motion, speed_up)
     if record_field and planner not in ("ripplefront", "ripplefront-exact"):
         raise click.BadParameter(f"planner {planner} keeps no field to record", param_hint="--record-field")

@@ -141,7 +141,12 @@ def solve(
     words = graph.full.size
     per_node = 8 * words + 5 * 4 + 2 * 12 + 2 * 8
     capacity = max(1024, int(memory_bytes // per_node))
-    state = new_search_state(capacity, words, graph.positions)
+    try:
+        state = new_search_state(capacity, words, graph.positions)
+    except (MemoryError, ValueError) as error:  # numpy: "Maximum allowed dimension exceeded"
+        raise LimitError(
+            f"cannot reserve {memory_bytes // 2**20} MB for the search nodes (memory_bytes)"
+        ) from error
     start_search(state, heuristic, graph.views, graph.full, graph.start, greedy_steps + 1)
     root_bound = int(state.estimate[0])
     stopped_by = "proved"
