@@ -223,7 +223,7 @@ def run_checks(scene: Scene, rules: CheckRules, *, seed: int = 0) -> list[CheckR
     patrol: Patrol | None = None
     if rules.max_idleness is not None or rules.sneaks:
         if rules.patrol is not None:
-            patrol = read_patrol(rules.patrol, scene.grid)
+            patrol = read_patrol(rules.patrol, scene.grid, level=scene.level.name)
             if patrol.motion != "grid":
                 raise CheckError(
                     f"{rules.patrol}: motion is {patrol.motion!r}: check scores grid-motion patrols (ticks) only"

@@ -271,3 +271,15 @@ def test_game_speeds_without_continuous_motion_are_refused(tmp_path: Path, comma
 def test_unknown_commands_and_missing_arguments_are_one_line() -> None:
     assert run("plya").stderr.splitlines() == ["guardsim: error: No such command 'plya'. (see guardsim --help)"]
     assert run("play").stderr.splitlines() == ["guardsim: error: Missing argument 'LEVEL'. (see guardsim play --help)"]
+
+
+def test_a_gif_named_as_another_format_is_refused(tmp_path: Path) -> None:
+    """``--gif x.png`` wrote GIF data into a .png with exit 0; a name without a suffix is still fine."""
+    result = run("play", SQUARE, "--gif", tmp_path / "x.png")
+    assert result.exit_code == 2 and not (tmp_path / "x.png").exists()
+    assert result.stderr.splitlines() == [
+        f"guardsim: error: Invalid value for '--gif': '{tmp_path / 'x.png'}' ends in '.png', but a GIF is written: "
+        "name it .gif (see guardsim play --help)"
+    ]
+    assert run("play", SQUARE, "--gif", tmp_path / "plain", "--max-steps", "2").exit_code == 0
+    assert (tmp_path / "plain").read_bytes()[:6] == b"GIF89a"

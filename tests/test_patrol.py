@@ -465,3 +465,29 @@ def test_same_seed_same_patrol(tmp_path: Path, strategy: str) -> None:
         assert result.exit_code == 0, result.output
         written.append((out / "patrol.json").read_bytes())
     assert written[0] == written[1]
+
+
+def test_a_patrol_of_another_level_says_which_level_it_was_made_for(tmp_path: Path) -> None:
+    """Square and Passages share a 60 x 60 grid: a Square patrol read on Passages failed on a wall cell
+    without saying it was made for another level."""
+    repo = Path(__file__).resolve().parent.parent
+    runner = CliRunner()
+    made = runner.invoke(main, ["patrol", str(repo / "levels" / "square.json"), "--out", str(tmp_path / "p")])
+    assert made.exit_code == 0, made.output
+    patrol = tmp_path / "p" / "patrol.json"
+    result = runner.invoke(
+        main,
+        [
+            "sneak",
+            str(repo / "levels" / "passages.json"),
+            "--patrol",
+            str(patrol),
+            "--from",
+            "2.5,2.5",
+            "--to",
+            "57.5,57.5",
+        ],
+    )
+    [line] = result.stderr.splitlines()
+    assert result.exit_code == 2 and line.startswith(f"guardsim: error: {patrol}: guards[0].loop[")
+    assert line.endswith('(the patrol was made for level "Square", not "Passages")')

@@ -5,6 +5,7 @@ from __future__ import annotations
 import dataclasses
 import functools
 import math
+import os
 import re
 import sys
 from collections.abc import Callable
@@ -25,6 +26,7 @@ __all__ = [
     "FiniteFloatRange",
     "build_scene",
     "cli_start",
+    "gif_suffix",
     "limit_options",
     "load",
     "one_line",
@@ -111,6 +113,16 @@ def reports_errors(command: F) -> F:
 def one_line(text: str) -> str:
     """``text`` with line breaks turned into spaces, so that a message stays one line."""
     return " ".join(text.splitlines()) if "\n" in text or "\r" in text else text
+
+
+def gif_suffix(_ctx: click.Context, param: click.Parameter, value: str | None) -> str | None:
+    """A GIF output path: a name ending in another format's suffix (``x.png``) would hold a GIF that
+    viewers and engines read as that format, so it is refused; a name without a suffix is kept."""
+    if value is not None:
+        suffix = os.path.splitext(value)[1]
+        if suffix and suffix.lower() != ".gif":
+            raise click.BadParameter(f"{value!r} ends in {suffix!r}, but a GIF is written: name it .gif", param=param)
+    return value
 
 
 def parse_point(_ctx: click.Context, param: click.Parameter, value: str | None) -> tuple[float, float] | None:

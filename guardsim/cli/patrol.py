@@ -161,7 +161,7 @@ def patrol(
     setup = patrol_setup(scene, guards, seed=seed)
     extra: dict[str, object] = {}
     if evaluate_path is not None:
-        chosen = read_patrol(evaluate_path, scene.grid)
+        chosen = read_patrol(evaluate_path, scene.grid, level=scene.level.name)
         if chosen.motion == "continuous":
             motion = "continuous"
         score = score_patrol(setup.table, chosen, setup.goal, warmup=0)

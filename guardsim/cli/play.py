@@ -7,7 +7,16 @@ from typing import Any
 
 import click
 
-from guardsim.cli.common import build_scene, cli_start, limit_options, load, parse_point, reports_errors, vision_options
+from guardsim.cli.common import (
+    build_scene,
+    cli_start,
+    gif_suffix,
+    limit_options,
+    load,
+    parse_point,
+    reports_errors,
+    vision_options,
+)
 from guardsim.cli.map_options import MapImport, map_options
 from guardsim.cli.motion import check_motion, check_speed_up, motion_of, motion_options, speed_up_option
 from guardsim.level import HEADINGS
@@ -23,7 +32,7 @@ __all__ = ["play"]
 
 @click.command()
 @click.argument("level_path", metavar="LEVEL")
-@click.option("--gif", "gif_path", type=str, help="Write the episode as an animated GIF.")
+@click.option("--gif", "gif_path", type=str, callback=gif_suffix, help="Write the episode as an animated GIF (.gif).")
 @click.option("--html", "html_path", type=str, help="Write the episode as an interactive page (one offline file).")
 @click.option("--trace", "trace_path", type=str, help="Write the episode as JSON.")
 @click.option("--seed", type=click.IntRange(min=0), default=0, show_default=True, help="Seed for random choices.")

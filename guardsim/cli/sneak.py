@@ -82,7 +82,7 @@ def sneak(
     level = load(level_path, max_cells, max_vertices, max_file_bytes)
     scene = build_scene(level, los, fov, view_range)
     grid = scene.grid
-    patrol = read_patrol(patrol_path, grid)
+    patrol = read_patrol(patrol_path, grid, level=level.name)
     if patrol.motion != "grid":
         raise GuardsimError(
             f"{patrol_path}: motion is {patrol.motion!r}: the sneak check runs on grid-motion patrols (ticks) only"

@@ -25,7 +25,7 @@ from guardsim.errors import GuardsimError
 from guardsim.grid import CoverageGrid, state_of
 from guardsim.patrol.model import Patrol
 from guardsim.patrol.scoring import NEVER, PatrolScore
-from guardsim.reading import json_type, read_json_file
+from guardsim.reading import excerpt, json_type, read_json_file
 
 __all__ = [
     "DEFAULT_MAX_PATROL_BYTES",
@@ -98,10 +98,23 @@ def patrol_data(
     return data
 
 
-def read_patrol(path: str, grid: CoverageGrid, *, max_file_bytes: int = DEFAULT_MAX_PATROL_BYTES) -> Patrol:
-    """Read a patrol file made for ``grid``'s level; every fault one :class:`PatrolError` line."""
+def read_patrol(
+    path: str, grid: CoverageGrid, *, max_file_bytes: int = DEFAULT_MAX_PATROL_BYTES, level: str | None = None
+) -> Patrol:
+    """Read a patrol file made for ``grid``'s level; every fault one :class:`PatrolError` line.
+
+    ``level``, the level's name: a patrol that does not fit and names another level says so.
+    """
     data = read_json_file(path, max_file_bytes=max_file_bytes, kind="patrol file", error=PatrolError)
-    return parse_patrol(data, grid, source=str(path))
+    try:
+        return parse_patrol(data, grid, source=str(path))
+    except PatrolError as error:
+        made_for = data.get("level") if isinstance(data, dict) else None
+        if level is None or not isinstance(made_for, str) or made_for == level:
+            raise
+        raise PatrolError(
+            f"{error} (the patrol was made for level {excerpt(made_for)}, not {excerpt(level)})"
+        ) from None
 
 
 def _fail(source: str, where: str, message: str) -> PatrolError:
