@@ -302,7 +302,7 @@ def test_cli_prints_the_bounds(tmp_path: Path) -> None:
     result = CliRunner().invoke(main, ["bounds", str(path), "--start", "3.5,0.5", "--heading", "right"])
     assert result.exit_code == 0, result.output
     assert result.stdout.startswith("corridor: from cell [3, 0] facing right (7 reachable cells): ")
-    assert "eccentricity bound 2, cluster bound 6 (2 clusters), best bound 6 steps;" in result.stdout
+    assert "eccentricity bound 2, cluster bound 6 (2 clusters), path bound 6, best bound 6 steps;" in result.stdout
     assert "view table " in result.stdout and "bounds " in result.stdout
 
 

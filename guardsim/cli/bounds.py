@@ -63,7 +63,8 @@ def bounds(
     """Print lower bounds on the steps needed to see every cell reachable from a start on LEVEL.
 
     The eccentricity bound is the farthest any reachable cell's nearest viewpoint is; the cluster bound
-    spans cells no two of which share a viewpoint; the best bound is the larger (docs/bounds.md). The
+    spans cells no two of which share a viewpoint; the path bound walks through some of those cells in the
+    best order; the best bound is the largest (docs/bounds.md). The
     start and heading are chosen as by `guardsim play`: --start, else the level's, else drawn from --seed.
     """
     level = load(level_path, max_cells, max_vertices, max_file_bytes)
@@ -79,6 +80,7 @@ def bounds(
     click.echo(
         f"{level.name}: from cell [{cell[0]}, {cell[1]}] facing {list(HEADINGS)[first_heading]} "
         f"({reachable} reachable cells): eccentricity bound {result.eccentricity}, "
-        f"cluster bound {result.cluster} ({result.clusters} cluster{'' if result.clusters == 1 else 's'}), best bound {result.best} steps; "
+        f"cluster bound {result.cluster} ({result.clusters} cluster{'' if result.clusters == 1 else 's'}), "
+        f"path bound {result.path}, best bound {result.best} steps; "
         f"scene {built - began:.2f} s, view table {tabled - built:.2f} s, bounds {result.seconds:.3f} s"
     )
