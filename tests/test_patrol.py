@@ -491,3 +491,32 @@ def test_a_patrol_of_another_level_says_which_level_it_was_made_for(tmp_path: Pa
     [line] = result.stderr.splitlines()
     assert result.exit_code == 2 and line.startswith(f"guardsim: error: {patrol}: guards[0].loop[")
     assert line.endswith('(the patrol was made for level "Square", not "Passages")')
+
+
+def test_a_tiled_copy_in_another_folder_still_finds_its_external_tileset(tmp_path: Path) -> None:
+    """The copy kept ``source="tileset.tsx"``, which names a file only beside the original map: re-imported
+    from elsewhere it warned "tileset tileset.tsx not found" (and Tiled would open it without tiles)."""
+    import shutil
+    from xml.etree import ElementTree
+
+    from guardsim.importers import import_map
+    from guardsim.level import level_to_data
+
+    maps = Path(__file__).resolve().parent.parent.parent / "shared" / "maps" / "tiled"
+    if not (maps / "sneaktime_tilemap1.tmx").exists():
+        pytest.skip("../shared/maps is not beside the repository")
+    source = tmp_path / "maps" / "level.tmx"
+    source.parent.mkdir()
+    shutil.copy(maps / "sneaktime_tilemap1.tmx", source)
+    shutil.copy(maps / "tileset.tsx", source.parent / "tileset.tsx")
+    copy = tmp_path / "out" / "deeper" / "routed.tmx"
+    copy.parent.mkdir(parents=True)
+    result = CliRunner().invoke(main, ["patrol", str(source), "--out", str(tmp_path / "o"), "--tiled-out", str(copy)])
+    assert result.exit_code == 0, result.output
+    [tileset] = ElementTree.parse(copy).getroot().iter("tileset")
+    assert tileset.get("source") == "../../maps/tileset.tsx"
+    routed, plain = import_map(copy), import_map(source)
+    assert not any("not found" in warning for warning in routed.warnings), routed.warnings
+    routed_data, plain_data = level_to_data(routed.level), level_to_data(plain.level)
+    routed_data.pop("name"), plain_data.pop("name")
+    assert routed_data == plain_data

@@ -18,6 +18,7 @@ import copy
 import json
 import math
 import os
+from collections.abc import Callable
 from pathlib import Path
 from typing import Any
 from xml.etree import ElementTree
@@ -135,9 +136,24 @@ def tiled_with_routes(
     source_kind = check_tiled_formats(source, target)
     routes = [waypoints(patrol, grid, guard, speed=speed) for guard in range(patrol.guards)]
     properties = _properties(patrol, grid, speed)
+    moved = _rebaser(source, target)
     if source_kind == "tmx":
-        return _tmx(source, source_bytes, routes, properties)
-    return _tmj(source, source_bytes, routes, properties)
+        return _tmx(source, source_bytes, routes, properties, moved)
+    return _tmj(source, source_bytes, routes, properties, moved)
+
+
+def _rebaser(source: str | os.PathLike[str], target: str | os.PathLike[str]) -> Callable[[str], str]:
+    """A function taking a path the source map names (a tileset, an image, a template) to the same file
+    named from the copy's folder, so the copy opens in Tiled and re-imports wherever it is written."""
+    source_dir = Path(source).resolve().parent
+    target_dir = Path(target).resolve().parent
+
+    def moved(path: str) -> str:
+        if not path or "://" in path or os.path.isabs(path) or source_dir == target_dir:
+            return path
+        return Path(os.path.relpath(source_dir / path, target_dir)).as_posix()
+
+    return moved
 
 
 def check_tiled_formats(source: str | os.PathLike[str], target: str | os.PathLike[str]) -> str:
@@ -164,12 +180,18 @@ def _tmx(
     data: bytes,
     routes: list[list[dict[str, Any]]],
     properties: list[tuple[str, str, float | int]],
+    moved: Callable[[str], str],
 ) -> bytes:
     from guardsim.reading import read_xml_root
 
     root = read_xml_root(data, source=str(source), error=PatrolError)
     if root.tag != "map":
         raise PatrolError(f"{source}: not a Tiled map (root element {root.tag!r})")
+    for element in root.iter():
+        for name in ("source", "template"):
+            value = element.get(name)
+            if value is not None and element.tag in ("tileset", "image", "object"):
+                element.set(name, moved(value))
     scale = (_number(root, "tilewidth", source), _number(root, "tileheight", source))
     for layer in list(root):
         if layer.tag == "objectgroup" and layer.get("name") == LAYER_NAME:
@@ -203,6 +225,22 @@ def _tmx(
     return b'<?xml version="1.0" encoding="UTF-8"?>\n' + ElementTree.tostring(root, encoding="utf-8") + b"\n"
 
 
+def _rebase_json(value: Any, moved: Callable[[str], str]) -> None:
+    """Rename, in place, the files a Tiled JSON map names: tilesets' ``source``, ``image`` and objects'
+    ``template`` (bounded: the map was read with the depth limit)."""
+    if isinstance(value, dict):
+        for key in ("source", "image", "template"):
+            if isinstance(value.get(key), str):
+                value[key] = moved(value[key])
+        for item in value.values():
+            if isinstance(item, (dict, list)):
+                _rebase_json(item, moved)
+    elif isinstance(value, list):
+        for item in value:
+            if isinstance(item, (dict, list)):
+                _rebase_json(item, moved)
+
+
 def _number(element: ElementTree.Element, name: str, source: str | os.PathLike[str]) -> float:
     try:
         value = float(element.get(name, ""))
@@ -218,6 +256,7 @@ def _tmj(
     data: bytes,
     routes: list[list[dict[str, Any]]],
     properties: list[tuple[str, str, float | int]],
+    moved: Callable[[str], str],
 ) -> bytes:
     from guardsim.reading import parse_json
 
@@ -225,6 +264,7 @@ def _tmj(
     if not isinstance(tiled, dict) or not isinstance(tiled.get("layers"), list):
         raise PatrolError(f"{source}: not a Tiled JSON map (no layers list)")
     tiled = copy.deepcopy(tiled)
+    _rebase_json(tiled, moved)
     scale = (float(tiled.get("tilewidth") or 0), float(tiled.get("tileheight") or 0))
     if not all(math.isfinite(v) and v > 0 for v in scale):
         raise PatrolError(f"{source}: the map's tilewidth and tileheight must be positive numbers")
