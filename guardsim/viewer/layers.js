@@ -3,13 +3,18 @@
 // - laps: the trace is one lap; page tick t shows lap tick t mod period, for several laps;
 // - idleness: a number per cell (worst gap, longest unseen window) as a heat map with a colour bar;
 // - idle-now: each cell's idleness at the current tick (ticks since a guard last saw it), in steady state;
-// - route: each guard's loop, a closed polyline under the animation;
+// - route: each guard's loop, a closed dashed polyline under the animation;
 // - intruder: a player who is not a guard: its path from its start tick, no cone, marked when in view.
 "use strict";
 const GuardsimLayers = (function () {
   const NEVER = [0, 0, 0];
   const MARK = "#ff2020";
   const BAR_WIDTH = 256;
+  const ROUTE_GAP = "#ffffff";
+  // The legend's swatch of a cone over the heat map: viridis's ends and middle under viewer.js's white wash.
+  const CONE_OVER_HEAT = "linear-gradient(90deg,#a280aa,#90c8c6,#fef392)";
+  // Dash and gap in whole canvas pixels.
+  const routeDash = (scale) => [Math.max(6, Math.round(scale)), Math.max(4, Math.round(scale * 0.6))];
 
   function make(env) {
     const { data, context, scale, px, py, decode, ramp, cellImage, centre, kinds } = env;
@@ -86,14 +91,22 @@ const GuardsimLayers = (function () {
       if (layers.idleness && staticImage) context.drawImage(staticImage, 0, 0, canvas.width, canvas.height);
       if (layers["idle-now"] && runs) context.drawImage(nowImage(tick % period), 0, 0, canvas.width, canvas.height);
       if (layers.route && data.routes) {
+        // Dashes of the guard's dark shade over a white line, thinner than the trail: the solid trail in the
+        // guard's colour would otherwise pass for its loop. Whole-pixel dashes keep every pixel one colour.
         context.lineWidth = Math.max(2, 2 * Math.round(scale / 10));
         context.lineJoin = "round";
+        const dash = routeDash(scale);
         data.routes.forEach((route, guard) => {
-          context.strokeStyle = data.route_colours[guard];
           context.beginPath();
           route.forEach((p, i) => (i === 0 ? context.moveTo(px(p[0]), py(p[1])) : context.lineTo(px(p[0]), py(p[1]))));
           context.closePath();
+          context.setLineDash([]);
+          context.strokeStyle = ROUTE_GAP;
           context.stroke();
+          context.setLineDash(dash);
+          context.strokeStyle = data.route_colours[guard];
+          context.stroke();
+          context.setLineDash([]);
         });
       }
     }
@@ -223,6 +236,10 @@ const GuardsimLayers = (function () {
       return [...found].filter((t) => t >= 0 && t <= total).sort((a, b) => a - b);
     }
 
+    // Whether a viridis layer lies under the cones (viridis ends in the cone's yellow; viewer.js then
+    // draws the cones as a white wash with a cased edge).
+    const heatShown = (layers) => Boolean((layers.idleness && heat) || (layers["idle-now"] && runs));
+
     const present = [];
     if (heat) present.push("idleness");
     if (runs) present.push("idle-now");
@@ -232,7 +249,11 @@ const GuardsimLayers = (function () {
     function legend() {
       const items = [];
       if (heat || runs) items.push(["#000000", "never seen"]);
-      if (data.routes) items.push([data.route_colours[0], "loop (dark: each guard's route)"]);
+      if (data.routes) {
+        const dark = data.route_colours[0];
+        items.push(["repeating-linear-gradient(90deg," + dark + " 0 4px," + ROUTE_GAP + " 4px 7px)", "route (dashed: each guard's loop)"]);
+      }
+      if (heat || runs) items.push([CONE_OVER_HEAT, "sees now, over a heat map (white wash, dark edge)"]);
       if (intruder) {
         items.push([data.colours.intruder, data.intruder.label + " (no cone; \u25cb from, \u25a1 to)"]);
         items.push(["#000000", "intruder in view (ringed red)"]);
@@ -240,7 +261,7 @@ const GuardsimLayers = (function () {
       return items;
     }
 
-    return { total, local, drawUnder, drawOver, describe, intruderText, colourBar, paintBar, present, legend, marks, cellText };
+    return { total, local, drawUnder, drawOver, describe, intruderText, colourBar, paintBar, present, legend, marks, cellText, heatShown };
   }
 
   return { make: make };

@@ -14,6 +14,10 @@
   const TRAIL_AGES = [1, 2, 4, 8];
   const TRAIL_ALPHAS = [1.0, 0.72, 0.5, 0.34, 0.22];
   const CONE_ALPHA = 0.42;
+  // Over a viridis heat map the GIF's yellow tint vanishes on its yellow end and browns its purple: the
+  // cones become a white wash (no viridis colour is near white) with an edge cased in the outline colour.
+  const CONE_WASH = "#ffffff";
+  const CONE_WASH_ALPHA = 0.5;
   const ARC_STEP_DEGREES = 2.0;
   const VERTEX_NUDGE = 1e-4;
   const MIN_GUARD_RADIUS = 7;
@@ -366,6 +370,7 @@
       if (layers.field && field) context.drawImage(fieldAt(now), 0, 0, canvas.width, canvas.height);
       if (extra) extra.drawUnder(tick, layers, canvas);
       const cones = [];
+      const overHeat = extra ? extra.heatShown(layers) : false;
       if (layers.cone) {
         for (let guard = 0; guard < guards; guard++) {
           const [eye, facing] = pose(guard, now);
@@ -373,8 +378,8 @@
           const shape = new Path2D();
           ring.forEach((p, i) => (i === 0 ? shape.moveTo(px(p[0]), py(p[1])) : shape.lineTo(px(p[0]), py(p[1]))));
           shape.closePath();
-          context.globalAlpha = CONE_ALPHA;
-          context.fillStyle = colours.cone;
+          context.globalAlpha = overHeat ? CONE_WASH_ALPHA : CONE_ALPHA;
+          context.fillStyle = overHeat ? CONE_WASH : colours.cone;
           context.fill(shape);
           context.globalAlpha = 1;
           cones.push(shape);
@@ -385,8 +390,13 @@
       context.lineWidth = 2;
       context.stroke(floor);
       cones.forEach((shape, guard) => {
+        if (overHeat) {
+          context.strokeStyle = colours.outline;
+          context.lineWidth = 4;
+          context.stroke(shape);
+        }
         context.strokeStyle = data.guard_colours[guard];
-        context.lineWidth = 1;
+        context.lineWidth = overHeat ? 2 : 1;
         context.stroke(shape);
       });
       if (layers.trail) for (let guard = 0; guard < guards; guard++) drawTrail(guard, now);
@@ -514,7 +524,10 @@
       ...(data.unreachable ? [[colours.unreachable, data.unreachable + " unreachable cells (not counted)"]] : []),
       [colours.cone, "sees now"],
       ["linear-gradient(90deg,#fff6aa,#ee7a28,#6e105a)", "first seen: early \u2192 late"],
-      ...data.guard_colours.map((colour, guard) => [colour, guards > 1 ? "guard " + (guard + 1) : "guard (square: start)"]),
+      ...data.guard_colours.map((colour, guard) => [
+        colour,
+        (guards > 1 ? "guard " + (guard + 1) : "guard (square: start)") + (data.routes ? ", solid: its trail" : ""),
+      ]),
       ...(extra ? extra.legend() : []),
     ];
     for (const [colour, label] of items) {
