@@ -88,10 +88,12 @@ def optimum(
     )
     names = list(HEADINGS)
     verdict = (
-        "optimum" if result.proved else f"best found (stopped by {result.stopped_by}; optimum >= {result.lower_bound})"
+        f"optimum {result.steps} steps"
+        if result.proved
+        else f"best found {result.steps} steps (stopped by {result.stopped_by}; optimum >= {result.lower_bound})"
     )
     click.echo(
-        f"{level.name}: from cell [{cell[0]}, {cell[1]}] facing {names[first_heading]}: {verdict} {result.steps} steps; "
+        f"{level.name}: from cell [{cell[0]}, {cell[1]}] facing {names[first_heading]}: {verdict}; "
         f"proved: {str(result.proved).lower()}; start bound {result.root_bound}; "
         f"{result.expansions} expansions, {result.nodes} nodes, {result.seconds:.1f} s"
     )
