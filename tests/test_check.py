@@ -88,7 +88,7 @@ def test_rules_from_a_checks_file(corridor: tuple[Path, Path], tmp_path: Path) -
     ]
     as_json = tmp_path / "checks.json"
     as_json.write_text(json.dumps({"no_unreachable": True}))
-    assert _run(str(level), "--checks", str(as_json)) == (0, [f"{level}: all 1 rules hold"])
+    assert _run(str(level), "--checks", str(as_json)) == (0, [f"{level}: all 1 rule holds"])
 
 
 @pytest.mark.parametrize(

@@ -130,4 +130,6 @@ def check(
         click.echo(f"{level_path}: broken: {result.rule}: {result.message}")
     if broken:
         sys.exit(1)
-    click.echo(f"{level_path}: all {len(results)} rules hold")
+    click.echo(
+        f"{level_path}: all {len(results)} rules hold" if len(results) != 1 else f"{level_path}: all 1 rule holds"
+    )
