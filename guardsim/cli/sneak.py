@@ -145,7 +145,15 @@ def sneak(
                     for tick, cell in enumerate(path.cells)
                     if result.seen[(path.start_tick + tick) % result.period, cell]
                 }
-                write_sneak_gif(folder / "sneak.gif", level, trace, cells, seen_ticks=seen_at)
+                write_sneak_gif(
+                    folder / "sneak.gif",
+                    level,
+                    trace,
+                    cells,
+                    seen_ticks=seen_at,
+                    lap_start=path.start_tick,
+                    period=result.period,
+                )
                 written.append(str(folder / "sneak.gif"))
             if html:
                 from guardsim.viewer import write_viewer

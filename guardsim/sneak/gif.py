@@ -14,10 +14,30 @@ from guardsim.render.gif import GifOptions, GifStream, frame_ticks
 from guardsim.render.palette import Index, guard_index
 from guardsim.trace import Trace
 
-__all__ = ["write_sneak_gif"]
+__all__ = ["SneakFrames", "write_sneak_gif"]
 
 #: The intruder's colour: a guard colour no team of up to five guards uses.
 _INTRUDER = guard_index(5)
+
+
+class SneakFrames(FrameDrawer):
+    """The patrol's frames over the sneak's ticks, captioned with both clocks: the sneak's tick (the
+    frame's) and the lap tick it falls on, ``(lap_start + tick) % period``, as sneak.json and the page
+    count them. Without ``period`` the caption is the plain one."""
+
+    def __init__(self, level: Level, trace: Trace, *, size: int, lap_start: int = 0, period: int | None = None) -> None:
+        super().__init__(level, trace, size=size)
+        self.lap_start = lap_start
+        self.period = period
+
+    def caption(self, tick: int) -> tuple[str, str]:
+        first, second = super().caption(tick)
+        if self.period is None:
+            return first, second
+        plain = f"  |  tick {tick} / {self.trace.steps}"
+        lap = (self.lap_start + tick) % self.period
+        both = f"  |  sneak tick {tick} / {self.trace.steps} \u00b7 lap tick {lap} / {self.period}"
+        return first.replace(plain, both, 1), second
 
 
 def write_sneak_gif(
@@ -28,12 +48,17 @@ def write_sneak_gif(
     *,
     seen_ticks: set[int] | frozenset[int] = frozenset(),
     options: GifOptions | None = None,
+    lap_start: int = 0,
+    period: int | None = None,
 ) -> int:
     """Write the guards of ``trace`` with the intruder walking ``intruder`` (one cell per tick of the
     trace): its trail in the cyan of guard colour 6 (teams of up to five keep their own colours), itself a
-    white disc ringed in that colour, filled black at ticks in ``seen_ticks`` (a closest call's)."""
+    white disc ringed in that colour, filled black at ticks in ``seen_ticks`` (a closest call's).
+
+    With ``period`` (the patrol's lap) the caption also gives the lap tick: the trace's tick 0 is lap tick
+    ``lap_start`` (the sneak's start tick)."""
     options = options or GifOptions()
-    drawer = FrameDrawer(level, trace, size=options.size)
+    drawer = SneakFrames(level, trace, size=options.size, lap_start=lap_start, period=period)
     layout = drawer.layout
     ticks = frame_ticks(trace.steps, options)
     radius = max(2.0, layout.scale * 0.45)
