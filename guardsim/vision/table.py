@@ -123,11 +123,15 @@ def build_view_table(grid: CoverageGrid, vision: VisionFunction, *, max_entries:
     sights = getattr(vision, "sights", None)
     if sights is not None:  # a VisionCache computes the states in bulk, in compiled code (issue 15)
         asked = state_of(traversable[:, None], np.arange(HEADINGS_PER_CELL)).ravel()
-        lengths[asked], sight = sights(asked)
-        if sight.size > limit:
-            raise _too_big(grid, limit, limit, estimated=False)
-        sight = sight.astype(np.int32, copy=False)
-        total = sight.size
+        parts = []
+        # In slices, so that the limit still stops the table soon after it is passed.
+        for begin in range(0, asked.size, 4096):
+            lengths[asked[begin : begin + 4096]], part = sights(asked[begin : begin + 4096])
+            total += part.size
+            if total > limit:
+                raise _too_big(grid, limit, limit, estimated=False)
+            parts.append(part)
+        sight = np.concatenate(parts).astype(np.int32, copy=False) if parts else sight[:0]
         traversable = traversable[:0]
     for cell in traversable.tolist():
         col, row = grid.unflat(cell)
