@@ -17,7 +17,7 @@ from guardsim.patrol import Patrol, patrol_setup, plan_loop
 from guardsim.scene import Scene
 from guardsim.sneak import sneak_check
 from guardsim.sneak.search import hiding_windows
-from tests.common import TINY_LEVELS, scene_from, write_level
+from tests.common import TINY_LEVELS, level_from, scene_from, write_level
 from tests.test_patrol import CORRIDOR
 
 
@@ -183,6 +183,38 @@ def test_sneak_command_writes_the_answer_and_a_gif(tmp_path: Path) -> None:
     assert data["never_seen_cells"] > 0
     assert (out / "sneak.gif").read_bytes()[:6] == b"GIF89a"
     assert (out / "hiding.png").stat().st_size > 1000
+
+
+def test_sneak_gif_caption_counts_the_sneaks_ticks_and_the_laps(tmp_path: Path) -> None:
+    """The sneak GIF's caption gives the sneak's tick and the lap tick it falls on (wrapping round the lap's
+    end), and the GIF's frames carry that caption, not the plain one."""
+    import imageio.v3 as iio
+
+    from guardsim.patrol.replay import patrol_trace
+    from guardsim.render.frames import FrameDrawer
+    from guardsim.render.gif import GifOptions
+    from guardsim.render.palette import palette_rgb
+    from guardsim.sneak.gif import SneakFrames, write_sneak_gif
+
+    level = level_from(CORRIDOR)
+    scene = Scene.from_level(level)
+    setup = patrol_setup(scene)
+    loop = plan_loop(setup, 1, planner="cover")[0].patrol
+    assert loop.period is not None and loop.period > 4
+    start = loop.period - 2
+    goal = np.asarray(scene.grid.largest_component()).ravel()
+    trace = patrol_trace(scene, setup.table, loop, goal, start=start, ticks=5, label="sneak")
+    frames = SneakFrames(level, trace, size=200, lap_start=start, period=loop.period)
+    assert f"  |  sneak tick 0 / 5 \u00b7 lap tick {start} / {loop.period}  |  " in frames.caption(0)[0]
+    assert f"  |  sneak tick 3 / 5 \u00b7 lap tick 1 / {loop.period}  |  " in frames.caption(3)[0]
+    assert "lap" not in SneakFrames(level, trace, size=200).caption(3)[0]
+    gif = tmp_path / "sneak.gif"
+    options = GifOptions(size=200)
+    write_sneak_gif(gif, level, trace, [(0, 0)] * 6, options=options, lap_start=start, period=loop.period)
+    top = frames.layout.top
+    shown = iio.imread(gif, index=0)[:top, :, :3]
+    assert (shown == palette_rgb()[frames.frame(0)][:top]).all()
+    assert (shown != palette_rgb()[FrameDrawer(level, trace, size=200).frame(0)][:top]).any()
 
 
 @pytest.mark.parametrize(
