@@ -348,9 +348,10 @@ def test_idleness_now_is_the_ticks_since_each_cell_was_last_seen(pages: Path, tm
     assert (idle[cells[:, 1], cells[:, 0]] == 0).any() and (idle[cells[:, 1], cells[:, 0]] > 300).any()
 
 
-def test_each_guards_loop_is_drawn_as_a_closed_polyline(pages: Path, tmp_path: Path) -> None:
+def test_each_guards_loop_is_drawn_as_a_closed_dashed_polyline(pages: Path, tmp_path: Path) -> None:
     """With the route layer, the cell centres along every straight run between two waypoints are the
-    guard's dark route colour; without it they are not."""
+    guard's dark route colour or the white between its dashes, both often (dashed, unlike the solid
+    trail); without it they are neither."""
     page = pages / "p" / "patrol.html"
     data = page_data_of(page)
     cols = data["cols"]
@@ -367,9 +368,63 @@ def test_each_guards_loop_is_drawn_as_a_closed_polyline(pages: Path, tmp_path: P
     assert len(cells) > 100
     colour = tuple(int(data["route_colours"][0][i : i + 2], 16) for i in (1, 3, 5))
     dom, image = view(page, "tick=0&layers=route&scale=8", tmp_path / "profile")
-    assert (cell_pixels(image, dom, cells) == colour).all(axis=1).all()
+    pixels = cell_pixels(image, dom, cells)
+    dark, gap = (pixels == colour).all(axis=1), (pixels == (255, 255, 255)).all(axis=1)
+    assert (dark | gap).all()
+    assert 0.4 < dark.mean() < 0.8 and gap.mean() > 0.2
     dom, image = view(page, "tick=0&layers=trail&scale=8", tmp_path / "profile")
-    assert (cell_pixels(image, dom, cells) == colour).all(axis=1).mean() < 0.05
+    pixels = cell_pixels(image, dom, cells)
+    assert ((pixels == colour).all(axis=1) | (pixels == (255, 255, 255)).all(axis=1)).mean() < 0.05
+
+
+def test_the_cone_stands_out_over_the_heat_map(pages: Path, tmp_path: Path) -> None:
+    """Over the worst-gap layer, each cell well inside the guard's cone is the heat colour of its value
+    under a white wash, far (> 80 in RGB) from that heat colour, including cells at the yellow top of the
+    ramp, where the GIF's yellow tint would vanish; cells outside the cone keep their heat colour."""
+    from guardsim.patrol import read_patrol, seen_timeline
+    from guardsim.scene import Scene
+    from guardsim.vision.table import view_table
+
+    page = pages / "p" / "patrol.html"
+    data = page_data_of(page)
+    rows, cols = data["rows"], data["cols"]
+    values = np.frombuffer(base64.b64decode(data["idleness"]["values"]), dtype="<f4").reshape(rows, cols)
+    top_value = data["idleness"]["max"]
+    scene = Scene.from_level(load_level(SQUARE))
+    patrol = read_patrol(pages / "p" / "patrol.json", scene.grid)
+    seen = seen_timeline(view_table(scene.grid, scene.vision()), patrol.states, scene.grid.size)
+    k = 120
+    dom, image = view(page, f"tick={k}&layers=idleness,cone&scale=8", tmp_path / "profile")
+    assert element(dom, "errors") == ""
+    path = np.frombuffer(base64.b64decode(data["paths"][0]), dtype="<i4")
+    guard = (int(path[k] % cols), int(path[k] // cols))
+    now = seen[k].reshape(rows, cols)
+    # Cells whose eight neighbours are seen too lie inside the drawn cone, clear of its edge.
+    padded = np.pad(now, 1)
+    inner = np.ones_like(now)
+    for dr in range(3):
+        for dc in range(3):
+            inner &= padded[dr : dr + rows, dc : dc + cols]
+    rr, cc = np.nonzero(inner & (values >= 0))
+    cells = np.stack([cc, rr], axis=1)
+    cells = cells[away_from(cells, guard)]
+    assert len(cells) > 10
+    heat = np.array([rgb_ramp(data["ramp"], float(values[r, c]) / top_value) for c, r in cells])
+    assert (values[cells[:, 1], cells[:, 0]] / top_value > 0.9).any()
+    pixels = cell_pixels(image, dom, cells)
+    assert (np.linalg.norm(pixels - heat, axis=1) > 80).all()
+    assert (np.abs(pixels - (0.5 * heat + 0.5 * 255)) <= 2).all()
+    padded = np.pad(now, 3)
+    near = np.zeros_like(now)
+    for dr in range(7):
+        for dc in range(7):
+            near |= padded[dr : dr + rows, dc : dc + cols]
+    rr, cc = np.nonzero(~near & (values >= 0))
+    outside = np.stack([cc, rr], axis=1)
+    start = (int(path[0] % cols), int(path[0] // cols))  # its start is marked by a square
+    outside = outside[away_from(outside, guard, start)]
+    heat = np.array([rgb_ramp(data["ramp"], float(values[r, c]) / top_value) for c, r in outside])
+    assert len(outside) > 100 and (cell_pixels(image, dom, outside) == heat).all()
 
 
 def test_the_intruder_has_no_cone_and_is_marked_while_in_view(pages: Path, tmp_path: Path) -> None:
