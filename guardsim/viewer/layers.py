@@ -93,7 +93,7 @@ class Overlays:
     laps: LapViews | None = None
     routes: Sequence[Sequence[tuple[float, float]]] = ()
     """Each guard's loop as a closed polyline of world points (the route.json waypoints), drawn in the
-    guard's colour under the animation."""
+    guard's dark shade, dashed over white (apart from its solid trail), under the animation."""
     intruder: Intruder | None = None
     layers: Sequence[str] = field(default=())
     """Layers shown when the page opens (empty: the page's usual ones); ``#layers=...`` overrides."""

@@ -114,7 +114,7 @@ def page_data(
     if overlays is not None:
         data.update(overlay_data(overlays, trace))
         data["colours"]["intruder"] = _hex(_INTRUDER_COLOUR)
-        # Routes in each guard's dark shade (as the GIF's), apart from its trail.
+        # Routes in each guard's dark shade (as the GIF's), dashed by layers.js, apart from its solid trail.
         data["route_colours"] = [_hex(PALETTE[guard_index(guard, dark=True)]) for guard in range(len(paths))]
     return data
 
