@@ -100,16 +100,26 @@ def test_seen_from_the_start_needs_no_step() -> None:
 
 
 def test_a_stopped_search_is_honest() -> None:
-    """One expansion cannot prove a 15-cell room: the answer says so, with a valid walk and bound."""
-    scene = scene_from(SHORT_SIGHTED["room-3x5"])
+    """One expansion cannot prove the L room: the answer says so, with a valid walk and bound."""
+    scene = scene_from(SHORT_SIGHTED["l-room"])
     vision = scene.vision()
     optimum = optimum_steps(scene, (0, 0), 0, vision)
     result = solve(scene, (0, 0), 0, max_expansions=1)
     assert not result.proved and result.stopped_by == "expansions"
     assert result.lower_bound <= optimum <= result.steps
+    assert result.lower_bound < result.steps
     assert_covering_walk(scene, result, (0, 0), 0, vision)
     again = solve(scene, (0, 0), 0, max_expansions=1)
     assert again[:8] == result[:8]
+
+
+def test_a_stopped_search_whose_walk_meets_its_bound_is_proved() -> None:
+    """The 3 x 5 room after one expansion: a 4-step walk and a proved bound of 4 is the optimum (it was
+    reported 'best found 4 steps (optimum >= 4); proved: false')."""
+    scene = scene_from(SHORT_SIGHTED["room-3x5"])
+    result = solve(scene, (0, 0), 0, max_expansions=1)
+    assert (result.steps, result.lower_bound, result.proved, result.stopped_by) == (4, 4, True, "proved")
+    assert result.steps == optimum_steps(scene, (0, 0), 0, scene.vision())
 
 
 def test_cli_prints_and_writes_the_optimum(tmp_path: Path) -> None:
@@ -135,7 +145,7 @@ def test_cli_bad_start_is_one_line(tmp_path: Path) -> None:
 
 def test_console_script_optimum(tmp_path: Path) -> None:
     """The real process, stopped by --max-expansions: proved false, and a bound."""
-    path = write_level(tmp_path, SHORT_SIGHTED["room-3x5"])
+    path = write_level(tmp_path, SHORT_SIGHTED["l-room"])
     completed = subprocess.run(
         [
             *guardsim_command(),

@@ -144,9 +144,7 @@ def solve(
     try:
         state = new_search_state(capacity, words, graph.positions)
     except (MemoryError, ValueError) as error:  # numpy: "Maximum allowed dimension exceeded"
-        raise LimitError(
-            f"cannot reserve {memory_bytes // 2**20} MB for the search nodes (memory_bytes)"
-        ) from error
+        raise LimitError(f"cannot reserve {memory_bytes // 2**20} MB for the search nodes (memory_bytes)") from error
     start_search(state, heuristic, graph.views, graph.full, graph.start, greedy_steps + 1)
     root_bound = int(state.estimate[0])
     stopped_by = "proved"
@@ -172,6 +170,9 @@ def solve(
         route, incumbent = greedy, int(greedy_steps)
     proved = stopped_by == "proved"
     floor = incumbent if proved or counters[HEAP] == 0 else min(incumbent, int(state.heap_key[0] // (1 << 16)))
+    if not proved and max(floor, root_bound) >= incumbent:
+        # The walk in hand already meets the proved bound: it is optimal, whatever stopped the search.
+        proved, stopped_by = True, "proved"
     grid = scene.grid
     path = tuple((*grid.unflat(cell), facing) for cell, facing in route_steps(graph, route, heading)[0])
     if len(path) - 1 != incumbent:
