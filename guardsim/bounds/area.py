@@ -21,7 +21,7 @@ from typing import NamedTuple
 import numba
 import numpy as np
 
-from guardsim.bounds.trees import spanning_tree_weight
+from guardsim.bounds.trees import spanning_tree_weight, spread_steps
 from guardsim.grid import CoverageGrid
 from guardsim.vision.rules import VisionFunction
 from guardsim.vision.table import ViewTable, level_memo
@@ -79,16 +79,7 @@ def cell_distances(neighbours: np.ndarray, sources: np.ndarray) -> np.ndarray:
             gap[cell] = 0
             queue[tail] = cell
             tail += 1
-    head = 0
-    while head < tail:
-        cell = queue[head]
-        head += 1
-        for direction in range(4):
-            other = neighbours[cell, direction]
-            if other >= 0 and gap[other] < 0:
-                gap[other] = gap[cell] + 1
-                queue[tail] = other
-                tail += 1
+    spread_steps(neighbours, gap, queue, tail)
     return gap
 
 

@@ -12,7 +12,7 @@ import numba
 import numpy as np
 
 from guardsim.bounds.area import AreaWatchers, cell_distances, choose_clusters, pick_matrix, spread_picks, start_edges
-from guardsim.bounds.trees import path_bound, spanning_tree_weight
+from guardsim.bounds.trees import path_bound, prim_weight, spanning_tree_weight
 from guardsim.bounds.watchers import state_distances
 from guardsim.vision.table import ViewTable
 
@@ -53,9 +53,8 @@ def _chosen_bound(
     link: np.ndarray,
     inside: np.ndarray,
 ) -> int:
-    """:func:`_subset_bound` in the scratch arrays ``members``, ``link`` and ``inside`` (Prim's algorithm
-    as in :func:`~guardsim.bounds.trees.subset_tree_weight`, without allocating: the local search
-    weighs thousands of small subsets)."""
+    """:func:`_subset_bound` in the scratch arrays ``members``, ``link`` and ``inside`` (the local search
+    weighs thousands of small subsets and must not allocate for each)."""
     count = 0
     for cluster in range(chosen.shape[0]):
         if chosen[cluster]:
@@ -66,20 +65,7 @@ def _chosen_bound(
     nearest = start_edge[members[0]]
     for k in range(count):
         nearest = min(nearest, start_edge[members[k]])
-        link[k] = matrix[members[0], members[k]]
-        inside[k] = k == 0
-    total = 0
-    for _ in range(count - 1):
-        best = -1
-        for k in range(count):
-            if not inside[k] and (best < 0 or link[k] < link[best]):
-                best = k
-        inside[best] = True
-        total += link[best]
-        for k in range(count):
-            if not inside[k] and matrix[members[best], members[k]] < link[k]:
-                link[k] = matrix[members[best], members[k]]
-    return total + nearest
+    return prim_weight(matrix, members, count, link, inside) + nearest
 
 
 @numba.njit(cache=True, nogil=True)

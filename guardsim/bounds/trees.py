@@ -165,16 +165,7 @@ def cluster_distances(neighbours: np.ndarray, label: np.ndarray, clusters: int) 
                 distance[cell] = 0
                 queue[tail] = cell
                 tail += 1
-        head = 0
-        while head < tail:
-            cell = queue[head]
-            head += 1
-            for direction in range(4):
-                other = neighbours[cell, direction]
-                if other >= 0 and distance[other] < 0:
-                    distance[other] = distance[cell] + 1
-                    queue[tail] = other
-                    tail += 1
+        spread_steps(neighbours, distance, queue, tail)
         for target in range(clusters):
             if target == source:
                 continue
@@ -207,13 +198,19 @@ def subset_tree_weight(matrix: np.ndarray, members: np.ndarray) -> int:
     """Weight of the minimum spanning tree over the clusters ``members`` of a :func:`cluster_distances`
     matrix (Prim's algorithm on the dense matrix)."""
     count = members.shape[0]
+    return prim_weight(matrix, members, count, np.empty(count, dtype=np.int64), np.empty(count, dtype=np.bool_))
+
+
+@numba.njit(cache=True, nogil=True)
+def prim_weight(matrix: np.ndarray, members: np.ndarray, count: int, link: np.ndarray, inside: np.ndarray) -> int:
+    """Prim's algorithm over ``members[:count]`` of a dense distance matrix, in the caller's scratch
+    arrays ``link`` and ``inside`` (at least ``count`` long): the local search weighs thousands of small
+    subsets and must not allocate for each."""
     if count < 2:
         return 0
-    inside = np.zeros(count, dtype=np.bool_)
-    link = np.empty(count, dtype=np.int64)
     for k in range(count):
         link[k] = matrix[members[0], members[k]]
-    inside[0] = True
+        inside[k] = k == 0
     total = 0
     for _ in range(count - 1):
         best = -1
@@ -226,6 +223,22 @@ def subset_tree_weight(matrix: np.ndarray, members: np.ndarray) -> int:
             if not inside[k] and matrix[members[best], members[k]] < link[k]:
                 link[k] = matrix[members[best], members[k]]
     return total
+
+
+@numba.njit(cache=True, nogil=True)
+def spread_steps(neighbours: np.ndarray, distance: np.ndarray, queue: np.ndarray, tail: int) -> None:
+    """Breadth-first search over cells, in place: ``queue[:tail]`` holds the sources, already at their
+    ``distance`` (0); every cell they reach gets its fewest steps, the others keep -1."""
+    head = 0
+    while head < tail:
+        cell = queue[head]
+        head += 1
+        for direction in range(4):
+            other = neighbours[cell, direction]
+            if other >= 0 and distance[other] < 0:
+                distance[other] = distance[cell] + 1
+                queue[tail] = other
+                tail += 1
 
 
 @numba.njit(cache=True, nogil=True)
