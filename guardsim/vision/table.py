@@ -116,23 +116,47 @@ def build_view_table(grid: CoverageGrid, vision: VisionFunction, *, max_entries:
         raise _too_big(grid, limit, estimate, estimated=True)
     states = state_of(grid.size, 0)
     lengths = np.zeros(states, dtype=np.int64)
-    # One growing buffer rather than an array per state: millions of small arrays cost ~100 bytes each.
-    sight = np.empty(min(limit, max(1024, estimate + estimate // 8)), dtype=np.int32)
-    total = 0
     traversable = np.flatnonzero(grid.traversable.ravel())
     sights = getattr(vision, "sights", None)
     if sights is not None:  # a VisionCache computes the states in bulk, in compiled code (issue 15)
-        asked = state_of(traversable[:, None], np.arange(HEADINGS_PER_CELL)).ravel()
-        parts = []
-        # In slices, so that the limit still stops the table soon after it is passed.
-        for begin in range(0, asked.size, 4096):
-            lengths[asked[begin : begin + 4096]], part = sights(asked[begin : begin + 4096])
-            total += part.size
-            if total > limit:
-                raise _too_big(grid, limit, limit, estimated=False)
-            parts.append(part)
-        sight = np.concatenate(parts).astype(np.int32, copy=False) if parts else sight[:0]
-        traversable = traversable[:0]
+        sight = _sights_in_bulk(grid, sights, traversable, lengths, limit)
+    else:
+        sight = _sights_state_by_state(grid, vision, traversable, lengths, limit, estimate)
+    sight_start = np.zeros(states + 1, dtype=np.int64)
+    np.cumsum(lengths, out=sight_start[1:])
+    watch_start, watchers = _invert(sight_start, sight, grid.size)
+    return ViewTable(sight_start, sight, watch_start, watchers, grid.entry_cells)
+
+
+#: States a VisionCache is asked for at once: the limit still stops a table soon after it is passed.
+_BULK_STATES = 4096
+
+
+def _sights_in_bulk(
+    grid: CoverageGrid, sights: Any, traversable: np.ndarray, lengths: np.ndarray, limit: int
+) -> np.ndarray:
+    """Every traversable state's cells from ``sights`` (``VisionCache.sights``), slice after slice;
+    ``lengths`` is filled per state."""
+    asked = state_of(traversable[:, None], np.arange(HEADINGS_PER_CELL)).ravel()
+    parts = []
+    total = 0
+    for begin in range(0, asked.size, _BULK_STATES):
+        chunk = asked[begin : begin + _BULK_STATES]
+        lengths[chunk], part = sights(chunk)
+        total += part.size
+        if total > limit:
+            raise _too_big(grid, limit, limit, estimated=False)
+        parts.append(part)
+    return np.concatenate(parts).astype(np.int32, copy=False) if parts else np.zeros(0, dtype=np.int32)
+
+
+def _sights_state_by_state(
+    grid: CoverageGrid, vision: VisionFunction, traversable: np.ndarray, lengths: np.ndarray, limit: int, estimate: int
+) -> np.ndarray:
+    """Every traversable state's cells, asking ``vision`` one state at a time; ``lengths`` is filled."""
+    # One growing buffer rather than an array per state: millions of small arrays cost ~100 bytes each.
+    sight = np.empty(min(limit, max(1024, estimate + estimate // 8)), dtype=np.int32)
+    total = 0
     for cell in traversable.tolist():
         col, row = grid.unflat(cell)
         for heading in range(HEADINGS_PER_CELL):
@@ -144,11 +168,7 @@ def build_view_table(grid: CoverageGrid, vision: VisionFunction, *, max_entries:
                 sight = np.resize(sight, min(limit, 2 * (total + cells.size)))
             sight[total : total + cells.size] = cells
             total += cells.size
-    sight = sight[:total].copy()
-    sight_start = np.zeros(states + 1, dtype=np.int64)
-    np.cumsum(lengths, out=sight_start[1:])
-    watch_start, watchers = _invert(sight_start, sight, grid.size)
-    return ViewTable(sight_start, sight, watch_start, watchers, grid.entry_cells)
+    return sight[:total].copy()
 
 
 @numba.njit(cache=True, nogil=True)
