@@ -19,6 +19,8 @@ from click.testing import CliRunner
 from guardsim.bounds import lower_bounds
 from guardsim.cli import main
 from guardsim.optimum import OptimumResult, solve
+from guardsim.optimum.graph import build_search_graph
+from guardsim.optimum.residual import residual_goal
 from guardsim.simulation import Scene
 from guardsim.vision.rules import VisionFunction
 from guardsim.vision.table import view_table
@@ -83,6 +85,40 @@ def test_optimum_equals_brute_force_with_bresenham(name: str) -> None:
             assert result.headings_matter == (guard.get("fov_degrees") != 360)
             assert result.steps == optimum_steps(scene, start, heading, vision), (start, heading)
             assert_covering_walk(scene, result, start, heading, vision)
+
+
+def _seen_cells(views: np.ndarray, cells: np.ndarray, position: int) -> set[int]:
+    bits = np.flatnonzero(np.unpackbits(views[position].view(np.uint8), bitorder="little"))
+    return {int(cells[bit]) for bit in bits if bit < cells.size}
+
+
+@pytest.mark.parametrize("name", [*SHORT_SIGHTED, "pillar-360"], ids=[*SHORT_SIGHTED, "pillar-360"])
+def test_a_walk_seeing_the_residual_goal_sees_the_whole_goal(name: str) -> None:
+    """On random walks from spread starts, every prefix that has seen each kept cell has seen every goal
+    cell; and the residual goal is smaller wherever a cell is seen on the way to another."""
+    data = SHORT_SIGHTED["pillar"] if name == "pillar-360" else SHORT_SIGHTED[name]
+    guard = {"view_range": 2.0, "fov_degrees": 360} if name == "pillar-360" else {}
+    scene = scene_from(data, guard={**data.get("guard", {}), **guard})
+    table = view_table(scene.grid, scene.vision())
+    generator = np.random.default_rng(15)
+    reduced_somewhere = False
+    for start in starts(scene, most=4):
+        graph = build_search_graph(scene.grid, table, start, 1)
+        residual = residual_goal(graph)
+        goal, kept = set(graph.goal_cells.tolist()), set(residual.goal_cells.tolist())
+        assert kept <= goal
+        reduced_somewhere |= len(kept) < len(goal)
+        for _ in range(200):
+            here = graph.start
+            seen = _seen_cells(graph.views, graph.goal_cells, here)
+            for _ in range(4 * len(goal)):
+                if kept <= seen:
+                    assert seen == goal, (start, sorted(goal - seen))
+                    break
+                moves = [there for there in graph.successors[here].tolist() if there >= 0]
+                here = moves[int(generator.integers(len(moves)))]
+                seen |= _seen_cells(graph.views, graph.goal_cells, here)
+    assert reduced_somewhere
 
 
 @short_sighted

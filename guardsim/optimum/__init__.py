@@ -31,6 +31,7 @@ from guardsim.errors import LevelError, LimitError
 from guardsim.optimum.beam import beam_route
 from guardsim.optimum.graph import build_search_graph, route_steps
 from guardsim.optimum.heuristic import build_heuristic
+from guardsim.optimum.residual import residual_goal
 from guardsim.optimum.search import (
     EXPANSIONS,
     FULL,
@@ -130,6 +131,8 @@ def solve(
         raise LimitError(
             f"the exact search is for small levels: {graph.positions} positions from this start (at most 20000)"
         )
+    # The same covering walks over far fewer goal cells (those seen on the way to others are dropped).
+    graph = residual_goal(graph)
     heuristic = build_heuristic(graph)
     # A short first walk keeps every node whose f reaches it out of memory; the beam finds one in
     # bounded work (the greedy walk is the fallback should the beam find none).
