@@ -16,9 +16,10 @@ import numpy as np
 import pytest
 from click.testing import CliRunner
 
+import guardsim.cli.optimum as cli_optimum
 from guardsim.bounds import lower_bounds
 from guardsim.cli import main
-from guardsim.optimum import OptimumResult, solve
+from guardsim.optimum import OptimumResult, SearchProgress, solve
 from guardsim.optimum.graph import build_search_graph
 from guardsim.optimum.residual import residual_goal
 from guardsim.simulation import Scene
@@ -202,3 +203,58 @@ def test_console_script_optimum(tmp_path: Path) -> None:
     assert completed.returncode == 0, completed.stderr
     assert "proved: false" in completed.stdout
     assert re.search(r": best found \d+ steps \(stopped by expansions; optimum >= \d+\); ", completed.stdout)
+
+
+def test_progress_reports_the_search_as_it_goes() -> None:
+    """The progress callback sees the expansions grow and the optimum bracketed, ending where the result is."""
+    scene = scene_from(SHORT_SIGHTED["pillar"])
+    seen: list[SearchProgress] = []
+    result = solve(scene, (0, 0), 0, progress=seen.append)
+    assert seen, "no progress call"
+    assert [where.expansions for where in seen] == sorted(where.expansions for where in seen)
+    assert seen[-1].expansions == result.expansions and seen[-1].nodes == result.nodes
+    assert all(where.lower_bound <= result.steps <= where.best for where in seen)
+    assert seen[-1].best == result.steps
+
+
+def test_cli_optimum_prints_progress_on_stderr(tmp_path: Path, monkeypatch: pytest.MonkeyPatch) -> None:
+    """A long search prints where it is on stderr (here every chunk, the interval set to 0)."""
+    monkeypatch.setattr(cli_optimum, "PROGRESS_SECONDS", 0.0)
+    path = write_level(tmp_path, SHORT_SIGHTED["pillar"])
+    result = CliRunner().invoke(main, ["optimum", str(path), "--start", "0.5,0.5", "--heading", "right"])
+    assert result.exit_code == 0, result.output
+    line = result.stderr.splitlines()[-1]
+    match = re.fullmatch(
+        r"guardsim: optimum: (\d+) expansions, \d+ nodes, optimum between (\d+) and (\d+) steps \(\d+ s\)", line
+    )
+    assert match, line
+    steps = int(re.search(r"optimum (\d+) steps", result.stdout).group(1))  # type: ignore[union-attr]
+    assert int(match.group(2)) == int(match.group(3)) == steps
+
+
+def _bounds_line(path: Path, *options: str) -> str:
+    result = CliRunner().invoke(main, ["bounds", str(path), *options])
+    assert result.exit_code == 0, result.output
+    return result.stdout
+
+
+@pytest.mark.parametrize("name", ["l-room", "pillar"])
+def test_bounds_search_bound_is_the_optimum_when_proved(tmp_path: Path, name: str) -> None:
+    """`guardsim bounds` on a small level runs the exact search: its bound is the brute-force optimum,
+    and the best bound with it; with one expansion it stops and its bound is at most the optimum."""
+    scene = scene_from(SHORT_SIGHTED[name])
+    optimum = optimum_steps(scene, (0, 0), 0, scene.vision())
+    path = write_level(tmp_path, SHORT_SIGHTED[name])
+    line = _bounds_line(path, "--start", "0.5,0.5", "--heading", "right")
+    assert f"best bound {optimum} steps; search bound {optimum} (the optimum, proved in " in line
+    line = _bounds_line(path, "--start", "0.5,0.5", "--heading", "right", "--search-expansions", "1")
+    match = re.search(r"best bound (\d+) steps; search bound (\d+) \(stopped by expansions after 1 expansions\)", line)
+    assert match and int(match.group(2)) <= int(match.group(1)) <= optimum, line
+    line = _bounds_line(path, "--start", "0.5,0.5", "--heading", "right", "--search-expansions", "0")
+    assert "; search bound not run (--search-expansions 0);" in line
+
+
+def test_bounds_search_bound_skipped_on_a_large_level() -> None:
+    """On a shipped 60 x 60 level the search is not run by default, and the line says why."""
+    line = _bounds_line(Path("levels/mgs_docks.json"), "--episode", "0")
+    assert re.search(r"; search bound not run \(\d+ positions, over 6000: see --search-expansions\);", line), line

@@ -4,16 +4,31 @@ from __future__ import annotations
 
 import time
 from collections.abc import Callable
-from typing import Any, TypeVar
+from typing import TYPE_CHECKING, Any, TypeVar
 
 import click
 
 from guardsim.bounds import lower_bounds
 from guardsim.cli.common import build_scene, cli_start, limit_options, load, parse_point, reports_errors, vision_options
 from guardsim.level import HEADINGS
+from guardsim.optimum import MAX_POSITIONS, solve
+from guardsim.optimum.graph import build_search_graph
+from guardsim.vision.rules import VisionFunction
 from guardsim.vision.table import view_table
 
-__all__ = ["bounds", "start_options"]
+if TYPE_CHECKING:
+    from guardsim.scene import Scene
+
+__all__ = ["SEARCH_EXPANSIONS", "SEARCH_POSITIONS", "bounds", "start_options"]
+
+#: Expansions of the exact search behind the search bound, by default: the hardest of issue 15's
+#: starts (arena (24, 24), 2054 cells) proves its optimum in about 25 000.
+SEARCH_EXPANSIONS = 30_000
+#: Most guard positions for which the search bound runs by default. On the shipped 60 x 60 levels (9 000
+#: to 14 000 states) 20 000 expansions take 30-65 s and raise no bound.
+SEARCH_POSITIONS = 6000
+#: Memory for the search bound's stored nodes.
+SEARCH_MEMORY_BYTES = 512 * 2**20
 
 
 F = TypeVar("F", bound=Callable[..., Any])
@@ -44,6 +59,12 @@ def start_options(command: F) -> F:
 @click.command()
 @click.argument("level_path", metavar="LEVEL")
 @start_options
+@click.option(
+    "--search-expansions",
+    type=click.IntRange(min=0),
+    help=f"Expansions of the exact search for the search bound; 0: no search [default: {SEARCH_EXPANSIONS} "
+    f"from a start with at most {SEARCH_POSITIONS} guard positions, else 0].",
+)
 @vision_options
 @limit_options
 @reports_errors
@@ -53,6 +74,7 @@ def bounds(
     heading: str | None,
     seed: int,
     episode: int | None,
+    search_expansions: int | None,
     los: str,
     fov: float | None,
     view_range: float | None,
@@ -77,10 +99,43 @@ def bounds(
     tabled = time.perf_counter()
     result = lower_bounds(scene, cell, first_heading, vision)
     reachable = int(scene.grid.component(*cell).sum())
+    best, search = result.best, _search_bound(scene, vision, cell, first_heading, search_expansions)
+    if search[0] is not None:
+        best = max(best, search[0])
     click.echo(
         f"{level.name}: from cell [{cell[0]}, {cell[1]}] facing {list(HEADINGS)[first_heading]} "
         f"({reachable} reachable cells): eccentricity bound {result.eccentricity}, "
         f"cluster bound {result.cluster} ({result.clusters} cluster{'' if result.clusters == 1 else 's'}), "
-        f"path bound {result.path}, best bound {result.best} steps; "
-        f"scene {built - began:.2f} s, view table {tabled - built:.2f} s, bounds {result.seconds:.3f} s"
+        f"path bound {result.path}, best bound {best} steps; {search[1]}; "
+        f"scene {built - began:.2f} s, view table {tabled - built:.2f} s, bounds {result.seconds:.3f} s, "
+        f"search {search[2]:.2f} s"
     )
+
+
+def _search_bound(
+    scene: Scene, vision: VisionFunction, cell: tuple[int, int], heading: int, expansions: int | None
+) -> tuple[int | None, str, float]:
+    """The exact search's proved floor after at most ``expansions`` (None: the default by level size),
+    the words that say it, and its seconds."""
+    positions = build_search_graph(scene.grid, view_table(scene.grid, vision), cell, heading).positions
+    if expansions is None:
+        expansions = SEARCH_EXPANSIONS if positions <= SEARCH_POSITIONS else 0
+        if expansions == 0:
+            return (
+                None,
+                f"search bound not run ({positions} positions, over {SEARCH_POSITIONS}: see --search-expansions)",
+                0.0,
+            )
+    if expansions == 0:
+        return None, "search bound not run (--search-expansions 0)", 0.0
+    if positions > MAX_POSITIONS:
+        return None, f"search bound not run ({positions} positions, over the exact search's {MAX_POSITIONS})", 0.0
+    found = solve(scene, cell, heading, vision, max_expansions=expansions, memory_bytes=SEARCH_MEMORY_BYTES)
+    if found.proved:
+        return (
+            found.steps,
+            f"search bound {found.steps} (the optimum, proved in {found.expansions} expansions)",
+            found.seconds,
+        )
+    words = f"search bound {found.lower_bound} (stopped by {found.stopped_by} after {found.expansions} expansions)"
+    return found.lower_bound, words, found.seconds

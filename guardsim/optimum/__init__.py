@@ -23,6 +23,7 @@ must see both ends, 2 + 4 steps whichever it visits first.
 from __future__ import annotations
 
 import time
+from collections.abc import Callable
 from typing import TYPE_CHECKING, NamedTuple
 
 import numpy as np
@@ -34,6 +35,7 @@ from guardsim.optimum.heuristic import build_heuristic
 from guardsim.optimum.residual import residual_goal
 from guardsim.optimum.search import (
     EXPANSIONS,
+    FLOOR,
     FULL,
     HEAP,
     INCUMBENT,
@@ -53,16 +55,33 @@ from guardsim.vision.table import view_table
 if TYPE_CHECKING:
     from guardsim.scene import Scene
 
-__all__ = ["DEFAULT_MEMORY_BYTES", "OptimumResult", "solve"]
+__all__ = ["DEFAULT_MEMORY_BYTES", "MAX_POSITIONS", "OptimumResult", "SearchProgress", "solve"]
 
 #: Memory the node arrays may take by default.
 DEFAULT_MEMORY_BYTES = 3 * 2**30
+#: Most guard positions (states, or cells when headings do not matter) the exact search takes.
+MAX_POSITIONS = 20_000
 #: Width of the beam search that gives the first incumbent.
 INCUMBENT_BEAM = 8
 #: Earlier nodes at the same position a new node is checked against for dominance.
 DOMINANCE_CHECKS = 16
 #: Expansions per compiled chunk between two looks at the clock.
 _CHUNK = 20_000
+
+
+class SearchProgress(NamedTuple):
+    """Where a running search is, handed to :func:`solve`'s ``progress`` callback between chunks."""
+
+    expansions: int
+    """Nodes expanded so far."""
+    nodes: int
+    """Nodes stored so far."""
+    lower_bound: int
+    """The optimum is at least this (the least ``g + h`` left, or the estimate at the start)."""
+    best: int
+    """Steps of the best covering walk found so far (the optimum is at most this)."""
+    seconds: float
+    """Wall time since the call began."""
 
 
 class OptimumResult(NamedTuple):
@@ -100,6 +119,7 @@ def solve(
     max_expansions: int | None = None,
     time_limit: float | None = None,
     memory_bytes: int = DEFAULT_MEMORY_BYTES,
+    progress: Callable[[SearchProgress], None] | None = None,
 ) -> OptimumResult:
     """The fewest steps after which a guard from ``(start, heading)`` has seen every cell reachable from it.
 
@@ -118,6 +138,9 @@ def solve(
         but where it stops is not: a time-limited run's best walk and bound can depend on the machine.
     memory_bytes
         Most memory for the stored nodes; the search stops (unproved) when they are full.
+    progress
+        Called after every chunk of expansions (20 000) with where the search is; it does not change
+        the search.
 
     Returns
     -------
@@ -127,9 +150,10 @@ def solve(
     began = time.perf_counter()
     table = view_table(scene.grid, scene.vision() if vision is None else vision)
     graph = build_search_graph(scene.grid, table, start, heading)
-    if graph.positions > 20_000:
+    if graph.positions > MAX_POSITIONS:
         raise LimitError(
-            f"the exact search is for small levels: {graph.positions} positions from this start (at most 20000)"
+            f"the exact search is for small levels: {graph.positions} positions from this start "
+            f"(at most {MAX_POSITIONS})"
         )
     # The same covering walks over far fewer goal cells (those seen on the way to others are dropped).
     graph = residual_goal(graph)
@@ -166,6 +190,14 @@ def solve(
             stopped_by = "time"
             break
         run_search(state, heuristic, graph.successors, graph.views, graph.full, budget, DOMINANCE_CHECKS)
+        if progress is not None:
+            best = int(counters[INCUMBENT]) if counters[INCUMBENT_NODE] >= 0 else int(greedy_steps)
+            floor = best if counters[STATUS] == PROVED else min(best, max(int(counters[FLOOR]), root_bound))
+            progress(
+                SearchProgress(
+                    int(counters[EXPANSIONS]), int(counters[NODES]), floor, best, time.perf_counter() - began
+                )
+            )
     incumbent = int(counters[INCUMBENT])
     if int(counters[INCUMBENT_NODE]) >= 0:
         route = _route(state, int(counters[INCUMBENT_NODE]))
