@@ -66,7 +66,7 @@ INCUMBENT_BEAM = 8
 #: Earlier nodes at the same position a new node is checked against for dominance.
 DOMINANCE_CHECKS = 16
 #: Expansions per compiled chunk between two looks at the clock.
-_CHUNK = 20_000
+_CHUNK = 2_000
 
 
 class SearchProgress(NamedTuple):
@@ -139,7 +139,7 @@ def solve(
     memory_bytes
         Most memory for the stored nodes; the search stops (unproved) when they are full.
     progress
-        Called after every chunk of expansions (20 000) with where the search is; it does not change
+        Called after every chunk of expansions (2 000) with where the search is; it does not change
         the search.
 
     Returns
