@@ -51,6 +51,12 @@ class EpisodeExecutor(Protocol):
     description: str
     """Where the work runs, for messages: ``2 local processes``."""
 
+    @property
+    def forked_workers(self) -> int:
+        """How many workers start as copies of this process (``fork``), so that what it computed before
+        the first :meth:`run_unordered` (scenes, view tables, compiled code) is theirs for free; 0 for none."""
+        ...
+
     def __enter__(self) -> EpisodeExecutor: ...
 
     def __exit__(
@@ -66,6 +72,7 @@ class InProcess:
     """Runs every item here, one after the other: the reference, and the simplest to debug."""
 
     description = "1 worker (this process)"
+    forked_workers = 0
 
     def __enter__(self) -> InProcess:
         return self
@@ -80,12 +87,18 @@ class InProcess:
 
 
 def default_start_method() -> str:
-    """``forkserver`` where the platform has it, else ``spawn``.
+    """``fork`` on Linux while this process runs a single thread, else ``forkserver`` where the platform
+    has it, else ``spawn``.
 
-    Not ``fork``: pymunk's Chipmunk state and any threads of the parent (a progress display, Dask's event
-    loop) must not be copied into workers mid-flight, and ``fork`` is no faster here (see
-    ``docs/performance.md``).
+    A forked worker starts as a copy of this process: guardsim imported, compiled code loaded, and every
+    scene, vision cache and view table built so far, where a ``forkserver`` worker builds its own
+    (``guardsim bench`` with bounds: 0.7 s of CPU per worker; see ``docs/performance.md``). Not with a
+    second thread running: it could be mid-way through pymunk's Chipmunk state or hold a lock (a
+    progress display, Dask's event loop), and the copy would keep that state with no thread to finish it.
+    Nor on macOS, whose system libraries do not survive ``fork``.
     """
+    if sys.platform.startswith("linux") and threading.active_count() == 1:
+        return "fork"
     return "forkserver" if "forkserver" in multiprocessing.get_all_start_methods() else "spawn"
 
 
@@ -100,8 +113,8 @@ def _start_worker(parent: int) -> None:
     Ctrl-C reaches every process of the terminal's foreground group; only the parent should react, by
     cancelling what has not started, so that workers do not print tracebacks on the way out. A parent
     killed with SIGKILL cannot shut its pool down, and its workers would run on (each holding a core);
-    the kernel's parent-death signal covers the worker's direct parent (the fork server, which exits
-    with ours), and a watchdog thread covers the rest, on any platform.
+    the kernel's parent-death signal covers the worker's direct parent (ours when forked, else the fork
+    server, which exits with ours), and a watchdog thread covers the rest, on any platform.
     """
     signal.signal(signal.SIGINT, signal.SIG_IGN)
     _exit_with_parent()
@@ -148,12 +161,16 @@ def _alive(pid: int) -> bool:
 class LocalPool:
     """A pool of worker processes on this machine (:class:`concurrent.futures.ProcessPoolExecutor`).
 
+    The processes start at the first :meth:`run_unordered`, not on entering the ``with`` block, so that
+    forked ones (:attr:`forked_workers`) start with what this process computed until then.
+
     Parameters
     ----------
     workers
         Number of processes.
     start_method
-        ``multiprocessing`` start method; :func:`default_start_method` by default.
+        ``multiprocessing`` start method; :func:`default_start_method` (at the first
+        :meth:`run_unordered`) by default.
     preload
         Modules the ``forkserver`` imports before forking workers, e.g. the one defining the function.
     """
@@ -161,31 +178,47 @@ class LocalPool:
     def __init__(self, workers: int, start_method: str | None = None, preload: Sequence[str] = ()) -> None:
         self.workers = workers
         self.preload = tuple(preload)
-        self.start_method = start_method or default_start_method()
+        self.start_method = start_method
         self.description = f"{workers} local processes"
+        self._entered = False
         self._pool: concurrent.futures.ProcessPoolExecutor | None = None
 
+    @property
+    def forked_workers(self) -> int:
+        """:attr:`workers` if they will be forked from this process (so far as can be told before they
+        start: a thread started in between makes them ``forkserver`` ones), else 0."""
+        return self.workers if (self.start_method or default_start_method()) == "fork" else 0
+
     def __enter__(self) -> LocalPool:
-        context = multiprocessing.get_context(self.start_method)
-        if self.start_method == "forkserver":
-            # Import guardsim once in the fork server rather than once in each worker.
-            context.set_forkserver_preload(list(self.preload))
-        self._pool = concurrent.futures.ProcessPoolExecutor(
-            self.workers, mp_context=context, initializer=_start_worker, initargs=(os.getpid(),)
-        )
+        self._entered = True
         return self
 
     def __exit__(self, *_exc: object) -> None:
+        self._entered = False
         if self._pool is not None:
             # Running items finish (an episode is short); queued ones are dropped.
             self._pool.shutdown(wait=True, cancel_futures=True)
             self._pool = None
 
+    def _started_pool(self) -> concurrent.futures.ProcessPoolExecutor:
+        if not self._entered:
+            raise RuntimeError("LocalPool.run_unordered called outside its with block")
+        if self._pool is None:
+            method = self.start_method or default_start_method()
+            context = multiprocessing.get_context(method)
+            if method == "forkserver":
+                # Import guardsim once in the fork server rather than once in each worker.
+                context.set_forkserver_preload(list(self.preload))
+            # With fork the executor forks every worker at the first submit, before it starts its own
+            # thread; the others start theirs when work arrives.
+            self._pool = concurrent.futures.ProcessPoolExecutor(
+                self.workers, mp_context=context, initializer=_start_worker, initargs=(os.getpid(),)
+            )
+        return self._pool
+
     def run_unordered(self, function: Callable[[Any], Any], items: Sequence[Any]) -> Iterator[Completion]:
         """Submit a few items per worker at a time, so that stopping early leaves little queued."""
-        if self._pool is None:
-            raise RuntimeError("LocalPool.run_unordered called outside its with block")
-        pool = self._pool
+        pool = self._started_pool()
         window = 2 * self.workers
         queue = iter(items)
         running: dict[concurrent.futures.Future[Any], Any] = {}
@@ -243,6 +276,7 @@ class DaskCluster:
             raise GuardsimError(f"Dask scheduler {address}: cannot connect to it: {message}") from None
         workers = len(self._client.scheduler_info().get("workers", {}))
         self.description = f"Dask scheduler {address} ({workers} workers now)"
+        self.forked_workers = 0
         self._futures: list[Any] = []
 
     def __enter__(self) -> DaskCluster:

@@ -4,12 +4,12 @@ from __future__ import annotations
 
 import hashlib
 import os
-from collections.abc import Callable, Sequence
+from collections.abc import Callable, Iterator, Sequence
 from dataclasses import dataclass
 from pathlib import Path
 from typing import Any, NamedTuple
 
-from guardsim.executors import EpisodeExecutor
+from guardsim.executors import Completion, EpisodeExecutor
 from guardsim.experiment.episodes import EpisodeRecord, EpisodeSpec, run_spec_logged
 from guardsim.experiment.results import (
     RESULTS_NAME,
@@ -25,7 +25,17 @@ from guardsim.experiment.summary import GroupSummary, summarise, summary_json
 from guardsim.level import Level, load_level
 from guardsim.output import write_text_atomic
 
-__all__ = ["SUMMARY_NAME", "Batch", "BatchLevel", "Progress", "RunReport", "finish_batch", "run_batch", "start_batch"]
+__all__ = [
+    "SUMMARY_NAME",
+    "Batch",
+    "BatchLevel",
+    "Progress",
+    "RunReport",
+    "finish_batch",
+    "run_batch",
+    "start_batch",
+    "warm_up_specs",
+]
 
 SUMMARY_NAME = "summary.json"
 
@@ -171,13 +181,17 @@ def run_batch(
 ) -> RunReport:
     """Run ``specs`` on ``executor``, appending each record to ``results.csv`` as soon as it arrives.
 
+    When the executor forks its workers from this process, a few episodes run here first
+    (:func:`warm_up_specs`), so that the workers start with their levels' scenes, vision, view tables
+    and bound data and with the compiled code loaded, instead of each building them again.
+
     Ctrl-C propagates as ``KeyboardInterrupt`` once the executor has stopped; every row written stays.
     """
     records: list[EpisodeRecord] = []
     not_run = errors = 0
     failure = ""
     with appending_results(folder / RESULTS_NAME) as stream:
-        for completion in executor.run_unordered(run_spec_logged, specs):
+        for completion in _completions(specs, executor):
             if completion.failure is not None:
                 not_run += 1
                 failure = failure or " ".join(f"{type(completion.failure).__name__}: {completion.failure}".split())
@@ -192,6 +206,35 @@ def run_batch(
             if on_record is not None:
                 on_record(record)
     return RunReport(records, not_run, failure, errors)
+
+
+def warm_up_specs(specs: Sequence[EpisodeSpec], workers: int) -> list[int]:
+    """Indices of the episodes to run in this process before forking ``workers`` workers: the first of
+    each level and planner with more episodes than workers.
+
+    What an episode builds once per level and planner (the scene, the vision cache, the view table, the
+    start-independent bound data, a look-ahead planner's tables) then exists once, and every forked
+    worker has it. A level and planner with no more episodes than workers is left to them: its
+    episodes can all run at once, each worker building what it needs, which is no later.
+    """
+    first: dict[tuple[str, str], int] = {}
+    count: dict[tuple[str, str], int] = {}
+    for index, spec in enumerate(specs):
+        group = (spec.level_file, spec.planner)
+        first.setdefault(group, index)
+        count[group] = count.get(group, 0) + 1
+    return [index for group, index in first.items() if count[group] > workers]
+
+
+def _completions(specs: Sequence[EpisodeSpec], executor: EpisodeExecutor) -> Iterator[Completion]:
+    """Every spec's completion: the warm-up episodes here (if the workers are forked), then the rest."""
+    warm = warm_up_specs(specs, executor.forked_workers) if executor.forked_workers else []
+    for index in warm:
+        yield Completion(specs[index], run_spec_logged(specs[index]), None)
+    chosen = set(warm)
+    yield from executor.run_unordered(
+        run_spec_logged, [spec for index, spec in enumerate(specs) if index not in chosen]
+    )
 
 
 def finish_batch(batch: Batch, folder: Path) -> tuple[list[EpisodeRecord], list[GroupSummary]]:
