@@ -6,6 +6,7 @@ Usage::
     python benchmarks/optimum.py --only arena --time-limit 60
     python benchmarks/optimum.py --planners --only maze-32-32-4   # every planner against the optimum
     python benchmarks/optimum.py --planners --tiny                # the same on the tests' tiny levels
+    python benchmarks/optimum.py --planners --real                # small real maps, bench starts 0-2
 
 Moving AI maps from ``../shared/maps/movingai`` imported at cell size 1, the watchman-route solvers'
 sight rule (``--los bresenham --fov 360``), unlimited range or 8 cells (targets with
@@ -14,9 +15,14 @@ solver proves. Prints one table row per start: the optimum found, whether proved
 start, expansions, stored nodes and seconds (view table included; the first run also compiles).
 
 With ``--planners``, a second table for the starts proved: every planner's steps from that start
-(seed 0; the ratio to the optimum in brackets) and the best lower bound of ``guardsim bounds``.
+(seed 0; the ratio to the optimum in brackets) and the best static bound (eccentricity, cluster, path:
+:func:`guardsim.bounds.lower_bounds`; ``guardsim bounds`` adds the search bound, which is the optimum
+itself on every proved row).
 ``--tiny`` runs the short-sighted tiny levels of ``tests/test_bounds.py`` (the paper's cone, heading in
-the state) from four spread starts each, facing down, instead of the maps.
+the state) from four spread starts each, facing down, instead of the maps. ``--real`` runs the small
+Moving AI maps of :data:`REAL_MAPS` (same sight rule, unlimited range) from the starts of bench episodes
+0-2 of seed 0 (``guardsim optimum MAP --episode K``): those where the search proves the optimum within
+the time limit.
 """
 
 from __future__ import annotations
@@ -39,6 +45,11 @@ CASES: list[tuple[str, tuple[int, int], float | None, int]] = [
     ("maze-32-32-4", (1, 1), 8.0, 210),
     ("maze-32-32-4", (15, 16), 8.0, 235),
 ]
+
+#: Small real maps whose optima the search proves from bench starts in seconds (tried and unproved in
+#: 60 s from the same starts: room-32-32-4, random-32-32-20, room-64-64-8, ht_chantry,
+#: lt_undercitydungeon).
+REAL_MAPS = ("maze-32-32-2", "den020d", "den207d")
 
 
 def scene_of(name: str, view_range: float | None):
@@ -72,7 +83,7 @@ def planner_rows(cases: list[tuple[str, object, tuple[int, int], int, int]]) -> 
     from guardsim.simulation import run_episode
 
     names = list(PLANNERS)
-    print("\n| level | start | optimum | " + " | ".join(names) + " | best bound |")
+    print("\n| level | start | optimum | " + " | ".join(names) + " | best static bound |")
     print("| --- | --- | --- | " + " | ".join("---" for _ in names) + " | --- |")
     for name, scene, start, heading, optimum in cases:
         cells = []
@@ -96,8 +107,29 @@ def main() -> None:
     parser.add_argument("--only", help="Only the cases on this map.")
     parser.add_argument("--planners", action="store_true", help="Also every planner against the proved optima.")
     parser.add_argument("--tiny", action="store_true", help="The tests' tiny levels instead of the maps.")
+    parser.add_argument("--real", action="store_true", help="Small real maps from bench starts 0-2.")
     arguments = parser.parse_args()
     proved = []
+    if arguments.real:
+        from guardsim.starts import episode_start
+
+        print("| map | start | heading | optimum | proved | start bound | expansions | nodes | seconds |")
+        print("| --- | --- | --- | --- | --- | --- | --- | --- | --- |")
+        for name in REAL_MAPS:
+            scene = scene_of(name, None)
+            for episode in range(3):
+                _, start, heading = episode_start(scene, seed=0, episode=episode)  # type: ignore[arg-type]
+                result = solve(scene, start, heading, time_limit=arguments.time_limit)  # type: ignore[arg-type]
+                print(
+                    f"| {name} | {start} | {heading} | {result.steps} | {str(result.proved).lower()} "
+                    f"| {result.root_bound} | {result.expansions} | {result.nodes} | {result.seconds:.1f} |",
+                    flush=True,
+                )
+                if result.proved:
+                    proved.append((name, scene, start, heading, result.steps))
+        if arguments.planners:
+            planner_rows(proved)
+        return
     if arguments.tiny:
         print("| level | start | optimum | proved | start bound | expansions | nodes | seconds |")
         print("| --- | --- | --- | --- | --- | --- | --- | --- |")
