@@ -30,8 +30,8 @@ import numpy as np
 
 from guardsim.errors import LevelError, LimitError
 from guardsim.optimum.beam import beam_route
-from guardsim.optimum.graph import build_search_graph, route_steps
-from guardsim.optimum.heuristic import build_heuristic
+from guardsim.optimum.graph import SearchGraph, build_search_graph, route_steps
+from guardsim.optimum.heuristic import Heuristic, build_heuristic
 from guardsim.optimum.residual import residual_goal
 from guardsim.optimum.search import (
     EXPANSIONS,
@@ -55,7 +55,7 @@ from guardsim.vision.table import view_table
 if TYPE_CHECKING:
     from guardsim.scene import Scene
 
-__all__ = ["DEFAULT_MEMORY_BYTES", "MAX_POSITIONS", "OptimumResult", "SearchProgress", "solve"]
+__all__ = ["DEFAULT_MEMORY_BYTES", "MAX_POSITIONS", "OptimumResult", "SearchProgress", "search_route", "solve"]
 
 #: Memory the node arrays may take by default.
 DEFAULT_MEMORY_BYTES = 3 * 2**30
@@ -224,6 +224,24 @@ def solve(
         graph.headings_matter,
         time.perf_counter() - began,
     )
+
+
+def search_route(
+    graph: SearchGraph, heuristic: Heuristic, incumbent: int, *, max_expansions: int, max_nodes: int
+) -> tuple[np.ndarray, int, bool]:
+    """The exact search over a built graph (the tour planner's "exact" seed), bounded in work only.
+
+    Looks for a covering walk shorter than ``incumbent`` steps (one already in hand). Returns its
+    macro-move positions (the start first; empty when none was found), its steps (``incumbent`` when
+    none) and whether no walk shorter than those steps exists.
+    """
+    state = new_search_state(max_nodes, graph.full.size, graph.positions)
+    start_search(state, heuristic, graph.views, graph.full, graph.start, incumbent)
+    run_search(state, heuristic, graph.successors, graph.views, graph.full, max_expansions, DOMINANCE_CHECKS)
+    counters = state.counters
+    node = int(counters[INCUMBENT_NODE])
+    route = _route(state, node) if node >= 0 else np.zeros(0, dtype=np.int64)
+    return route, int(counters[INCUMBENT]), bool(counters[STATUS] == PROVED)
 
 
 def _route(state: SearchState, node: int) -> np.ndarray:

@@ -6,6 +6,12 @@ not). Layer ``k`` holds nodes ``k`` macro moves from the start; each layer keeps
 least ``g + h`` (ties: fewer steps, then the order found), ``h`` being the exact search's estimate, and
 duplicate (position, seen) pairs are merged. The best complete node found is the walk. Work grows
 with ``width`` times the number of macro moves, never with time.
+
+A wider beam is myopic less often: on the open Moving AI arena from (24, 24) (optimum 59, 25 goal cells
+left in the residual goal) widths 8, 32, 128 and 512 find 79, 71, 70 and 63 steps.
+:func:`widening_beam_route` runs widths 8, 32, 128, ... while the last widening helped and a budget of
+estimates (the bulk of the work) allows the next, about four times the last, so it stops early where a
+narrow beam already found the walk or where each estimate is dear.
 """
 
 from __future__ import annotations
@@ -17,7 +23,10 @@ from guardsim.optimum.graph import SearchGraph
 from guardsim.optimum.heuristic import Heuristic, estimate, estimate_work
 from guardsim.optimum.search import _frontier, _hash, frontier_work
 
-__all__ = ["beam_route"]
+__all__ = ["WIDENING", "beam_route", "widening_beam_route"]
+
+#: Factor between the widths of two runs of :func:`widening_beam_route`.
+WIDENING = 4
 
 
 @numba.njit(cache=True, nogil=True)
@@ -29,7 +38,7 @@ def _beam(
     start: int,
     known: np.ndarray,
     width: int,
-) -> tuple[np.ndarray, int]:
+) -> tuple[np.ndarray, int, int]:
     positions = successors.shape[0]
     words = full.shape[0]
     most_layers = positions * 4 + 4
@@ -49,12 +58,14 @@ def _beam(
     count = 1
     layer = np.zeros(1, dtype=np.int64)
     best_node, best_steps = -1, 1 << 40
+    # Children estimated, the bulk of the work: what budgets a widening beam.
+    estimates = 0
     done = True
     for word in range(words):
         if node_seen[0, word] != full[word]:
             done = False
     if done:
-        return np.array([start], dtype=np.int64), 0
+        return np.array([start], dtype=np.int64), 0, 0
     seen = np.empty(words, dtype=np.uint64)
     for _ in range(most_layers):
         if layer.shape[0] == 0:
@@ -65,8 +76,10 @@ def _beam(
         child_parent: list[int] = []
         child_key: list[int] = []
         child_seen: list[np.ndarray] = []
-        slots = 1 << 4
-        while slots < 2 * layer.shape[0] * positions and slots < (1 << 22):
+        # Sized for a few children per node and doubled when half full: a layer of a wide beam has far
+        # fewer children than nodes times positions, and clearing a table that big dominated the work.
+        slots = 1 << 10
+        while slots < 16 * layer.shape[0]:
             slots <<= 1
         table = np.full(slots, -1, dtype=np.int64)
         for node in layer:
@@ -101,8 +114,12 @@ def _beam(
                     slot = (slot + 1) & (slots - 1)
                 if merged:
                     continue
-                if len(child_position) * 2 >= slots:
-                    continue  # the table is full: a deterministic, rare truncation
+                if (len(child_position) + 1) * 2 > slots:
+                    slots <<= 1
+                    table = _rehash(child_position, child_seen, slots)
+                    slot = np.int64(_hash(there, seen) >> np.uint64(1)) & (slots - 1)
+                    while table[slot] >= 0:
+                        slot = (slot + 1) & (slots - 1)
                 table[slot] = len(child_position)
                 child_position.append(there)
                 child_steps.append(steps)
@@ -117,6 +134,7 @@ def _beam(
             if child_key[index] < 0:
                 scores[index] = child_steps[index]
             else:
+                estimates += 1
                 scores[index] = child_steps[index] + estimate(
                     heuristic, child_position[index], child_seen[index], full, kept, link, gap, order
                 )
@@ -151,7 +169,7 @@ def _beam(
                 next_layer.append(kept_node)
         layer = np.array(next_layer, dtype=np.int64) if next_layer else np.zeros(0, dtype=np.int64)
     if best_node < 0:
-        return np.zeros(0, dtype=np.int64), -1
+        return np.zeros(0, dtype=np.int64), -1, estimates
     route: list[int] = []
     back = best_node
     while back >= 0:
@@ -160,7 +178,19 @@ def _beam(
     result = np.empty(len(route), dtype=np.int64)
     for index in range(len(route)):
         result[index] = route[len(route) - 1 - index]
-    return result, best_steps
+    return result, best_steps, estimates
+
+
+@numba.njit(cache=True, nogil=True)
+def _rehash(child_position: list[int], child_seen: list[np.ndarray], slots: int) -> np.ndarray:
+    """A merge table of ``slots`` slots (a power of two) holding the children so far."""
+    table = np.full(slots, -1, dtype=np.int64)
+    for index in range(len(child_position)):
+        slot = np.int64(_hash(child_position[index], child_seen[index]) >> np.uint64(1)) & (slots - 1)
+        while table[slot] >= 0:
+            slot = (slot + 1) & (slots - 1)
+        table[slot] = index
+    return table
 
 
 @numba.njit(cache=True, nogil=True)
@@ -180,5 +210,39 @@ def beam_route(
     """
     if known is None:
         known = np.zeros_like(graph.full)
-    route, steps = _beam(heuristic, graph.successors, graph.views, graph.full, graph.start, known, width)
+    route, steps, _ = _beam(heuristic, graph.successors, graph.views, graph.full, graph.start, known, width)
     return route, int(steps)
+
+
+def widening_beam_route(
+    graph: SearchGraph,
+    heuristic: Heuristic,
+    known: np.ndarray | None = None,
+    *,
+    first_width: int = 8,
+    most_width: int = 512,
+    max_estimates: int = 200_000,
+) -> tuple[np.ndarray, int, int]:
+    """The best walk of beams ever :data:`WIDENING` times wider, as :func:`beam_route` returns it, and
+    the width that found it.
+
+    Starts at ``first_width``; runs the next width while it is at most ``most_width``, the last run
+    shortened the walk, and the estimates computed so far plus :data:`WIDENING` times the last run's
+    stay within ``max_estimates`` (a deterministic budget: the work, never the time, decides).
+    """
+    if known is None:
+        known = np.zeros_like(graph.full)
+    width, spent = first_width, 0
+    best_route, best_steps, best_width = np.zeros(0, dtype=np.int64), -1, first_width
+    while True:
+        route, steps, estimates = _beam(heuristic, graph.successors, graph.views, graph.full, graph.start, known, width)
+        spent += int(estimates)
+        if steps < 0:
+            break
+        if best_steps >= 0 and steps >= best_steps:
+            break
+        best_route, best_steps, best_width = route, int(steps), width
+        if width * WIDENING > most_width or spent + WIDENING * int(estimates) > max_estimates:
+            break
+        width *= WIDENING
+    return best_route, best_steps, best_width

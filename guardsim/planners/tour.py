@@ -31,9 +31,11 @@ from typing import NamedTuple
 import numpy as np
 
 from guardsim.grid import state_of
-from guardsim.optimum.beam import beam_route
-from guardsim.optimum.graph import build_search_graph, goal_bits, route_steps
-from guardsim.optimum.heuristic import build_heuristic
+from guardsim.optimum import search_route
+from guardsim.optimum.beam import widening_beam_route
+from guardsim.optimum.graph import SearchGraph, build_search_graph, goal_bits, route_steps
+from guardsim.optimum.heuristic import Heuristic, build_heuristic
+from guardsim.optimum.residual import residual_goal
 from guardsim.planners.base import STAY, EpisodeSetup, GuardState
 from guardsim.planners.frontier import Frontier
 from guardsim.planners.route_walk import RouteWalk, descent_states, walk_routes
@@ -46,15 +48,25 @@ __all__ = ["LevelCover", "Tour", "route_costs"]
 
 #: Rounds of routing again through the states a simulated walk arrived in.
 REFINE_ROUNDS = 8
-#: Width of the beam search over macro moves (the "beam" seed).
-BEAM_WIDTH = 8
+#: Widths of the "beam" seed's widening beam (:func:`guardsim.optimum.beam.widening_beam_route`).
+BEAM_WIDTHS = (8, 512)
+#: The widening beam's budget: estimates of the exact search's heuristic, summed over its runs.
+BEAM_ESTIMATES = 50000
 #: Most guard positions (states, or cells when headings do not matter) for the beam seed; above it the
 #: per-start tables (steps from every position to every cell's watchers) cost too much.
 BEAM_POSITIONS = 6000
 #: Pivot candidates of the beam's estimate (fewer than the exact search's, for a quicker setup).
 BEAM_POOL = 256
+#: Largest residual goal (cells) for the "exact" seed; the exact search is quick only with few.
+EXACT_GOAL = 64
+#: Expansions of the exact seed's search (a deterministic budget).
+EXACT_EXPANSIONS = 30_000
+#: Most nodes the exact seed's search stores.
+EXACT_NODES = 4 * EXACT_EXPANSIONS
 #: Every seed, in the order tried.
-SEEDS = ("cover", "frontier", "beam", "descent", "descent-view")
+SEEDS = ("exact", "cover", "frontier", "beam", "descent", "descent-view")
+#: Seeds from the exact search's macro moves.
+MACRO_SEEDS = frozenset({"exact", "beam"})
 
 #: ``(cell, heading)`` of every guard.
 Team = tuple[tuple[int, int], ...]
@@ -72,6 +84,18 @@ def route_costs(neighbours: np.ndarray, entry: np.ndarray, states: np.ndarray, t
     cost[:, :k] = distances_between(neighbours, entry[states], cells).T.astype(np.int64) + 1
     cost[np.arange(k), np.arange(k)] = 0
     return cost
+
+
+class MacroRoutes(NamedTuple):
+    """One guard's routes from the exact search's macro moves, made once per plan."""
+
+    beam: np.ndarray | None
+    """States the widening beam's walk arrives in; None when the seed does not apply."""
+    exact: np.ndarray | None
+    """States the exact search's best walk arrives in; None when it does not apply or found nothing
+    shorter than the beam's walk without proving it optimal."""
+    optimum: int
+    """Steps of the exact walk when proved optimal, else -1."""
 
 
 class LevelCover(NamedTuple):
@@ -158,22 +182,30 @@ class Tour:
         return cached[1]
 
     def _best_walk(self, seen: np.ndarray, team: Team) -> RouteWalk:
-        """The shortest of the refined walks from each seed."""
+        """The shortest of the refined walks from each seed (at once the exact seed's, when proved)."""
         limit = 10 * int(self._goal.sum()) + 100
+        macro = self._macro_routes(team, seen) if MACRO_SEEDS & set(self.seeds) else MacroRoutes(None, None, -1)
         walks = []
         for seed in self.seeds:
-            routes = self._seed_routes(seed, team, seen)
+            if seed == "exact" and macro.exact is not None and macro.optimum >= 0:
+                # The walk along a proved optimal route is optimal too (it can only skip what is seen).
+                walk = self._simulate(seen, team, [macro.exact], limit)
+                if walk.covered and walk.steps == macro.optimum:
+                    return walk
+            if seed in MACRO_SEEDS:
+                route = macro.exact if seed == "exact" else macro.beam
+                routes = None if route is None else [route]
+            else:
+                routes = self._seed_routes(seed, team, seen)
             if routes is not None:
                 walks.append(self._refine(seen, team, routes, limit))
         return min(walks, key=_walk_rank)
 
     def _seed_routes(self, seed: str, team: Team, seen: np.ndarray) -> list[np.ndarray] | None:
-        """The set-cover tour of the viewpoints still worth visiting, empty routes (the frontier walk),
-        or the beam's arrivals; None when the seed does not apply."""
+        """The set-cover tour of the viewpoints still worth visiting, empty routes (the frontier walk)
+        or a descent walk's states; None when the seed does not apply."""
         if seed == "frontier":
             return [np.zeros(0, dtype=np.int64)] * len(team)
-        if seed == "beam":
-            return self._beam_route(team, seen)
         if seed in ("descent", "descent-view"):
             if len(team) != 1:
                 return None
@@ -184,11 +216,10 @@ class Tour:
         viewpoints = self.cover.viewpoints
         return self._route(viewpoints[self._tally.counts[viewpoints] > 0], team)
 
-    def _beam_route(self, team: Team, seen: np.ndarray) -> list[np.ndarray] | None:
-        """The states a beam search's walk arrives in at its macro moves, as one guard's route."""
-        if len(team) != 1:
-            return None
-        (cell, heading), grid = team[0], self._grid
+    def _search_tables(self, cell: int, heading: int) -> tuple[SearchGraph, Heuristic] | None:
+        """The exact search's graph over the residual goal and its estimate, from one guard's start
+        (once per start); None on levels of more than :data:`BEAM_POSITIONS` positions."""
+        grid = self._grid
         key = ("tour-beam", self._goal_key[1], cell, heading)
         if key not in self._memo:
             self._memo[key] = None
@@ -198,15 +229,38 @@ class Tour:
             if cells.size * (4 if (lengths != lengths[:, :1]).any() else 1) <= BEAM_POSITIONS:
                 graph = build_search_graph(grid, self._table, grid.unflat(cell), heading)
                 if graph.positions <= BEAM_POSITIONS:
+                    # The same covering walks over far fewer goal cells: a sharper estimate, smaller tables.
+                    graph = residual_goal(graph)
                     self._memo[key] = (graph, build_heuristic(graph, pool=BEAM_POOL))
-        if self._memo[key] is None:
-            return None
-        graph, heuristic = self._memo[key]
-        route, steps = beam_route(graph, heuristic, BEAM_WIDTH, goal_bits(graph, seen))
+        tables: tuple[SearchGraph, Heuristic] | None = self._memo[key]
+        return tables
+
+    def _macro_routes(self, team: Team, seen: np.ndarray) -> MacroRoutes:
+        """The states the beam's walk and the exact search's walk arrive in at their macro moves."""
+        none = MacroRoutes(None, None, -1)
+        if len(team) != 1:
+            return none
+        (cell, heading) = team[0]
+        tables = self._search_tables(cell, heading)
+        if tables is None:
+            return none
+        graph, heuristic = tables
+        known = goal_bits(graph, seen)
+        first, last = BEAM_WIDTHS
+        route, steps, _ = widening_beam_route(
+            graph, heuristic, known, first_width=first, most_width=last, max_estimates=BEAM_ESTIMATES
+        )
         if steps < 0:
-            return None
-        walk, ends = route_steps(graph, route, heading)
-        return [np.array([state_of(*walk[end]) for end in ends[1:]], dtype=np.int64)]
+            return none
+        beam = _arrivals(graph, route, heading)
+        # The exact search knows only what the start sees: with more seen before, it would not be exact.
+        if "exact" not in self.seeds or graph.goal_cells.size > EXACT_GOAL or (known & ~graph.views[graph.start]).any():
+            return MacroRoutes(beam, None, -1)
+        better, optimum, proved = search_route(
+            graph, heuristic, steps, max_expansions=EXACT_EXPANSIONS, max_nodes=EXACT_NODES
+        )
+        exact = _arrivals(graph, better, heading) if better.size else (beam if proved else None)
+        return MacroRoutes(beam, exact, optimum if proved else -1)
 
     def _route(self, states: np.ndarray, team: Team) -> list[np.ndarray]:
         """Per guard, an order of its share of ``states`` (state numbers)."""
@@ -230,6 +284,12 @@ class Tour:
         return walk_routes(
             self._table, self._neighbours, self._goal, seen, self._tally.counts, team, routes, limit=limit
         )
+
+
+def _arrivals(graph: SearchGraph, route: np.ndarray, heading: int) -> np.ndarray:
+    """The states a walk along a macro-move route (the start first) arrives in, the start left out."""
+    walk, ends = route_steps(graph, route, heading)
+    return np.array([state_of(*walk[end]) for end in ends[1:]], dtype=np.int64)
 
 
 def _walk_rank(walk: RouteWalk) -> tuple[bool, int, int]:
