@@ -23,21 +23,25 @@ from guardsim.vision.table import view_table
 __all__ = [
     "CSV_COLUMNS",
     "FRACTIONS",
+    "LOOK_AHEAD",
     "TIMED_COLUMNS",
     "EpisodeRecord",
     "EpisodeSpec",
     "bounds_of",
+    "error_record",
+    "error_text",
     "forget_scenes",
     "run_spec",
     "run_spec_logged",
     "scene_of",
+    "wants_bounds",
 ]
 
 #: Coverage fractions whose first tick is recorded as T50, T90 and T99.
 FRACTIONS = (0.5, 0.9, 0.99)
 
 #: Planners that read the whole view table (see :func:`guardsim.vision.table.view_table`).
-_LOOK_AHEAD = frozenset({"frontier", "tour"})
+LOOK_AHEAD = frozenset({"frontier", "tour"})
 
 #: Heading names by heading number (0 right, 1 down, 2 left, 3 up).
 HEADING_NAMES = tuple(HEADINGS)
@@ -257,6 +261,27 @@ def _bounds_of_thread(level: Level, line_of_sight: str, start: tuple[int, int], 
     return lower_bounds(scene, start, heading, scene.vision())
 
 
+def wants_bounds(spec: EpisodeSpec) -> bool:
+    """Whether the episode's row gets its start's lower bounds: asked for, one guard, on the grid (bounds
+    count grid steps; a continuous episode's steps are physics ticks)."""
+    return spec.bounds and spec.guards == 1 and spec.motion == "grid"
+
+
+def error_text(error: Exception) -> str:
+    """``Type: message`` on one line, as the ``error`` column holds it."""
+    return " ".join(f"{type(error).__name__}: {error}".split())
+
+
+def error_record(spec: EpisodeSpec, message: str, seconds: float) -> EpisodeRecord:
+    """The row of an episode that raised after ``seconds``: ``error`` outcome, ``message`` (from
+    :func:`error_text`), and none of the fields it did not reach."""
+    return EpisodeRecord(
+        spec.level.name, spec.level_file, spec.planner, spec.guards, spec.seed, spec.episode,
+        None, None, None, None, None, "error", None, None, None, None, None, None, None,
+        seconds, None, message, spec.motion,
+    )  # fmt: skip
+
+
 def run_spec(spec: EpisodeSpec) -> EpisodeRecord:
     """Run one episode and record it; an exception from the episode becomes its ``error`` outcome.
 
@@ -276,7 +301,7 @@ def run_spec_logged(spec: EpisodeSpec) -> tuple[EpisodeRecord, str]:
     began = time.perf_counter()
     try:
         scene = scene_of(spec.level, spec.line_of_sight)
-        if spec.bounds or spec.planner in _LOOK_AHEAD:
+        if spec.bounds or spec.planner in LOOK_AHEAD:
             view_table(scene.grid, scene.vision())  # built once per scene, before the clock starts
         began = time.perf_counter()
         if spec.motion == "continuous":
@@ -296,16 +321,10 @@ def run_spec_logged(spec: EpisodeSpec) -> tuple[EpisodeRecord, str]:
             )
         seconds = time.perf_counter() - began
         col, row = trace.start
-        # Bounds count grid steps; a continuous episode's steps are physics ticks.
-        wanted = spec.bounds and spec.guards == 1 and spec.motion == "grid"
+        wanted = wants_bounds(spec)
         bounds = bounds_of(spec.level, spec.line_of_sight, (col, row), trace.headings[0]) if wanted else None
     except Exception as error:
-        message = " ".join(f"{type(error).__name__}: {error}".split())
-        return EpisodeRecord(
-            spec.level.name, spec.level_file, spec.planner, spec.guards, spec.seed, spec.episode,
-            None, None, None, None, None, "error", None, None, None, None, None, None, None,
-            time.perf_counter() - began, None, message, spec.motion,
-        ), traceback.format_exc()  # fmt: skip
+        return error_record(spec, error_text(error), time.perf_counter() - began), traceback.format_exc()
     t50, t90, t99 = (trace.steps_to_fraction(fraction) for fraction in FRACTIONS)
     return EpisodeRecord(
         spec.level.name, spec.level_file, spec.planner, spec.guards, spec.seed, spec.episode,

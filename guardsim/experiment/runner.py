@@ -10,7 +10,7 @@ from pathlib import Path
 from typing import Any, NamedTuple
 
 from guardsim.executors import Completion, EpisodeExecutor
-from guardsim.experiment.episodes import EpisodeRecord, EpisodeSpec, run_spec_logged
+from guardsim.experiment.episodes import LOOK_AHEAD, EpisodeRecord, EpisodeSpec, run_spec_logged, wants_bounds
 from guardsim.experiment.results import (
     RESULTS_NAME,
     append_record,
@@ -21,6 +21,7 @@ from guardsim.experiment.results import (
     read_results,
     write_results_sorted,
 )
+from guardsim.experiment.start_bounds import LevelStarts, StartBounds, level_starts_tasks, run_level_starts, with_bounds
 from guardsim.experiment.summary import GroupSummary, summarise, summary_json
 from guardsim.level import Level, load_level
 from guardsim.output import write_text_atomic
@@ -33,6 +34,7 @@ __all__ = [
     "RunReport",
     "finish_batch",
     "run_batch",
+    "run_task",
     "start_batch",
     "warm_up_specs",
 ]
@@ -179,24 +181,27 @@ Progress = Callable[[EpisodeRecord], None]
 def run_batch(
     specs: Sequence[EpisodeSpec], folder: Path, executor: EpisodeExecutor, on_record: Progress | None = None
 ) -> RunReport:
-    """Run ``specs`` on ``executor``, appending each record to ``results.csv`` as soon as it arrives.
+    """Run ``specs`` on ``executor``, appending each record to ``results.csv`` as soon as it is complete.
 
-    When the executor forks its workers from this process, a few episodes run here first
-    (:func:`warm_up_specs`), so that the workers start with their levels' scenes, vision, view tables
-    and bound data and with the compiled code loaded, instead of each building them again.
+    The lower bounds of the starts go in one task per level (:mod:`~guardsim.experiment.start_bounds`),
+    sent ahead of the episodes, which run without them; a row is written once its episode and its
+    level's task are both back (an episode rarely waits: the tasks go first). When the executor forks
+    its workers from this process, a few look-ahead episodes run here first (:func:`warm_up_specs`).
 
-    Ctrl-C propagates as ``KeyboardInterrupt`` once the executor has stopped; every row written stays.
+    Ctrl-C propagates as ``KeyboardInterrupt`` once the executor has stopped; every row written stays
+    (rows still waiting for their level's bounds are not written, and run again on resume).
     """
     records: list[EpisodeRecord] = []
     not_run = errors = 0
     failure = ""
+    wanted = {spec.key for spec in specs if wants_bounds(spec)}
+    found: dict[tuple[str, str], dict[int, StartBounds]] = {}
+    lost: set[tuple[str, str]] = set()
+    waiting: dict[tuple[str, str], list[tuple[EpisodeSpec, tuple[EpisodeRecord, str]]]] = {}
     with appending_results(folder / RESULTS_NAME) as stream:
-        for completion in _completions(specs, executor):
-            if completion.failure is not None:
-                not_run += 1
-                failure = failure or " ".join(f"{type(completion.failure).__name__}: {completion.failure}".split())
-                continue
-            record, trace_text = completion.result
+
+        def write(record: EpisodeRecord, trace_text: str) -> None:
+            nonlocal errors
             if record.outcome == "error":
                 # The traceback first: a row saying "error" always has its traceback in the log.
                 append_traceback(folder, record, trace_text)
@@ -205,21 +210,57 @@ def run_batch(
             records.append(record)
             if on_record is not None:
                 on_record(record)
-    return RunReport(records, not_run, failure, errors)
+
+        def write_with_bounds(spec: EpisodeSpec, result: tuple[EpisodeRecord, str]) -> None:
+            write(*with_bounds(spec, *result, found[(spec.level_file, spec.line_of_sight)][spec.episode]))
+
+        for completion in _completions(specs, executor):
+            item = completion.item
+            if completion.failure is not None:
+                failure = failure or " ".join(f"{type(completion.failure).__name__}: {completion.failure}".split())
+            if isinstance(item, LevelStarts):
+                if completion.failure is not None:
+                    lost.add(item.key)
+                    not_run += len(waiting.pop(item.key, []))
+                else:
+                    found[item.key] = completion.result
+                    for spec, result in waiting.pop(item.key, []):
+                        write_with_bounds(spec, result)
+            elif completion.failure is not None:
+                not_run += 1
+            elif item.key not in wanted:
+                write(*completion.result)
+            elif (item.level_file, item.line_of_sight) in found:
+                write_with_bounds(item, completion.result)
+            elif (item.level_file, item.line_of_sight) in lost:
+                not_run += 1
+            else:
+                waiting.setdefault((item.level_file, item.line_of_sight), []).append((item, completion.result))
+    return RunReport(records, not_run + sum(map(len, waiting.values())), failure, errors)
+
+
+def run_task(task: EpisodeSpec | LevelStarts) -> Any:
+    """What a worker runs: an episode (:func:`run_spec_logged`) or a level's start bounds
+    (:func:`~guardsim.experiment.start_bounds.run_level_starts`)."""
+    return run_level_starts(task) if isinstance(task, LevelStarts) else run_spec_logged(task)
 
 
 def warm_up_specs(specs: Sequence[EpisodeSpec], workers: int) -> list[int]:
     """Indices of the episodes to run in this process before forking ``workers`` workers: the first of
-    each level and planner with more episodes than workers.
+    each level and look-ahead planner (:data:`~guardsim.experiment.episodes.LOOK_AHEAD`) with more
+    episodes than workers.
 
-    What an episode builds once per level and planner (the scene, the vision cache, the view table, the
-    start-independent bound data, a look-ahead planner's tables) then exists once, and every forked
-    worker has it. A level and planner with no more episodes than workers is left to them: its
-    episodes can all run at once, each worker building what it needs, which is no later.
+    Such a planner reads the level's view table in every worker; built here once, every forked worker
+    has it (and the scene, the vision cache and the planner's own tables), where each would build its
+    own. Other planners need nothing per level that a worker does not fill as it goes, and a level
+    and planner with no more episodes than workers can have them all run at once, each worker building
+    what it needs, which is no later.
     """
     first: dict[tuple[str, str], int] = {}
     count: dict[tuple[str, str], int] = {}
     for index, spec in enumerate(specs):
+        if spec.planner not in LOOK_AHEAD:
+            continue
         group = (spec.level_file, spec.planner)
         first.setdefault(group, index)
         count[group] = count.get(group, 0) + 1
@@ -227,14 +268,16 @@ def warm_up_specs(specs: Sequence[EpisodeSpec], workers: int) -> list[int]:
 
 
 def _completions(specs: Sequence[EpisodeSpec], executor: EpisodeExecutor) -> Iterator[Completion]:
-    """Every spec's completion: the warm-up episodes here (if the workers are forked), then the rest."""
-    warm = warm_up_specs(specs, executor.forked_workers) if executor.forked_workers else []
+    """The completions of the level tasks and of every episode (run without bounds): the warm-up
+    episodes here (if the workers are forked), then the rest on the executor, the level tasks first."""
+    bare = [spec._replace(bounds=False) for spec in specs]
+    warm = warm_up_specs(bare, executor.forked_workers) if executor.forked_workers else []
     for index in warm:
-        yield Completion(specs[index], run_spec_logged(specs[index]), None)
+        yield Completion(bare[index], run_spec_logged(bare[index]), None)
     chosen = set(warm)
-    yield from executor.run_unordered(
-        run_spec_logged, [spec for index, spec in enumerate(specs) if index not in chosen]
-    )
+    tasks: list[EpisodeSpec | LevelStarts] = [*level_starts_tasks(specs)]
+    tasks += [spec for index, spec in enumerate(bare) if index not in chosen]
+    yield from executor.run_unordered(run_task, tasks)
 
 
 def finish_batch(batch: Batch, folder: Path) -> tuple[list[EpisodeRecord], list[GroupSummary]]:
