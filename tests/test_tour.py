@@ -4,11 +4,14 @@ without its beam seed, and deterministic."""
 
 from __future__ import annotations
 
+import numpy as np
 import pytest
 
 from guardsim.optimum import solve
+from guardsim.planners.lawnmower import lane_routes, swath_half_width
 from guardsim.planners.tour import SEEDS, Tour
 from guardsim.simulation import Scene, run_episode
+from guardsim.vision.table import view_table
 from tests.common import TINY_LEVELS, scene_from
 from tests.test_bounds import SHORT_SIGHTED, short_sighted, starts
 
@@ -60,5 +63,45 @@ def test_tour_is_deterministic() -> None:
 
 
 def test_tour_rejects_unknown_seeds() -> None:
-    with pytest.raises(ValueError, match="seeds must be some of exact, cover, frontier, beam, descent, descent-view"):
+    with pytest.raises(
+        ValueError, match="seeds must be some of exact, cover, frontier, beam, descent, descent-view, lawnmower"
+    ):
         Tour(seeds=("nearest",))
+
+
+OPEN_ROOM = {
+    "name": "open room",
+    "outer": [[0, 0], [24, 0], [24, 24], [0, 24]],
+    "holes": [[[10, 10], [14, 10], [14, 14], [10, 14]]],
+    "guard": {"start": [1.5, 1.5], "heading": "right", "view_range": 4.0, "fov_degrees": 90.0},
+}
+
+
+def test_lawnmower_lanes_are_one_swath_apart_and_enterable() -> None:
+    """Every goal row (or column) lies within the cone's sideways reach of a lane, and every state of a
+    route can be stepped into, heading along its lane."""
+    scene = scene_from(OPEN_ROOM)
+    table = view_table(scene.grid, scene.vision())
+    goal = scene.grid.largest_component().ravel()
+    rows, cols = scene.grid.shape
+    half = swath_half_width(table, goal, cols)
+    assert half == 2  # a 90-degree cone of range 4: offsets up to 2 ahead by 2 (2^2 + 2^2 <= 16), not 3
+    routes = lane_routes(goal, scene.grid.shape, table.entry, 2 * half + 1)
+    assert len(routes) == 8
+    for number, route in enumerate(routes):
+        assert route.size and (table.entry[route] >= 0).all()
+        cells, headings = route // 4, route % 4
+        vertical = number >= 4
+        assert set(headings.tolist()) == ({1, 3} if vertical else {0, 2})
+        lanes = np.unique(cells % cols if vertical else cells // cols)
+        spans = np.flatnonzero(goal.reshape(rows, cols).any(axis=0 if vertical else 1))
+        assert all(np.abs(lanes - span).min() <= half for span in spans)
+
+
+def test_tour_lawnmower_seed_never_hurts() -> None:
+    """The lawnmower routes are more candidates: with them the walk is never longer."""
+    scene = scene_from(OPEN_ROOM)
+    for start in starts(scene, most=3):
+        with_lanes = tour_steps(scene, start, 0)
+        without = tour_steps(scene, start, 0, seeds=tuple(seed for seed in SEEDS if seed != "lawnmower"))
+        assert with_lanes <= without, start

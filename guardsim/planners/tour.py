@@ -38,6 +38,7 @@ from guardsim.optimum.heuristic import Heuristic, build_heuristic
 from guardsim.optimum.residual import residual_goal
 from guardsim.planners.base import STAY, EpisodeSetup, GuardState
 from guardsim.planners.frontier import Frontier
+from guardsim.planners.lawnmower import lane_routes, swath_half_width
 from guardsim.planners.route_walk import RouteWalk, descent_states, walk_routes
 from guardsim.planners.shortest_paths import distances_between
 from guardsim.planners.team_routes import plan_routes
@@ -63,8 +64,10 @@ EXACT_GOAL = 64
 EXACT_EXPANSIONS = 30_000
 #: Most nodes the exact seed's search stores.
 EXACT_NODES = 4 * EXACT_EXPANSIONS
+#: Lawnmower routes (of eight) refined, the shortest walked first.
+LAWNMOWER_REFINED = 8
 #: Every seed, in the order tried.
-SEEDS = ("exact", "cover", "frontier", "beam", "descent", "descent-view")
+SEEDS = ("exact", "cover", "frontier", "beam", "descent", "descent-view", "lawnmower")
 #: Seeds from the exact search's macro moves.
 MACRO_SEEDS = frozenset({"exact", "beam"})
 
@@ -192,6 +195,9 @@ class Tour:
                 walk = self._simulate(seen, team, [macro.exact], limit)
                 if walk.covered and walk.steps == macro.optimum:
                     return walk
+            if seed == "lawnmower":
+                walks.extend(self._lawnmower_walks(seen, team, limit))
+                continue
             if seed in MACRO_SEEDS:
                 route = macro.exact if seed == "exact" else macro.beam
                 routes = None if route is None else [route]
@@ -215,6 +221,19 @@ class Tour:
             return [descent_states(table, neighbours, goal, seen, cell, heading, limit=limit, by_view=by_view)]
         viewpoints = self.cover.viewpoints
         return self._route(viewpoints[self._tally.counts[viewpoints] > 0], team)
+
+    def _lawnmower_walks(self, seen: np.ndarray, team: Team, limit: int) -> list[RouteWalk]:
+        """The refined walks of the :data:`LAWNMOWER_REFINED` best of the eight lawnmower routes (one guard)."""
+        if len(team) != 1:
+            return []
+        key = ("tour-lanes", self._goal_key[1])
+        if key not in self._memo:
+            half = swath_half_width(self._table, self._goal, self._grid.shape[1])
+            self._memo[key] = lane_routes(self._goal, self._grid.shape, self._table.entry, 2 * half + 1)
+        routes = self._memo[key]
+        ranks = [_walk_rank(self._simulate(seen, team, [route], limit)) for route in routes]
+        best = sorted(range(len(routes)), key=ranks.__getitem__)[:LAWNMOWER_REFINED]
+        return [self._refine(seen, team, [routes[index]], limit) for index in best]
 
     def _search_tables(self, cell: int, heading: int) -> tuple[SearchGraph, Heuristic] | None:
         """The exact search's graph over the residual goal and its estimate, from one guard's start
