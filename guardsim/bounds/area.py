@@ -308,46 +308,61 @@ def spread_picks(
     candidate is at least the pick's distance to the candidate's cell less the candidate's
     :attr:`~AreaWatchers.radius`; it is computed only when that could lower the candidate's value.
     """
+    pool, pool_start, pool_states, pool_cells = area.pool, area.pool_start, area.pool_states, area.pool_cells
+    member_start, members, radius = area.member_start, area.members, area.radius
     size = alive.shape[0]
     far = np.iinfo(np.int32).max // 2
+    # Unreachable cells as ``far``: the least over a candidate's cells is then a plain minimum.
+    near = np.where(gap >= 0, gap, far).astype(np.int32)
     alive = alive.copy()
     value = np.full(size, far, dtype=np.int64)
-    for position in range(size):
-        if alive[position]:
-            begin, end = area.pool_start[position], area.pool_start[position + 1]
-            value[position] = _least_gap(gap, area.pool_cells, begin, end, far)
+    # The live candidates, in order; dead ones are dropped as each pick's pass meets them.
+    live = np.flatnonzero(alive)
+    count_live = live.shape[0]
+    best = -1
+    for index in range(count_live):
+        position = live[index]
+        least = np.int32(far)
+        for k in range(pool_start[position], pool_start[position + 1]):
+            least = min(least, near[pool_cells[k]])
+        value[position] = least
+        if best < 0 or value[position] > value[best]:
+            best = position
     picks = np.empty(most, dtype=np.int64)
     count = 0
-    while count < most:
-        best = -1
-        for position in range(size):
-            if alive[position] and (best < 0 or value[position] > value[best]):
-                best = position
-        if best < 0:
-            break
+    while count < most and best >= 0:
         picks[count] = best
         count += 1
         alive[best] = False
-        begin, end = area.pool_start[best], area.pool_start[best + 1]
+        begin, end = pool_start[best], pool_start[best + 1]
         for k in range(begin, end):
-            state = area.pool_states[k]
-            for m in range(area.member_start[state], area.member_start[state + 1]):
-                alive[area.members[m]] = False
+            state = pool_states[k]
+            for m in range(member_start[state], member_start[state + 1]):
+                alive[members[m]] = False
         if not area.opened[best]:
-            area.gaps[best, :] = cell_distances(neighbours, area.pool_cells[begin:end])
+            area.gaps[best, :] = cell_distances(neighbours, pool_cells[begin:end])
             area.separation[best, :] = UNKNOWN
             area.ahead[best, :] = UNKNOWN
             area.opened[best] = True
         row_gap = area.gaps[best]
-        for position in range(size):
+        # One pass lowers the values and finds the next pick (the first of the largest value).
+        kept = 0
+        following = -1
+        for index in range(count_live):
+            position = live[index]
             if not alive[position]:
                 continue
+            live[kept] = position
+            kept += 1
             # The triangle inequality: no watcher of the candidate is nearer to the pick than this.
-            if row_gap[area.pool[position]] - area.radius[position] >= value[position]:
-                continue
-            separation = _lazy_least(best, position, area.separation, area.gaps, area.pool_start, area.pool_cells, 0)
-            if separation >= 0:
-                value[position] = min(value[position], separation)
+            if row_gap[pool[position]] - radius[position] < value[position]:
+                separation = _lazy_least(best, position, area.separation, area.gaps, pool_start, pool_cells, 0)
+                if separation >= 0:
+                    value[position] = min(value[position], separation)
+            if following < 0 or value[position] > value[following]:
+                following = position
+        count_live = kept
+        best = following
     return picks[:count]
 
 
