@@ -356,7 +356,9 @@ def spread_picks(
             kept += 1
             # The triangle inequality: no watcher of the candidate is nearer to the pick than this.
             if row_gap[pool[position]] - radius[position] < value[position]:
-                separation = _lazy_least(best, position, area.separation, area.gaps, pool_start, pool_cells, 0)
+                separation = area.separation[best, position]
+                if separation == UNKNOWN:
+                    separation = _lazy_least(best, position, area.separation, area.gaps, pool_start, pool_cells, 0)
                 if separation >= 0:
                     value[position] = min(value[position], separation)
             if following < 0 or value[position] > value[following]:
@@ -374,16 +376,19 @@ def pick_matrix(area: AreaWatchers, picks: np.ndarray) -> np.ndarray:
     ahead, gaps, start, entries = area.ahead, area.gaps, area.pool_start, area.pool_entries
     both = np.zeros((size, size), dtype=np.int64)
     for a in range(size):
-        for b in range(size):
-            if a == b:
-                continue
-            forward = _lazy_least(picks[a], picks[b], ahead, gaps, start, entries, 1)
-            backward = _lazy_least(picks[b], picks[a], ahead, gaps, start, entries, 1)
+        for b in range(a + 1, size):
+            # Known entries are read here: a call per entry cost more than the reading.
+            forward = ahead[picks[a], picks[b]]
+            if forward == UNKNOWN:
+                forward = _lazy_least(picks[a], picks[b], ahead, gaps, start, entries, 1)
+            backward = ahead[picks[b], picks[a]]
+            if backward == UNKNOWN:
+                backward = _lazy_least(picks[b], picks[a], ahead, gaps, start, entries, 1)
             if forward >= 0 and backward >= 0:
-                both[a, b] = min(forward, backward)
+                both[a, b] = both[b, a] = min(forward, backward)
             else:
                 # A walk covering both clusters joins them one way or the other; zero keeps the bound.
-                both[a, b] = max(forward, backward, 0)
+                both[a, b] = both[b, a] = max(forward, backward, 0)
     return both
 
 

@@ -25,6 +25,11 @@ __all__ = [
     "cluster_bound",
 ]
 
+#: numba caches a compiled function under the text of its own file alone, and the compiled functions
+#: here carry copies of those they call in area.py, trees.py and watchers.py: a change there must change
+#: this line too, or every existing cache goes on running the old copies (``docs/performance.md``).
+COMPILED_AGAINST = "area.py of 2026-12-02: spread_picks keeps its live candidates, pick_matrix reads known entries"
+
 #: Most clusters the farthest-first choice picks.
 MOST_CLUSTERS = 48
 #: Candidates of the farthest-first picks: the cells with the fewest reachable watchers.
