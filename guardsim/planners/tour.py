@@ -13,11 +13,16 @@ Per episode, at the first decision, for the whole team at once:
    (:mod:`guardsim.planners.route_walk`): viewpoints whose cells have all been seen meanwhile are
    skipped, and a guard whose tour is done falls back to the frontier rule;
 3. the states the walk actually arrived in are routed again and walked again, as long as the walk gets
-   shorter. Steps 2-3 start from three seeds, the set-cover tour, the empty tour (the frontier walk,
-   which the refinement turns into a tour of the frontier states it used) and, for one guard on a level
-   of at most :data:`BEAM_POSITIONS` positions, the arrivals of a beam search over the exact search's
-   macro moves (:mod:`guardsim.optimum.beam`), which weighs each viewpoint's cost against what it adds;
-   the shortest walk wins.
+   shorter. Steps 2-3 start from several seeds, the shortest walk winning: the set-cover tour; the
+   empty tour (the frontier walk, which the refinement turns into a tour of the frontier states it
+   used); two descent walks (:func:`~guardsim.planners.route_walk.descent_states`); eight lawnmower
+   routes, lanes one cone swath apart (:mod:`guardsim.planners.lawnmower`); and, for one guard on a
+   level of at most :data:`BEAM_POSITIONS` positions, two from the exact search's graph over the
+   residual goal (:mod:`guardsim.optimum.residual`): the arrivals of a widening beam search over its
+   macro moves (:mod:`guardsim.optimum.beam`), which weighs each viewpoint's cost against what it
+   adds, and, when at most :data:`EXACT_GOAL` goal cells are left, the exact search itself for
+   :data:`EXACT_EXPANSIONS` expansions from the beam's walk: when it proves its walk optimal, that
+   walk is the plan and the other seeds are not tried.
 
 The guard then plays its part of that walk move by move. The view table gives the loop's own vision, so
 the walk is what the loop records; should the world ever differ from it (say a teammate running another
@@ -114,10 +119,13 @@ class Tour:
     Parameters
     ----------
     seeds
-        Which first routes to refine: ``"cover"`` (the set-cover tour), ``"frontier"`` (the empty
-        route, i.e. the frontier walk) and ``"beam"`` (the arrivals of a beam search over macro moves,
-        one guard on levels of at most :data:`BEAM_POSITIONS` positions); the shortest refined walk is
-        kept. All by default; the others are for measuring what each part contributes.
+        Which first routes to refine (:data:`SEEDS`): ``"exact"`` (the exact search's walk, one guard,
+        small levels), ``"cover"`` (the set-cover tour), ``"frontier"`` (the empty route, i.e. the
+        frontier walk), ``"beam"`` (the arrivals of a beam search over macro moves, one guard on levels
+        of at most :data:`BEAM_POSITIONS` positions), ``"descent"`` and ``"descent-view"`` (the
+        nearest-unseen descent walks, one guard) and ``"lawnmower"`` (boustrophedon lanes, one guard);
+        the shortest refined walk is kept. All by default; the others are for measuring what each part
+        contributes.
     refine_rounds
         Most rounds of routing again through the states a walk arrived in (0: walk the seed as it is).
     """
