@@ -24,7 +24,6 @@ import numba
 import numpy as np
 
 from guardsim.grid import heading_of_state, state_of
-from guardsim.planners.frontier import nearest_frontier_kernel
 from guardsim.planners.shortest_paths import FAR, fill_distances
 from guardsim.vision.table import ViewTable
 
@@ -115,6 +114,46 @@ def _fill_toward(
 
 
 @numba.njit(cache=True, nogil=True)
+def _nearest_frontier(
+    neighbours: np.ndarray, counts: np.ndarray, cell: int, far: int, distance: np.ndarray, queue: np.ndarray
+) -> int:
+    """The state :func:`~guardsim.planners.frontier.nearest_frontier` picks from ``cell``, found by a
+    breadth-first search that stops at the first distance with one.
+
+    The states entered from a cell ``c`` are ``(neighbours[c, h], h)`` (connectivity is symmetric), so
+    the search meets the states in order of their entry cell's distance; among those at the least
+    distance it keeps the one seeing the most unseen cells, then the lowest state number, as the full
+    scan does. (The full field and scan of every state, each tick the route was done, cost most of a
+    walk that ends on the frontier rule.) -1 when no reachable state sees an unseen cell.
+    """
+    for other in range(neighbours.shape[0]):
+        distance[other] = far
+    distance[cell] = 0
+    queue[0] = cell
+    head, tail, level_end = 0, 1, 1
+    best, best_count = -1, 0
+    while head < tail:
+        here = queue[head]
+        head += 1
+        for direction in range(4):
+            other = neighbours[here, direction]
+            if other < 0:
+                continue
+            state = _state_of(other, direction)
+            if counts[state] > best_count or (counts[state] > 0 and counts[state] == best_count and state < best):
+                best, best_count = state, counts[state]
+            if distance[other] == far:
+                distance[other] = distance[here] + 1
+                queue[tail] = other
+                tail += 1
+        if head == level_end:
+            if best >= 0:
+                return best
+            level_end = tail
+    return best
+
+
+@numba.njit(cache=True, nogil=True)
 def _walk(
     neighbours: np.ndarray,
     table: ViewTable,
@@ -141,7 +180,6 @@ def _walk(
     target = np.full(guards, -1, dtype=np.int64)
     fields = np.empty((guards, cell_count), dtype=np.int32)
     here = np.empty(cell_count, dtype=np.int32)
-    source = np.empty(1, dtype=np.int64)
     queue = np.empty(cell_count, dtype=np.int64)
     decided = np.empty(guards, dtype=np.int64)
     for guard in range(guards):
@@ -155,9 +193,7 @@ def _walk(
             if position[guard] < lengths[guard]:
                 goal_state = routes[guard, position[guard]]
             else:
-                source[0] = cells[guard]
-                fill_distances(neighbours, source, far, here)
-                goal_state = nearest_frontier_kernel(entry, counts, here, far)
+                goal_state = _nearest_frontier(neighbours, counts, cells[guard], far, here, queue)
             move = -1
             if goal_state >= 0:
                 field = fields[guard]
