@@ -45,7 +45,7 @@ from guardsim.planners.base import STAY, EpisodeSetup, GuardState
 from guardsim.planners.frontier import Frontier
 from guardsim.planners.lawnmower import lane_routes, swath_half_width
 from guardsim.planners.route_walk import RouteWalk, descent_states, walk_routes
-from guardsim.planners.shortest_paths import distances_between
+from guardsim.planners.shortest_paths import distance_fields, distances_between
 from guardsim.planners.team_routes import plan_routes
 from guardsim.planners.viewpoint_cover import greedy_cover
 from guardsim.vision.table import UnseenTally, level_memo, view_table
@@ -76,20 +76,40 @@ SEEDS = ("exact", "cover", "frontier", "beam", "descent", "descent-view", "lawnm
 #: Seeds from the exact search's macro moves.
 MACRO_SEEDS = frozenset({"exact", "beam"})
 
+#: Most distances the distance fields kept over one plan hold (int32: 32 MB; a one-guard plan on a
+#: 60 x 60 level keeps 1100-1500 fields of 3600 cells, 20 MB).
+FIELD_CELLS = 1 << 23
+
 #: ``(cell, heading)`` of every guard.
 Team = tuple[tuple[int, int], ...]
 
 
-def route_costs(neighbours: np.ndarray, entry: np.ndarray, states: np.ndarray, team: Team) -> np.ndarray:
+def route_costs(
+    neighbours: np.ndarray,
+    entry: np.ndarray,
+    states: np.ndarray,
+    team: Team,
+    fields: dict[int, np.ndarray] | None = None,
+) -> np.ndarray:
     """Steps between nodes: ``states`` (nodes ``0..k-1``), then one start per guard (never arrived at).
 
     Arriving in state ``b`` from node ``a`` takes the steps from ``a``'s cell to ``b``'s entry cell and
-    the step into ``b``.
+    the step into ``b``. ``fields``, if given, keeps each entry cell's distance field (one breadth-first
+    search) for later calls, and is filled with those it lacks while they hold at most
+    :data:`FIELD_CELLS` distances.
     """
     k = states.size
     cells = np.concatenate([states // 4, np.array([cell for cell, _ in team], dtype=np.int64)])
     cost = np.zeros((cells.size, cells.size), dtype=np.int64)
-    cost[:, :k] = distances_between(neighbours, entry[states], cells).T.astype(np.int64) + 1
+    if fields is None:
+        cost[:, :k] = distances_between(neighbours, entry[states], cells).T.astype(np.int64) + 1
+    elif k:
+        missing = [cell for cell in np.unique(entry[states]).tolist() if cell not in fields]
+        new = dict(zip(missing, distance_fields(neighbours, np.array(missing, dtype=np.int64)), strict=True))
+        rows = np.stack([fields[cell] if cell in fields else new[cell] for cell in entry[states].tolist()])
+        cost[:, :k] = rows[:, cells].T.astype(np.int64) + 1
+        if (len(fields) + len(new)) * neighbours.shape[0] <= FIELD_CELLS:
+            fields.update(new)
     cost[np.arange(k), np.arange(k)] = 0
     return cost
 
@@ -140,6 +160,7 @@ class Tour:
         self.cover = LevelCover(np.zeros(0, dtype=np.int64))
         self.walk: RouteWalk | None = None
         """The team's planned walk, made at the first decision."""
+        self._entry_fields: dict[int, np.ndarray] = {}
 
     @property
     def options(self) -> dict[str, object]:
@@ -190,11 +211,13 @@ class Tour:
         if cached is None or cached[0] != key:
             cached = (key, self._best_walk(state.seen, team))
             self._memo["tour-walk"] = cached
+            self._entry_fields = {}
         return cached[1]
 
     def _best_walk(self, seen: np.ndarray, team: Team) -> RouteWalk:
         """The shortest of the refined walks from each seed (at once the exact seed's, when proved)."""
         limit = 10 * int(self._goal.sum()) + 100
+        self._entry_fields = {}
         macro = self._macro_routes(team, seen) if MACRO_SEEDS & set(self.seeds) else MacroRoutes(None, None, -1)
         walks = []
         for seed in self.seeds:
@@ -291,7 +314,9 @@ class Tour:
 
     def _route(self, states: np.ndarray, team: Team) -> list[np.ndarray]:
         """Per guard, an order of its share of ``states`` (state numbers)."""
-        cost = route_costs(self._neighbours, self._table.entry, states, team)
+        # Distance fields kept over the plan: the refinement rounds of every seed route mostly the same
+        # states again, and each field is a breadth-first search.
+        cost = route_costs(self._neighbours, self._table.entry, states, team, self._entry_fields)
         routes = plan_routes(cost, np.arange(states.size, cost.shape[0]), np.arange(states.size))
         return [states[route] for route in routes]
 
