@@ -268,11 +268,13 @@ class Tour:
 
     def _search_tables(self, cell: int, heading: int) -> tuple[SearchGraph, Heuristic] | None:
         """The exact search's graph over the residual goal and its estimate, from one guard's start
-        (once per start); None on levels of more than :data:`BEAM_POSITIONS` positions."""
+        (kept for the latest start only: they take up to positions x goal cells x 2 bytes); None on
+        levels of more than :data:`BEAM_POSITIONS` positions."""
         grid = self._grid
-        key = ("tour-beam", self._goal_key[1], cell, heading)
-        if key not in self._memo:
-            self._memo[key] = None
+        key = (self._goal_key[1], cell, heading)
+        cached = self._memo.get("tour-search")
+        if cached is None or cached[0] != key:
+            tables = None
             cells = np.flatnonzero(self._goal)
             lengths = np.diff(self._table.sight_start)[state_of(cells[:, None], np.arange(4))]
             # Headings matter (four positions per cell) as soon as one cell's headings see different counts.
@@ -281,9 +283,11 @@ class Tour:
                 if graph.positions <= BEAM_POSITIONS:
                     # The same covering walks over far fewer goal cells: a sharper estimate, smaller tables.
                     graph = residual_goal(graph)
-                    self._memo[key] = (graph, build_heuristic(graph, pool=BEAM_POOL))
-        tables: tuple[SearchGraph, Heuristic] | None = self._memo[key]
-        return tables
+                    tables = (graph, build_heuristic(graph, pool=BEAM_POOL))
+            cached = (key, tables)
+            self._memo["tour-search"] = cached
+        result: tuple[SearchGraph, Heuristic] | None = cached[1]
+        return result
 
     def _macro_routes(self, team: Team, seen: np.ndarray) -> MacroRoutes:
         """The states the beam's walk and the exact search's walk arrive in at their macro moves."""
