@@ -21,9 +21,10 @@ team size, with per level and planner:
   milliseconds: where tour makes its whole plan, the spike a game would see in one frame. (The longest
   call of an episode is not shown: on a shared machine it mostly measures the scheduler's time slice.)
 
-With ``--tour-parts`` three more rows per level show parts of ``tour`` alone: ``tour/cover`` walks the
-set-cover tour as it is (no refinement, no frontier seed), ``tour/cover+refine`` refines it, and
-``tour/frontier+refine`` refines the frontier walk only.
+With ``--tour-parts`` five more rows per level show parts of ``tour`` alone: ``tour/cover`` walks the
+set-cover tour as it is (no refinement, no frontier seed), ``tour/cover+refine`` refines it,
+``tour/frontier+refine`` refines the frontier walk only, ``tour/lawnmower+refine`` the lawnmower routes
+only, and ``tour/no-lawnmower`` is ``tour`` with every seed but the lawnmower.
 
 Timing wraps each planner in a proxy, so the single RippleFront guard runs the Python planner (numpy
 sweeps over the whole grid) rather than the compiled fast path of ``guardsim play``; its steps are
@@ -42,6 +43,7 @@ from pathlib import Path
 
 from guardsim.level import load_level
 from guardsim.planners import PLANNERS, EpisodeSetup, GuardState, Planner, Tour
+from guardsim.planners.tour import SEEDS
 from guardsim.planners.viewpoint_cover import greedy_cover
 from guardsim.simulation import Scene, choose_start, episode_generator, run_team_episode, team_starts
 from guardsim.trace import Trace
@@ -83,6 +85,8 @@ TOUR_PARTS: dict[str, Callable[[], Planner]] = {
     "tour/cover": partial(Tour, seeds=("cover",), refine_rounds=0),
     "tour/cover+refine": partial(Tour, seeds=("cover",)),
     "tour/frontier+refine": partial(Tour, seeds=("frontier",)),
+    "tour/lawnmower+refine": partial(Tour, seeds=("lawnmower",)),
+    "tour/no-lawnmower": partial(Tour, seeds=tuple(seed for seed in SEEDS if seed != "lawnmower")),
 }
 
 
