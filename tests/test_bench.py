@@ -397,7 +397,7 @@ def test_interrupted_run_resumes(tmp_path: Path) -> None:
     """Ctrl-C mid-run (SIGINT to the whole process group, as a terminal sends it): status 130, one line,
     complete rows kept; the same command then runs only the rest."""
     out = tmp_path / "out"
-    process = start_bench(out, "--episodes", "300")
+    process = start_bench(out, "--episodes", "1000")
     wait_for_rows(process, out / "results.csv", 5)
     os.killpg(process.pid, signal.SIGINT)
     stdout, stderr = process.communicate(timeout=60)
@@ -408,20 +408,20 @@ def test_interrupted_run_resumes(tmp_path: Path) -> None:
     assert "Traceback" not in stderr
     assert stdout == ""
     kept = read_results(out / "results.csv")
-    assert 5 <= len(kept) < 300
-    assert f"{len(kept)} of 300 episodes are in" in last
-    resumed = bench(SQUARE, "--out", out, "--workers", "1", "--episodes", "300")
+    assert 5 <= len(kept) < 1000
+    assert f"{len(kept)} of 1000 episodes are in" in last
+    resumed = bench(SQUARE, "--out", out, "--workers", "1", "--episodes", "1000")
     assert resumed.exit_code == 0, resumed.output
     assert f"({len(kept)} already done)" in resumed.stderr
     final = read_results(out / "results.csv")
-    assert [record.episode for record in final] == list(range(300))
+    assert [record.episode for record in final] == list(range(1000))
     assert set(kept) <= set(final)  # the interrupted run's rows, wall time included, were not redone
 
 
 def test_killed_worker_run_resumes(tmp_path: Path) -> None:
     """SIGKILL to one pool worker: status 1, a line saying how many did not run; the same command finishes."""
     out = tmp_path / "out"
-    process = start_bench(out, "--episodes", "300")
+    process = start_bench(out, "--episodes", "1000")
     wait_for_rows(process, out / "results.csv", 3)
     children = psutil.Process(process.pid).children(recursive=True)
     # Forked by the fork server, or (start method fork) the command's own children.
@@ -434,10 +434,10 @@ def test_killed_worker_run_resumes(tmp_path: Path) -> None:
     assert "episodes did not run (BrokenProcessPool" in last
     assert last.endswith("run the same command again to resume")
     kept = read_results(out / "results.csv")
-    resumed = bench(SQUARE, "--out", out, "--workers", "1", "--episodes", "300")
+    resumed = bench(SQUARE, "--out", out, "--workers", "1", "--episodes", "1000")
     assert resumed.exit_code == 0, resumed.output
     assert f"({len(kept)} already done)" in resumed.stderr
-    assert [record.episode for record in read_results(out / "results.csv")] == list(range(300))
+    assert [record.episode for record in read_results(out / "results.csv")] == list(range(1000))
 
 
 def test_records_round_trip_through_csv_fields() -> None:
@@ -459,10 +459,10 @@ def test_reference_gives_the_fast_path_rows(tmp_path: Path, tiny_levels: list[Pa
 def test_second_run_on_a_busy_folder_is_refused(tmp_path: Path) -> None:
     """While one bench appends to a folder, a second one on the same folder is a one-line error."""
     out = tmp_path / "out"
-    process = start_bench(out, "--episodes", "300")
+    process = start_bench(out, "--episodes", "1000")
     try:
         wait_for_rows(process, out / "results.csv", 1)
-        second = bench(SQUARE, "--episodes", "300", "--workers", "1", "--out", out)
+        second = bench(SQUARE, "--episodes", "1000", "--workers", "1", "--out", out)
         assert "another guardsim bench is writing to this folder" in assert_one_line_error(second, out / "results.csv")
     finally:
         os.killpg(process.pid, signal.SIGINT)
