@@ -93,7 +93,7 @@ PLOT_NAMES = ("steps.png", "steps.svg")
     "--bounds/--no-bounds",
     default=True,
     show_default=True,
-    help="Compute each one-guard start's lower bounds (about 2-3 ms a start on a 60x60 level, plus the level's view table once per worker).",
+    help="Compute each one-guard start's lower bounds (about 1-2 ms a start on a 60x60 level, plus the level's view table, built by one worker per level).",
 )
 @motion_options
 @map_options
