@@ -31,6 +31,7 @@ planner), the guard continues with the frontier rule.
 
 from __future__ import annotations
 
+import itertools
 from typing import NamedTuple
 
 import numpy as np
@@ -106,10 +107,10 @@ def route_costs(
     elif k:
         missing = [cell for cell in np.unique(entry[states]).tolist() if cell not in fields]
         new = dict(zip(missing, distance_fields(neighbours, np.array(missing, dtype=np.int64)), strict=True))
-        rows = np.stack([fields[cell] if cell in fields else new[cell] for cell in entry[states].tolist()])
-        cost[:, :k] = rows[:, cells].T.astype(np.int64) + 1
-        if (len(fields) + len(new)) * neighbours.shape[0] <= FIELD_CELLS:
-            fields.update(new)
+        rows = [(fields[cell] if cell in fields else new[cell])[cells] for cell in entry[states].tolist()]
+        cost[:, :k] = np.stack(rows).T.astype(np.int64) + 1
+        room = FIELD_CELLS // neighbours.shape[0] - len(fields)
+        fields.update(itertools.islice(new.items(), max(0, room)))
     cost[np.arange(k), np.arange(k)] = 0
     return cost
 
