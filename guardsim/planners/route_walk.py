@@ -24,7 +24,7 @@ import numba
 import numpy as np
 
 from guardsim.grid import heading_of_state, state_of
-from guardsim.planners.shortest_paths import FAR, fill_distances
+from guardsim.planners.shortest_paths import FAR, fill_distances, spread
 from guardsim.vision.table import ViewTable
 
 __all__ = ["RouteWalk", "descent_states", "walk_routes"]
@@ -98,19 +98,7 @@ def _fill_toward(
     if source == stop:
         return
     queue[0] = source
-    head, tail = 0, 1
-    while head < tail:
-        cell = queue[head]
-        head += 1
-        step = distance[cell] + 1
-        for direction in range(4):
-            other = neighbours[cell, direction]
-            if other >= 0 and distance[other] == far:
-                distance[other] = step
-                if other == stop:
-                    return
-                queue[tail] = other
-                tail += 1
+    spread(neighbours, queue, 1, far, distance, stop)
 
 
 @numba.njit(cache=True, nogil=True)

@@ -12,7 +12,7 @@ from __future__ import annotations
 import numba
 import numpy as np
 
-__all__ = ["FAR", "distance_fields", "distances_between", "distances_from", "fill_distances"]
+__all__ = ["FAR", "distance_fields", "distances_between", "distances_from", "fill_distances", "spread"]
 
 #: Distance of a cell no source reaches: farther than any real distance, with room to add to it.
 FAR = np.int32(np.iinfo(np.int32).max // 2)
@@ -34,6 +34,13 @@ def fill_distances(neighbours: np.ndarray, sources: np.ndarray, far: int, distan
             distance[source] = 0
             queue[tail] = source
             tail += 1
+    spread(neighbours, queue, tail, far, distance, -1)
+
+
+@numba.njit(cache=True, nogil=True)
+def spread(neighbours: np.ndarray, queue: np.ndarray, tail: int, far: int, distance: np.ndarray, stop: int) -> None:
+    """Breadth-first on from the cells ``queue[:tail]`` (their distances set, every other cell ``far``),
+    until every reachable cell has its distance or ``stop`` (a cell, -1 for none) has one."""
     head = 0
     while head < tail:
         cell = queue[head]
@@ -43,6 +50,8 @@ def fill_distances(neighbours: np.ndarray, sources: np.ndarray, far: int, distan
             other = neighbours[cell, direction]
             if other >= 0 and distance[other] == far:
                 distance[other] = step
+                if other == stop:
+                    return
                 queue[tail] = other
                 tail += 1
 
