@@ -27,6 +27,7 @@ from guardsim.experiment import (
     GroupSummary,
     finish_batch,
     format_table,
+    read_results,
     run_batch,
     run_spec,
     start_batch,
@@ -216,9 +217,9 @@ def run_pending(
             report = run_batch(pending, folder, executor, progress.advance)
     except KeyboardInterrupt:
         progress.close()
-        click.echo(
-            f"guardsim: interrupted; {done_before + progress.done} of {total} episodes are in {resume}", err=True
-        )
+        # Counted from the file: Ctrl-C can land between a row's write and its count in the progress line.
+        kept = len(read_results(folder / RESULTS_NAME))
+        click.echo(f"guardsim: interrupted; {kept} of {total} episodes are in {resume}", err=True)
         sys.exit(130)
     finally:
         progress.close()
