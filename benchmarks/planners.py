@@ -21,10 +21,12 @@ team size, with per level and planner:
   milliseconds: where tour makes its whole plan, the spike a game would see in one frame. (The longest
   call of an episode is not shown: on a shared machine it mostly measures the scheduler's time slice.)
 
-With ``--tour-parts`` five more rows per level show parts of ``tour`` alone: ``tour/cover`` walks the
+With ``--tour-parts`` seven more rows per level show parts of ``tour`` alone: ``tour/cover`` walks the
 set-cover tour as it is (no refinement, no frontier seed), ``tour/cover+refine`` refines it,
 ``tour/frontier+refine`` refines the frontier walk only, ``tour/lawnmower+refine`` the lawnmower routes
-only, and ``tour/no-lawnmower`` is ``tour`` with every seed but the lawnmower.
+only, ``tour/spiral+refine`` the spirals only, ``tour/no-lawnmower`` is ``tour`` with every seed but
+the lawnmower, and ``tour/no-polish`` is ``tour`` without polishing its shortest walk (the parts
+alone are not polished either).
 
 Timing wraps each planner in a proxy, so the single RippleFront guard runs the Python planner (numpy
 sweeps over the whole grid) rather than the compiled fast path of ``guardsim play``; its steps are
@@ -82,11 +84,13 @@ class TimedPlanner:
 
 #: The parts of ``tour`` shown by ``--tour-parts``.
 TOUR_PARTS: dict[str, Callable[[], Planner]] = {
-    "tour/cover": partial(Tour, seeds=("cover",), refine_rounds=0),
-    "tour/cover+refine": partial(Tour, seeds=("cover",)),
-    "tour/frontier+refine": partial(Tour, seeds=("frontier",)),
-    "tour/lawnmower+refine": partial(Tour, seeds=("lawnmower",)),
+    "tour/cover": partial(Tour, seeds=("cover",), refine_rounds=0, polish_trials=0),
+    "tour/cover+refine": partial(Tour, seeds=("cover",), polish_trials=0),
+    "tour/frontier+refine": partial(Tour, seeds=("frontier",), polish_trials=0),
+    "tour/lawnmower+refine": partial(Tour, seeds=("lawnmower",), polish_trials=0),
+    "tour/spiral+refine": partial(Tour, seeds=("spiral",), polish_trials=0),
     "tour/no-lawnmower": partial(Tour, seeds=tuple(seed for seed in SEEDS if seed != "lawnmower")),
+    "tour/no-polish": partial(Tour, polish_trials=0),
 }
 
 

@@ -64,7 +64,8 @@ def test_tour_is_deterministic() -> None:
 
 def test_tour_rejects_unknown_seeds() -> None:
     with pytest.raises(
-        ValueError, match="seeds must be some of exact, cover, frontier, beam, descent, descent-view, lawnmower"
+        ValueError,
+        match=r"seeds must be some of exact, cover, frontier, beam, descent, descent-view, lawnmower, spiral$",
     ):
         Tour(seeds=("nearest",))
 

@@ -11,12 +11,14 @@ that see nothing new by then, so obstacles, walls and what the first look saw ar
 
 from __future__ import annotations
 
+import itertools
+
 import numpy as np
 
 from guardsim.grid import state_of
 from guardsim.vision.table import ViewTable
 
-__all__ = ["WAYPOINT_GAP", "lane_routes", "swath_half_width"]
+__all__ = ["WAYPOINT_GAP", "lane_routes", "spiral_rings", "spiral_routes", "swath_half_width"]
 
 #: Cells between two states of a lane.
 WAYPOINT_GAP = 4
@@ -88,4 +90,76 @@ def lane_routes(goal: np.ndarray, shape: tuple[int, int], entry: np.ndarray, spa
                     forward = not forward
                 states = state_of(np.array(cells, dtype=np.int64), np.array(headings, dtype=np.int64))
                 routes.append(states[entry[states] >= 0] if states.size else states)
+    return routes
+
+
+def _ring(top: int, bottom: int, left: int, right: int) -> list[tuple[int, int, int]]:
+    """``(row, col, heading)`` stops once around a rectangle clockwise (on screen, rows growing
+    downward) from its top-left corner; a new side starts a stop past its corner, which the walk
+    reaches already facing the side's way."""
+    if top == bottom or left == right:
+        down = left == right
+        first, last = (top, bottom) if down else (left, right)
+        ahead = [*range(first, last + 1, WAYPOINT_GAP), last]
+        back = [*range(last - WAYPOINT_GAP, first - 1, -WAYPOINT_GAP), first]
+        if down:
+            return [(row, left, 1) for row in ahead] + [(row, left, 3) for row in back]
+        return [(top, col, 0) for col in ahead] + [(top, col, 2) for col in back]
+    stops = [(top, col, 0) for col in [*range(left, right, WAYPOINT_GAP), right]]
+    stops += [(row, right, 1) for row in [*range(top + WAYPOINT_GAP, bottom, WAYPOINT_GAP), bottom]]
+    stops += [(bottom, col, 2) for col in [*range(right - WAYPOINT_GAP, left, -WAYPOINT_GAP), left]]
+    stops += [(row, left, 3) for row in range(bottom - WAYPOINT_GAP, top, -WAYPOINT_GAP)]
+    return stops
+
+
+def spiral_rings(goal: np.ndarray, shape: tuple[int, int], spacing: int) -> list[list[tuple[int, int, int]]]:
+    """Nested rectangles over the goal's bounding box, a swath apart, the outermost half a swath in from
+    its edges, each as :func:`_ring`'s stops, until their swaths leave no middle; where the middle left is
+    narrower than a swath, one line (or point) there."""
+    rows, cols = shape
+    grid = np.asarray(goal, dtype=bool).reshape(rows, cols)
+    used_rows, used_cols = np.flatnonzero(grid.any(axis=1)), np.flatnonzero(grid.any(axis=0))
+    if used_rows.size == 0:
+        return []
+    spacing = max(1, spacing)
+    rings = []
+    for ring in itertools.count():
+        inset = spacing // 2 + ring * spacing
+        top, bottom = int(used_rows[0]) + inset, int(used_rows[-1]) - inset
+        left, right = int(used_cols[0]) + inset, int(used_cols[-1]) - inset
+        # Its swaths (half a swath to each side) see the middle too when its sides are this close.
+        last = bottom - top <= spacing or right - left <= spacing
+        if top > bottom:
+            top = bottom = (top + bottom) // 2
+        if left > right:
+            left = right = (left + right) // 2
+        rings.append(_ring(top, bottom, left, right))
+        if last:
+            return rings
+    raise AssertionError("unreachable")
+
+
+def spiral_routes(
+    rings: list[list[tuple[int, int, int]]], cols: int, entry: np.ndarray, start: int
+) -> list[np.ndarray]:
+    """Four spirals through ``rings`` (:func:`spiral_rings`): outside in or inside out, clockwise or not,
+    each ring entered at its stop nearest the guard's cell ``start`` or the previous ring's last stop,
+    and walked once around; as state numbers (states no step can enter are left out)."""
+    routes = []
+    for inward in (True, False):
+        for clockwise in (True, False):
+            order = rings if inward else rings[::-1]
+            row, col = divmod(start, cols)
+            cells: list[int] = []
+            headings: list[int] = []
+            for ring in order:
+                stops = ring if clockwise else [(r, c, (h + 2) % 4) for r, c, h in ring[::-1]]
+                nearest = min(range(len(stops)), key=lambda i: abs(stops[i][0] - row) + abs(stops[i][1] - col))
+                # Once around, and on to the first stops again: what was behind the guard as it set off.
+                turn = stops[nearest:] + stops[:nearest] + stops[nearest : nearest + 2]
+                cells.extend(r * cols + c for r, c, _ in turn)
+                headings.extend(h for _, _, h in turn)
+                row, col = turn[-1][0], turn[-1][1]
+            states = state_of(np.array(cells, dtype=np.int64), np.array(headings, dtype=np.int64))
+            routes.append(states[entry[states] >= 0] if states.size else states)
     return routes

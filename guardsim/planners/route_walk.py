@@ -27,7 +27,7 @@ from guardsim.grid import heading_of_state, state_of
 from guardsim.planners.shortest_paths import FAR, fill_distances, spread
 from guardsim.vision.table import ViewTable
 
-__all__ = ["RouteWalk", "descent_states", "walk_routes"]
+__all__ = ["RouteWalk", "WalkLog", "WalkTeam", "descent_states", "look", "team_walk", "walk_routes"]
 
 _state_of: Callable[[int, int], int] = numba.njit(inline="always")(state_of)
 _heading_of_state: Callable[[int], int] = numba.njit(inline="always")(heading_of_state)
@@ -72,13 +72,15 @@ class WalkTeam(NamedTuple):
 
 
 class WalkLog(NamedTuple):
-    """What a compiled walk writes: moves, cells and headings per tick, and each guard's arrivals."""
+    """What a compiled walk writes: moves, cells and headings per tick, each guard's arrivals, and the
+    tick each guard's route first reached each of its indices (left alone for indices never reached)."""
 
     moves: np.ndarray
     path: np.ndarray
     facing: np.ndarray
     visits: np.ndarray
     visit_count: np.ndarray
+    reached: np.ndarray
 
 
 @numba.njit(cache=True, nogil=True)
@@ -142,7 +144,24 @@ def _nearest_frontier(
 
 
 @numba.njit(cache=True, nogil=True)
-def _walk(
+def look(table: ViewTable, goal: np.ndarray, seen: np.ndarray, counts: np.ndarray, state: int) -> int:
+    """Mark what ``state`` sees as seen and keep ``counts`` (unseen goal cells per state) in step; the
+    number of goal cells newly seen."""
+    sight, watch_start, watchers = table.sight, table.watch_start, table.watchers
+    new = 0
+    for index in range(table.sight_start[state], table.sight_start[state + 1]):
+        cell = sight[index]
+        if not seen[cell]:
+            seen[cell] = True
+            if goal[cell]:
+                new += 1
+                for other in range(watch_start[cell], watch_start[cell + 1]):
+                    counts[watchers[other]] -= 1
+    return new
+
+
+@numba.njit(cache=True, nogil=True)
+def team_walk(
     neighbours: np.ndarray,
     table: ViewTable,
     goal: np.ndarray,
@@ -153,11 +172,10 @@ def _walk(
     far: int,
     log: WalkLog,
 ) -> int:
-    entry, sight_start, sight, watch_start, watchers = (
-        table.entry, table.sight_start, table.sight, table.watch_start, table.watchers,
-    )  # fmt: skip
+    entry = table.entry
     cells, headings, routes, lengths = team.cells, team.headings, team.routes, team.lengths
     moves, path, facing, visits, visit_count = log.moves, log.path, log.facing, log.visits, log.visit_count
+    reached = log.reached
     guards = cells.shape[0]
     cell_count = neighbours.shape[0]
     unseen = 0
@@ -173,11 +191,15 @@ def _walk(
     for guard in range(guards):
         path[guard, 0] = cells[guard]
         facing[guard, 0] = headings[guard]
+        if lengths[guard] > 0:
+            reached[guard, 0] = 0
     tick = 0
     while unseen > 0 and tick < limit:
         for guard in range(guards):
             while position[guard] < lengths[guard] and counts[routes[guard, position[guard]]] == 0:
                 position[guard] += 1
+                if position[guard] < lengths[guard]:
+                    reached[guard, position[guard]] = tick
             if position[guard] < lengths[guard]:
                 goal_state = routes[guard, position[guard]]
             else:
@@ -216,14 +238,7 @@ def _walk(
             if state == target[guard] and decided[guard] >= 0:
                 visits[guard, visit_count[guard]] = state
                 visit_count[guard] += 1
-            for index in range(sight_start[state], sight_start[state + 1]):
-                cell = sight[index]
-                if not seen[cell]:
-                    seen[cell] = True
-                    if goal[cell]:
-                        unseen -= 1
-                        for other in range(watch_start[cell], watch_start[cell + 1]):
-                            counts[watchers[other]] -= 1
+            unseen -= look(table, goal, seen, counts, state)
     return tick
 
 
@@ -268,7 +283,7 @@ def walk_routes(
     visits = np.zeros((guards, limit), dtype=np.int64)
     visit_count = np.zeros(guards, dtype=np.int64)
     seen = seen.copy()
-    ticks = _walk(
+    ticks = team_walk(
         np.ascontiguousarray(neighbours, dtype=np.int64),
         table,
         np.ascontiguousarray(goal, dtype=np.bool_),
@@ -282,7 +297,7 @@ def walk_routes(
         ),
         limit,
         int(FAR),
-        WalkLog(moves, path, facing, visits, visit_count),
+        WalkLog(moves, path, facing, visits, visit_count, np.full_like(padded, -1)),
     )
     return RouteWalk(
         moves[:, :ticks],

@@ -44,7 +44,8 @@ from guardsim.optimum.heuristic import Heuristic, build_heuristic
 from guardsim.optimum.residual import residual_goal
 from guardsim.planners.base import STAY, EpisodeSetup, GuardState
 from guardsim.planners.frontier import Frontier
-from guardsim.planners.lawnmower import lane_routes, swath_half_width
+from guardsim.planners.lawnmower import lane_routes, spiral_rings, spiral_routes, swath_half_width
+from guardsim.planners.polish import polish_route
 from guardsim.planners.route_walk import RouteWalk, descent_states, walk_routes
 from guardsim.planners.shortest_paths import distance_fields, distances_between
 from guardsim.planners.team_routes import plan_routes
@@ -73,7 +74,11 @@ EXACT_NODES = 4 * EXACT_EXPANSIONS
 #: Lawnmower routes (of eight) refined, the shortest walked first.
 LAWNMOWER_REFINED = 8
 #: Every seed, in the order tried.
-SEEDS = ("exact", "cover", "frontier", "beam", "descent", "descent-view", "lawnmower")
+SEEDS = ("exact", "cover", "frontier", "beam", "descent", "descent-view", "lawnmower", "spiral")
+#: Changed routes walked when polishing one walk (:func:`guardsim.planners.polish.polish_route`).
+POLISH_TRIALS = 1000
+#: The shortest refined walks polished, one guard (0: none).
+POLISHED = 1
 #: Seeds from the exact search's macro moves.
 MACRO_SEEDS = frozenset({"exact", "beam"})
 
@@ -115,6 +120,13 @@ def route_costs(
     return cost
 
 
+class Candidate(NamedTuple):
+    """A simulated walk and the routes it walked."""
+
+    walk: RouteWalk
+    routes: list[np.ndarray]
+
+
 class MacroRoutes(NamedTuple):
     """One guard's routes from the exact search's macro moves, made once per plan."""
 
@@ -144,20 +156,35 @@ class Tour:
         small levels), ``"cover"`` (the set-cover tour), ``"frontier"`` (the empty route, i.e. the
         frontier walk), ``"beam"`` (the arrivals of a beam search over macro moves, one guard on levels
         of at most :data:`BEAM_POSITIONS` positions), ``"descent"`` and ``"descent-view"`` (the
-        nearest-unseen descent walks, one guard) and ``"lawnmower"`` (boustrophedon lanes, one guard);
-        the shortest refined walk is kept. All by default; the others are for measuring what each part
+        nearest-unseen descent walks, one guard), ``"lawnmower"`` (boustrophedon lanes, one guard) and
+        ``"spiral"`` (nested rings one swath apart, entered nearest the guard, one guard); the shortest
+        refined walk (or polished one) is kept. All by default; the others are for measuring what each part
         contributes.
     refine_rounds
         Most rounds of routing again through the states a walk arrived in (0: walk the seed as it is).
+    polish_trials
+        Changed routes walked to polish each of the ``polished`` shortest walks (one guard; 0: none).
+    polished
+        How many of the shortest walks are polished.
     """
 
     name = "tour"
 
-    def __init__(self, seeds: tuple[str, ...] = SEEDS, refine_rounds: int = REFINE_ROUNDS) -> None:
+    def __init__(
+        self,
+        seeds: tuple[str, ...] = SEEDS,
+        refine_rounds: int = REFINE_ROUNDS,
+        polish_trials: int = POLISH_TRIALS,
+        polished: int = POLISHED,
+    ) -> None:
         if not seeds or set(seeds) - set(SEEDS):
             raise ValueError(f"seeds must be some of {', '.join(SEEDS)}")
-        self.seeds = seeds
+        if polish_trials < 0 or polished < 0:
+            raise ValueError("polish_trials and polished must be at least 0")
+        self.seeds = tuple(seeds)
         self.refine_rounds = refine_rounds
+        self.polish_trials = polish_trials
+        self.polished = polished
         self.cover = LevelCover(np.zeros(0, dtype=np.int64))
         self.walk: RouteWalk | None = None
         """The team's planned walk, made at the first decision."""
@@ -166,7 +193,12 @@ class Tour:
     @property
     def options(self) -> dict[str, object]:
         """The options this planner was made with."""
-        return {"seeds": list(self.seeds), "refine_rounds": self.refine_rounds}
+        return {
+            "seeds": list(self.seeds),
+            "refine_rounds": self.refine_rounds,
+            "polish_trials": self.polish_trials,
+            "polished": self.polished,
+        }
 
     def reset(self, setup: EpisodeSetup) -> None:
         """Load (or build, once per level and goal) the viewpoint cover; the walk waits for the start."""
@@ -207,7 +239,15 @@ class Tour:
     def _plan(self, state: GuardState) -> RouteWalk:
         """The team's walk from this state; every guard of a team plans the same one, so it is shared."""
         team = state.team or ((state.cell, state.heading),)
-        key = (self._goal_key, team, state.seen.tobytes(), self.seeds, self.refine_rounds)
+        key = (
+            self._goal_key,
+            team,
+            state.seen.tobytes(),
+            self.seeds,
+            self.refine_rounds,
+            self.polish_trials,
+            self.polished,
+        )
         cached = self._memo.get("tour-walk")
         if cached is None or cached[0] != key:
             cached = (key, self._best_walk(state.seen, team))
@@ -220,15 +260,15 @@ class Tour:
         limit = 10 * int(self._goal.sum()) + 100
         self._entry_fields = {}
         macro = self._macro_routes(team, seen) if MACRO_SEEDS & set(self.seeds) else MacroRoutes(None, None, -1)
-        walks = []
+        found: list[Candidate] = []
         for seed in self.seeds:
             if seed == "exact" and macro.exact is not None and macro.optimum >= 0:
                 # The walk along a proved optimal route is optimal too (it can only skip what is seen).
                 walk = self._simulate(seen, team, [macro.exact], limit)
                 if walk.covered and walk.steps == macro.optimum:
                     return walk
-            if seed == "lawnmower":
-                walks.extend(self._lawnmower_walks(seen, team, limit))
+            if seed in ("lawnmower", "spiral"):
+                found.extend(self._sweep_walks(seed, seen, team, limit))
                 continue
             if seed in MACRO_SEEDS:
                 route = macro.exact if seed == "exact" else macro.beam
@@ -236,8 +276,26 @@ class Tour:
             else:
                 routes = self._seed_routes(seed, team, seen)
             if routes is not None:
-                walks.append(self._refine(seen, team, routes, limit))
-        return min(walks, key=_walk_rank)
+                found.append(self._refine(seen, team, routes, limit))
+        found.sort(key=lambda candidate: _walk_rank(candidate.walk))
+        if len(team) == 1 and self.polish_trials > 0:
+            found.extend(self._polish(seen, team, found[: self.polished], limit))
+        return min((candidate.walk for candidate in found), key=_walk_rank)
+
+    def _polish(self, seen: np.ndarray, team: Team, found: list[Candidate], limit: int) -> list[Candidate]:
+        """The covering walks among ``found`` polished by simulating changes to their routes."""
+        polished = []
+        for candidate in found:
+            if not candidate.walk.covered:
+                continue
+            table, neighbours, counts = self._table, self._neighbours, self._tally.counts
+            route, steps = polish_route(
+                table, neighbours, self._goal, seen, counts, team[0], candidate.routes[0],
+                limit=limit, trials=self.polish_trials,
+            )  # fmt: skip
+            if 0 <= steps < candidate.walk.steps:
+                polished.append(Candidate(self._simulate(seen, team, [route], limit), [route]))
+        return polished
 
     def _seed_routes(self, seed: str, team: Team, seen: np.ndarray) -> list[np.ndarray] | None:
         """The set-cover tour of the viewpoints still worth visiting, empty routes (the frontier walk)
@@ -254,14 +312,21 @@ class Tour:
         viewpoints = self.cover.viewpoints
         return self._route(viewpoints[self._tally.counts[viewpoints] > 0], team)
 
-    def _lawnmower_walks(self, seen: np.ndarray, team: Team, limit: int) -> list[RouteWalk]:
-        """The refined walks of the :data:`LAWNMOWER_REFINED` best of the eight lawnmower routes (one guard)."""
+    def _sweep_walks(self, seed: str, seen: np.ndarray, team: Team, limit: int) -> list[Candidate]:
+        """One guard's refined walks along lanes or spirals one cone swath apart: the
+        :data:`LAWNMOWER_REFINED` best of the eight lawnmower routes, or the four spirals from its cell."""
         if len(team) != 1:
             return []
-        key = ("tour-lanes", self._goal_key[1])
+        key = ("tour-" + seed, self._goal_key[1])
         if key not in self._memo:
             half = swath_half_width(self._table, self._goal, self._grid.shape[1])
-            self._memo[key] = lane_routes(self._goal, self._grid.shape, self._table.entry, 2 * half + 1)
+            if seed == "lawnmower":
+                self._memo[key] = lane_routes(self._goal, self._grid.shape, self._table.entry, 2 * half + 1)
+            else:
+                self._memo[key] = spiral_rings(self._goal, self._grid.shape, 2 * half + 1)
+        if seed == "spiral":
+            routes = spiral_routes(self._memo[key], self._grid.shape[1], self._table.entry, team[0][0])
+            return [self._refine(seen, team, [route], limit) for route in routes]
         routes = self._memo[key]
         ranks = [_walk_rank(self._simulate(seen, team, [route], limit)) for route in routes]
         best = sorted(range(len(routes)), key=ranks.__getitem__)[:LAWNMOWER_REFINED]
@@ -325,15 +390,16 @@ class Tour:
         routes = plan_routes(cost, np.arange(states.size, cost.shape[0]), np.arange(states.size))
         return [states[route] for route in routes]
 
-    def _refine(self, seen: np.ndarray, team: Team, routes: list[np.ndarray], limit: int) -> RouteWalk:
+    def _refine(self, seen: np.ndarray, team: Team, routes: list[np.ndarray], limit: int) -> Candidate:
         """Walk the routes; then route again through the states the walk actually arrived in, while it helps."""
-        best = self._simulate(seen, team, routes, limit)
+        best = Candidate(self._simulate(seen, team, routes, limit), routes)
         for _ in range(self.refine_rounds):
-            visited = np.unique(np.concatenate(best.visits))
-            walk = self._simulate(seen, team, self._route(visited, team), limit)
-            if _walk_rank(walk) >= _walk_rank(best):
+            visited = np.unique(np.concatenate(best.walk.visits))
+            again = self._route(visited, team)
+            walk = self._simulate(seen, team, again, limit)
+            if _walk_rank(walk) >= _walk_rank(best.walk):
                 break
-            best = walk
+            best = Candidate(walk, again)
         return best
 
     def _simulate(self, seen: np.ndarray, team: Team, routes: list[np.ndarray], limit: int) -> RouteWalk:
