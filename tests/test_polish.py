@@ -11,7 +11,7 @@ from guardsim.planners.polish import polish_route
 from guardsim.planners.route_walk import walk_routes
 from guardsim.planners.tour import Tour
 from guardsim.simulation import Scene, run_batch_episode, run_episode
-from guardsim.vision.table import UnseenTally, view_table
+from guardsim.vision.table import ViewTable, view_table
 from tests.common import LEVELS, scene_from
 from tests.test_bounds import starts
 from tests.test_tour import OPEN_ROOM
@@ -59,34 +59,31 @@ def test_spirals_enter_each_ring_nearest_the_guard() -> None:
             assert int(route[0]) // 4 not in outer
 
 
-def _walk_inputs(scene: Scene) -> tuple[object, ...]:
+def _walk_inputs(scene: Scene) -> tuple[ViewTable, np.ndarray, np.ndarray, np.ndarray]:
     table = view_table(scene.grid, scene.vision())
     goal = scene.grid.largest_component().ravel()
-    seen = np.zeros(goal.size, dtype=bool)
-    tally = UnseenTally(table, goal)
-    tally.update(seen)
-    return table, scene.grid.neighbours, goal, seen, tally.counts
+    return table, scene.grid.neighbours, goal, np.zeros(goal.size, dtype=bool)
 
 
 def test_polished_route_walks_as_promised_and_never_longer() -> None:
     """From spread starts: the polished route's walk (walked again by the loop's rule) takes exactly the
     ticks the polish reported, no more than the route's own; with no trials the route is kept."""
     scene = scene_from(OPEN_ROOM)
-    table, neighbours, goal, seen, counts = _walk_inputs(scene)
+    table, neighbours, goal, seen = _walk_inputs(scene)
     rows, cols = scene.grid.shape
     rings = spiral_rings(goal, (rows, cols), 2 * swath_half_width(table, goal, cols) + 1)
     shorter = 0
     for col, row in starts(scene, most=4):
         start = (row * cols + col, 0)
         route = spiral_routes(rings, cols, table.entry, start[0])[0]
-        before = walk_routes(table, neighbours, goal, seen, counts, (start,), [route], limit=5000)
+        before = walk_routes(table, neighbours, goal, seen, (start,), [route], limit=5000)
         assert before.covered
-        kept, steps = polish_route(table, neighbours, goal, seen, counts, start, route, limit=5000, trials=0)
+        kept, steps = polish_route(table, neighbours, goal, seen, start, route, limit=5000, trials=0)
         assert steps == before.steps and np.array_equal(kept, route)
-        polished, steps = polish_route(table, neighbours, goal, seen, counts, start, route, limit=5000, trials=400)
-        after = walk_routes(table, neighbours, goal, seen, counts, (start,), [polished], limit=5000)
+        polished, steps = polish_route(table, neighbours, goal, seen, start, route, limit=5000, trials=400)
+        after = walk_routes(table, neighbours, goal, seen, (start,), [polished], limit=5000)
         assert after.covered and after.steps == steps <= before.steps
-        again, _ = polish_route(table, neighbours, goal, seen, counts, start, route, limit=5000, trials=400)
+        again, _ = polish_route(table, neighbours, goal, seen, start, route, limit=5000, trials=400)
         assert np.array_equal(again, polished)
         shorter += steps < before.steps
     assert shorter >= 2
@@ -96,18 +93,18 @@ def test_polish_drops_a_detour() -> None:
     """A route with a useless far corner in the middle of it: the polish leaves it out (or moves it)
     and the walk gets shorter; a route whose walk cannot cover the goal is reported as such."""
     scene = scene_from(OPEN_ROOM)
-    table, neighbours, goal, seen, counts = _walk_inputs(scene)
+    table, neighbours, goal, seen = _walk_inputs(scene)
     rows, cols = scene.grid.shape
     rings = spiral_rings(goal, (rows, cols), 2 * swath_half_width(table, goal, cols) + 1)
     start = (cols + 1, 0)
     route = spiral_routes(rings, cols, table.entry, start[0])[0]
     corner = (rows - 1) * cols + cols - 1
     detour = np.insert(route, 1, corner * 4 + 0)
-    before = walk_routes(table, neighbours, goal, seen, counts, (start,), [detour], limit=5000)
-    polished, steps = polish_route(table, neighbours, goal, seen, counts, start, detour, limit=5000, trials=300)
+    before = walk_routes(table, neighbours, goal, seen, (start,), [detour], limit=5000)
+    polished, steps = polish_route(table, neighbours, goal, seen, start, detour, limit=5000, trials=300)
     assert steps < before.steps
     assert corner * 4 not in polished[:2].tolist()
-    _, none = polish_route(table, neighbours, goal, seen, counts, start, route, limit=10, trials=50)
+    _, none = polish_route(table, neighbours, goal, seen, start, route, limit=10, trials=50)
     assert none == -1
 
 

@@ -47,11 +47,12 @@ def test_tour_walks_the_optimum_where_its_exact_seed_proves_it(name: str) -> Non
 
 @pytest.mark.parametrize("name", list(TINY_LEVELS), ids=list(TINY_LEVELS))
 def test_tour_beam_seed_never_hurts(name: str) -> None:
-    """The beam seed is one more candidate walk: with it, the tour is never longer than without it."""
+    """The beam seed is one more candidate walk: with it, the tour is never longer than without it (the
+    polish of the shortest walk left out: a shorter walk to start from may polish to a longer one)."""
     scene = scene_from(TINY_LEVELS[name])
     for start in starts(scene, most=3):
-        with_beam = tour_steps(scene, start, 1)
-        without = tour_steps(scene, start, 1, seeds=("cover", "frontier"))
+        with_beam = tour_steps(scene, start, 1, polish_trials=0)
+        without = tour_steps(scene, start, 1, seeds=("cover", "frontier"), polish_trials=0)
         assert with_beam <= without
 
 
@@ -100,9 +101,10 @@ def test_lawnmower_lanes_are_one_swath_apart_and_enterable() -> None:
 
 
 def test_tour_lawnmower_seed_never_hurts() -> None:
-    """The lawnmower routes are more candidates: with them the walk is never longer."""
+    """The lawnmower routes are more candidates: with them the walk is never longer (unpolished, as above)."""
     scene = scene_from(OPEN_ROOM)
+    others = tuple(seed for seed in SEEDS if seed != "lawnmower")
     for start in starts(scene, most=3):
-        with_lanes = tour_steps(scene, start, 0)
-        without = tour_steps(scene, start, 0, seeds=tuple(seed for seed in SEEDS if seed != "lawnmower"))
+        with_lanes = tour_steps(scene, start, 0, polish_trials=0)
+        without = tour_steps(scene, start, 0, seeds=others, polish_trials=0)
         assert with_lanes <= without, start

@@ -34,7 +34,6 @@ def polish_route(
     neighbours: np.ndarray,
     goal: np.ndarray,
     seen: np.ndarray,
-    counts: np.ndarray,
     start: tuple[int, int],
     route: np.ndarray,
     *,
@@ -46,7 +45,7 @@ def polish_route(
 
     Parameters
     ----------
-    table, neighbours, goal, seen, counts
+    table, neighbours, goal, seen
         As :func:`~guardsim.planners.route_walk.walk_routes` takes them.
     start
         The guard's ``(cell, heading)``.
@@ -68,7 +67,6 @@ def polish_route(
         table,
         np.ascontiguousarray(goal, dtype=np.bool_),
         np.ascontiguousarray(seen, dtype=np.bool_),
-        counts.copy(),
         int(cell),
         int(heading),
         np.ascontiguousarray(route, dtype=np.int64),
@@ -86,7 +84,6 @@ def _resume(
     table: ViewTable,
     goal: np.ndarray,
     seen: np.ndarray,
-    counts: np.ndarray,
     cell: int,
     heading: int,
     route: np.ndarray,
@@ -94,8 +91,8 @@ def _resume(
     far: int,
     log: WalkLog,
 ) -> int:
-    """Ticks of one guard's walk along ``route`` from this state (``seen`` and ``counts`` change),
-    or -1 when it does not cover the goal within ``limit`` ticks."""
+    """Ticks of one guard's walk along ``route`` from this state (``seen`` changes), or -1 when it does
+    not cover the goal within ``limit`` ticks."""
     team = WalkTeam(
         np.array([cell], dtype=np.int64),
         np.array([heading], dtype=np.int64),
@@ -104,7 +101,7 @@ def _resume(
     )
     log.visit_count[0] = 0
     log.reached[0, :] = -1
-    ticks = team_walk(neighbours, table, goal, seen, counts, team, limit, far, log)
+    ticks = team_walk(neighbours, table, goal, seen, team, limit, far, log)
     for other in range(goal.shape[0]):
         if goal[other] and not seen[other]:
             return -1
@@ -160,7 +157,6 @@ def _polish(
     table: ViewTable,
     goal: np.ndarray,
     seen: np.ndarray,
-    counts: np.ndarray,
     cell: int,
     heading: int,
     route: np.ndarray,
@@ -181,8 +177,8 @@ def _polish(
     base_path = np.zeros(limit + 1, dtype=np.int64)
     base_facing = np.zeros(limit + 1, dtype=np.int64)
     base_reached = np.full(longest, -1, dtype=np.int64)
-    trial_seen, trial_counts = seen.copy(), counts.copy()
-    best = _resume(neighbours, table, goal, trial_seen, trial_counts, cell, heading, route, limit, far, log)
+    trial_seen = seen.copy()
+    best = _resume(neighbours, table, goal, trial_seen, cell, heading, route, limit, far, log)
     if best < 0:
         return route, -1
     base_path[: best + 1] = path[0, : best + 1]
@@ -190,13 +186,14 @@ def _polish(
     base_reached[:size] = reached[0, :size]
     route = route.copy()
     changed = np.empty(longest, dtype=np.int64)
+    no_counts = np.zeros(0, dtype=np.int32)
     choices = 1 + 3 + 8 * reach + 1
     used = 0
     improved = True
     while improved and used < trials:
         improved = False
         # What was seen when the current walk reached the index being changed, walked forward index by index.
-        here_seen, here_counts, here_tick = seen.copy(), counts.copy(), 0
+        here_seen, here_tick = seen.copy(), 0
         index = 0
         while index < route.size and used < trials:
             tick = base_reached[index]
@@ -204,7 +201,7 @@ def _polish(
                 break
             while here_tick < tick:
                 here_tick += 1
-                look(table, goal, here_seen, here_counts, base_path[here_tick] * 4 + base_facing[here_tick])
+                look(table, goal, here_seen, no_counts, False, base_path[here_tick] * 4 + base_facing[here_tick])
             room = best - tick - 1
             for choice in range(choices):
                 if room <= 0 or used >= trials:
@@ -214,9 +211,8 @@ def _polish(
                     continue
                 used += 1
                 trial_seen[:] = here_seen
-                trial_counts[:] = here_counts
                 ticks = _resume(
-                    neighbours, table, goal, trial_seen, trial_counts,
+                    neighbours, table, goal, trial_seen,
                     base_path[tick], base_facing[tick], changed[:length], room, far, log,
                 )  # fmt: skip
                 if ticks < 0:

@@ -85,27 +85,32 @@ class WalkLog(NamedTuple):
 
 @numba.njit(cache=True, nogil=True)
 def _fill_toward(
-    neighbours: np.ndarray, source: int, stop: int, far: int, distance: np.ndarray, queue: np.ndarray
-) -> None:
+    neighbours: np.ndarray, source: int, stop: int, far: int, distance: np.ndarray, queue: np.ndarray, filled: int
+) -> int:
     """Breadth-first steps to ``source``, ``far`` elsewhere, filled only until ``stop`` is reached.
 
     A guard at ``stop`` steps down this field to ``source`` exactly as down the full one: when ``stop``
     (at ``d`` steps) is reached every cell nearer than ``d`` has its distance, and the cells left at
     ``far`` are no nearer than ``d``, so no step down the field changes. (Most targets are near; the
     full field cost most of a simulated walk.)
+
+    ``distance`` holds the previous fill, whose cells are ``queue[:filled]`` (``far`` elsewhere): only
+    those are cleared, since clearing every cell, once per target, was most of a short fill's cost.
+    Returns how many cells this fill set, all in ``queue``.
     """
-    for cell in range(neighbours.shape[0]):
-        distance[cell] = far
+    for index in range(filled):
+        distance[queue[index]] = far
     distance[source] = 0
-    if source == stop:
-        return
     queue[0] = source
-    spread(neighbours, queue, 1, far, distance, stop)
+    if source == stop:
+        return 1
+    return spread(neighbours, queue, 1, far, distance, stop)
 
 
 @numba.njit(cache=True, nogil=True)
 def _nearest_frontier(
-    neighbours: np.ndarray, counts: np.ndarray, cell: int, far: int, distance: np.ndarray, queue: np.ndarray
+    neighbours: np.ndarray, counts: np.ndarray, cell: int, far: int, distance: np.ndarray, queue: np.ndarray,
+    filled: np.ndarray,
 ) -> int:
     """The state :func:`~guardsim.planners.frontier.nearest_frontier` picks from ``cell``, found by a
     breadth-first search that stops at the first distance with one.
@@ -115,9 +120,12 @@ def _nearest_frontier(
     distance it keeps the one seeing the most unseen cells, then the lowest state number, as the full
     scan does. (The full field and scan of every state, each tick the route was done, cost most of a
     walk that ends on the frontier rule.) -1 when no reachable state sees an unseen cell.
+
+    As in :func:`_fill_toward`, ``distance`` is ``far`` but on the previous search's cells,
+    ``queue[:filled[0]]``; this search's count is left in ``filled[0]``.
     """
-    for other in range(neighbours.shape[0]):
-        distance[other] = far
+    for index in range(filled[0]):
+        distance[queue[index]] = far
     distance[cell] = 0
     queue[0] = cell
     head, tail, level_end = 0, 1, 1
@@ -138,15 +146,17 @@ def _nearest_frontier(
                 tail += 1
         if head == level_end:
             if best >= 0:
+                filled[0] = tail
                 return best
             level_end = tail
+    filled[0] = tail
     return best
 
 
 @numba.njit(cache=True, nogil=True)
-def look(table: ViewTable, goal: np.ndarray, seen: np.ndarray, counts: np.ndarray, state: int) -> int:
-    """Mark what ``state`` sees as seen and keep ``counts`` (unseen goal cells per state) in step; the
-    number of goal cells newly seen."""
+def look(table: ViewTable, goal: np.ndarray, seen: np.ndarray, counts: np.ndarray, counting: bool, state: int) -> int:
+    """Mark what ``state`` sees as seen, and, when ``counting``, keep ``counts`` (unseen goal cells per
+    state) in step; the number of goal cells newly seen."""
     sight, watch_start, watchers = table.sight, table.watch_start, table.watchers
     new = 0
     for index in range(table.sight_start[state], table.sight_start[state + 1]):
@@ -155,9 +165,34 @@ def look(table: ViewTable, goal: np.ndarray, seen: np.ndarray, counts: np.ndarra
             seen[cell] = True
             if goal[cell]:
                 new += 1
-                for other in range(watch_start[cell], watch_start[cell + 1]):
-                    counts[watchers[other]] -= 1
+                if counting:
+                    for other in range(watch_start[cell], watch_start[cell + 1]):
+                        counts[watchers[other]] -= 1
     return new
+
+
+@numba.njit(cache=True, nogil=True)
+def _unseen_seen_by(table: ViewTable, goal: np.ndarray, seen: np.ndarray, state: int) -> int:
+    """Unseen goal cells ``state`` would see, counted from its sight."""
+    sight = table.sight
+    count = 0
+    for index in range(table.sight_start[state], table.sight_start[state + 1]):
+        cell = sight[index]
+        if goal[cell] and not seen[cell]:
+            count += 1
+    return count
+
+
+@numba.njit(cache=True, nogil=True)
+def _count_unseen(table: ViewTable, goal: np.ndarray, seen: np.ndarray) -> np.ndarray:
+    """``int32 (states,)``: unseen goal cells each state would see, from the watchers of the unseen cells."""
+    counts = np.zeros(table.entry.shape[0], dtype=np.int32)
+    watch_start, watchers = table.watch_start, table.watchers
+    for cell in range(goal.shape[0]):
+        if goal[cell] and not seen[cell]:
+            for other in range(watch_start[cell], watch_start[cell + 1]):
+                counts[watchers[other]] += 1
+    return counts
 
 
 @numba.njit(cache=True, nogil=True)
@@ -166,12 +201,18 @@ def team_walk(
     table: ViewTable,
     goal: np.ndarray,
     seen: np.ndarray,
-    counts: np.ndarray,
     team: WalkTeam,
     limit: int,
     far: int,
     log: WalkLog,
 ) -> int:
+    """Walk the team (moved in place) until the goal is seen or ``limit`` ticks; the ticks walked.
+
+    How many unseen goal cells a state would see is counted from its sight while the guards follow
+    their routes (a few states a tick); only once a guard needs the frontier rule, which asks many
+    states, are the counts of every state kept, updated as cells are seen (each seen cell has some 200
+    watching states on the shipped levels, so keeping them all along cost most of a walk).
+    """
     entry = table.entry
     cells, headings, routes, lengths = team.cells, team.headings, team.routes, team.lengths
     moves, path, facing, visits, visit_count = log.moves, log.path, log.facing, log.visits, log.visit_count
@@ -184,10 +225,16 @@ def team_walk(
             unseen += 1
     position = np.zeros(guards, dtype=np.int64)
     target = np.full(guards, -1, dtype=np.int64)
-    fields = np.empty((guards, cell_count), dtype=np.int32)
-    here = np.empty(cell_count, dtype=np.int32)
+    # Each field and the frontier search keep their own queue: it lists the cells to clear next time.
+    fields = np.full((guards, cell_count), far, dtype=np.int32)
+    field_queues = np.empty((guards, cell_count), dtype=np.int64)
+    field_filled = np.zeros(guards, dtype=np.int64)
+    here = np.full(cell_count, far, dtype=np.int32)
     queue = np.empty(cell_count, dtype=np.int64)
+    here_filled = np.zeros(1, dtype=np.int64)
     decided = np.empty(guards, dtype=np.int64)
+    counts = np.zeros(0, dtype=np.int32)
+    counting = False
     for guard in range(guards):
         path[guard, 0] = cells[guard]
         facing[guard, 0] = headings[guard]
@@ -196,21 +243,28 @@ def team_walk(
     tick = 0
     while unseen > 0 and tick < limit:
         for guard in range(guards):
-            while position[guard] < lengths[guard] and counts[routes[guard, position[guard]]] == 0:
+            while position[guard] < lengths[guard]:
+                head = routes[guard, position[guard]]
+                if (counts[head] if counting else _unseen_seen_by(table, goal, seen, head)) > 0:
+                    break
                 position[guard] += 1
                 if position[guard] < lengths[guard]:
                     reached[guard, position[guard]] = tick
             if position[guard] < lengths[guard]:
                 goal_state = routes[guard, position[guard]]
             else:
-                goal_state = _nearest_frontier(neighbours, counts, cells[guard], far, here, queue)
+                if not counting:
+                    counts, counting = _count_unseen(table, goal, seen), True
+                goal_state = _nearest_frontier(neighbours, counts, cells[guard], far, here, queue, here_filled)
             move = -1
             if goal_state >= 0:
                 field = fields[guard]
                 cell = cells[guard]
                 if goal_state != target[guard] or field[cell] == far:
                     target[guard] = goal_state
-                    _fill_toward(neighbours, entry[goal_state], cell, far, field, queue)
+                    field_filled[guard] = _fill_toward(
+                        neighbours, entry[goal_state], cell, far, field, field_queues[guard], field_filled[guard]
+                    )
                 if cell == entry[goal_state]:
                     move = _heading_of_state(goal_state)
                 else:
@@ -220,7 +274,8 @@ def team_walk(
                         other = neighbours[cell, direction]
                         if other < 0 or field[other] >= field[cell]:
                             continue
-                        view = counts[_state_of(other, direction)]
+                        arrival = _state_of(other, direction)
+                        view = counts[arrival] if counting else _unseen_seen_by(table, goal, seen, arrival)
                         if view > best_view:
                             move, best_view = direction, view
             decided[guard] = move
@@ -238,7 +293,7 @@ def team_walk(
             if state == target[guard] and decided[guard] >= 0:
                 visits[guard, visit_count[guard]] = state
                 visit_count[guard] += 1
-            unseen -= look(table, goal, seen, counts, state)
+            unseen -= look(table, goal, seen, counts, counting, state)
     return tick
 
 
@@ -247,7 +302,6 @@ def walk_routes(
     neighbours: np.ndarray,
     goal: np.ndarray,
     seen: np.ndarray,
-    counts: np.ndarray,
     team: tuple[tuple[int, int], ...],
     routes: list[np.ndarray],
     *,
@@ -263,8 +317,6 @@ def walk_routes(
         The grid's connected neighbours.
     goal, seen
         ``bool (cells,)``: cells to see, and cells seen so far (the looks at the start included).
-    counts
-        ``int32 (states,)``: unseen goal cells each state would see, matching ``seen``.
     team
         ``(cell, heading)`` of every guard at the start of the walk.
     routes
@@ -288,7 +340,6 @@ def walk_routes(
         table,
         np.ascontiguousarray(goal, dtype=np.bool_),
         seen,
-        counts.copy(),
         WalkTeam(
             np.array([cell for cell, _ in team], dtype=np.int64),
             np.array([heading for _, heading in team], dtype=np.int64),

@@ -38,9 +38,10 @@ def fill_distances(neighbours: np.ndarray, sources: np.ndarray, far: int, distan
 
 
 @numba.njit(cache=True, nogil=True)
-def spread(neighbours: np.ndarray, queue: np.ndarray, tail: int, far: int, distance: np.ndarray, stop: int) -> None:
+def spread(neighbours: np.ndarray, queue: np.ndarray, tail: int, far: int, distance: np.ndarray, stop: int) -> int:
     """Breadth-first on from the cells ``queue[:tail]`` (their distances set, every other cell ``far``),
-    until every reachable cell has its distance or ``stop`` (a cell, -1 for none) has one."""
+    until every reachable cell has its distance or ``stop`` (a cell, -1 for none) has one; returns how
+    many cells ``queue`` then holds, which are all the cells given a distance."""
     head = 0
     while head < tail:
         cell = queue[head]
@@ -50,10 +51,11 @@ def spread(neighbours: np.ndarray, queue: np.ndarray, tail: int, far: int, dista
             other = neighbours[cell, direction]
             if other >= 0 and distance[other] == far:
                 distance[other] = step
-                if other == stop:
-                    return
                 queue[tail] = other
                 tail += 1
+                if other == stop:
+                    return tail
+    return tail
 
 
 @numba.njit(cache=True, nogil=True)

@@ -288,9 +288,8 @@ class Tour:
         for candidate in found:
             if not candidate.walk.covered:
                 continue
-            table, neighbours, counts = self._table, self._neighbours, self._tally.counts
             route, steps = polish_route(
-                table, neighbours, self._goal, seen, counts, team[0], candidate.routes[0],
+                self._table, self._neighbours, self._goal, seen, team[0], candidate.routes[0],
                 limit=limit, trials=self.polish_trials,
             )  # fmt: skip
             if 0 <= steps < candidate.walk.steps:
@@ -404,9 +403,7 @@ class Tour:
 
     def _simulate(self, seen: np.ndarray, team: Team, routes: list[np.ndarray], limit: int) -> RouteWalk:
         """The team's walk along ``routes`` from the current state."""
-        return walk_routes(
-            self._table, self._neighbours, self._goal, seen, self._tally.counts, team, routes, limit=limit
-        )
+        return walk_routes(self._table, self._neighbours, self._goal, seen, team, routes, limit=limit)
 
 
 def _arrivals(graph: SearchGraph, route: np.ndarray, heading: int) -> np.ndarray:
