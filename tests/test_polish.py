@@ -123,3 +123,18 @@ def test_tour_polish_never_hurts_and_is_what_the_loop_walks() -> None:
     planner = Tour()
     trace = run_episode(scene, planner, start, heading)
     assert planner.walk is not None and planner.walk.steps == trace.steps
+
+
+def test_polish_stops_at_its_tick_budget() -> None:
+    """A tick budget below one trial's walk leaves the route as it was, however many trials are allowed."""
+    scene = scene_from(OPEN_ROOM)
+    table, neighbours, goal, seen = _walk_inputs(scene)
+    rows, cols = scene.grid.shape
+    rings = spiral_rings(goal, (rows, cols), 2 * swath_half_width(table, goal, cols) + 1)
+    start = (cols + 1, 0)
+    route = np.insert(spiral_routes(rings, cols, table.entry, start[0])[0], 1, ((rows - 1) * cols + cols - 1) * 4)
+    before = walk_routes(table, neighbours, goal, seen, (start,), [route], limit=5000)
+    kept, steps = polish_route(table, neighbours, goal, seen, start, route, limit=5000, trials=300, max_ticks=1)
+    assert steps == before.steps and np.array_equal(kept, route)
+    _, polished = polish_route(table, neighbours, goal, seen, start, route, limit=5000, trials=300)
+    assert polished < before.steps

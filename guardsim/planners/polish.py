@@ -10,8 +10,9 @@ The changes to the viewpoint at index ``j`` of the route: leave it out; turn it 
 move it 1 to ``reach`` cells in each direction, keeping its heading or facing the way it moved; swap
 it with the next one. The walk before the tick its route first reached index ``j`` cannot change, so
 each trial resumes there from a copy of what had been seen by then (half the walk, on average); a
-trial stops as soon as it can no longer end sooner. The budget is a number of trials, so the result
-depends on nothing but the inputs.
+trial stops as soon as it can no longer end sooner. The budget is a number of trials, and of ticks
+walked by them (so that the long walks of a big level do not multiply its cost), so the result depends
+on nothing but the inputs.
 """
 
 from __future__ import annotations
@@ -23,10 +24,13 @@ from guardsim.planners.route_walk import WalkLog, WalkTeam, look, team_walk
 from guardsim.planners.shortest_paths import FAR
 from guardsim.vision.table import ViewTable
 
-__all__ = ["POLISH_REACH", "polish_route"]
+__all__ = ["POLISH_REACH", "POLISH_TICKS", "polish_route"]
 
 #: Most cells a viewpoint is moved in one change.
 POLISH_REACH = 6
+#: Most ticks the trials of one polish walk, summed (a trial is charged the ticks it may walk, and
+#: runs only if they fit): about 0.2 s of walking. 1000 trials on a 60 x 60 level walk at most 400 000.
+POLISH_TICKS = 2_000_000
 
 
 def polish_route(
@@ -40,6 +44,7 @@ def polish_route(
     limit: int,
     trials: int,
     reach: int = POLISH_REACH,
+    max_ticks: int = POLISH_TICKS,
 ) -> tuple[np.ndarray, int]:
     """A route whose walk from ``start`` covers the goal in fewer ticks, and those ticks.
 
@@ -57,6 +62,8 @@ def polish_route(
         Most changed routes walked (the search's budget).
     reach
         Most cells a viewpoint moves in one change.
+    max_ticks
+        Most ticks the trials walk, summed (the budget's other half).
 
     Returns the best route found (``route`` itself when no change helped) and its walk's ticks, or
     ``(route, -1)`` when ``route``'s walk does not cover the goal.
@@ -73,6 +80,7 @@ def polish_route(
         int(limit),
         int(trials),
         int(reach),
+        int(max_ticks),
         int(FAR),
     )
     return best, int(steps)
@@ -163,6 +171,7 @@ def _polish(
     limit: int,
     trials: int,
     reach: int,
+    max_ticks: int,
     far: int,
 ) -> tuple[np.ndarray, int]:
     size = route.size
@@ -188,14 +197,14 @@ def _polish(
     changed = np.empty(longest, dtype=np.int64)
     no_counts = np.zeros(0, dtype=np.int32)
     choices = 1 + 3 + 8 * reach + 1
-    used = 0
+    used = walked = 0
     improved = True
-    while improved and used < trials:
+    while improved and used < trials and walked < max_ticks:
         improved = False
         # What was seen when the current walk reached the index being changed, walked forward index by index.
         here_seen, here_tick = seen.copy(), 0
         index = 0
-        while index < route.size and used < trials:
+        while index < route.size and used < trials and walked < max_ticks:
             tick = base_reached[index]
             if tick < 0:
                 break
@@ -204,12 +213,13 @@ def _polish(
                 look(table, goal, here_seen, no_counts, False, base_path[here_tick] * 4 + base_facing[here_tick])
             room = best - tick - 1
             for choice in range(choices):
-                if room <= 0 or used >= trials:
+                if room <= 0 or used >= trials or walked + room > max_ticks:
                     break
                 length = _change(route, index, choice, neighbours, table.entry, reach, changed)
                 if length < 0:
                     continue
                 used += 1
+                walked += room
                 trial_seen[:] = here_seen
                 ticks = _resume(
                     neighbours, table, goal, trial_seen,
