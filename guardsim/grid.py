@@ -10,12 +10,12 @@ from __future__ import annotations
 from collections import deque
 from dataclasses import dataclass
 from functools import cached_property
-from typing import TypeVar
 
 import numpy as np
 import shapely
 
 from guardsim.errors import LevelError
+from guardsim.kernels.states import HEADINGS_PER_CELL, cell_of_state, heading_of_state, state_of
 from guardsim.level import Level
 from guardsim.world import World
 
@@ -32,33 +32,6 @@ __all__ = [
 #: The four moves as (dcol, drow), indexed by heading number: 0 right, 1 down, 2 left, 3 up.
 #: Heading number k points at 90*k degrees with y down (clockwise on screen).
 DIRECTIONS: tuple[tuple[int, int], ...] = ((1, 0), (0, 1), (-1, 0), (0, -1))
-
-#: A state is a cell and one of the four headings; states are numbered cell by cell.
-HEADINGS_PER_CELL = 4
-
-_Index = TypeVar("_Index", int, np.ndarray)
-
-
-def state_of(cell: _Index, heading: _Index) -> _Index:
-    """The state number of a flat cell index and a heading number (also elementwise on arrays).
-
-    Examples
-    --------
-    >>> state_of(3, 2), cell_of_state(14), heading_of_state(14)
-    (14, 3, 2)
-    """
-    return cell * HEADINGS_PER_CELL + heading
-
-
-def cell_of_state(state: _Index) -> _Index:
-    """The flat cell index of a state number."""
-    return state // HEADINGS_PER_CELL
-
-
-def heading_of_state(state: _Index) -> _Index:
-    """The heading number of a state number."""
-    return state % HEADINGS_PER_CELL
-
 
 @dataclass(frozen=True, eq=False)
 class CoverageGrid:

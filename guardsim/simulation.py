@@ -29,6 +29,7 @@ from typing import Any
 import numpy as np
 
 from guardsim.grid import CoverageGrid
+from guardsim.kernels.distances import FAR
 from guardsim.planners import make_planner
 from guardsim.planners.base import (
     OUTCOME,
@@ -42,7 +43,6 @@ from guardsim.planners.base import (
     GuardState,
     Planner,
 )
-from guardsim.planners.shortest_paths import FAR
 from guardsim.scene import Scene
 from guardsim.starts import choose_start, episode_generator, episode_start, team_starts
 from guardsim.trace import OUTCOMES, Trace

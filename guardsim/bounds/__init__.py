@@ -26,6 +26,7 @@ from typing import TYPE_CHECKING, NamedTuple
 from guardsim.bounds.area import area_watchers
 from guardsim.bounds.clusters import SPREAD_CANDIDATES, cluster_bound
 from guardsim.bounds.watchers import nearest_watchers, state_distances
+from guardsim.kernels.states import state_of
 from guardsim.vision.rules import VisionFunction
 from guardsim.vision.table import view_table
 
@@ -92,6 +93,6 @@ def lower_bounds(scene: Scene, start: tuple[int, int], heading: int, vision: Vis
     table = view_table(grid, vision)
     start_cell = grid.flat(*start)
     area = area_watchers(grid, vision, table, start_cell, SPREAD_CANDIDATES)
-    eccentricity, cluster, clusters, path = cluster_bound(grid.neighbours, table, area, start_cell * 4 + heading)
+    eccentricity, cluster, clusters, path = cluster_bound(grid.neighbours, table, area, state_of(start_cell, heading))
     best = max(eccentricity, cluster, path)
     return Bounds(eccentricity, cluster, clusters, best, time.perf_counter() - began, path)

@@ -18,11 +18,13 @@ from __future__ import annotations
 
 from typing import NamedTuple
 
-import numba
 import numpy as np
 
-from guardsim.bounds.trees import spanning_tree_weight, spread_steps
+from guardsim.bounds.trees import spanning_tree_weight
 from guardsim.grid import CoverageGrid
+from guardsim.kernels.compiler import jit
+from guardsim.kernels.distances import spread
+from guardsim.kernels.steps import cell_of_state
 from guardsim.vision.rules import VisionFunction
 from guardsim.vision.table import ViewTable, level_memo
 
@@ -38,7 +40,7 @@ __all__ = [
 ]
 
 
-@numba.njit(cache=True, nogil=True)
+@jit
 def choose_clusters(
     order: np.ndarray, watch_start: np.ndarray, watchers: np.ndarray, distance: np.ndarray
 ) -> tuple[np.ndarray, np.ndarray]:
@@ -67,7 +69,7 @@ def choose_clusters(
     return label, kept[:clusters]
 
 
-@numba.njit(cache=True, nogil=True)
+@jit
 def cell_distances(neighbours: np.ndarray, sources: np.ndarray) -> np.ndarray:
     """``int32 (cells,)``: fewest steps between cells from the nearest of ``sources``, -1 where unreachable."""
     size = neighbours.shape[0]
@@ -79,11 +81,11 @@ def cell_distances(neighbours: np.ndarray, sources: np.ndarray) -> np.ndarray:
             gap[cell] = 0
             queue[tail] = cell
             tail += 1
-    spread_steps(neighbours, gap, queue, tail)
+    spread(neighbours, queue, tail, -1, gap, -1)
     return gap
 
 
-@numba.njit(cache=True, nogil=True)
+@jit
 def _unique_keys(
     cells: np.ndarray, watch_start: np.ndarray, watchers: np.ndarray, usable: np.ndarray, key: np.ndarray, size: int
 ) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
@@ -115,7 +117,7 @@ def _unique_keys(
     return start, flat[:used].copy(), count
 
 
-@numba.njit(cache=True, nogil=True)
+@jit
 def _pool_watchers(
     pool: np.ndarray, watch_start: np.ndarray, watchers: np.ndarray, usable: np.ndarray, entry: np.ndarray
 ) -> tuple[np.ndarray, np.ndarray, np.ndarray, np.ndarray]:
@@ -136,12 +138,12 @@ def _pool_watchers(
         for k in range(watch_start[cell], watch_start[cell + 1]):
             state = watchers[k]
             if usable[state]:
-                states[used], cells[used], entries[used] = state, state // 4, entry[state]
+                states[used], cells[used], entries[used] = state, cell_of_state(state), entry[state]
                 used += 1
     return start, states, cells, entries
 
 
-@numba.njit(cache=True, nogil=True)
+@jit
 def _members_of_states(pool_start: np.ndarray, pool_states: np.ndarray, states: int) -> tuple[np.ndarray, np.ndarray]:
     """The inverse of the pool's watcher lists: per state, the pool positions it watches (CSR)."""
     start = np.zeros(states + 1, dtype=np.int64)
@@ -158,7 +160,7 @@ def _members_of_states(pool_start: np.ndarray, pool_states: np.ndarray, states: 
     return start, members
 
 
-@numba.njit(cache=True, nogil=True)
+@jit
 def _reach_radius(
     pool: np.ndarray, pool_start: np.ndarray, pool_cells: np.ndarray, neighbours: np.ndarray
 ) -> np.ndarray:
@@ -273,7 +275,7 @@ def _build(grid: CoverageGrid, table: ViewTable, label: int, candidates: int) ->
 UNKNOWN = -2
 
 
-@numba.njit(cache=True, nogil=True)
+@jit
 def _least_gap(gap: np.ndarray, cells: np.ndarray, begin: int, end: int, far: int) -> int:
     least = far
     for k in range(begin, end):
@@ -282,7 +284,7 @@ def _least_gap(gap: np.ndarray, cells: np.ndarray, begin: int, end: int, far: in
     return least
 
 
-@numba.njit(cache=True, nogil=True)
+@jit
 def _lazy_least(
     row: int, column: int, matrix: np.ndarray, gaps: np.ndarray, start: np.ndarray, cells: np.ndarray, plus: int
 ) -> int:
@@ -295,7 +297,7 @@ def _lazy_least(
     return matrix[row, column]
 
 
-@numba.njit(cache=True, nogil=True)
+@jit
 def spread_picks(
     area: AreaWatchers, alive: np.ndarray, gap: np.ndarray, neighbours: np.ndarray, most: int
 ) -> np.ndarray:
@@ -368,7 +370,7 @@ def spread_picks(
     return picks[:count]
 
 
-@numba.njit(cache=True, nogil=True)
+@jit
 def pick_matrix(area: AreaWatchers, picks: np.ndarray) -> np.ndarray:
     """``min(d(A -> B), d(B -> A))`` between the picks' watcher sets, as
     :func:`~guardsim.bounds.trees.cluster_distances` would give (zero where neither way is known)."""
@@ -392,7 +394,7 @@ def pick_matrix(area: AreaWatchers, picks: np.ndarray) -> np.ndarray:
     return both
 
 
-@numba.njit(cache=True, nogil=True)
+@jit
 def start_edges(area: AreaWatchers, positions: np.ndarray, gap: np.ndarray) -> np.ndarray:
     """Fewest steps from the start state (``gap``: distances from its cell) to a usable watcher of each
     ``order`` position (-1: none)."""

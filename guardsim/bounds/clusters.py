@@ -8,12 +8,13 @@ as the distance from the start to the nearest cluster plus a minimum spanning tr
 
 from __future__ import annotations
 
-import numba
 import numpy as np
 
 from guardsim.bounds.area import AreaWatchers, cell_distances, choose_clusters, pick_matrix, spread_picks, start_edges
 from guardsim.bounds.trees import path_bound, prim_weight, spanning_tree_weight
 from guardsim.bounds.watchers import state_distances
+from guardsim.kernels.compiler import jit
+from guardsim.kernels.steps import cell_of_state
 from guardsim.vision.table import ViewTable
 
 __all__ = [
@@ -25,11 +26,6 @@ __all__ = [
     "cluster_bound",
 ]
 
-#: numba caches a compiled function under the text of its own file alone, and the compiled functions
-#: here carry copies of those they call in area.py, trees.py and watchers.py: a change there must change
-#: this line too, or every existing cache goes on running the old copies (``docs/performance.md``).
-COMPILED_AGAINST = "area.py of 2026-12-02: spread_picks keeps its live candidates, pick_matrix reads known entries"
-
 #: Most clusters the farthest-first choice picks.
 MOST_CLUSTERS = 48
 #: Candidates of the farthest-first picks: the cells with the fewest reachable watchers.
@@ -40,7 +36,7 @@ PATH_CLUSTERS = 10
 MOST_TRIALS = 20_000
 
 
-@numba.njit(cache=True, nogil=True)
+@jit
 def _subset_bound(matrix: np.ndarray, start_edge: np.ndarray, chosen: np.ndarray) -> int:
     """The cluster bound of the chosen clusters: their tree plus the shortest start edge among them."""
     size = chosen.shape[0]
@@ -49,7 +45,7 @@ def _subset_bound(matrix: np.ndarray, start_edge: np.ndarray, chosen: np.ndarray
     )
 
 
-@numba.njit(cache=True, nogil=True)
+@jit
 def _chosen_bound(
     matrix: np.ndarray,
     start_edge: np.ndarray,
@@ -73,7 +69,7 @@ def _chosen_bound(
     return prim_weight(matrix, members, count, link, inside) + nearest
 
 
-@numba.njit(cache=True, nogil=True)
+@jit
 def _local_search(matrix: np.ndarray, start_edge: np.ndarray, chosen: np.ndarray, most_trials: int) -> tuple[int, int]:
     """Add, drop or swap one cluster while that raises the bound: first improvement, at most
     ``most_trials`` subsets weighed. Returns the bound and the number of clusters."""
@@ -115,7 +111,7 @@ def _local_search(matrix: np.ndarray, start_edge: np.ndarray, chosen: np.ndarray
     return value, int(chosen.sum())
 
 
-@numba.njit(cache=True, nogil=True)
+@jit
 def _eccentricity(
     order: np.ndarray, entry_start: np.ndarray, entry_cells: np.ndarray, gap: np.ndarray, seen: np.ndarray, lower: int
 ) -> int:
@@ -137,7 +133,7 @@ def _eccentricity(
     return largest
 
 
-@numba.njit(cache=True, nogil=True)
+@jit
 def _best_subset(
     matrix: np.ndarray, start_edge: np.ndarray, most_trials: int, path_clusters: int
 ) -> tuple[int, int, int]:
@@ -217,7 +213,7 @@ def cluster_bound(
             kept = area.position[cells]
             tree = int(spanning_tree_weight(neighbours, label, len(kept))) if len(kept) else 0
     eccentricity, greedy_edge, value, count, path, picks = _start_bounds(
-        area, kept, seen, start_state // 4, neighbours, SPREAD_CANDIDATES, MOST_CLUSTERS, MOST_TRIALS, PATH_CLUSTERS
+        area, kept, seen, cell_of_state(start_state), neighbours, SPREAD_CANDIDATES, MOST_CLUSTERS, MOST_TRIALS, PATH_CLUSTERS
     )
     best = (tree + (0 if greedy_only else int(greedy_edge)), len(kept)) if len(kept) else (0, 0)
     if picks < 2:
@@ -225,7 +221,7 @@ def cluster_bound(
     return int(eccentricity), *max(best, (int(value), int(count))), int(path)
 
 
-@numba.njit(cache=True, nogil=True)
+@jit
 def _start_bounds(
     area: AreaWatchers,
     kept: np.ndarray,

@@ -12,13 +12,17 @@ other. Two ways to weigh the tree:
 
 from __future__ import annotations
 
-import numba
 import numpy as np
+
+from guardsim.kernels.compiler import jit
+from guardsim.kernels.distances import spread, spread_states
+from guardsim.kernels.steps import cell_of_state, heading_of_state, state_of
+from guardsim.kernels.subsets import subset_path_bound
 
 __all__ = ["cluster_distances", "path_bound", "spanning_tree_weight", "subset_tree_weight"]
 
 
-@numba.njit(cache=True, nogil=True)
+@jit
 def _spread(neighbours: np.ndarray, label: np.ndarray, clusters: int, backward: bool) -> tuple[np.ndarray, np.ndarray]:
     """Search from all clusters at once: each state's distance from (or, ``backward``, to) the nearest
     cluster, and that cluster's number; -1 where none is connected."""
@@ -33,35 +37,11 @@ def _spread(neighbours: np.ndarray, label: np.ndarray, clusters: int, backward: 
             nearest[state] = label[state]
             queue[tail] = state
             tail += 1
-    head = 0
-    while head < tail:
-        state = queue[head]
-        head += 1
-        cell, heading = state // 4, state % 4
-        if backward:
-            # The moves into (c, h) come from every state of the cell behind c along h.
-            behind = neighbours[cell, (heading + 2) % 4]
-            if behind < 0:
-                continue
-            for other in range(behind * 4, behind * 4 + 4):
-                if distance[other] < 0:
-                    distance[other] = distance[state] + 1
-                    nearest[other] = nearest[state]
-                    queue[tail] = other
-                    tail += 1
-        else:
-            for direction in range(4):
-                there = neighbours[cell, direction]
-                if there >= 0 and distance[there * 4 + direction] < 0:
-                    other = there * 4 + direction
-                    distance[other] = distance[state] + 1
-                    nearest[other] = nearest[state]
-                    queue[tail] = other
-                    tail += 1
+    spread_states(neighbours, queue, tail, -1, distance, backward, nearest)
     return distance, nearest
 
 
-@numba.njit(cache=True, nogil=True)
+@jit
 def _root(parent: np.ndarray, node: int) -> int:
     """Union-find root, halving the path on the way."""
     while parent[node] != node:
@@ -70,7 +50,7 @@ def _root(parent: np.ndarray, node: int) -> int:
     return node
 
 
-@numba.njit(cache=True, nogil=True)
+@jit
 def spanning_tree_weight(neighbours: np.ndarray, label: np.ndarray, clusters: int) -> int:
     """Weight of the minimum spanning tree over clusters ``0 .. clusters - 1`` of ``label``.
 
@@ -94,12 +74,12 @@ def spanning_tree_weight(neighbours: np.ndarray, label: np.ndarray, clusters: in
         if behind[state] >= 0 and behind_label[state] != here:
             source[count], target[count], weight[count] = here, behind_label[state], ahead[state] + behind[state]
             count += 1
-        cell = state // 4
+        cell = cell_of_state(state)
         for direction in range(4):
             there = neighbours[cell, direction]
             if there < 0:
                 continue
-            other = there * 4 + direction
+            other = state_of(there, direction)
             if behind[other] >= 0 and behind_label[other] != here:
                 source[count], target[count] = here, behind_label[other]
                 weight[count] = ahead[state] + 1 + behind[other]
@@ -130,7 +110,7 @@ def spanning_tree_weight(neighbours: np.ndarray, label: np.ndarray, clusters: in
     return total
 
 
-@numba.njit(cache=True, nogil=True)
+@jit
 def cluster_distances(neighbours: np.ndarray, label: np.ndarray, clusters: int) -> np.ndarray:
     """``int64 (clusters, clusters)``: ``min(d(A -> B), d(B -> A))`` between clusters of ``label``.
 
@@ -160,19 +140,19 @@ def cluster_distances(neighbours: np.ndarray, label: np.ndarray, clusters: int) 
         distance[:] = -1
         tail = 0
         for k in range(members_start[source], members_start[source + 1]):
-            cell = members[k] // 4
+            cell = cell_of_state(members[k])
             if distance[cell] < 0:
                 distance[cell] = 0
                 queue[tail] = cell
                 tail += 1
-        spread_steps(neighbours, distance, queue, tail)
+        spread(neighbours, queue, tail, -1, distance, -1)
         for target in range(clusters):
             if target == source:
                 continue
             best = -1
             for k in range(members_start[target], members_start[target + 1]):
                 state = members[k]
-                behind = neighbours[state // 4, (state % 4 + 2) % 4]
+                behind = neighbours[cell_of_state(state), (heading_of_state(state) + 2) % 4]
                 if behind >= 0 and distance[behind] >= 0:
                     steps = distance[behind] + 1
                     if best < 0 or steps < best:
@@ -193,7 +173,7 @@ def cluster_distances(neighbours: np.ndarray, label: np.ndarray, clusters: int) 
     return both
 
 
-@numba.njit(cache=True, nogil=True)
+@jit
 def subset_tree_weight(matrix: np.ndarray, members: np.ndarray) -> int:
     """Weight of the minimum spanning tree over the clusters ``members`` of a :func:`cluster_distances`
     matrix (Prim's algorithm on the dense matrix)."""
@@ -201,7 +181,7 @@ def subset_tree_weight(matrix: np.ndarray, members: np.ndarray) -> int:
     return prim_weight(matrix, members, count, np.empty(count, dtype=np.int64), np.empty(count, dtype=np.bool_))
 
 
-@numba.njit(cache=True, nogil=True)
+@jit
 def prim_weight(matrix: np.ndarray, members: np.ndarray, count: int, link: np.ndarray, inside: np.ndarray) -> int:
     """Prim's algorithm over ``members[:count]`` of a dense distance matrix, in the caller's scratch
     arrays ``link`` and ``inside`` (at least ``count`` long): the local search weighs thousands of small
@@ -225,59 +205,16 @@ def prim_weight(matrix: np.ndarray, members: np.ndarray, count: int, link: np.nd
     return total
 
 
-@numba.njit(cache=True, nogil=True)
-def spread_steps(neighbours: np.ndarray, distance: np.ndarray, queue: np.ndarray, tail: int) -> None:
-    """Breadth-first search over cells, in place: ``queue[:tail]`` holds the sources, already at their
-    ``distance`` (0); every cell they reach gets its fewest steps, the others keep -1."""
-    head = 0
-    while head < tail:
-        cell = queue[head]
-        head += 1
-        for direction in range(4):
-            other = neighbours[cell, direction]
-            if other >= 0 and distance[other] < 0:
-                distance[other] = distance[cell] + 1
-                queue[tail] = other
-                tail += 1
-
-
-@numba.njit(cache=True, nogil=True)
+@jit
 def path_bound(matrix: np.ndarray, start_edge: np.ndarray, members: np.ndarray) -> int:
     """The largest, over subsets of ``members``, of the shortest walk order from the start through
     every cluster of the subset: start edge to the first, then ``matrix`` between consecutive ones.
 
-    Dynamic programming over subsets (Held and Karp 1962), ``2**n * n**2`` steps for ``n`` members. A
-    covering walk enters the clusters in some order, each stretch at least the distance used here, so
-    every subset's shortest order is a lower bound, hence the largest is.
+    :func:`~guardsim.kernels.subsets.subset_path_bound`, ``2**n * n**2`` steps for ``n`` members.
     """
     size = members.shape[0]
-    if size == 0:
-        return 0
-    subsets = 1 << size
-    far = np.iinfo(np.int64).max // 4
-    distance = np.empty((size, size), dtype=np.int64)
-    for a in range(size):
-        for b in range(size):
-            distance[a, b] = matrix[members[a], members[b]]
-    # best_path[mask, last]: the shortest order through ``mask`` ending at ``last``, pulled from the
-    # orders through ``mask`` less ``last`` (reads only: several times quicker than pushing forward).
-    best_path = np.full((subsets, size), far, dtype=np.int64)
-    best = 0
-    for mask in range(1, subsets):
-        shortest = far
-        for last in range(size):
-            bit = 1 << last
-            if not mask & bit:
-                continue
-            rest = mask ^ bit
-            if rest == 0:
-                value = start_edge[members[last]]
-            else:
-                value = far
-                for previous in range(size):
-                    if rest & (1 << previous):
-                        value = min(value, best_path[rest, previous] + distance[previous, last])
-            best_path[mask, last] = value
-            shortest = min(shortest, value)
-        best = max(best, shortest)
-    return best
+    start = np.empty(size, dtype=np.int64)
+    for k in range(size):
+        start[k] = start_edge[members[k]]
+    order = np.empty((1 << size) * size, dtype=np.int64)
+    return subset_path_bound(start, matrix, members, size, order, np.iinfo(np.int64).max // 4)

@@ -17,10 +17,10 @@ from __future__ import annotations
 
 import math
 
-import numba
 import numpy as np
 
 from guardsim.grid import CoverageGrid
+from guardsim.kernels.compiler import jit
 from guardsim.vision.bresenham import bresenham_clear, bresenham_line
 from guardsim.vision.cone import VisionCone
 from guardsim.vision.rules import LineOfSight
@@ -105,7 +105,7 @@ def pose_visible_cells(
     return np.unique(np.asarray(seen, dtype=np.int64))
 
 
-@numba.njit(cache=True, nogil=True)
+@jit
 def _cone_cells(
     eye_x: float,
     eye_y: float,

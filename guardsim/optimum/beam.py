@@ -16,9 +16,9 @@ narrow beam already found the walk or where each estimate is dear.
 
 from __future__ import annotations
 
-import numba
 import numpy as np
 
+from guardsim.kernels.compiler import jit
 from guardsim.optimum.graph import SearchGraph
 from guardsim.optimum.heuristic import Heuristic, estimate, estimate_work
 from guardsim.optimum.search import _frontier, _hash, frontier_work
@@ -29,7 +29,7 @@ __all__ = ["WIDENING", "beam_route", "widening_beam_route"]
 WIDENING = 4
 
 
-@numba.njit(cache=True, nogil=True)
+@jit
 def _beam(
     heuristic: Heuristic,
     successors: np.ndarray,
@@ -181,7 +181,7 @@ def _beam(
     return result, best_steps, estimates
 
 
-@numba.njit(cache=True, nogil=True)
+@jit
 def _rehash(child_position: list[int], child_seen: list[np.ndarray], slots: int) -> np.ndarray:
     """A merge table of ``slots`` slots (a power of two) holding the children so far."""
     table = np.full(slots, -1, dtype=np.int64)
@@ -193,7 +193,7 @@ def _rehash(child_position: list[int], child_seen: list[np.ndarray], slots: int)
     return table
 
 
-@numba.njit(cache=True, nogil=True)
+@jit
 def _grow(array: np.ndarray, size: int) -> np.ndarray:
     wider = np.empty(size, dtype=array.dtype)
     wider[: array.shape[0]] = array

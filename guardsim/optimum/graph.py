@@ -14,10 +14,11 @@ from __future__ import annotations
 import itertools
 from typing import NamedTuple
 
-import numba
 import numpy as np
 
 from guardsim.grid import HEADINGS_PER_CELL, CoverageGrid, cell_of_state, heading_of_state, state_of
+from guardsim.kernels.compiler import jit
+from guardsim.kernels.distances import fill_states
 from guardsim.vision.table import ViewTable
 
 __all__ = ["FAR", "SearchGraph", "build_search_graph", "goal_bits", "route_steps", "watcher_distances"]
@@ -62,28 +63,15 @@ def _same_sight(table: ViewTable, cells: np.ndarray) -> bool:
     return True
 
 
-@numba.njit(cache=True, nogil=True)
+@jit
 def _reachable_states(neighbours: np.ndarray, start_state: int) -> np.ndarray:
     """States reachable from ``start_state``, ascending."""
-    states = neighbours.shape[0] * 4
-    reached = np.zeros(states, dtype=np.bool_)
-    queue = np.empty(states, dtype=np.int64)
-    reached[start_state] = True
-    queue[0] = start_state
-    head, tail = 0, 1
-    while head < tail:
-        state = queue[head]
-        head += 1
-        for direction in range(4):
-            other = neighbours[state // 4, direction]
-            if other >= 0 and not reached[other * 4 + direction]:
-                reached[other * 4 + direction] = True
-                queue[tail] = other * 4 + direction
-                tail += 1
-    return np.flatnonzero(reached)
+    distance = np.empty(state_of(neighbours.shape[0], 0), dtype=np.int32)
+    fill_states(neighbours, start_state, -1, distance)
+    return np.flatnonzero(distance >= 0)
 
 
-@numba.njit(cache=True, nogil=True)
+@jit
 def _views(
     states: np.ndarray, sight_start: np.ndarray, sight: np.ndarray, goal_index: np.ndarray, words: int
 ) -> np.ndarray:
@@ -142,7 +130,7 @@ def build_search_graph(grid: CoverageGrid, table: ViewTable, start: tuple[int, i
     return SearchGraph(successors, views, states, goal_cells, full, int(position_of[first]), headings_matter)
 
 
-@numba.njit(cache=True, nogil=True)
+@jit
 def _predecessors(successors: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
     """Reverse adjacency as CSR: the positions with a move into each position."""
     positions = successors.shape[0]
@@ -165,7 +153,7 @@ def _predecessors(successors: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
     return start, before
 
 
-@numba.njit(cache=True, nogil=True)
+@jit
 def _watcher_distances(
     successors: np.ndarray, views: np.ndarray, goal: int, far: int
 ) -> tuple[np.ndarray, np.ndarray, np.ndarray]:

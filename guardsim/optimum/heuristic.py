@@ -15,10 +15,11 @@ from __future__ import annotations
 
 from typing import NamedTuple
 
-import numba
 import numpy as np
 
-from guardsim.optimum.graph import SearchGraph, watcher_distances
+from guardsim.kernels.compiler import jit
+from guardsim.kernels.subsets import subset_path_bound
+from guardsim.optimum.graph import FAR, SearchGraph, watcher_distances
 
 __all__ = ["PIVOTS", "POOL", "Heuristic", "build_heuristic", "eccentricity", "estimate", "estimate_work"]
 
@@ -42,7 +43,7 @@ class Heuristic(NamedTuple):
     """Most pivots per node (the work grows as ``2**pivots * pivots**2``)."""
 
 
-@numba.njit(cache=True, nogil=True)
+@jit
 def _between(to_watchers: np.ndarray, watch_start: np.ndarray, watchers: np.ndarray, pool: np.ndarray) -> np.ndarray:
     size = pool.shape[0]
     ahead = np.empty((size, size), dtype=np.int16)
@@ -50,7 +51,7 @@ def _between(to_watchers: np.ndarray, watch_start: np.ndarray, watchers: np.ndar
         bit = pool[a]
         for b in range(size):
             row = to_watchers[pool[b]]
-            best = row[watchers[watch_start[bit]]] if watch_start[bit + 1] > watch_start[bit] else 30000
+            best = row[watchers[watch_start[bit]]] if watch_start[bit + 1] > watch_start[bit] else FAR
             for k in range(watch_start[bit], watch_start[bit + 1]):
                 if row[watchers[k]] < best:
                     best = row[watchers[k]]
@@ -71,7 +72,7 @@ def build_heuristic(graph: SearchGraph, pool: int = POOL, pivots: int = PIVOTS) 
     return Heuristic(np.ascontiguousarray(to_watchers.T), order, between, pivots)
 
 
-@numba.njit(cache=True, nogil=True)
+@jit
 def estimate_work(heuristic: Heuristic) -> tuple[np.ndarray, np.ndarray, np.ndarray, np.ndarray]:
     """The work arrays ``kept, link, gap, order`` of :func:`estimate`, allocated once per search."""
     pool = heuristic.pool.shape[0]
@@ -83,12 +84,12 @@ def estimate_work(heuristic: Heuristic) -> tuple[np.ndarray, np.ndarray, np.ndar
     )
 
 
-@numba.njit(cache=True, nogil=True, inline="always")
+@jit(inline="always")
 def _unseen(seen: np.ndarray, bit: int) -> bool:
     return ((seen[bit >> 6] >> np.uint64(bit & 63)) & np.uint64(1)) == 0
 
 
-@numba.njit(cache=True, nogil=True)
+@jit
 def eccentricity(heuristic: Heuristic, position: int, seen: np.ndarray, full: np.ndarray) -> int:
     """The steps from ``position`` to the farthest unseen goal cell's nearest watcher (cheap)."""
     row = heuristic.to_watchers[position]
@@ -104,7 +105,7 @@ def eccentricity(heuristic: Heuristic, position: int, seen: np.ndarray, full: np
     return farthest
 
 
-@numba.njit(cache=True, nogil=True)
+@jit
 def estimate(
     heuristic: Heuristic,
     position: int,
@@ -150,53 +151,13 @@ def estimate(
     farthest = eccentricity(heuristic, position, seen, full)
     if count == 0:
         return farthest
-    return max(farthest, _path_bound(heuristic.to_watchers, pool, between, kept, count, position, order))
+    # The pivots' distances from the agent, in the scratch ``gap`` (done with it).
+    for k in range(count):
+        gap[k] = row[pool[kept[k]]]
+    return max(farthest, subset_path_bound(gap, between, kept, count, order, FAR))
 
 
-@numba.njit(cache=True, nogil=True)
-def _path_bound(
-    to_watchers: np.ndarray,
-    pool: np.ndarray,
-    between: np.ndarray,
-    kept: np.ndarray,
-    size: int,
-    position: int,
-    order: np.ndarray,
-) -> int:
-    """The largest, over subsets of the first ``size`` pivots, of the shortest path from the agent
-    through all of the subset's pivots (dynamic programming over subsets, Held and Karp 1962).
-
-    Each subset's shortest path is a lower bound (a walk enters the pivots' watcher sets in some
-    order, and each stretch is at least the distance between the two sets), hence so is the largest.
-    ``order`` is a work array of at least ``2**size * size`` entries.
-    """
-    subsets = 1 << size
-    for mask in range(subsets * size):
-        order[mask] = 30000
-    for k in range(size):
-        order[(1 << k) * size + k] = to_watchers[position, pool[kept[k]]]
-    best = 0
-    for mask in range(1, subsets):
-        shortest = 30000
-        for last in range(size):
-            here = order[mask * size + last]
-            if here >= 30000:
-                continue
-            if here < shortest:
-                shortest = here
-            for nxt in range(size):
-                if mask & (1 << nxt):
-                    continue
-                value = here + between[kept[last], kept[nxt]]
-                slot = (mask | (1 << nxt)) * size + nxt
-                if value < order[slot]:
-                    order[slot] = value
-        if shortest > best:
-            best = shortest
-    return best
-
-
-@numba.njit(cache=True, nogil=True, inline="always")
+@jit(inline="always")
 def _bit_index(low: np.uint64) -> int:
     """Index of the single set bit of ``low``."""
     index = 0

@@ -19,15 +19,15 @@ prunes cells by the same two kinds of dominance.)
 
 from __future__ import annotations
 
-import numba
 import numpy as np
 
+from guardsim.kernels.compiler import jit
 from guardsim.optimum.graph import SearchGraph
 
 __all__ = ["residual_goal"]
 
 
-@numba.njit(cache=True, nogil=True)
+@jit
 def _watcher_sets(views: np.ndarray, bits: np.ndarray) -> np.ndarray:
     """``uint64 (len(bits), position words)``: the positions that see each goal bit, as bitsets."""
     positions = views.shape[0]
@@ -42,7 +42,7 @@ def _watcher_sets(views: np.ndarray, bits: np.ndarray) -> np.ndarray:
     return sets
 
 
-@numba.njit(cache=True, nogil=True, inline="always")
+@jit(inline="always")
 def _subset(sets: np.ndarray, a: int, b: int) -> bool:
     word = 0
     while word < sets.shape[1] and not sets[a, word] & ~sets[b, word]:
@@ -50,7 +50,7 @@ def _subset(sets: np.ndarray, a: int, b: int) -> bool:
     return word == sets.shape[1]
 
 
-@numba.njit(cache=True, nogil=True)
+@jit
 def _cell_dominance(sets: np.ndarray, order: np.ndarray) -> np.ndarray:
     """Which cells to keep: in ``order`` (fewest watchers first), a cell is dropped when a cell already
     kept has a watcher set inside its own."""
@@ -70,7 +70,7 @@ def _cell_dominance(sets: np.ndarray, order: np.ndarray) -> np.ndarray:
     return keep
 
 
-@numba.njit(cache=True, nogil=True)
+@jit
 def _path_dominance(successors: np.ndarray, start: int, sets: np.ndarray, keep: np.ndarray, order: np.ndarray) -> None:
     """Drop, in ``order``, each kept cell whose watchers every walk from the start to some other kept
     cell's watchers must pass (in place on ``keep``)."""
@@ -112,7 +112,7 @@ def _path_dominance(successors: np.ndarray, start: int, sets: np.ndarray, keep: 
                 break
 
 
-@numba.njit(cache=True, nogil=True)
+@jit
 def _restrict(views: np.ndarray, bits: np.ndarray) -> np.ndarray:
     """Each position's view over the kept bits only, renumbered ``0 .. len(bits) - 1``."""
     words = max(1, (bits.shape[0] + 63) // 64)

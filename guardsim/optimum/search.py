@@ -21,9 +21,10 @@ import contextlib
 from collections.abc import Iterator
 from typing import NamedTuple
 
-import numba
 import numpy as np
 
+from guardsim.kernels.compiler import jit
+from guardsim.kernels.heap import heap_pop, heap_push
 from guardsim.optimum.heuristic import Heuristic, eccentricity, estimate, estimate_work
 
 __all__ = ["FULL", "PROVED", "RUNNING", "SearchState", "greedy_walk", "new_search_state", "run_search", "start_search"]
@@ -104,7 +105,7 @@ def new_search_state(capacity: int, words: int, positions: int) -> SearchState:
     )
 
 
-@numba.njit(cache=True, nogil=True, inline="always")
+@jit(inline="always")
 def _hash(position: int, seen: np.ndarray) -> np.uint64:
     value = np.uint64(position) * np.uint64(0x9E3779B97F4A7C15)
     for word in range(seen.shape[0]):
@@ -114,7 +115,7 @@ def _hash(position: int, seen: np.ndarray) -> np.uint64:
     return value
 
 
-@numba.njit(cache=True, nogil=True)
+@jit
 def _find(state: SearchState, position: int, seen: np.ndarray) -> tuple[int, int]:
     """(node, slot): the node of (position, seen), or -1 and the empty slot where it would go."""
     table = state.table
@@ -137,44 +138,7 @@ def _find(state: SearchState, position: int, seen: np.ndarray) -> tuple[int, int
         slot = (slot + 1) & mask
 
 
-@numba.njit(cache=True, nogil=True)
-def _push(state: SearchState, key: int, node: int) -> None:
-    keys, nodes, counters = state.heap_key, state.heap_node, state.counters
-    index = counters[HEAP]
-    counters[HEAP] += 1
-    while index > 0:
-        parent = (index - 1) >> 1
-        if keys[parent] <= key:
-            break
-        keys[index], nodes[index] = keys[parent], nodes[parent]
-        index = parent
-    keys[index], nodes[index] = key, node
-
-
-@numba.njit(cache=True, nogil=True)
-def _pop(state: SearchState) -> tuple[int, int]:
-    keys, nodes, counters = state.heap_key, state.heap_node, state.counters
-    key, node = keys[0], nodes[0]
-    counters[HEAP] -= 1
-    size = counters[HEAP]
-    last_key, last_node = keys[size], nodes[size]
-    index = 0
-    while True:
-        child = 2 * index + 1
-        if child >= size:
-            break
-        if child + 1 < size and keys[child + 1] < keys[child]:
-            child += 1
-        if keys[child] >= last_key:
-            break
-        keys[index], nodes[index] = keys[child], nodes[child]
-        index = child
-    if size > 0:
-        keys[index], nodes[index] = last_key, last_node
-    return key, node
-
-
-@numba.njit(cache=True, nogil=True)
+@jit
 def _frontier(
     successors: np.ndarray,
     views: np.ndarray,
@@ -222,7 +186,7 @@ def _frontier(
     return count
 
 
-@numba.njit(cache=True, nogil=True)
+@jit
 def frontier_work(positions: int) -> tuple[np.ndarray, np.ndarray, np.ndarray, np.ndarray]:
     """The work arrays ``distance, queue, found, found_steps`` of :func:`_frontier` (``distance`` all -1)."""
     return (
@@ -233,7 +197,7 @@ def frontier_work(positions: int) -> tuple[np.ndarray, np.ndarray, np.ndarray, n
     )
 
 
-@numba.njit(cache=True, nogil=True)
+@jit
 def greedy_walk(successors: np.ndarray, views: np.ndarray, full: np.ndarray, start: int) -> tuple[np.ndarray, int]:
     """The nearest-frontier walk: its macro-move positions (the start first) and its steps.
 
@@ -277,7 +241,7 @@ def greedy_walk(successors: np.ndarray, views: np.ndarray, full: np.ndarray, sta
     return result, steps
 
 
-@numba.njit(cache=True, nogil=True)
+@jit
 def _add(state: SearchState, slot: int, position: int, steps: int, parent: int, h: int, seen: np.ndarray) -> int:
     counters = state.counters
     node = counters[NODES]
@@ -293,7 +257,7 @@ def _add(state: SearchState, slot: int, position: int, steps: int, parent: int, 
     return node
 
 
-@numba.njit(cache=True, nogil=True)
+@jit
 def _dominated(state: SearchState, position: int, steps: int, seen: np.ndarray, checks: int, itself: int) -> bool:
     """Whether one of the last ``checks`` nodes stored at ``position`` (other than ``itself``) saw at
     least ``seen`` in at most ``steps``: whatever the node could still do, that one can do no later."""
@@ -313,7 +277,7 @@ def _dominated(state: SearchState, position: int, steps: int, seen: np.ndarray, 
     return False
 
 
-@numba.njit(cache=True, nogil=True)
+@jit
 def start_search(
     state: SearchState, heuristic: Heuristic, views: np.ndarray, full: np.ndarray, start: int, incumbent: int
 ) -> None:
@@ -340,10 +304,10 @@ def start_search(
         counters[FLOOR] = 0
         return
     if h < incumbent:
-        _push(state, h * _KEY_SHIFT + (_KEY_SHIFT - 1), node)
+        counters[HEAP] = heap_push(state.heap_key, state.heap_node, counters[HEAP], h * _KEY_SHIFT + (_KEY_SHIFT - 1), node)
 
 
-@numba.njit(cache=True, nogil=True)
+@jit
 def run_search(
     state: SearchState,
     heuristic: Heuristic,
@@ -378,7 +342,7 @@ def run_search(
             counters[FLOOR] = counters[INCUMBENT]
             break
         counters[FLOOR] = f
-        key, node = _pop(state)
+        key, node, counters[HEAP] = heap_pop(state.heap_key, state.heap_node, counters[HEAP])
         g = _KEY_SHIFT - 1 - key % _KEY_SHIFT
         if g != state.steps[node]:
             continue  # a stale entry: the node was reached more cheaply since
@@ -393,7 +357,9 @@ def run_search(
                 state.estimate[node] = h
                 if g + h > f:
                     if g + h < counters[INCUMBENT]:
-                        _push(state, (g + h) * _KEY_SHIFT + (_KEY_SHIFT - 1 - g), node)
+                        counters[HEAP] = heap_push(
+                            state.heap_key, state.heap_node, counters[HEAP], (g + h) * _KEY_SHIFT + (_KEY_SHIFT - 1 - g), node
+                        )
                     continue
         expanded += 1
         counters[EXPANSIONS] += 1
@@ -436,4 +402,6 @@ def run_search(
             if counters[HEAP] >= heap_room:
                 counters[STATUS] = FULL
                 break
-            _push(state, (steps + h) * _KEY_SHIFT + (_KEY_SHIFT - 1 - steps), other)
+            counters[HEAP] = heap_push(
+                state.heap_key, state.heap_node, counters[HEAP], (steps + h) * _KEY_SHIFT + (_KEY_SHIFT - 1 - steps), other
+            )

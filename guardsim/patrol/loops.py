@@ -24,10 +24,10 @@ from __future__ import annotations
 import numpy as np
 
 from guardsim.grid import CoverageGrid, cell_of_state, heading_of_state, state_of
+from guardsim.kernels.distances import FAR, distance_fields, distances_from
 from guardsim.patrol.model import Patrol
 from guardsim.patrol.scoring import PatrolScore, score_patrol, score_rank
 from guardsim.planners.open_tour import improve_tour, nearest_neighbour_tour
-from guardsim.planners.shortest_paths import FAR, distance_fields, distances_from
 from guardsim.planners.tour import route_costs
 from guardsim.planners.viewpoint_cover import greedy_cover
 from guardsim.vision.table import ViewTable

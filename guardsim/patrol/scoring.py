@@ -11,9 +11,9 @@ from __future__ import annotations
 
 from typing import NamedTuple
 
-import numba
 import numpy as np
 
+from guardsim.kernels.compiler import jit
 from guardsim.patrol.model import Patrol
 from guardsim.vision.table import ViewTable
 
@@ -39,7 +39,7 @@ class PatrolScore(NamedTuple):
     """Ticks the figures are taken over (the period for a repeating patrol)."""
 
 
-@numba.njit(cache=True, nogil=True)
+@jit
 def _fill_timeline(sight_start: np.ndarray, sight: np.ndarray, states: np.ndarray, out: np.ndarray) -> None:
     for guard in range(states.shape[0]):
         for tick in range(states.shape[1]):
@@ -56,7 +56,7 @@ def seen_timeline(table: ViewTable, states: np.ndarray, cells: int) -> np.ndarra
     return out
 
 
-@numba.njit(cache=True, nogil=True)
+@jit
 def _idleness(timeline: np.ndarray, goal: np.ndarray, warmup: int, total: int, worst: np.ndarray) -> float:
     """Walk ``total`` ticks of ``timeline`` (repeated), scoring from ``warmup`` on; returns the idleness sum."""
     period = timeline.shape[0]

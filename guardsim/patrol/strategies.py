@@ -23,9 +23,11 @@ from collections.abc import Sequence
 import numpy as np
 
 from guardsim.grid import CoverageGrid, state_of
+from guardsim.kernels.distances import FAR, distances_from
+from guardsim.kernels.states import heading_of_state
+from guardsim.kernels.steps import greedy_step
 from guardsim.patrol.model import Patrol
 from guardsim.planners.base import STAY, EpisodeSetup, GuardState, Planner
-from guardsim.planners.shortest_paths import FAR, distances_from
 from guardsim.planners.viewpoint_cover import greedy_cover
 from guardsim.scene import Scene
 from guardsim.simulation import Simulation
@@ -39,11 +41,9 @@ def _step_towards(neighbours: np.ndarray, field: np.ndarray, cell: int, heading:
     here = int(field[cell])
     if here == 0 or here >= FAR:
         return STAY
-    for direction in (heading, 0, 1, 2, 3):
-        other = int(neighbours[cell, direction])
-        if other >= 0 and int(field[other]) == here - 1:
-            return direction
-    return STAY
+    # A breadth-first field falls by one toward its source, so the greedy step is a step down it.
+    move = greedy_step(field, neighbours[cell], heading)
+    return STAY if move < 0 else move
 
 
 class StalenessBoard:
@@ -110,7 +110,7 @@ class StalenessGuard:
         target = int(board.viewpoints[self.target])
         entry = int(self._entry[target])
         if state.cell == entry:
-            return int(target % 4)
+            return int(heading_of_state(target))
         return _step_towards(self._neighbours, self._field, state.cell, state.heading)
 
     def _choose(self, state: GuardState) -> None:

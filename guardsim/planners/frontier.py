@@ -11,19 +11,19 @@ the current one would no longer see anything unseen. A team simply shares the se
 
 from __future__ import annotations
 
-import numba
 import numpy as np
 
 from guardsim.grid import heading_of_state
+from guardsim.kernels.compiler import jit
+from guardsim.kernels.distances import FAR, distances_from
 from guardsim.planners.base import EpisodeSetup, GuardState
 from guardsim.planners.ripplefront import greedy_move
-from guardsim.planners.shortest_paths import FAR, distances_from
 from guardsim.vision.table import UnseenTally, ViewTable, view_table
 
 __all__ = ["Frontier", "nearest_frontier", "nearest_frontier_kernel"]
 
 
-@numba.njit(cache=True, nogil=True)
+@jit
 def nearest_frontier_kernel(entry: np.ndarray, counts: np.ndarray, distance: np.ndarray, far: int) -> int:
     """Compiled :func:`nearest_frontier` over the entry cells, for other compiled loops."""
     best = -1

@@ -14,13 +14,14 @@ McGeoch 1997, "The travelling salesman problem: a case study in local optimizati
 
 from __future__ import annotations
 
-import numba
 import numpy as np
+
+from guardsim.kernels.compiler import jit
 
 __all__ = ["improve_tour", "nearest_neighbour_tour", "tour_cost"]
 
 
-@numba.njit(cache=True, nogil=True)
+@jit
 def nearest_neighbour_tour(cost: np.ndarray, first: int, nodes: np.ndarray) -> np.ndarray:
     """``first``, then repeatedly the cheapest node not yet visited (ties to the earliest in ``nodes``)."""
     tour = np.empty(nodes.shape[0] + 1, dtype=np.int64)
@@ -38,7 +39,7 @@ def nearest_neighbour_tour(cost: np.ndarray, first: int, nodes: np.ndarray) -> n
     return tour
 
 
-@numba.njit(cache=True, nogil=True)
+@jit
 def tour_cost(cost: np.ndarray, tour: np.ndarray) -> int:
     """Sum of the legs of an open tour."""
     total = 0
@@ -47,7 +48,7 @@ def tour_cost(cost: np.ndarray, tour: np.ndarray) -> int:
     return total
 
 
-@numba.njit(cache=True, nogil=True)
+@jit
 def _prefix(cost: np.ndarray, tour: np.ndarray, forward: np.ndarray, backward: np.ndarray) -> None:
     """``forward[k]``: cost of legs 0..k-1 as walked; ``backward[k]``: the same legs walked the other way."""
     forward[0] = 0
@@ -57,7 +58,7 @@ def _prefix(cost: np.ndarray, tour: np.ndarray, forward: np.ndarray, backward: n
         backward[position + 1] = backward[position] + cost[tour[position + 1], tour[position]]
 
 
-@numba.njit(cache=True, nogil=True)
+@jit
 def _leg(cost: np.ndarray, tour: np.ndarray, a: int, b: int) -> int:
     """Cost from position ``a`` to position ``b``; nothing when ``b`` is past the end (open tour)."""
     if b >= tour.shape[0]:
@@ -65,7 +66,7 @@ def _leg(cost: np.ndarray, tour: np.ndarray, a: int, b: int) -> int:
     return cost[tour[a], tour[b]]
 
 
-@numba.njit(cache=True, nogil=True)
+@jit
 def _reposition(cost: np.ndarray, tour: np.ndarray, forward: np.ndarray, backward: np.ndarray, at: np.ndarray) -> None:
     """Refresh the prefix sums and ``at[node]``, the position of each node in the tour."""
     _prefix(cost, tour, forward, backward)
@@ -73,7 +74,7 @@ def _reposition(cost: np.ndarray, tour: np.ndarray, forward: np.ndarray, backwar
         at[tour[position]] = position
 
 
-@numba.njit(cache=True, nogil=True)
+@jit
 def _two_opt(
     cost: np.ndarray, tour: np.ndarray, forward: np.ndarray, backward: np.ndarray, at: np.ndarray, near: np.ndarray
 ) -> bool:
@@ -97,7 +98,7 @@ def _two_opt(
     return improved
 
 
-@numba.njit(cache=True, nogil=True)
+@jit
 def _or_opt(
     cost: np.ndarray, tour: np.ndarray, forward: np.ndarray, backward: np.ndarray, at: np.ndarray, near: np.ndarray
 ) -> bool:
@@ -146,7 +147,7 @@ def _or_opt(
     return improved
 
 
-@numba.njit(cache=True, nogil=True)
+@jit
 def improve_tour(cost: np.ndarray, tour: np.ndarray, neighbours: int = 12, max_rounds: int = 1000) -> np.ndarray:
     """2-opt and Or-opt until neither shortens the tour; ``tour[0]`` stays first.
 

@@ -17,11 +17,12 @@ on nothing but the inputs.
 
 from __future__ import annotations
 
-import numba
 import numpy as np
 
+from guardsim.kernels.compiler import jit
+from guardsim.kernels.distances import FAR
+from guardsim.kernels.steps import cell_of_state, heading_of_state, state_of
 from guardsim.planners.route_walk import WalkLog, WalkTeam, look, team_walk
-from guardsim.planners.shortest_paths import FAR
 from guardsim.vision.table import ViewTable
 
 __all__ = ["POLISH_REACH", "POLISH_TICKS", "polish_route"]
@@ -86,7 +87,7 @@ def polish_route(
     return best, int(steps)
 
 
-@numba.njit(cache=True, nogil=True)
+@jit
 def _resume(
     neighbours: np.ndarray,
     table: ViewTable,
@@ -116,7 +117,7 @@ def _resume(
     return ticks
 
 
-@numba.njit(cache=True, nogil=True)
+@jit
 def _change(
     route: np.ndarray, index: int, choice: int, neighbours: np.ndarray, entry: np.ndarray, reach: int, out: np.ndarray
 ) -> int:
@@ -124,14 +125,14 @@ def _change(
     length, or -1 when that change does not apply (a wall in the way, a state no step enters, no change)."""
     size = route.size
     state = route[index]
-    cell, heading = state // 4, state % 4
+    cell, heading = cell_of_state(state), heading_of_state(state)
     tail = route[index + 1 :]
     if choice == 0:
         out[: tail.size] = tail
         return tail.size
     choice -= 1
     if choice < 3:
-        changed = cell * 4 + (heading + 1 + choice) % 4
+        changed = state_of(cell, (heading + 1 + choice) % 4)
     else:
         choice -= 3
         if choice < 8 * reach:
@@ -144,7 +145,7 @@ def _change(
                     return -1
             if turn == 1 and direction == heading:
                 return -1
-            changed = other * 4 + (direction if turn == 1 else heading)
+            changed = state_of(other, direction if turn == 1 else heading)
         elif choice == 8 * reach and index + 1 < size:
             out[0] = route[index + 1]
             out[1] = state
@@ -159,7 +160,7 @@ def _change(
     return tail.size + 1
 
 
-@numba.njit(cache=True, nogil=True)
+@jit
 def _polish(
     neighbours: np.ndarray,
     table: ViewTable,
@@ -210,7 +211,7 @@ def _polish(
                 break
             while here_tick < tick:
                 here_tick += 1
-                look(table, goal, here_seen, no_counts, False, base_path[here_tick] * 4 + base_facing[here_tick])
+                look(table, goal, here_seen, no_counts, False, state_of(base_path[here_tick], base_facing[here_tick]))
             room = best - tick - 1
             for choice in range(choices):
                 if room <= 0 or used >= trials or walked + room > max_ticks:

@@ -21,9 +21,10 @@ from typing import Any
 
 import numpy as np
 
+from guardsim.kernels.distances import FAR
+from guardsim.kernels.steps import greedy_step
 from guardsim.planners.base import EpisodeSetup, GuardState
 from guardsim.planners.ripplefront_compiled import CompiledRippleFront
-from guardsim.planners.shortest_paths import FAR
 from guardsim.planners.team_share import guard_share
 from guardsim.vision.cache import VisionCache
 
@@ -143,13 +144,7 @@ class RippleFront(GreedyField):
 
 
 def greedy_move(distance: np.ndarray, cell_neighbours: np.ndarray, heading: int) -> int | None:
-    """The heading toward the smallest D among connected neighbours; ties keep ``heading``, then 0..3."""
-    best: int | None = None
-    best_distance = 0
-    for direction in (heading, 0, 1, 2, 3):
-        other = cell_neighbours[direction]
-        if other < 0:
-            continue
-        if best is None or distance[other] < best_distance:
-            best, best_distance = direction, int(distance[other])
-    return best
+    """The heading toward the smallest D among connected neighbours (:func:`~guardsim.kernels.steps.greedy_step`);
+    None when there is none."""
+    move = greedy_step(distance, cell_neighbours, heading)
+    return None if move < 0 else move

@@ -14,15 +14,15 @@ It advances the loop's own :class:`~guardsim.planners.base.EpisodeArrays` exactl
 
 from __future__ import annotations
 
-from collections.abc import Callable
 from typing import Any, NamedTuple
 
-import numba
 import numpy as np
 
-from guardsim.grid import CoverageGrid, state_of
+from guardsim.grid import CoverageGrid
+from guardsim.kernels.compiler import jit
+from guardsim.kernels.distances import FAR
+from guardsim.kernels.steps import greedy_step, state_of
 from guardsim.planners.base import OUTCOME, TICK, UNSEEN, EpisodeArrays
-from guardsim.planners.shortest_paths import FAR
 from guardsim.vision.cache import FillArrays, VisionCache, try_fill
 
 __all__ = ["COLD_START_CELLS", "CompiledRippleFront", "compiling_pays", "is_compiled"]
@@ -37,7 +37,6 @@ _COVERED, _STEP_LIMIT, _STUCK = 0, 1, 2
 # The phases of a tick: the loop returns for a missing vision state between the move and the look.
 _LOOK, _DECIDE = 0, 1
 
-_state_of: Callable[[int, int], int] = numba.njit(inline="always")(state_of)
 
 
 class FieldState(NamedTuple):
@@ -56,7 +55,7 @@ class FieldState(NamedTuple):
     ticks left to run (negative: no limit)."""
 
 
-@numba.njit(cache=True, nogil=True)
+@jit
 def _advance(
     neighbours: np.ndarray,
     episode: EpisodeArrays,
@@ -82,7 +81,7 @@ def _advance(
     phase, n_pending, stamp, tick_budget = field.resume[0], field.resume[1], field.resume[2], field.resume[4]
     while True:
         if phase == _LOOK:
-            state = _state_of(cell, heading)
+            state = state_of(cell, heading)
             length = cache_length[state]
             if length < 0 and compiled_fill:
                 stored = try_fill(state, fill, cache_data, used[0], cache_start, cache_length)
@@ -147,14 +146,7 @@ def _advance(
                 for index in range(n_next):
                     pending[index] = next_pending[index]
                 n_pending = n_next
-            best = -1
-            best_distance = 0
-            for choice in range(5):
-                direction = heading if choice == 0 else choice - 1
-                other = neighbours[cell, direction]
-                if other >= 0 and (best < 0 or distance[other] < best_distance):
-                    best = direction
-                    best_distance = distance[other]
+            best = greedy_step(distance, neighbours[cell], heading)
             if best < 0:
                 outcome = _STUCK
             else:

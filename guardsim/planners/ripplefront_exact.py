@@ -10,9 +10,9 @@ two shows what the ripple's lag costs. In a team, each guard's sources are its s
 
 from __future__ import annotations
 
+from guardsim.kernels.distances import distances_from
 from guardsim.planners.base import GuardState
 from guardsim.planners.ripplefront import GreedyField, greedy_move
-from guardsim.planners.shortest_paths import distances_from
 from guardsim.planners.team_share import guard_share
 
 __all__ = ["RippleFrontExact"]

@@ -17,20 +17,17 @@ loop will see, tick for tick.
 
 from __future__ import annotations
 
-from collections.abc import Callable
 from typing import NamedTuple
 
-import numba
 import numpy as np
 
-from guardsim.grid import heading_of_state, state_of
-from guardsim.planners.shortest_paths import FAR, fill_distances, spread
+from guardsim.kernels.compiler import jit
+from guardsim.kernels.distances import FAR, fill_distances, spread
+from guardsim.kernels.steps import greedy_step, heading_of_state, state_of
 from guardsim.vision.table import ViewTable
 
 __all__ = ["RouteWalk", "WalkLog", "WalkTeam", "descent_states", "look", "team_walk", "walk_routes"]
 
-_state_of: Callable[[int, int], int] = numba.njit(inline="always")(state_of)
-_heading_of_state: Callable[[int], int] = numba.njit(inline="always")(heading_of_state)
 
 
 class RouteWalk(NamedTuple):
@@ -83,7 +80,7 @@ class WalkLog(NamedTuple):
     reached: np.ndarray
 
 
-@numba.njit(cache=True, nogil=True)
+@jit
 def _fill_toward(
     neighbours: np.ndarray, source: int, stop: int, far: int, distance: np.ndarray, queue: np.ndarray, filled: int
 ) -> int:
@@ -107,7 +104,7 @@ def _fill_toward(
     return spread(neighbours, queue, 1, far, distance, stop)
 
 
-@numba.njit(cache=True, nogil=True)
+@jit
 def _nearest_frontier(
     neighbours: np.ndarray, counts: np.ndarray, cell: int, far: int, distance: np.ndarray, queue: np.ndarray,
     filled: np.ndarray,
@@ -137,7 +134,7 @@ def _nearest_frontier(
             other = neighbours[here, direction]
             if other < 0:
                 continue
-            state = _state_of(other, direction)
+            state = state_of(other, direction)
             if counts[state] > best_count or (counts[state] > 0 and counts[state] == best_count and state < best):
                 best, best_count = state, counts[state]
             if distance[other] == far:
@@ -153,7 +150,7 @@ def _nearest_frontier(
     return best
 
 
-@numba.njit(cache=True, nogil=True)
+@jit
 def look(table: ViewTable, goal: np.ndarray, seen: np.ndarray, counts: np.ndarray, counting: bool, state: int) -> int:
     """Mark what ``state`` sees as seen, and, when ``counting``, keep ``counts`` (unseen goal cells per
     state) in step; the number of goal cells newly seen."""
@@ -171,7 +168,7 @@ def look(table: ViewTable, goal: np.ndarray, seen: np.ndarray, counts: np.ndarra
     return new
 
 
-@numba.njit(cache=True, nogil=True)
+@jit
 def _unseen_seen_by(table: ViewTable, goal: np.ndarray, seen: np.ndarray, state: int) -> int:
     """Unseen goal cells ``state`` would see, counted from its sight."""
     sight = table.sight
@@ -183,7 +180,7 @@ def _unseen_seen_by(table: ViewTable, goal: np.ndarray, seen: np.ndarray, state:
     return count
 
 
-@numba.njit(cache=True, nogil=True)
+@jit
 def _count_unseen(table: ViewTable, goal: np.ndarray, seen: np.ndarray) -> np.ndarray:
     """``int32 (states,)``: unseen goal cells each state would see, from the watchers of the unseen cells."""
     counts = np.zeros(table.entry.shape[0], dtype=np.int32)
@@ -195,7 +192,7 @@ def _count_unseen(table: ViewTable, goal: np.ndarray, seen: np.ndarray) -> np.nd
     return counts
 
 
-@numba.njit(cache=True, nogil=True)
+@jit
 def team_walk(
     neighbours: np.ndarray,
     table: ViewTable,
@@ -266,7 +263,7 @@ def team_walk(
                         neighbours, entry[goal_state], cell, far, field, field_queues[guard], field_filled[guard]
                     )
                 if cell == entry[goal_state]:
-                    move = _heading_of_state(goal_state)
+                    move = heading_of_state(goal_state)
                 else:
                     best_view = -1
                     for choice in range(5):
@@ -274,7 +271,7 @@ def team_walk(
                         other = neighbours[cell, direction]
                         if other < 0 or field[other] >= field[cell]:
                             continue
-                        arrival = _state_of(other, direction)
+                        arrival = state_of(other, direction)
                         view = counts[arrival] if counting else _unseen_seen_by(table, goal, seen, arrival)
                         if view > best_view:
                             move, best_view = direction, view
@@ -289,7 +286,7 @@ def team_walk(
         for guard in range(guards):
             path[guard, tick] = cells[guard]
             facing[guard, tick] = headings[guard]
-            state = _state_of(cells[guard], headings[guard])
+            state = state_of(cells[guard], headings[guard])
             if state == target[guard] and decided[guard] >= 0:
                 visits[guard, visit_count[guard]] = state
                 visit_count[guard] += 1
@@ -359,7 +356,7 @@ def walk_routes(
     )
 
 
-@numba.njit(cache=True, nogil=True)
+@jit
 def _descent(
     neighbours: np.ndarray,
     sight_start: np.ndarray,
@@ -387,22 +384,27 @@ def _descent(
             break
         fill_distances(neighbours, sources[:unseen], far, field)
         move, best, best_view = -1, field[cell], -1
-        for choice in range(5):
+        if not by_view:
+            # RippleFront's own step (ripplefront-exact), taken only downhill.
+            move = greedy_step(field, neighbours[cell], heading)
+            if move >= 0 and field[neighbours[cell, move]] >= best:
+                move = -1
+        for choice in range(5 if by_view else 0):
             direction = heading if choice == 0 else choice - 1
             there = neighbours[cell, direction]
-            if there < 0 or field[there] > best or (field[there] == best and (move < 0 or not by_view)):
+            # Downhill only; among equally short moves the one that sees the most unseen goal cells.
+            if there < 0 or field[there] > best or (field[there] == best and move < 0):
                 continue
             view = 0
-            if by_view:
-                arrive = _state_of(there, direction)
-                for index in range(sight_start[arrive], sight_start[arrive + 1]):
-                    view += goal[sight[index]] and not seen[sight[index]]
+            arrive = state_of(there, direction)
+            for index in range(sight_start[arrive], sight_start[arrive + 1]):
+                view += goal[sight[index]] and not seen[sight[index]]
             if field[there] < best or view > best_view:
                 move, best, best_view = direction, field[there], view
         if move < 0:
             break
         cell, heading = neighbours[cell, move], move
-        state = _state_of(cell, heading)
+        state = state_of(cell, heading)
         states[count] = state
         count += 1
         for index in range(sight_start[state], sight_start[state + 1]):

@@ -16,9 +16,9 @@ from __future__ import annotations
 
 import numpy as np
 
+from guardsim.kernels.distances import distances_from
 from guardsim.planners.base import EpisodeSetup, GuardState
 from guardsim.planners.ripplefront import greedy_move
-from guardsim.planners.shortest_paths import distances_from
 
 __all__ = ["Sweep"]
 

@@ -11,15 +11,15 @@ problems", and its later local-search variants); its aim is the team's makespan,
 
 from __future__ import annotations
 
-import numba
 import numpy as np
 
+from guardsim.kernels.compiler import jit
 from guardsim.planners.open_tour import improve_tour, nearest_neighbour_tour, tour_cost
 
 __all__ = ["plan_routes"]
 
 
-@numba.njit(cache=True, nogil=True)
+@jit
 def _best_transfer(cost: np.ndarray, nodes: np.ndarray, offsets: np.ndarray, longest: int) -> tuple[int, int, int]:
     """The move of one viewpoint off tour ``longest`` that most shortens the longer of the two tours.
 

@@ -11,7 +11,7 @@ from __future__ import annotations
 
 import numpy as np
 
-from guardsim.planners.shortest_paths import distance_fields
+from guardsim.kernels.distances import distance_fields
 
 __all__ = ["guard_share"]
 

@@ -37,6 +37,8 @@ from typing import NamedTuple
 import numpy as np
 
 from guardsim.grid import state_of
+from guardsim.kernels.distances import distance_fields, distances_between
+from guardsim.kernels.states import cell_of_state
 from guardsim.optimum import search_route
 from guardsim.optimum.beam import widening_beam_route
 from guardsim.optimum.graph import SearchGraph, build_search_graph, goal_bits, route_steps
@@ -47,7 +49,6 @@ from guardsim.planners.frontier import Frontier
 from guardsim.planners.lawnmower import lane_routes, spiral_rings, spiral_routes, swath_half_width
 from guardsim.planners.polish import polish_route
 from guardsim.planners.route_walk import RouteWalk, descent_states, walk_routes
-from guardsim.planners.shortest_paths import distance_fields, distances_between
 from guardsim.planners.team_routes import plan_routes
 from guardsim.planners.viewpoint_cover import greedy_cover
 from guardsim.vision.table import UnseenTally, level_memo, view_table
@@ -105,7 +106,7 @@ def route_costs(
     :data:`FIELD_CELLS` distances.
     """
     k = states.size
-    cells = np.concatenate([states // 4, np.array([cell for cell, _ in team], dtype=np.int64)])
+    cells = np.concatenate([cell_of_state(states), np.array([cell for cell, _ in team], dtype=np.int64)])
     cost = np.zeros((cells.size, cells.size), dtype=np.int64)
     if fields is None:
         cost[:, :k] = distances_between(neighbours, entry[states], cells).T.astype(np.int64) + 1

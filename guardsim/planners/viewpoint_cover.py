@@ -9,15 +9,15 @@ A final pass drops any chosen viewpoint whose cells the others already cover, la
 
 from __future__ import annotations
 
-import numba
 import numpy as np
 
+from guardsim.kernels.compiler import jit
 from guardsim.vision.table import ViewTable
 
 __all__ = ["greedy_cover"]
 
 
-@numba.njit(cache=True, nogil=True)
+@jit
 def _greedy_cover(
     sight_start: np.ndarray,
     sight: np.ndarray,

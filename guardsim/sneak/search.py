@@ -16,8 +16,10 @@ from __future__ import annotations
 
 from typing import NamedTuple
 
-import numba
 import numpy as np
+
+from guardsim.kernels.compiler import jit
+from guardsim.kernels.heap import heap_pop, heap_push
 
 __all__ = ["SneakPath", "closest_call", "find_sneak", "hiding_windows"]
 
@@ -40,7 +42,7 @@ class SneakPath(NamedTuple):
         return int(self.cells.size) - 1
 
 
-@numba.njit(cache=True, nogil=True)
+@jit
 def _bfs(neighbours: np.ndarray, seen: np.ndarray, source: int, target: int) -> tuple[np.ndarray, int]:
     """Unseen BFS over (tick mod period, cell); returns the parent array and the node reached (-1: none)."""
     period, cells = seen.shape
@@ -74,43 +76,7 @@ def _bfs(neighbours: np.ndarray, seen: np.ndarray, source: int, target: int) -> 
     return parent, -1
 
 
-@numba.njit(cache=True, nogil=True)
-def _push(heap_keys: np.ndarray, heap_nodes: np.ndarray, size: int, key: int, node: int) -> int:
-    index = size
-    heap_keys[index] = key
-    heap_nodes[index] = node
-    while index > 0:
-        up = (index - 1) // 2
-        if heap_keys[up] <= heap_keys[index]:
-            break
-        heap_keys[up], heap_keys[index] = heap_keys[index], heap_keys[up]
-        heap_nodes[up], heap_nodes[index] = heap_nodes[index], heap_nodes[up]
-        index = up
-    return size + 1
-
-
-@numba.njit(cache=True, nogil=True)
-def _pop(heap_keys: np.ndarray, heap_nodes: np.ndarray, size: int) -> tuple[int, int, int]:
-    key, node = heap_keys[0], heap_nodes[0]
-    size -= 1
-    heap_keys[0], heap_nodes[0] = heap_keys[size], heap_nodes[size]
-    index = 0
-    while True:
-        left = 2 * index + 1
-        if left >= size:
-            break
-        child = left
-        if left + 1 < size and heap_keys[left + 1] < heap_keys[left]:
-            child = left + 1
-        if heap_keys[index] <= heap_keys[child]:
-            break
-        heap_keys[index], heap_keys[child] = heap_keys[child], heap_keys[index]
-        heap_nodes[index], heap_nodes[child] = heap_nodes[child], heap_nodes[index]
-        index = child
-    return key, node, size
-
-
-@numba.njit(cache=True, nogil=True)
+@jit
 def _dijkstra(neighbours: np.ndarray, seen: np.ndarray, source: int, target: int) -> tuple[np.ndarray, int, int]:
     """Fewest ticks in view, then fewest ticks; returns parents, the node reached and its cost."""
     period, cells = seen.shape
@@ -129,9 +95,9 @@ def _dijkstra(neighbours: np.ndarray, seen: np.ndarray, source: int, target: int
         key = weight if seen[tick, source] else 0
         best[node] = key
         parent[node] = -1
-        size = _push(heap_keys, heap_nodes, size, key, node)
+        size = heap_push(heap_keys, heap_nodes, size, key, node)
     while size > 0:
-        key, node, size = _pop(heap_keys, heap_nodes, size)
+        key, node, size = heap_pop(heap_keys, heap_nodes, size)
         if done[node] or key != best[node]:
             continue
         done[node] = True
@@ -151,7 +117,7 @@ def _dijkstra(neighbours: np.ndarray, seen: np.ndarray, source: int, target: int
                 if size == heap_keys.shape[0]:
                     heap_keys = np.concatenate((heap_keys, np.empty_like(heap_keys)))
                     heap_nodes = np.concatenate((heap_nodes, np.empty_like(heap_nodes)))
-                size = _push(heap_keys, heap_nodes, size, cost, next_node)
+                size = heap_push(heap_keys, heap_nodes, size, cost, next_node)
     return parent, -1, -1
 
 

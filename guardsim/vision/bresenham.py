@@ -11,9 +11,9 @@ moves in x and ``2e < dx`` moves in y (both on a diagonal step).
 
 from __future__ import annotations
 
-import numba
 import numpy as np
 
+from guardsim.kernels.compiler import jit
 from guardsim.vision.targets import cone_target
 
 __all__ = ["bresenham_clear", "bresenham_line", "bresenham_visible"]
@@ -62,7 +62,7 @@ def bresenham_visible(traversable: np.ndarray, col: int, row: int, offsets: np.n
     return np.array(sorted(seen), dtype=np.int64)
 
 
-@numba.njit(cache=True, nogil=True)
+@jit
 def bresenham_clear(
     traversable: np.ndarray, rows: int, cols: int, col: int, row: int, offsets: np.ndarray, out: np.ndarray
 ) -> int:

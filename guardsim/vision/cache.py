@@ -11,13 +11,13 @@ the compiled episode loop reads directly.
 
 from __future__ import annotations
 
-from collections.abc import Callable
 from typing import NamedTuple
 
-import numba
 import numpy as np
 
-from guardsim.grid import CoverageGrid, cell_of_state, heading_of_state, state_of
+from guardsim.grid import CoverageGrid
+from guardsim.kernels.compiler import jit
+from guardsim.kernels.steps import cell_of_state, heading_of_state, state_of
 from guardsim.vision.bresenham import bresenham_clear
 from guardsim.vision.cone import VisionCone
 from guardsim.vision.rules import LineOfSight
@@ -27,9 +27,6 @@ from guardsim.world import World
 
 __all__ = ["FillArrays", "VisionCache", "try_fill"]
 
-# The grid's own state numbering, compiled for the kernels below.
-_cell_of_state: Callable[[int], int] = numba.njit(inline="always")(cell_of_state)
-_heading_of_state: Callable[[int], int] = numba.njit(inline="always")(heading_of_state)
 
 
 class FillArrays(NamedTuple):
@@ -57,7 +54,7 @@ class FillArrays(NamedTuple):
     """``int8 (widest cone,)``: scratch, the screen's verdict per ray."""
 
 
-@numba.njit(cache=True, nogil=True)
+@jit
 def _screen_state(col: int, row: int, offsets: np.ndarray, fill: FillArrays) -> int:
     """The traversable cells in the cone (the guard's own excluded), their centres and ray verdicts,
     written into ``fill``'s scratch arrays; returns how many."""
@@ -83,15 +80,15 @@ def _screen_state(col: int, row: int, offsets: np.ndarray, fill: FillArrays) -> 
     return count
 
 
-@numba.njit(cache=True, nogil=True)
+@jit
 def try_fill(state: int, fill: FillArrays, data: np.ndarray, used: int, start: np.ndarray, length: np.ndarray) -> int:
     """Fill ``state`` without leaving compiled code when the screen settles every ray.
 
     Returns how many cells were stored at ``data[used:]``; -1 when a ray is a close call (pymunk must
     decide: fill it from Python) and -2 when ``data`` has no room (grow it from Python).
     """
-    cell = _cell_of_state(state)
-    heading = _heading_of_state(state)
+    cell = cell_of_state(state)
+    heading = heading_of_state(state)
     offsets = fill.offsets[fill.offsets_start[heading] : fill.offsets_start[heading + 1]]
     count = _screen_state(cell % fill.cols, cell // fill.cols, offsets, fill)
     verdicts, candidates = fill.verdicts, fill.candidates
@@ -115,7 +112,7 @@ def try_fill(state: int, fill: FillArrays, data: np.ndarray, used: int, start: n
     return visible
 
 
-@numba.njit(cache=True, nogil=True)
+@jit
 def _try_fill_many(
     states: np.ndarray, fill: FillArrays, data: np.ndarray, used: int, start: np.ndarray, length: np.ndarray
 ) -> tuple[int, int, np.ndarray]:

@@ -13,8 +13,9 @@ from __future__ import annotations
 import math
 from typing import NamedTuple
 
-import numba
 import numpy as np
+
+from guardsim.kernels.compiler import jit
 
 __all__ = ["BLOCKED", "CLEAR", "CLOSE_CALL", "WallIndex", "index_walls", "screen"]
 
@@ -77,7 +78,7 @@ def index_walls(
     return WallIndex(segments, start, walls, origin_x, origin_y, bucket, columns, rows, 1e-9 * scale * scale)
 
 
-@numba.njit(cache=True, nogil=True)
+@jit
 def screen(
     eye_x: float, eye_y: float, targets: np.ndarray, wall_index: WallIndex, stamp: np.ndarray, verdicts: np.ndarray
 ) -> None:

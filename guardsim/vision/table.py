@@ -11,11 +11,11 @@ from __future__ import annotations
 import weakref
 from typing import Any, NamedTuple
 
-import numba
 import numpy as np
 
 from guardsim.errors import LimitError
 from guardsim.grid import HEADINGS_PER_CELL, CoverageGrid, state_of
+from guardsim.kernels.compiler import jit
 from guardsim.vision.rules import VisionFunction
 
 __all__ = ["UnseenTally", "ViewTable", "estimate_entries", "level_memo", "view_table"]
@@ -171,7 +171,7 @@ def _sights_state_by_state(
     return sight[:total].copy()
 
 
-@numba.njit(cache=True, nogil=True)
+@jit
 def _invert(sight_start: np.ndarray, sight: np.ndarray, cells: int) -> tuple[np.ndarray, np.ndarray]:
     """Counting sort of the (state, cell) pairs by cell, so each cell's watchers come out ascending."""
     watch_start = np.zeros(cells + 1, dtype=np.int64)
@@ -215,7 +215,7 @@ def view_table(grid: CoverageGrid, vision: VisionFunction) -> ViewTable:
     return memo["views"]
 
 
-@numba.njit(cache=True, nogil=True)
+@jit
 def _goal_counts(sight_start: np.ndarray, sight: np.ndarray, goal: np.ndarray, counts: np.ndarray) -> None:
     for state in range(counts.shape[0]):
         total = 0
@@ -224,7 +224,7 @@ def _goal_counts(sight_start: np.ndarray, sight: np.ndarray, goal: np.ndarray, c
         counts[state] = total
 
 
-@numba.njit(cache=True, nogil=True)
+@jit
 def _discount(cells: np.ndarray, watch_start: np.ndarray, watchers: np.ndarray, counts: np.ndarray) -> None:
     for cell in cells:
         for index in range(watch_start[cell], watch_start[cell + 1]):

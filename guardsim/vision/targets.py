@@ -2,13 +2,14 @@
 
 from __future__ import annotations
 
-import numba
 import numpy as np
+
+from guardsim.kernels.compiler import jit
 
 __all__ = ["cone_target"]
 
 
-@numba.njit(cache=True, nogil=True)
+@jit
 def cone_target(
     col: int, row: int, offsets: np.ndarray, index: int, rows: int, cols: int, traversable: np.ndarray
 ) -> int:

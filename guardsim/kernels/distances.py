@@ -1,4 +1,8 @@
-"""Breadth-first distances over the grid's connected cells, compiled with numba.
+"""Breadth-first distances over the grid's connected cells and over its states: every fill in guardsim.
+
+A fill marks the cells (or states) no source reaches with the caller's ``far``: :data:`FAR` wherever the
+field feeds the greedy step (farther than any real distance, so a minimum never picks it); the bounds
+pass -1, which their own tests read as "unreached".
 
 Moves cost one step each and connectivity is symmetric, so the distance from a set of cells to a cell
 is also the distance from that cell to the set. Heading does not constrain moves (a guard may step in
@@ -9,16 +13,27 @@ than the steps to the cell behind ``b`` in heading ``h`` (the one a guard steps 
 
 from __future__ import annotations
 
-import numba
 import numpy as np
 
-__all__ = ["FAR", "distance_fields", "distances_between", "distances_from", "fill_distances", "spread"]
+from guardsim.kernels.compiler import jit
+from guardsim.kernels.steps import cell_of_state, heading_of_state, state_of
+
+__all__ = [
+    "FAR",
+    "distance_fields",
+    "distances_between",
+    "distances_from",
+    "fill_distances",
+    "fill_states",
+    "spread",
+    "spread_states",
+]
 
 #: Distance of a cell no source reaches: farther than any real distance, with room to add to it.
 FAR = np.int32(np.iinfo(np.int32).max // 2)
 
 
-@numba.njit(cache=True, nogil=True)
+@jit
 def fill_distances(neighbours: np.ndarray, sources: np.ndarray, far: int, distance: np.ndarray) -> None:
     """Fill ``distance`` with steps to the nearest source; ``far`` where no source is reachable.
 
@@ -37,7 +52,7 @@ def fill_distances(neighbours: np.ndarray, sources: np.ndarray, far: int, distan
     spread(neighbours, queue, tail, far, distance, -1)
 
 
-@numba.njit(cache=True, nogil=True)
+@jit
 def spread(neighbours: np.ndarray, queue: np.ndarray, tail: int, far: int, distance: np.ndarray, stop: int) -> int:
     """Breadth-first on from the cells ``queue[:tail]`` (their distances set, every other cell ``far``),
     until every reachable cell has its distance or ``stop`` (a cell, -1 for none) has one; returns how
@@ -58,7 +73,56 @@ def spread(neighbours: np.ndarray, queue: np.ndarray, tail: int, far: int, dista
     return tail
 
 
-@numba.njit(cache=True, nogil=True)
+@jit
+def spread_states(
+    neighbours: np.ndarray, queue: np.ndarray, tail: int, far: int, distance: np.ndarray, backward: bool, label: np.ndarray
+) -> int:
+    """Breadth-first over states (``cell * 4 + heading``; a step goes from ``(c, h)`` to
+    ``(neighbours[c, d], d)``) from the states ``queue[:tail]``, their distances set and every other
+    state at ``far``; ``backward`` follows the steps the other way (the steps into ``(c, h)`` come from
+    every state of the cell behind ``c`` along ``h``). Each state reached takes the ``label`` of the state
+    it was reached from, when ``label`` is not empty. Returns how many states ``queue`` then holds."""
+    carry = label.shape[0] > 0
+    head = 0
+    while head < tail:
+        state = queue[head]
+        head += 1
+        step = distance[state] + 1
+        cell = cell_of_state(state)
+        for direction in range(4):
+            if backward:
+                behind = neighbours[cell, (heading_of_state(state) + 2) % 4]
+                if behind < 0:
+                    break
+                other = state_of(behind, direction)
+            else:
+                there = neighbours[cell, direction]
+                if there < 0:
+                    continue
+                other = state_of(there, direction)
+            if distance[other] == far:
+                distance[other] = step
+                if carry:
+                    label[other] = label[state]
+                queue[tail] = other
+                tail += 1
+    return tail
+
+
+@jit
+def fill_states(neighbours: np.ndarray, start_state: int, far: int, distance: np.ndarray) -> None:
+    """Fill ``distance`` (``cells * 4``) with steps from ``start_state`` to every state; ``far`` where
+    none reaches."""
+    states = distance.shape[0]
+    queue = np.empty(states, dtype=np.int64)
+    for state in range(states):
+        distance[state] = far
+    distance[start_state] = 0
+    queue[0] = start_state
+    spread_states(neighbours, queue, 1, far, distance, False, np.empty(0, dtype=np.int32))
+
+
+@jit
 def _fields(neighbours: np.ndarray, sources: np.ndarray, far: int, out: np.ndarray) -> None:
     single = np.empty(1, dtype=np.int64)
     for index in range(sources.shape[0]):
@@ -66,7 +130,7 @@ def _fields(neighbours: np.ndarray, sources: np.ndarray, far: int, out: np.ndarr
         fill_distances(neighbours, single, far, out[index])
 
 
-@numba.njit(cache=True, nogil=True)
+@jit
 def _between(neighbours: np.ndarray, sources: np.ndarray, targets: np.ndarray, far: int, out: np.ndarray) -> None:
     single = np.empty(1, dtype=np.int64)
     field = np.empty(neighbours.shape[0], dtype=np.int32)

@@ -1,0 +1,169 @@
+"""How guardsim compiles: one decorator, one cache folder per version of the compiled sources.
+
+numba caches a compiled function under the text of its own file only, so a caller compiled against a
+callee in another file would keep running the old callee after that file changed. Here every compiled
+function is cached in a folder named after a digest of *all* of guardsim's compiled sources (and the
+numba and Python versions): after any edit to any of them the digest changes, the folder is new and
+everything is compiled afresh; nothing is ever deleted by hand.
+
+The folder lies under ``$GUARDSIM_CACHE_DIR`` if set, else ``$NUMBA_CACHE_DIR/guardsim``, else
+``$XDG_CACHE_HOME/guardsim`` (``~/.cache/guardsim``). Compiling once takes seconds; when it takes more
+than :data:`NOTICE_SECONDS` a process says so on one line of standard error (``GUARDSIM_COMPILE_NOTICE=0``
+silences it).
+"""
+
+from __future__ import annotations
+
+import hashlib
+import os
+import platform
+import re
+import shutil
+import sys
+import threading
+import time
+from collections.abc import Callable
+from pathlib import Path
+from typing import Any, TypeVar
+
+import numba
+from numba.core import config, event
+
+__all__ = ["NOTICE_SECONDS", "cache_folder", "compiled_sources", "jit", "source_digest"]
+
+F = TypeVar("F", bound=Callable[..., Any])
+
+#: The package whose compiled sources the digest covers.
+PACKAGE = Path(__file__).resolve().parents[1]
+#: A file outside this folder holds compiled code when a line of it applies the decorator.
+_COMPILED = re.compile(rb"^\s*@jit\b|=\s*jit\(", re.MULTILINE)
+#: Cache folders of other versions kept beside the current one (other checkouts may share the root).
+KEEP_OTHER_VERSIONS = 4
+#: Compiling for longer than this in one process is said on standard error.
+NOTICE_SECONDS = 2.0
+
+
+def compiled_sources(package: Path = PACKAGE) -> list[Path]:
+    """Every file whose text is compiled: all of ``kernels/`` and each module that applies :func:`jit`."""
+    kernels = package / "kernels"
+    found = []
+    for path in sorted(package.rglob("*.py")):
+        if path.parent == kernels or _COMPILED.search(path.read_bytes()):
+            found.append(path)
+    return found
+
+
+def source_digest(package: Path = PACKAGE) -> str:
+    """A digest of the compiled sources and of the compiler that reads them."""
+    digest = hashlib.sha256(f"{numba.__version__} {platform.python_version()}".encode())
+    for path in compiled_sources(package):
+        digest.update(path.relative_to(package).as_posix().encode() + b"\0")
+        digest.update(path.read_bytes() + b"\0")
+    return digest.hexdigest()[:16]
+
+
+def _cache_root() -> Path:
+    if os.environ.get("GUARDSIM_CACHE_DIR"):
+        return Path(os.environ["GUARDSIM_CACHE_DIR"])
+    if os.environ.get("NUMBA_CACHE_DIR"):
+        return Path(os.environ["NUMBA_CACHE_DIR"]) / "guardsim"
+    base = os.environ.get("XDG_CACHE_HOME") or os.path.join(os.path.expanduser("~"), ".cache")
+    return Path(base) / "guardsim"
+
+
+def _prune(root: Path, current: Path) -> None:
+    # Other versions' folders are kept a while (another checkout may still use them), then dropped.
+    try:
+        others = [p for p in root.glob("kernels-*") if p != current and p.is_dir()]
+        others.sort(key=lambda p: p.stat().st_mtime, reverse=True)
+    except OSError:
+        return
+    for old in others[KEEP_OTHER_VERSIONS:]:
+        shutil.rmtree(old, ignore_errors=True)
+
+
+def _prepare_folder() -> Path:
+    root = _cache_root()
+    folder = root / f"kernels-{source_digest()}"
+    try:
+        if not folder.is_dir():
+            folder.mkdir(parents=True, exist_ok=True)
+            _prune(root, folder)
+        os.utime(folder)
+    except OSError:
+        # An unwritable cache root: numba then falls back to its own places, or compiles every run.
+        pass
+    return folder
+
+
+_FOLDER: Path | None = None
+
+
+def cache_folder() -> Path:
+    """The folder that holds this version's compiled kernels."""
+    global _FOLDER
+    if _FOLDER is None:
+        _FOLDER = _prepare_folder()
+    return _FOLDER
+
+
+def jit(function: F | None = None, *, inline: str = "never") -> Any:
+    """Compile ``function`` with numba (no Python objects, GIL released), cached in :func:`cache_folder`.
+
+    Use as ``@jit`` or ``@jit(inline="always")`` (numba then inlines it into compiled callers; called
+    from Python it is compiled and cached as any other).
+    """
+
+    def decorate(func: F) -> F:
+        # numba picks a cached function's folder when it is decorated: point it at this version's.
+        saved = config.CACHE_DIR
+        config.CACHE_DIR = str(cache_folder())
+        try:
+            return numba.njit(cache=True, nogil=True, inline=inline)(func)
+        finally:
+            config.CACHE_DIR = saved
+
+    return decorate if function is None else decorate(function)
+
+
+class _CompileNotice(event.Listener):
+    """Says once per process, on standard error, that guardsim is compiling, if that takes a while."""
+
+    def __init__(self) -> None:
+        self.depth = 0
+        self.began = 0.0
+        self.spent = 0.0
+        self.said = False
+        self.timer: threading.Timer | None = None
+
+    def on_start(self, event: Any) -> None:
+        if self.depth == 0:
+            self.began = time.perf_counter()
+            if self.timer is None and not self.said:
+                self.timer = threading.Timer(NOTICE_SECONDS, self._still_compiling)
+                self.timer.daemon = True
+                self.timer.start()
+        self.depth += 1
+
+    def on_end(self, event: Any) -> None:
+        self.depth -= 1
+        if self.depth == 0:
+            self.spent += time.perf_counter() - self.began
+            if self.spent > NOTICE_SECONDS:
+                self._say()
+
+    def _still_compiling(self) -> None:
+        if self.depth > 0:
+            self._say()
+
+    def _say(self) -> None:
+        if self.said or os.environ.get("GUARDSIM_COMPILE_NOTICE", "1") == "0":
+            return
+        self.said = True
+        stream = sys.__stderr__
+        if stream is not None:
+            print(f"guardsim: compiling kernels once for this version (kept in {cache_folder()})", file=stream)
+            stream.flush()
+
+
+event.register("numba:compile", _CompileNotice())

@@ -1,0 +1,204 @@
+"""The kernel library: each primitive against a plain or brute-force rule, the walkers that share the
+greedy step, and the cache that never runs stale compiled code."""
+
+from __future__ import annotations
+
+import itertools
+import os
+import shutil
+import subprocess
+import sys
+from collections import deque
+from pathlib import Path
+
+import numpy as np
+import pytest
+
+from guardsim import Scene, Simulation
+from guardsim.kernels.compiler import compiled_sources, source_digest
+from guardsim.kernels.distances import FAR, distances_from, fill_states, spread_states
+from guardsim.kernels.heap import heap_pop, heap_push
+from guardsim.kernels.states import cell_of_state, heading_of_state, state_of
+from guardsim.kernels.steps import greedy_step
+from guardsim.kernels.subsets import subset_path_bound
+from guardsim.planners.route_walk import descent_states
+from guardsim.vision.table import view_table
+from tests.common import REPO, level_from, tiny_levels
+
+CORRIDOR = np.array([[1, -1, -1, -1], [2, -1, 0, -1], [3, -1, 1, -1], [-1, -1, 2, -1]], dtype=np.int64)
+
+
+def _grid_neighbours(rows: int, cols: int, walls: set[int]) -> np.ndarray:
+    neighbours = np.full((rows * cols, 4), -1, dtype=np.int64)
+    for cell in range(rows * cols):
+        if cell in walls:
+            continue
+        row, col = divmod(cell, cols)
+        for direction, (dc, dr) in enumerate(((1, 0), (0, 1), (-1, 0), (0, -1))):
+            r, c = row + dr, col + dc
+            if 0 <= r < rows and 0 <= c < cols and r * cols + c not in walls:
+                neighbours[cell, direction] = r * cols + c
+    return neighbours
+
+
+def _plain_state_distances(neighbours: np.ndarray, start: int, backward: bool) -> list[int]:
+    """Breadth-first over states with a deque: forward steps, or the reversed graph."""
+    states = neighbours.shape[0] * 4
+    edges: list[list[int]] = [[] for _ in range(states)]
+    for state in range(states):
+        for direction in range(4):
+            there = int(neighbours[state // 4, direction])
+            if there >= 0:
+                a, b = state, there * 4 + direction
+                edges[b if backward else a].append(a if backward else b)
+    distance = [-1] * states
+    distance[start] = 0
+    queue = deque([start])
+    while queue:
+        state = queue.popleft()
+        for other in edges[state]:
+            if distance[other] < 0:
+                distance[other] = distance[state] + 1
+                queue.append(other)
+    return distance
+
+
+def test_state_numbering_round_trips_on_arrays() -> None:
+    cells, headings = np.arange(10), np.arange(10) % 4
+    states = state_of(cells, headings)
+    assert np.array_equal(cell_of_state(states), cells)
+    assert np.array_equal(heading_of_state(states), headings)
+
+
+@pytest.mark.parametrize("backward", [False, True], ids=["forward", "backward"])
+def test_state_fills_match_a_plain_search(backward: bool) -> None:
+    neighbours = _grid_neighbours(4, 5, walls={6, 7, 13})
+    for start in (0, 9 * 4 + 2, 19 * 4 + 3):
+        distance = np.full(neighbours.shape[0] * 4, -1, dtype=np.int32)
+        distance[start] = 0
+        queue = np.empty(distance.shape[0], dtype=np.int64)
+        queue[0] = start
+        label = np.full(distance.shape[0], -1, dtype=np.int32)
+        label[start] = 7
+        spread_states(neighbours, queue, 1, -1, distance, backward, label)
+        assert distance.tolist() == _plain_state_distances(neighbours, start, backward)
+        assert set(label[distance >= 0].tolist()) == {7}
+        if not backward:
+            filled = np.empty_like(distance)
+            fill_states(neighbours, start, -1, filled)
+            assert np.array_equal(filled, distance)
+
+
+def test_cell_fill_marks_the_unreached_far() -> None:
+    neighbours = _grid_neighbours(3, 3, walls={1, 4, 7})
+    distance = distances_from(neighbours, np.array([0]))
+    assert distance.reshape(3, 3).tolist() == [[0, FAR, FAR], [1, FAR, FAR], [2, FAR, FAR]]
+
+
+@pytest.mark.parametrize(
+    ("heading", "field", "expected"),
+    [
+        (2, [5, 1, 1, 1, 1], 2),  # every neighbour as near: keep the heading
+        (3, [5, 2, 1, 1, 2], 1),  # down and left tie: down comes first
+        (0, [5, 3, 3, 3, 0], 3),  # up is nearest
+    ],
+)
+def test_greedy_step_tie_rule(heading: int, field: list[int], expected: int) -> None:
+    # Cell 0 in the middle, its neighbours right, down, left, up are cells 1..4.
+    assert greedy_step(np.array(field), np.array([1, 2, 3, 4]), heading) == expected
+    assert greedy_step(np.array(field), np.array([-1, -1, -1, -1]), heading) == -1
+
+
+def test_heap_pops_in_key_order() -> None:
+    rng = np.random.default_rng(3)
+    keys_in = rng.integers(0, 20, size=200)
+    keys = np.empty(200, dtype=np.int64)
+    items = np.empty(200, dtype=np.int64)
+    size = 0
+    for index, key in enumerate(keys_in):
+        size = heap_push(keys, items, size, int(key), index)
+    popped = []
+    while size:
+        key, item, size = heap_pop(keys, items, size)
+        assert keys_in[item] == key
+        popped.append(key)
+    assert popped == sorted(keys_in.tolist())
+
+
+def test_subset_path_bound_matches_brute_force() -> None:
+    rng = np.random.default_rng(11)
+    for size in range(1, 6):
+        between = rng.integers(1, 9, size=(size, size))
+        between = np.minimum(between, between.T)
+        start = rng.integers(0, 9, size=size)
+        members = np.arange(size)
+        brute = 0
+        for count in range(1, size + 1):
+            for subset in itertools.combinations(range(size), count):
+                shortest = min(
+                    start[order[0]] + sum(between[a, b] for a, b in itertools.pairwise(order))
+                    for order in itertools.permutations(subset)
+                )
+                brute = max(brute, int(shortest))
+        order_work = np.empty((1 << size) * size, dtype=np.int64)
+        assert subset_path_bound(start, between, members, size, order_work, 1 << 30) == brute
+
+
+@tiny_levels
+def test_descent_walks_as_ripplefront_exact(level_data: dict) -> None:
+    scene = Scene.from_level(level_from(level_data))
+    simulation = Simulation(scene, "ripplefront-exact")
+    simulation.reset(seed=0)
+    seen_at_start = simulation.seen.ravel().copy()
+    while not simulation.done:
+        simulation.step()
+    trace = simulation.trace()
+    grid = scene.grid
+    table = view_table(grid, scene.vision())
+    (col, row), heading = trace.path[0], trace.headings[0]
+    states = descent_states(
+        table, grid.neighbours, trace.goal.ravel(), seen_at_start, grid.flat(col, row), heading, limit=10_000
+    )
+    walked = [state_of(grid.flat(c, r), h) for (c, r), h in zip(trace.path[1:], trace.headings[1:])]
+    assert states.tolist() == walked
+
+
+def test_compiled_sources_cover_every_compiled_file() -> None:
+    sources = {path.relative_to(REPO / "guardsim").as_posix() for path in compiled_sources()}
+    assert {"kernels/distances.py", "vision/cache.py", "optimum/search.py"} <= sources
+    assert "cli/play.py" not in sources
+
+
+_CALL = (
+    "import numpy as np; from guardsim.bounds.watchers import state_distances; "
+    "n = np.array([[1, -1, -1, -1], [2, -1, 0, -1], [3, -1, 1, -1], [-1, -1, 2, -1]], dtype=np.int64); "
+    "print(state_distances(n, 0)[[4, 8, 12]].tolist())"
+)
+
+
+def test_an_edited_kernel_is_compiled_again(tmp_path: Path) -> None:
+    # A caller in bounds/ carries a compiled copy of the fill it calls in kernels/: editing only the
+    # kernel's file must still change what the caller computes, with no cache deleted by hand.
+    copy = tmp_path / "src" / "guardsim"
+    shutil.copytree(REPO / "guardsim", copy, ignore=shutil.ignore_patterns("__pycache__"))
+    cache = tmp_path / "cache"
+    env = dict(os.environ, PYTHONPATH=str(copy.parent), GUARDSIM_CACHE_DIR=str(cache), GUARDSIM_COMPILE_NOTICE="0")
+
+    def run() -> str:
+        done = subprocess.run(
+            [sys.executable, "-c", _CALL], env=env, cwd=tmp_path, capture_output=True, text=True, check=True
+        )
+        return done.stdout.strip()
+
+    before_digest = source_digest(copy)
+    assert run() == "[1, 2, 3]"
+    folders = list(cache.glob("kernels-*"))
+    assert [folder.name for folder in folders] == [f"kernels-{before_digest}"]
+    assert any(folders[0].rglob("*.nbi"))
+    assert run() == "[1, 2, 3]"  # from the cache
+    kernel = copy / "kernels" / "distances.py"
+    text = kernel.read_text()
+    assert text.count("step = distance[state] + 1") == 1
+    kernel.write_text(text.replace("step = distance[state] + 1", "step = distance[state] + 2"))
+    assert source_digest(copy) != before_digest
+    assert run() == "[2, 4, 6]"
