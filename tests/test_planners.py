@@ -18,9 +18,9 @@ from click.testing import CliRunner
 
 from guardsim.cli import main
 from guardsim.cli.common import build_scene
+from guardsim.kernels.tours import improve_tour, nearest_neighbour_tour, tour_cost
 from guardsim.level import load_level
 from guardsim.planners import PLANNERS, EpisodeSetup, GuardState, RandomWalk, RippleFrontExact, Sweep, Tour
-from guardsim.planners.open_tour import improve_tour, nearest_neighbour_tour, tour_cost
 from guardsim.planners.ripplefront import FAR, ripple_sweep
 from guardsim.planners.team_share import guard_share
 from guardsim.planners.viewpoint_cover import greedy_cover

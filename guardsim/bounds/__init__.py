@@ -14,7 +14,7 @@ a watcher of each, which gives two bounds (why each is a lower bound: ``docs/bou
 Who sees each cell depends only on the level and the vision: it is the level's
 :class:`~guardsim.vision.table.ViewTable`, built once per grid and vision and shared with the planners.
 Per start, :mod:`~guardsim.bounds.watchers` finds state distances, :mod:`~guardsim.bounds.clusters`
-chooses the cells and :mod:`~guardsim.bounds.trees` weighs spanning trees over their watchers, all in a
+chooses the cells and :mod:`~guardsim.kernels.trees` weighs spanning trees over their watchers, all in a
 few linear passes over the state graph in compiled code.
 """
 

@@ -10,11 +10,13 @@ from __future__ import annotations
 
 import numpy as np
 
-from guardsim.bounds.area import AreaWatchers, cell_distances, choose_clusters, pick_matrix, spread_picks, start_edges
-from guardsim.bounds.trees import path_bound, prim_weight, spanning_tree_weight
+from guardsim.bounds.area import choose_clusters
 from guardsim.bounds.watchers import state_distances
 from guardsim.kernels.compiler import jit
+from guardsim.kernels.distances import new_fill
+from guardsim.kernels.picks import AreaWatchers, pick_matrix, spread_picks, start_edges
 from guardsim.kernels.steps import cell_of_state
+from guardsim.kernels.trees import path_bound, prim_weight, spanning_tree_weight
 from guardsim.vision.table import ViewTable
 
 __all__ = [
@@ -169,19 +171,19 @@ def cluster_bound(
     valid bound, so the largest found is returned. The choices:
 
     - fewest reachable watchers first, among the cells not seen from the start (any number of clusters,
-      each tree weighed by :func:`~guardsim.bounds.trees.spanning_tree_weight`); when the start sees
+      each tree weighed by :func:`~guardsim.kernels.trees.spanning_tree_weight`); when the start sees
       none of the cells this keeps over all of the area, it keeps the same cells, so the area's tree
       serves (:mod:`guardsim.bounds.area`). On the shipped levels and the six Moving AI starts of
       ``docs/bounds.md`` further orders (cells at least 1/2 or 3/4 of the eccentricity away,
       farthest nearest watcher first) never raised the best bound, so they are not tried (issue 15);
-    - up to :data:`MOST_CLUSTERS` cells picked farthest first (:func:`~guardsim.bounds.area.spread_picks`) among the
+    - up to :data:`MOST_CLUSTERS` cells picked farthest first (:func:`~guardsim.kernels.picks.spread_picks`) among the
       :data:`SPREAD_CANDIDATES` cells with the fewest reachable watchers not seen from the start:
       every prefix of the picks, then a local search over their subsets. More clusters do not always
       give more: a cluster between two others can shorten the tree.
 
     The **path bound** orders the first :data:`PATH_CLUSTERS` farthest-first picks instead of spanning
     them: the shortest order from the start through a subset of them, the largest over the subsets
-    (:func:`~guardsim.bounds.trees.path_bound`). A walk is a path, so this is never below the tree of
+    (:func:`~guardsim.kernels.trees.path_bound`). A walk is a path, so this is never below the tree of
     the same clusters and often well above it (a maze's dead ends, visited one after another).
 
     Parameters
@@ -236,7 +238,7 @@ def _start_bounds(
     """The per-start work in one compiled call (passing the area costs 0.1 ms a call): the eccentricity,
     the greedy clusters' start edge, the picks' cluster bound, its clusters, the path bound and the
     number of picks."""
-    gap = cell_distances(neighbours, np.full(1, start_cell, dtype=np.int64))
+    gap = new_fill(neighbours, -1, np.full(1, start_cell, dtype=np.int64))
     greedy_edge = start_edges(area, kept, gap).min() if kept.shape[0] else 0
     alive = np.zeros(area.pool.shape[0], dtype=np.bool_)
     count = 0

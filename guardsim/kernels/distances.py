@@ -25,6 +25,7 @@ __all__ = [
     "distances_from",
     "fill_distances",
     "fill_states",
+    "new_fill",
     "spread",
     "spread_states",
 ]
@@ -50,6 +51,14 @@ def fill_distances(neighbours: np.ndarray, sources: np.ndarray, far: int, distan
             queue[tail] = source
             tail += 1
     spread(neighbours, queue, tail, far, distance, -1)
+
+
+@jit
+def new_fill(neighbours: np.ndarray, far: int, sources: np.ndarray) -> np.ndarray:
+    """A new ``int32`` field of :func:`fill_distances`."""
+    distance = np.empty(neighbours.shape[0], dtype=np.int32)
+    fill_distances(neighbours, sources, far, distance)
+    return distance
 
 
 @jit

@@ -9,7 +9,7 @@ and the segment test is replaced by the grid line from the cell the eye is in to
 
 :func:`pose_visible_cells` is the reference: numpy for the cone and one pymunk ray per cell.
 :class:`PoseVision` is the fast path: a compiled kernel finds the cells in the cone and screens their rays
-against nearby walls (:func:`guardsim.vision.screen.screen`), and pymunk is asked only about close calls,
+against nearby walls (:func:`guardsim.kernels.screen.screen`), and pymunk is asked only about close calls,
 so the verdict on every ray is the same. Both are compared tick for tick in ``tests/test_motion.py``.
 """
 
@@ -21,10 +21,10 @@ import numpy as np
 
 from guardsim.grid import CoverageGrid
 from guardsim.kernels.compiler import jit
+from guardsim.kernels.screen import CLEAR, CLOSE_CALL, WallIndex, screen
 from guardsim.vision.bresenham import bresenham_clear, bresenham_line
 from guardsim.vision.cone import VisionCone
 from guardsim.vision.rules import LineOfSight
-from guardsim.vision.screen import CLEAR, CLOSE_CALL, WallIndex, screen
 from guardsim.world import World
 
 __all__ = ["PoseVision", "pose_visible_cells"]

@@ -18,10 +18,12 @@ from __future__ import annotations
 
 import numpy as np
 
+from guardsim.kernels.arrays import copy_into
 from guardsim.kernels.compiler import jit
+from guardsim.kernels.estimate import Heuristic, estimate, estimate_work
+from guardsim.kernels.frontier import frontier, frontier_work, node_hash
+from guardsim.kernels.heap import stable_order
 from guardsim.optimum.graph import SearchGraph
-from guardsim.optimum.heuristic import Heuristic, estimate, estimate_work
-from guardsim.optimum.search import _frontier, _hash, frontier_work
 
 __all__ = ["WIDENING", "beam_route", "widening_beam_route"]
 
@@ -54,7 +56,8 @@ def _beam(
     node_position[0] = start
     node_steps[0] = 0
     node_parent[0] = -1
-    node_seen[0] = views[start] | known
+    for word in range(words):
+        node_seen[0, word] = views[start, word] | known[word]
     count = 1
     layer = np.zeros(1, dtype=np.int64)
     best_node, best_steps = -1, 1 << 40
@@ -84,7 +87,7 @@ def _beam(
         table = np.full(slots, -1, dtype=np.int64)
         for node in layer:
             here = node_position[node]
-            found_count = _frontier(successors, views, here, node_seen[node], distance, queue, found, found_steps)
+            found_count = frontier(successors, views, here, node_seen[node], distance, queue, found, found_steps)
             for index in range(found_count):
                 there = int(found[index])
                 steps = int(node_steps[node] + found_steps[index])
@@ -95,7 +98,7 @@ def _beam(
                     seen[word] = node_seen[node, word] | views[there, word]
                     if seen[word] != full[word]:
                         complete = False
-                slot = np.int64(_hash(there, seen) >> np.uint64(1)) & (slots - 1)
+                slot = np.int64(node_hash(there, seen) >> np.uint64(1)) & (slots - 1)
                 merged = False
                 while table[slot] >= 0:
                     other = table[slot]
@@ -117,7 +120,7 @@ def _beam(
                 if (len(child_position) + 1) * 2 > slots:
                     slots <<= 1
                     table = _rehash(child_position, child_seen, slots)
-                    slot = np.int64(_hash(there, seen) >> np.uint64(1)) & (slots - 1)
+                    slot = np.int64(node_hash(there, seen) >> np.uint64(1)) & (slots - 1)
                     while table[slot] >= 0:
                         slot = (slot + 1) & (slots - 1)
                 table[slot] = len(child_position)
@@ -139,7 +142,7 @@ def _beam(
                     heuristic, child_position[index], child_seen[index], full, kept, link, gap, order
                 )
         # Least g + h first; ties to fewer steps, then the order found (a stable sort).
-        ranks = np.argsort(scores * (1 << 20) + np.array(child_steps), kind="mergesort")
+        ranks = stable_order(scores * (1 << 20) + np.array(child_steps))
         if count + width + 1 > room:
             # Keep the arrays bounded: drop nothing needed, since parents are only read back at the end.
             grow = max(room * 2, count + width + 1)
@@ -147,7 +150,8 @@ def _beam(
             node_steps = _grow(node_steps, grow)
             node_parent = _grow(node_parent, grow)
             wider = np.empty((grow, words), dtype=np.uint64)
-            wider[:room] = node_seen
+            for row in range(room):
+                copy_into(wider[row], 0, node_seen[row])
             node_seen = wider
             room = grow
         next_layer: list[int] = []
@@ -161,7 +165,7 @@ def _beam(
             node_position[kept_node] = child_position[rank]
             node_steps[kept_node] = child_steps[rank]
             node_parent[kept_node] = child_parent[rank]
-            node_seen[kept_node] = child_seen[rank]
+            copy_into(node_seen[kept_node], 0, child_seen[rank])
             if child_key[rank] < 0:
                 if child_steps[rank] < best_steps:
                     best_node, best_steps = kept_node, child_steps[rank]
@@ -186,7 +190,7 @@ def _rehash(child_position: list[int], child_seen: list[np.ndarray], slots: int)
     """A merge table of ``slots`` slots (a power of two) holding the children so far."""
     table = np.full(slots, -1, dtype=np.int64)
     for index in range(len(child_position)):
-        slot = np.int64(_hash(child_position[index], child_seen[index]) >> np.uint64(1)) & (slots - 1)
+        slot = np.int64(node_hash(child_position[index], child_seen[index]) >> np.uint64(1)) & (slots - 1)
         while table[slot] >= 0:
             slot = (slot + 1) & (slots - 1)
         table[slot] = index
@@ -196,7 +200,7 @@ def _rehash(child_position: list[int], child_seen: list[np.ndarray], slots: int)
 @jit
 def _grow(array: np.ndarray, size: int) -> np.ndarray:
     wider = np.empty(size, dtype=array.dtype)
-    wider[: array.shape[0]] = array
+    copy_into(wider, 0, array)
     return wider
 
 

@@ -19,12 +19,13 @@ import numpy as np
 from guardsim.grid import HEADINGS_PER_CELL, CoverageGrid, cell_of_state, heading_of_state, state_of
 from guardsim.kernels.compiler import jit
 from guardsim.kernels.distances import fill_states
+from guardsim.kernels.estimate import UNREACHABLE
 from guardsim.vision.table import ViewTable
 
 __all__ = ["FAR", "SearchGraph", "build_search_graph", "goal_bits", "route_steps", "watcher_distances"]
 
-#: Distance to a target the position cannot reach; fits int16 with room to add a few steps.
-FAR = 30000
+#: Distance to a target the position cannot reach (the estimate's own marker).
+FAR = UNREACHABLE
 
 
 class SearchGraph(NamedTuple):

@@ -23,9 +23,11 @@ from typing import NamedTuple
 
 import numpy as np
 
+from guardsim.kernels.arrays import copy_into
 from guardsim.kernels.compiler import jit
+from guardsim.kernels.estimate import Heuristic, eccentricity, estimate, estimate_work
+from guardsim.kernels.frontier import frontier, frontier_work, node_hash
 from guardsim.kernels.heap import heap_pop, heap_push
-from guardsim.optimum.heuristic import Heuristic, eccentricity, estimate, estimate_work
 
 __all__ = ["FULL", "PROVED", "RUNNING", "SearchState", "greedy_walk", "new_search_state", "run_search", "start_search"]
 
@@ -105,22 +107,12 @@ def new_search_state(capacity: int, words: int, positions: int) -> SearchState:
     )
 
 
-@jit(inline="always")
-def _hash(position: int, seen: np.ndarray) -> np.uint64:
-    value = np.uint64(position) * np.uint64(0x9E3779B97F4A7C15)
-    for word in range(seen.shape[0]):
-        value ^= seen[word]
-        value *= np.uint64(0xBF58476D1CE4E5B9)
-        value ^= value >> np.uint64(31)
-    return value
-
-
 @jit
 def _find(state: SearchState, position: int, seen: np.ndarray) -> tuple[int, int]:
     """(node, slot): the node of (position, seen), or -1 and the empty slot where it would go."""
     table = state.table
     mask = table.shape[0] - 1
-    slot = np.int64(_hash(position, seen) >> np.uint64(1)) & mask
+    slot = np.int64(node_hash(position, seen) >> np.uint64(1)) & mask
     words = seen.shape[0]
     while True:
         entry = table[slot]
@@ -136,65 +128,6 @@ def _find(state: SearchState, position: int, seen: np.ndarray) -> tuple[int, int
             if same:
                 return node, slot
         slot = (slot + 1) & mask
-
-
-@jit
-def _frontier(
-    successors: np.ndarray,
-    views: np.ndarray,
-    origin: int,
-    seen: np.ndarray,
-    distance: np.ndarray,
-    queue: np.ndarray,
-    found: np.ndarray,
-    found_steps: np.ndarray,
-) -> int:
-    """Positions seeing something unseen, reached from ``origin`` without passing another such one.
-
-    Fills ``found[:n]`` and ``found_steps[:n]``, returns ``n``. ``distance`` must be all -1 on entry and
-    is left so.
-    """
-    words = seen.shape[0]
-    distance[origin] = 0
-    queue[0] = origin
-    head, tail, count = 0, 1, 0
-    while head < tail:
-        here = queue[head]
-        head += 1
-        step = distance[here] + 1
-        for direction in range(4):
-            there = successors[here, direction]
-            if there < 0 or distance[there] >= 0:
-                continue
-            distance[there] = step
-            queue[tail] = there
-            tail += 1
-            fresh = False
-            for word in range(words):
-                if views[there, word] & ~seen[word]:
-                    fresh = True
-                    break
-            if fresh:
-                found[count] = there
-                found_steps[count] = step
-                count += 1
-                tail -= 1  # a frontier position ends the macro move: never expanded
-    for index in range(head):
-        distance[queue[index]] = -1
-    for index in range(count):
-        distance[found[index]] = -1
-    return count
-
-
-@jit
-def frontier_work(positions: int) -> tuple[np.ndarray, np.ndarray, np.ndarray, np.ndarray]:
-    """The work arrays ``distance, queue, found, found_steps`` of :func:`_frontier` (``distance`` all -1)."""
-    return (
-        np.full(positions, -1, dtype=np.int32),
-        np.empty(positions, dtype=np.int64),
-        np.empty(positions, dtype=np.int64),
-        np.empty(positions, dtype=np.int32),
-    )
 
 
 @jit
@@ -217,7 +150,7 @@ def greedy_walk(successors: np.ndarray, views: np.ndarray, full: np.ndarray, sta
                 done = False
         if done:
             break
-        count = _frontier(successors, views, here, seen, distance, queue, found, found_steps)
+        count = frontier(successors, views, here, seen, distance, queue, found, found_steps)
         if count == 0:
             return np.zeros(0, dtype=np.int64), -1
         best, best_steps, best_gain = -1, 0, -1
@@ -250,7 +183,7 @@ def _add(state: SearchState, slot: int, position: int, steps: int, parent: int, 
     state.steps[node] = steps
     state.parent[node] = parent
     state.estimate[node] = h
-    state.seen[node] = seen
+    copy_into(state.seen[node], 0, seen)
     state.table[slot] = node + 1
     state.earlier[node] = state.latest[position]
     state.latest[position] = node
@@ -364,7 +297,7 @@ def run_search(
         expanded += 1
         counters[EXPANSIONS] += 1
         parent_h = state.estimate[node]
-        count = _frontier(successors, views, here, state.seen[node], distance, queue, found, found_steps)
+        count = frontier(successors, views, here, state.seen[node], distance, queue, found, found_steps)
         for index in range(count):
             there = found[index]
             steps = g + found_steps[index]

@@ -6,7 +6,7 @@ One guard (:func:`cover_loop`):
    (:func:`guardsim.planners.viewpoint_cover.greedy_cover`), or the states another planner's coverage
    walk arrived in;
 2. ordered into a short closed tour with true step counts between them: the open-tour heuristics of
-   :mod:`guardsim.planners.open_tour` (nearest neighbour, then 2-opt and Or-opt) on the usual reduction of
+   :mod:`guardsim.kernels.tours` (nearest neighbour, then 2-opt and Or-opt) on the usual reduction of
    a cycle to an open tour, a copy of the first viewpoint that must come last;
 3. walked (shortest paths, straight on where a choice is free) and pruned: a viewpoint whose cells the
    rest of the lap sees anyway is dropped, and the tour is ordered again.
@@ -25,9 +25,9 @@ import numpy as np
 
 from guardsim.grid import CoverageGrid, cell_of_state, heading_of_state, state_of
 from guardsim.kernels.distances import FAR, distance_fields, distances_from
+from guardsim.kernels.tours import improve_tour, nearest_neighbour_tour
 from guardsim.patrol.model import Patrol
 from guardsim.patrol.scoring import PatrolScore, score_patrol, score_rank
-from guardsim.planners.open_tour import improve_tour, nearest_neighbour_tour
 from guardsim.planners.tour import route_costs
 from guardsim.planners.viewpoint_cover import greedy_cover
 from guardsim.vision.table import ViewTable

@@ -19,10 +19,11 @@ from __future__ import annotations
 
 import numpy as np
 
+from guardsim.kernels.arrays import copy_into
 from guardsim.kernels.compiler import jit
 from guardsim.kernels.distances import FAR
 from guardsim.kernels.steps import cell_of_state, heading_of_state, state_of
-from guardsim.planners.route_walk import WalkLog, WalkTeam, look, team_walk
+from guardsim.kernels.walk import WalkLog, WalkTeam, look, team_walk
 from guardsim.vision.table import ViewTable
 
 __all__ = ["POLISH_REACH", "POLISH_TICKS", "polish_route"]
@@ -128,7 +129,7 @@ def _change(
     cell, heading = cell_of_state(state), heading_of_state(state)
     tail = route[index + 1 :]
     if choice == 0:
-        out[: tail.size] = tail
+        copy_into(out, 0, tail)
         return tail.size
     choice -= 1
     if choice < 3:
@@ -149,14 +150,14 @@ def _change(
         elif choice == 8 * reach and index + 1 < size:
             out[0] = route[index + 1]
             out[1] = state
-            out[2 : tail.size + 1] = tail[1:]
+            copy_into(out, 2, tail[1:])
             return tail.size + 1
         else:
             return -1
     if entry[changed] < 0:
         return -1
     out[0] = changed
-    out[1 : tail.size + 1] = tail
+    copy_into(out, 1, tail)
     return tail.size + 1
 
 
@@ -191,9 +192,9 @@ def _polish(
     best = _resume(neighbours, table, goal, trial_seen, cell, heading, route, limit, far, log)
     if best < 0:
         return route, -1
-    base_path[: best + 1] = path[0, : best + 1]
-    base_facing[: best + 1] = facing[0, : best + 1]
-    base_reached[:size] = reached[0, :size]
+    copy_into(base_path, 0, path[0, : best + 1])
+    copy_into(base_facing, 0, facing[0, : best + 1])
+    copy_into(base_reached, 0, reached[0, :size])
     route = route.copy()
     changed = np.empty(longest, dtype=np.int64)
     no_counts = np.zeros(0, dtype=np.int32)
@@ -221,7 +222,7 @@ def _polish(
                     continue
                 used += 1
                 walked += room
-                trial_seen[:] = here_seen
+                copy_into(trial_seen, 0, here_seen)
                 ticks = _resume(
                     neighbours, table, goal, trial_seen,
                     base_path[tick], base_facing[tick], changed[:length], room, far, log,
@@ -229,8 +230,8 @@ def _polish(
                 if ticks < 0:
                     continue
                 best = tick + ticks
-                base_path[tick : best + 1] = path[0, : ticks + 1]
-                base_facing[tick : best + 1] = facing[0, : ticks + 1]
+                copy_into(base_path, tick, path[0, : ticks + 1])
+                copy_into(base_facing, tick, facing[0, : ticks + 1])
                 base_reached[index:] = -1
                 for later in range(length):
                     if reached[0, later] >= 0:

@@ -21,9 +21,10 @@ import numpy as np
 from guardsim.grid import CoverageGrid
 from guardsim.kernels.compiler import jit
 from guardsim.kernels.distances import FAR
+from guardsim.kernels.fill import FillArrays, try_fill
 from guardsim.kernels.steps import greedy_step, state_of
 from guardsim.planners.base import OUTCOME, TICK, UNSEEN, EpisodeArrays
-from guardsim.vision.cache import FillArrays, VisionCache, try_fill
+from guardsim.vision.cache import VisionCache
 
 __all__ = ["COLD_START_CELLS", "CompiledRippleFront", "compiling_pays", "is_compiled"]
 

@@ -1,7 +1,7 @@
 """Splitting viewpoints among guards: one open tour per guard, balanced so the longest is short.
 
 Each viewpoint first goes to the guard whose start is nearest to it (ties to the lowest number), and
-each guard's viewpoints are ordered into an open tour (:mod:`guardsim.planners.open_tour`). Then, as
+each guard's viewpoints are ordered into an open tour (:mod:`guardsim.kernels.tours`). Then, as
 long as it helps, one viewpoint moves from the longest tour to the place in another guard's tour where
 it costs least, provided both tours end up shorter than the longest was; both tours are then improved
 again. This is the min-max multiple-TSP heuristic of moving nodes off the critical tour (after the
@@ -14,7 +14,7 @@ from __future__ import annotations
 import numpy as np
 
 from guardsim.kernels.compiler import jit
-from guardsim.planners.open_tour import improve_tour, nearest_neighbour_tour, tour_cost
+from guardsim.kernels.tours import improve_tour, nearest_neighbour_tour, tour_cost
 
 __all__ = ["plan_routes"]
 

@@ -7,7 +7,7 @@ Per episode, at the first decision, for the whole team at once:
 
 1. the viewpoints that still see something unseen are ordered into an open travelling-salesman tour
    from the start with true step counts (nearest neighbour, then 2-opt and Or-opt,
-   :mod:`guardsim.planners.open_tour`), or split into one tour per guard
+   :mod:`guardsim.kernels.tours`), or split into one tour per guard
    (:mod:`guardsim.planners.team_routes`);
 2. the team's walk along those tours is simulated tick for tick with the level's view table
    (:mod:`guardsim.planners.route_walk`): viewpoints whose cells have all been seen meanwhile are

@@ -14,7 +14,7 @@ from __future__ import annotations
 import numpy as np
 
 from guardsim.kernels.compiler import jit
-from guardsim.vision.targets import cone_target
+from guardsim.kernels.targets import cone_target
 
 __all__ = ["bresenham_clear", "bresenham_line", "bresenham_visible"]
 

@@ -91,11 +91,33 @@ def _two_opt(
             if j + 1 < length:
                 new += cost[tour[i], tour[j + 1]]
             if new < old:
-                tour[i : j + 1] = tour[i : j + 1][::-1].copy()
+                for k in range((j + 1 - i) // 2):
+                    tour[i + k], tour[j - k] = tour[j - k], tour[i + k]
                 _reposition(cost, tour, forward, backward, at)
                 improved = True
                 break
     return improved
+
+
+@jit
+def _move_stretch(tour: np.ndarray, i: int, j: int, gap: int, flip: bool) -> None:
+    """Move ``tour[i..j]`` (reversed if ``flip``) to between ``tour[gap]`` and ``tour[gap + 1]``."""
+    size = j + 1 - i
+    stretch = np.empty(size, dtype=np.int64)
+    for k in range(size):
+        stretch[k] = tour[j - k] if flip else tour[i + k]
+    if gap < i:
+        # The nodes gap+1 .. i-1 shift right by the stretch's size.
+        for k in range(i - 1, gap, -1):
+            tour[k + size] = tour[k]
+        for k in range(size):
+            tour[gap + 1 + k] = stretch[k]
+    else:
+        # The nodes j+1 .. gap shift left.
+        for k in range(j + 1, gap + 1):
+            tour[k - size] = tour[k]
+        for k in range(size):
+            tour[gap + 1 - size + k] = stretch[k]
 
 
 @jit
@@ -131,10 +153,7 @@ def _or_opt(
                         if gap + 1 < length:
                             added += cost[tail, tour[gap + 1]]
                         if added < removed:
-                            stretch = tour[i : j + 1][::-1].copy() if flip else tour[i : j + 1].copy()
-                            rest = np.concatenate((tour[:i], tour[j + 1 :]))
-                            place = gap + 1 if gap < i else gap + 1 - size
-                            tour[:] = np.concatenate((rest[:place], stretch, rest[place:]))
+                            _move_stretch(tour, i, j, gap, flip)
                             _reposition(cost, tour, forward, backward, at)
                             moved = True
                             break
@@ -147,7 +166,6 @@ def _or_opt(
     return improved
 
 
-@jit
 def improve_tour(cost: np.ndarray, tour: np.ndarray, neighbours: int = 12, max_rounds: int = 1000) -> np.ndarray:
     """2-opt and Or-opt until neither shortens the tour; ``tour[0]`` stays first.
 
@@ -170,22 +188,25 @@ def improve_tour(cost: np.ndarray, tour: np.ndarray, neighbours: int = 12, max_r
     numpy.ndarray
         The improved tour.
     """
-    tour = tour.copy()
+    tour = np.array(tour, dtype=np.int64)
+    count = min(neighbours, tour.shape[0] - 1)
+    near = np.empty((cost.shape[0], max(count, 0)), dtype=np.int64)
+    if count > 0:
+        # Each member's nearest others there and back, ties in tour order (a stable sort).
+        there_and_back = cost[np.ix_(tour, tour)] + cost[np.ix_(tour, tour)].T
+        order = np.argsort(there_and_back, axis=1, kind="stable")
+        ranked = tour[order]
+        others = ranked[ranked != tour[:, None]].reshape(tour.shape[0], -1)
+        near[tour] = others[:, :count]
+    return _improve(cost, tour, near, max_rounds)
+
+
+@jit
+def _improve(cost: np.ndarray, tour: np.ndarray, near: np.ndarray, max_rounds: int) -> np.ndarray:
     length = tour.shape[0]
     forward = np.zeros(length, dtype=np.int64)
     backward = np.zeros(length, dtype=np.int64)
     at = np.full(cost.shape[0], -1, dtype=np.int64)
-    count = min(neighbours, length - 1)
-    near = np.empty((cost.shape[0], max(count, 0)), dtype=np.int64)
-    members = tour.copy()
-    for node in tour:
-        there_and_back = cost[node, members] + cost[members, node]
-        order = np.argsort(there_and_back, kind="mergesort")
-        taken = 0
-        for index in order:
-            if members[index] != node and taken < count:
-                near[node, taken] = members[index]
-                taken += 1
     _reposition(cost, tour, forward, backward, at)
     for _ in range(max_rounds):
         changed = _two_opt(cost, tour, forward, backward, at, near)

@@ -1,0 +1,79 @@
+"""The exact search's macro moves: from a position, the nearest positions that see something unseen,
+and the node hash; shared by the search and its beam seed."""
+
+from __future__ import annotations
+
+import numpy as np
+
+from guardsim.kernels.compiler import jit
+
+__all__ = ["frontier", "frontier_work", "node_hash"]
+
+
+@jit(inline="always")
+def node_hash(position: int, seen: np.ndarray) -> np.uint64:
+    value = np.uint64(position) * np.uint64(0x9E3779B97F4A7C15)
+    for word in range(seen.shape[0]):
+        value ^= seen[word]
+        value *= np.uint64(0xBF58476D1CE4E5B9)
+        value ^= value >> np.uint64(31)
+    return value
+
+
+@jit
+def frontier(
+    successors: np.ndarray,
+    views: np.ndarray,
+    origin: int,
+    seen: np.ndarray,
+    distance: np.ndarray,
+    queue: np.ndarray,
+    found: np.ndarray,
+    found_steps: np.ndarray,
+) -> int:
+    """Positions seeing something unseen, reached from ``origin`` without passing another such one.
+
+    Fills ``found[:n]`` and ``found_steps[:n]``, returns ``n``. ``distance`` must be all -1 on entry and
+    is left so.
+    """
+    words = seen.shape[0]
+    distance[origin] = 0
+    queue[0] = origin
+    head, tail, count = 0, 1, 0
+    while head < tail:
+        here = queue[head]
+        head += 1
+        step = distance[here] + 1
+        for direction in range(4):
+            there = successors[here, direction]
+            if there < 0 or distance[there] >= 0:
+                continue
+            distance[there] = step
+            queue[tail] = there
+            tail += 1
+            fresh = False
+            for word in range(words):
+                if views[there, word] & ~seen[word]:
+                    fresh = True
+                    break
+            if fresh:
+                found[count] = there
+                found_steps[count] = step
+                count += 1
+                tail -= 1  # a frontier position ends the macro move: never expanded
+    for index in range(head):
+        distance[queue[index]] = -1
+    for index in range(count):
+        distance[found[index]] = -1
+    return count
+
+
+@jit
+def frontier_work(positions: int) -> tuple[np.ndarray, np.ndarray, np.ndarray, np.ndarray]:
+    """The work arrays ``distance, queue, found, found_steps`` of :func:`frontier` (``distance`` all -1)."""
+    return (
+        np.full(positions, -1, dtype=np.int32),
+        np.empty(positions, dtype=np.int64),
+        np.empty(positions, dtype=np.int64),
+        np.empty(positions, dtype=np.int32),
+    )
