@@ -202,3 +202,21 @@ def test_an_edited_kernel_is_compiled_again(tmp_path: Path) -> None:
     kernel.write_text(text.replace("step = distance[state] + 1", "step = distance[state] + 2"))
     assert source_digest(copy) != before_digest
     assert run() == "[2, 4, 6]"
+
+
+def test_compiling_is_said_once_on_one_line(tmp_path: Path) -> None:
+    env = dict(os.environ, GUARDSIM_CACHE_DIR=str(tmp_path / "cache"), GUARDSIM_COMPILE_NOTICE="0.01")
+
+    def stderr() -> list[str]:
+        done = subprocess.run(
+            [sys.executable, "-c", _CALL], env=env, cwd=REPO, capture_output=True, text=True, check=True
+        )
+        return done.stderr.splitlines()
+
+    said = stderr()
+    assert len(said) == 1 and said[0].startswith("guardsim: compiling kernels once for this version (kept in ")
+    assert str(tmp_path / "cache" / "kernels-") in said[0]
+    assert stderr() == []  # loaded from the cache: nothing compiled, nothing said
+    env["GUARDSIM_COMPILE_NOTICE"] = "0"
+    env["GUARDSIM_CACHE_DIR"] = str(tmp_path / "other")
+    assert stderr() == []

@@ -8,8 +8,8 @@ everything is compiled afresh; nothing is ever deleted by hand.
 
 The folder lies under ``$GUARDSIM_CACHE_DIR`` if set, else ``$NUMBA_CACHE_DIR/guardsim``, else
 ``$XDG_CACHE_HOME/guardsim`` (``~/.cache/guardsim``). Compiling once takes seconds; when it takes more
-than :data:`NOTICE_SECONDS` a process says so on one line of standard error (``GUARDSIM_COMPILE_NOTICE=0``
-silences it).
+than :data:`NOTICE_SECONDS` (or ``$GUARDSIM_COMPILE_NOTICE`` seconds) a process says so on one line of
+standard error; ``GUARDSIM_COMPILE_NOTICE=0`` silences it.
 """
 
 from __future__ import annotations
@@ -126,6 +126,16 @@ def jit(function: F | None = None, *, inline: str = "never") -> Any:
     return decorate if function is None else decorate(function)
 
 
+def _notice_seconds() -> float | None:
+    """Seconds of compiling after which the notice is said; None: never."""
+    value = os.environ.get("GUARDSIM_COMPILE_NOTICE", "")
+    try:
+        seconds = float(value) if value else NOTICE_SECONDS
+    except ValueError:
+        return NOTICE_SECONDS
+    return seconds if seconds > 0 else None
+
+
 class _CompileNotice(event.Listener):
     """Says once per process, on standard error, that guardsim is compiling, if that takes a while."""
 
@@ -139,8 +149,9 @@ class _CompileNotice(event.Listener):
     def on_start(self, event: Any) -> None:
         if self.depth == 0:
             self.began = time.perf_counter()
-            if self.timer is None and not self.said:
-                self.timer = threading.Timer(NOTICE_SECONDS, self._still_compiling)
+            seconds = _notice_seconds()
+            if self.timer is None and not self.said and seconds is not None:
+                self.timer = threading.Timer(seconds, self._still_compiling)
                 self.timer.daemon = True
                 self.timer.start()
         self.depth += 1
@@ -149,7 +160,8 @@ class _CompileNotice(event.Listener):
         self.depth -= 1
         if self.depth == 0:
             self.spent += time.perf_counter() - self.began
-            if self.spent > NOTICE_SECONDS:
+            seconds = _notice_seconds()
+            if seconds is not None and self.spent > seconds:
                 self._say()
 
     def _still_compiling(self) -> None:
@@ -157,7 +169,7 @@ class _CompileNotice(event.Listener):
             self._say()
 
     def _say(self) -> None:
-        if self.said or os.environ.get("GUARDSIM_COMPILE_NOTICE", "1") == "0":
+        if self.said:
             return
         self.said = True
         stream = sys.__stderr__
