@@ -1,16 +1,19 @@
-"""Cold start: the wall time of the first ``guardsim play`` on a fresh install, and of the next one.
+"""First use: the wall time of each command's first run with an empty compiled cache, and of the next run.
 
-"Fresh" means a new virtual environment with guardsim installed from this checkout (``--fresh-venv``),
-or, by default, this checkout's ``.venv`` with an empty numba cache and no compiled bytecode of
-guardsim's own (which is what a new install has: pip compiles the dependencies' bytecode at install).
-Each figure is the whole process, from start to exit, as a user waits for it.
+Each command runs in a fresh process on a copy of this checkout without bytecode or compiled caches
+(``GUARDSIM_CACHE_DIR`` and ``NUMBA_CACHE_DIR`` pointed at a new empty folder), as a new install runs
+it, then once more on the cache the first run left. Each figure is the whole process, from start to
+exit, as a user waits for it. ``--rev REV`` measures another commit the same way (a ``git worktree``),
+for before/after tables; ``--fresh-venv`` installs the copy into a new virtual environment first.
 
-    python benchmarks/cold_start.py [--level levels/square.json] [--runs 3] [--fresh-venv]
+    python benchmarks/cold_start.py [--commands play,tour,patrol,sneak,bounds,optimum,bench] [--runs 1]
+    python benchmarks/cold_start.py --rev d763654
 """
 
 from __future__ import annotations
 
 import argparse
+import json
 import os
 import shutil
 import subprocess
@@ -21,52 +24,159 @@ from pathlib import Path
 
 REPO = Path(__file__).resolve().parents[1]
 
+#: The commands measured, in table order (``--commands`` picks among them).
+NAMES = ("play", "tour", "patrol", "sneak", "bounds", "optimum", "bench")
 
-def timed(command: list[str], env: dict[str, str], cwd: Path) -> float:
+#: A 12 x 9 room with one pillar, for ``optimum``.
+ROOM = {
+    "name": "room with a pillar",
+    "outer": [[0, 0], [12, 0], [12, 9], [0, 9]],
+    "holes": [[[5, 4], [7, 4], [7, 5], [5, 5]]],
+    "guard": {"start": [0.5, 0.5], "heading": "right"},
+}
+
+
+def command_lines(scratch: Path, checkout: Path, run: str) -> dict[str, list[str]]:
+    """Each measured command's arguments (after ``guardsim``); ``run`` keeps output folders apart."""
+    square = str(checkout / "levels" / "square.json")
+    return {
+        "play": ["play", square],
+        "tour": ["play", square, "--planner", "tour"],
+        "patrol": ["patrol", square, "--out", str(scratch / f"patrol-{run}")],
+        "sneak": ["sneak", square, "--patrol", str(scratch / "setup" / "patrol.json"),
+                  "--from", "2.5,2.5", "--to", "57.5,57.5"],
+        "bounds": ["bounds", square],
+        "optimum": ["optimum", str(scratch / "room.json")],
+        "bench": ["bench", square, "--episodes", "4", "--workers", "1", "--out", str(scratch / f"bench-{run}")],
+    }  # fmt: skip
+
+
+def fresh_copy(source: Path, target: Path) -> Path:
+    """A copy of a checkout without bytecode, compiled caches or its virtual environment."""
+    ignore = shutil.ignore_patterns(
+        ".venv", ".git", "__pycache__", "*.nbi", "*.nbc", "*.egg-info", ".mypy_cache", ".ruff_cache", ".pytest_cache",
+        ".hypothesis",
+    )  # fmt: skip
+    shutil.copytree(source, target, ignore=ignore)
+    return target
+
+
+def timed(command: list[str], env: dict[str, str], cwd: Path) -> tuple[float, int, str]:
+    """Wall seconds, exit status and standard error of one run."""
     began = time.perf_counter()
-    subprocess.run(command, env=env, cwd=cwd, check=True, stdout=subprocess.DEVNULL)
-    return time.perf_counter() - began
+    done = subprocess.run(
+        command, env=env, cwd=cwd, stdout=subprocess.DEVNULL, stderr=subprocess.PIPE, text=True, errors="replace"
+    )
+    return time.perf_counter() - began, done.returncode, done.stderr
+
+
+def failure(status: int, stderr: str) -> str:
+    """A failed run for a table cell: its exit status and the last line of its standard error."""
+    last = (stderr.strip().splitlines() or ["(no stderr)"])[-1].strip()[:120]
+    return f"exit {status}: {last}".replace("|", "\\|")
 
 
 def main() -> None:
     parser = argparse.ArgumentParser(description=__doc__.splitlines()[0])
-    parser.add_argument("--level", default="levels/square.json")
-    parser.add_argument("--runs", type=int, default=3, help="cold runs (each with a new empty cache)")
+    parser.add_argument("--commands", default=",".join(NAMES), help=f"comma-separated, of: {','.join(NAMES)}")
+    parser.add_argument("--runs", type=int, default=1, help="cold runs per command (each with a new empty cache)")
+    parser.add_argument("--rev", help="measure this commit instead of the working tree")
     parser.add_argument("--fresh-venv", action="store_true", help="install into a new virtual environment first")
-    parser.add_argument("--extra", action="append", default=[], help="more play options, e.g. --extra=--planner=tour")
     args = parser.parse_args()
-    with tempfile.TemporaryDirectory() as scratch:
-        root = Path(scratch)
-
-        def fresh_copy(name: str) -> Path:
-            # A copy of the checkout without bytecode or numba caches.
-            copy = root / name
-            shutil.copytree(REPO, copy, ignore=shutil.ignore_patterns(".venv", ".git", "__pycache__", "*.nbi", "*.nbc"))
-            return copy
-
-        source = fresh_copy("guardsim-src")
-        if args.fresh_venv:
-            subprocess.run([sys.executable, "-m", "venv", str(root / "venv")], check=True)
-            pip = [str(root / "venv" / "bin" / "python"), "-m", "pip", "install", "--quiet"]
-            subprocess.run([*pip, str(source)], check=True)
-            python = str(root / "venv" / "bin" / "python")
-            env = dict(os.environ)
+    args.commands = [name.strip() for name in args.commands.split(",") if name.strip()]
+    unknown = [name for name in args.commands if name not in NAMES]
+    if unknown or not args.commands:
+        parser.error(f"--commands: unknown {','.join(unknown) or '(none given)'}; known: {','.join(NAMES)}")
+    if args.runs < 1:
+        parser.error("--runs must be at least 1")
+    with tempfile.TemporaryDirectory() as folder:
+        scratch = Path(folder)
+        (scratch / "room.json").write_text(json.dumps(ROOM))
+        if args.rev:
+            checkout = scratch / "checkout"
+            subprocess.run(["git", "-C", str(REPO), "worktree", "add", "--detach", str(checkout), args.rev],
+                           check=True, capture_output=True)  # fmt: skip
         else:
-            python = str(REPO / ".venv" / "bin" / "python")
-            env = dict(os.environ, PYTHONPATH=str(source))
-        command = [python, "-m", "guardsim.cli", "play", str(REPO / args.level), *args.extra]
-        cold, warm = [], []
+            checkout = REPO
+        try:
+            rows = measure(args, scratch, checkout)
+        finally:
+            if args.rev:
+                subprocess.run(["git", "-C", str(REPO), "worktree", "remove", "--force", str(checkout)], check=False)
+    label = args.rev or "working tree"
+    print(f"first use on {label} ({'fresh venv' if args.fresh_venv else 'this venv'}, empty caches), seconds")
+    print("| command | first run s | second run s | said compiling |")
+    print("| --- | --- | --- | --- |")
+    for row in rows:
+        print(row)
+
+
+def measure(args: argparse.Namespace, scratch: Path, checkout: Path) -> list[str]:
+    if args.fresh_venv:
+        source = fresh_copy(checkout, scratch / "source")
+        subprocess.run([sys.executable, "-m", "venv", str(scratch / "venv")], check=True)
+        subprocess.run([str(scratch / "venv" / "bin" / "python"), "-m", "pip", "install", "--quiet", str(source)],
+                       check=True)  # fmt: skip
+        python, base_env = str(scratch / "venv" / "bin" / "python"), dict(os.environ)
+    else:
+        python, base_env = str(REPO / ".venv" / "bin" / "python"), dict(os.environ)
+    base_env.pop("GUARDSIM_COMPILE_NOTICE", None)
+
+    def environment(cache: Path, copy: Path | None) -> dict[str, str]:
+        env = dict(base_env, GUARDSIM_CACHE_DIR=str(cache), NUMBA_CACHE_DIR=str(cache))
+        if copy is not None:
+            env["PYTHONPATH"] = str(copy)
+        return env
+
+    def run_line(name: str, run: str) -> list[str]:
+        return [python, "-m", "guardsim.cli", *command_lines(scratch, checkout, run)[name]]
+
+    # sneak reads a patrol, made beforehand in a cache of its own, so that sneak's own first run is cold.
+    setup_failed = ""
+    if "sneak" in args.commands:
+        setup_copy = None if args.fresh_venv else fresh_copy(checkout, scratch / "copy-setup")
+        setup = [*run_line("patrol", "setup")[:5], "--out", str(scratch / "setup")]
+        _, status, stderr = timed(setup, environment(scratch / "cache-setup", setup_copy), scratch)
+        if status:
+            setup_failed = "making patrol.json: " + failure(status, stderr)
+    rows: list[str] = []
+    for name in args.commands:
+        shown = " ".join(command_lines(scratch, checkout, "0")[name])
+        shown = shown.replace(f"{checkout}/", "").replace(str(scratch), "…")
+        cold: list[float] = []
+        warm: list[float] = []
+        said: list[bool] = []
+        failed = setup_failed if name == "sneak" else ""
         for run in range(args.runs):
-            env["NUMBA_CACHE_DIR"] = str(root / f"numba-cache-{run}")
-            if not args.fresh_venv and run:
-                env["PYTHONPATH"] = str(fresh_copy(f"guardsim-src-{run}"))
-            cold.append(timed(command, env, root))
-            warm.append(timed(command, env, root))
-    print(
-        f"level {args.level} {' '.join(args.extra)} ({'fresh venv' if args.fresh_venv else 'this venv, empty caches'})"
-    )
-    print(f"first play (cold): {' '.join(f'{s:.2f}' for s in cold)} s; median {sorted(cold)[len(cold) // 2]:.2f} s")
-    print(f"second play (warm): {' '.join(f'{s:.2f}' for s in warm)} s; median {sorted(warm)[len(warm) // 2]:.2f} s")
+            if failed:
+                break
+            copy = None if args.fresh_venv else fresh_copy(checkout, scratch / f"copy-{name}-{run}")
+            env = environment(scratch / f"cache-{name}-{run}", copy)
+            # Run from the scratch folder: from the checkout, Python would import its package, not the copy.
+            seconds, status, stderr = timed(run_line(name, f"{run}a"), env, scratch)
+            said.append("compiling" in stderr)
+            if status:
+                failed = "first run " + failure(status, stderr)
+                break
+            cold.append(seconds)
+            # A new output folder: bench resumes from a results.csv it finds, and would run nothing.
+            seconds, status, stderr = timed(run_line(name, f"{run}b"), env, scratch)
+            if status:
+                failed = "second run " + failure(status, stderr)
+                break
+            warm.append(seconds)
+        compiling = ("yes" if all(said) else "no" if not any(said) else "some runs") if said else ""
+        if failed:
+            rows.append(f"| `guardsim {shown}` | {failed} | | {compiling} |")
+        else:
+            rows.append(f"| `guardsim {shown}` | {median(cold):.1f} | {median(warm):.1f} | {compiling} |")
+        print(rows[-1], file=sys.stderr, flush=True)
+    return rows
+
+
+def median(values: list[float]) -> float:
+    ordered = sorted(values)
+    return ordered[len(ordered) // 2]
 
 
 if __name__ == "__main__":

@@ -4,6 +4,7 @@ greedy step, and the cache that never runs stale compiled code."""
 from __future__ import annotations
 
 import itertools
+import json
 import os
 import shutil
 import subprocess
@@ -220,3 +221,52 @@ def test_compiling_is_said_once_on_one_line(tmp_path: Path) -> None:
     env["GUARDSIM_COMPILE_NOTICE"] = "0"
     env["GUARDSIM_CACHE_DIR"] = str(tmp_path / "other")
     assert stderr() == []
+
+
+_UNPLANNED = """
+import json, sys
+from numba.core import event
+from guardsim.kernels.ahead import compile_ahead
+depth, unplanned = [0], []
+class Watch(event.Listener):
+    def on_start(self, e):
+        depth[0] += 1
+    def on_end(self, e):
+        depth[0] -= 1
+        if depth[0] == 0:
+            unplanned.append(f"{e.data['dispatcher'].py_func.__qualname__}{tuple(map(str, e.data['args']))}")
+command = sys.argv[1]
+compile_ahead(command)
+event.register("numba:compile", Watch())
+from guardsim.cli import main
+try:
+    main(sys.argv[2:])
+except SystemExit as stop:
+    assert not stop.code, stop.code
+print(json.dumps(unplanned))
+"""
+
+
+@pytest.mark.parametrize("command", ["play:tour", "patrol", "sneak", "bounds", "optimum", "bench"])
+def test_compiling_ahead_covers_what_the_command_compiles(command: str, tmp_path: Path) -> None:
+    # After compile_ahead(command), running the command compiles nothing more: the plan is current.
+    # (When this fails, run `python benchmarks/compile_plan.py --commands COMMAND`.)
+    square = str(REPO / "levels" / "square.json")
+    room = tmp_path / "room.json"
+    room.write_text('{"outer": [[0, 0], [12, 0], [12, 9], [0, 9]], "holes": [[[5, 4], [7, 4], [7, 5], [5, 5]]]}')
+    patrol = tmp_path / "patrol"
+    lines = {
+        "play:tour": ["play", square, "--planner", "tour"],
+        "patrol": ["patrol", square, "--out", str(patrol)],
+        "sneak": ["sneak", square, "--patrol", str(patrol / "patrol.json"), "--from", "2.5,2.5", "--to", "57.5,57.5"],
+        "bounds": ["bounds", square],
+        "optimum": ["optimum", str(room), "--start", "0.5,0.5"],
+        "bench": ["bench", square, "--episodes", "2", "--workers", "1", "--out", str(tmp_path / "bench")],
+    }
+    env = dict(os.environ, GUARDSIM_COMPILE_NOTICE="0")
+    if command == "sneak":
+        subprocess.run([sys.executable, "-m", "guardsim.cli", *lines["patrol"]], env=env, cwd=tmp_path,
+                       check=True, capture_output=True)  # fmt: skip
+    done = subprocess.run([sys.executable, "-c", _UNPLANNED, command, *lines[command]], env=env, cwd=tmp_path,
+                          check=True, capture_output=True, text=True)  # fmt: skip
+    assert json.loads(done.stdout.strip().splitlines()[-1]) == []

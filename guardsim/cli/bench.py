@@ -161,6 +161,9 @@ def bench(
     total = len(done) + len(pending)
     began = time.perf_counter()
     if pending:
+        from guardsim.kernels.ahead import compile_ahead
+
+        compile_ahead("bench")
         run_pending(folder, pending, done_before=len(done), workers=workers, scheduler=scheduler)
     else:
         click.echo(f"{folder}: all {total} episodes already done", err=True)

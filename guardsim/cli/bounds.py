@@ -90,6 +90,9 @@ def bounds(
     start and heading are chosen as by `guardsim play`: --start, else the level's, else drawn from --seed.
     """
     level = load(level_path, max_cells, max_vertices, max_file_bytes)
+    from guardsim.kernels.ahead import compile_ahead
+
+    compile_ahead("bounds")
     began = time.perf_counter()
     scene = build_scene(level, los, fov, view_range)
     _, cell, first_heading = cli_start(scene, seed=seed, episode=episode, start=start, heading=heading)

@@ -103,6 +103,9 @@ def optimum(
     where it is to stderr every 10 s. The start and heading are chosen as by `guardsim play`.
     """
     level = load(level_path, max_cells, max_vertices, max_file_bytes, map_import)
+    from guardsim.kernels.ahead import compile_ahead
+
+    compile_ahead("optimum")
     scene = build_scene(level, los, fov, view_range)
     _, cell, first_heading = cli_start(scene, seed=seed, episode=episode, start=start, heading=heading)
     result = solve(

@@ -156,6 +156,9 @@ def patrol(
 
         check_tiled_formats(tiled_source, tiled_out)
     level = load(level_path, max_cells, max_vertices, max_file_bytes)
+    from guardsim.kernels.ahead import compile_ahead
+
+    compile_ahead("patrol")
     scene = build_scene(level, los, fov, view_range)
     folder = output_folder(out_dir)
     setup = patrol_setup(scene, guards, seed=seed)

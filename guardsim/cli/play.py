@@ -120,6 +120,9 @@ def play(
     if record_field and planner not in ("ripplefront", "ripplefront-exact"):
         raise click.BadParameter(f"planner {planner} keeps no field to record", param_hint="--record-field")
     level = load(level_path, max_cells, max_vertices, max_file_bytes, map_import)
+    from guardsim.kernels.ahead import compile_ahead
+
+    compile_ahead(f"play:{planner}")
     began = time.perf_counter()
     scene = build_scene(level, los, fov, view_range)
     rng, cell, first_heading = cli_start(scene, seed=seed, episode=episode, start=start, heading=heading)

@@ -80,6 +80,9 @@ def sneak(
     if (gif or html) and out_dir is None:
         raise GuardsimError("--gif and --html write into the --out folder: give --out DIR")
     level = load(level_path, max_cells, max_vertices, max_file_bytes)
+    from guardsim.kernels.ahead import compile_ahead
+
+    compile_ahead("sneak")
     scene = build_scene(level, los, fov, view_range)
     grid = scene.grid
     patrol = read_patrol(patrol_path, grid, level=level.name)

@@ -27,9 +27,9 @@ from pathlib import Path
 from typing import Any, TypeVar
 
 import numba
-from numba.core import config, event
+from numba.core import config, event, types
 
-__all__ = ["NOTICE_SECONDS", "cache_folder", "compiled_sources", "jit", "source_digest"]
+__all__ = ["NOTICE_SECONDS", "cache_folder", "compiled_sources", "jit", "silence_notice", "source_digest"]
 
 F = TypeVar("F", bound=Callable[..., Any])
 
@@ -119,9 +119,11 @@ def jit(function: F | None = None, *, inline: str = "never") -> Any:
         saved = config.CACHE_DIR
         config.CACHE_DIR = str(cache_folder())
         try:
-            return numba.njit(cache=True, nogil=True, inline=inline)(func)
+            dispatcher = numba.njit(cache=True, nogil=True, inline=inline)(func)
         finally:
             config.CACHE_DIR = saved
+        _one_version_per_type(dispatcher)
+        return dispatcher
 
     return decorate if function is None else decorate(function)
 
@@ -134,6 +136,22 @@ def _notice_seconds() -> float | None:
     except ValueError:
         return NOTICE_SECONDS
     return seconds if seconds > 0 else None
+
+
+def _one_version_per_type(dispatcher: Any) -> None:
+    """Compile ``dispatcher`` once per argument *type* when compiled code calls it.
+
+    numba types a constant argument of a compiled call as its value (``Literal[int](-1)``,
+    ``Literal[bool](True)``) and compiles the callee anew for every value it is called with: one fill
+    was compiled five times by the bounds alone. No kernel here depends on a constant's value to type, so
+    calls resolve on the plain types, as calls from Python do.
+    """
+    resolve = dispatcher.get_call_template
+
+    def get_call_template(args: tuple[Any, ...], kws: dict[str, Any]) -> Any:
+        return resolve(tuple(types.unliteral(a) for a in args), {k: types.unliteral(v) for k, v in kws.items()})
+
+    dispatcher.get_call_template = get_call_template
 
 
 class _CompileNotice(event.Listener):
@@ -178,4 +196,10 @@ class _CompileNotice(event.Listener):
             stream.flush()
 
 
-event.register("numba:compile", _CompileNotice())
+_NOTICE = _CompileNotice()
+event.register("numba:compile", _NOTICE)
+
+
+def silence_notice() -> None:
+    """Say nothing more about compiling in this process (a helper process of one that says it)."""
+    _NOTICE.said = True

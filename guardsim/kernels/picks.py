@@ -105,7 +105,9 @@ def spread_picks(
     size = alive.shape[0]
     far = np.iinfo(np.int32).max // 2
     # Unreachable cells as ``far``: the least over a candidate's cells is then a plain minimum.
-    near = np.where(gap >= 0, gap, far).astype(np.int32)
+    near = np.empty(gap.shape[0], dtype=np.int32)
+    for cell in range(gap.shape[0]):
+        near[cell] = gap[cell] if gap[cell] >= 0 else far
     alive = alive.copy()
     value = np.full(size, far, dtype=np.int64)
     # The live candidates, in order; dead ones are dropped as each pick's pass meets them.

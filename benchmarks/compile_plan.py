@@ -1,0 +1,110 @@
+"""Record guardsim/kernels/plan.json: what each command compiles, with what argument types, in what order.
+
+Runs each command once on a shipped level, in a fresh process with an empty cache and without compiling
+ahead, and notes every compiled function it calls from Python (a compile that no other compile is
+under), its argument types and how long it took. ``guardsim.kernels.ahead`` replays the plan on two
+processes the first time a command runs. Re-run after changing a kernel's arguments or adding one to a
+command; ``tests/test_kernels.py`` says when the plan is stale.
+
+    python benchmarks/compile_plan.py [--commands tour,patrol,...]
+"""
+
+from __future__ import annotations
+
+import argparse
+import json
+import os
+import subprocess
+import sys
+import tempfile
+from pathlib import Path
+
+REPO = Path(__file__).resolve().parents[1]
+PLAN = REPO / "guardsim" / "kernels" / "plan.json"
+
+#: A 12 x 9 room with one pillar: small enough for ``optimum`` to prove in a moment.
+ROOM = {
+    "name": "room with a pillar",
+    "outer": [[0, 0], [12, 0], [12, 9], [0, 9]],
+    "holes": [[[5, 4], [7, 4], [7, 5], [5, 5]]],
+    "guard": {"start": [0.5, 0.5], "heading": "right"},
+}
+
+
+def commands(scratch: Path) -> dict[str, list[str]]:
+    """Each plan entry's command line (``guardsim`` left out)."""
+    square = str(REPO / "levels" / "square.json")
+    return {
+        "play:tour": ["play", square, "--planner", "tour"],
+        "patrol": ["patrol", square, "--out", str(scratch / "patrol")],
+        "sneak": ["sneak", square, "--patrol", str(scratch / "patrol" / "patrol.json"),
+                  "--from", "2.5,2.5", "--to", "57.5,57.5", "--out", str(scratch / "sneak")],
+        "bounds": ["bounds", square],
+        "optimum": ["optimum", str(scratch / "room.json")],
+        "bench": ["bench", square, "--episodes", "4", "--workers", "1", "--out", str(scratch / "bench")],
+    }  # fmt: skip
+
+
+RECORDER = """
+import json, sys, time
+from numba.core import event
+from guardsim.kernels.ahead import encode_type
+records, depth, began = [], [0], [0.0]
+class Recorder(event.Listener):
+    def on_start(self, e):
+        depth[0] += 1
+        if depth[0] == 1:
+            began[0] = time.perf_counter()
+    def on_end(self, e):
+        depth[0] -= 1
+        if depth[0] > 0:
+            return
+        function = e.data["dispatcher"].py_func
+        arguments = [encode_type(a) for a in e.data["args"]]
+        seconds = round(time.perf_counter() - began[0], 2)
+        records.append([function.__module__, function.__name__, arguments, seconds])
+event.register("numba:compile", Recorder())
+from guardsim.cli import main
+try:
+    main(sys.argv[2:])
+except SystemExit:
+    pass
+with open(sys.argv[1], "w") as out:
+    json.dump(records, out)
+"""
+
+
+def record(name: str, line: list[str], scratch: Path) -> list[list[object]]:
+    env = dict(os.environ, GUARDSIM_CACHE_DIR=str(scratch / f"cache-{name}"), GUARDSIM_COMPILE_AHEAD="0",
+               GUARDSIM_COMPILE_NOTICE="0")  # fmt: skip
+    out = scratch / f"{name}.json"
+    subprocess.run([sys.executable, "-c", RECORDER, str(out), *line], env=env, cwd=REPO, check=True,
+                   stdout=subprocess.DEVNULL)  # fmt: skip
+    entries: list[list[object]] = json.loads(out.read_text())
+    return entries
+
+
+def main() -> None:
+    parser = argparse.ArgumentParser(description=__doc__.splitlines()[0])
+    parser.add_argument("--commands", help="comma-separated plan entries to record again (default: all)")
+    args = parser.parse_args()
+    plan = json.loads(PLAN.read_text()) if PLAN.exists() else {}
+    with tempfile.TemporaryDirectory() as folder:
+        scratch = Path(folder)
+        (scratch / "room.json").write_text(json.dumps(ROOM))
+        lines = commands(scratch)
+        # sneak reads a patrol: make it first, in a cache of its own.
+        env = dict(os.environ, GUARDSIM_CACHE_DIR=str(scratch / "cache-setup"), GUARDSIM_COMPILE_NOTICE="0")
+        subprocess.run([sys.executable, "-m", "guardsim.cli", *lines["patrol"]], env=env, cwd=REPO, check=True,
+                       stdout=subprocess.DEVNULL)  # fmt: skip
+        chosen = args.commands.split(",") if args.commands else list(lines)
+        for name in chosen:
+            plan[name] = record(name, lines[name], scratch)
+            seconds = sum(float(entry[3]) for entry in plan[name])  # type: ignore[arg-type]
+            print(f"{name}: {len(plan[name])} compiled functions, {seconds:.1f} s of compiling")
+    PLAN.write_text(json.dumps(plan, indent=1) + "\n")
+    print(f"wrote {PLAN.relative_to(REPO)}")
+
+
+if __name__ == "__main__":
+    main()

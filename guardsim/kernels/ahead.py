@@ -1,0 +1,185 @@
+"""Compiling ahead, on two cores: the first run of a command compiles its kernels in two processes.
+
+numba compiles a function the first time it is called, one after another, on one core. A command's
+kernels are known in advance, though: ``plan.json`` beside this file lists, per command, every compiled
+function the command calls from Python and the argument types it calls it with, in the order it needs
+them (recorded by ``python benchmarks/compile_plan.py``). On a cache folder that has not yet seen the
+command, :func:`compile_ahead` splits that list in two halves of about equal compile time; a forked
+process compiles one half while this one compiles the other, both into the same cache, and then the
+command runs on cached code. Later runs find the folder's mark and skip it.
+
+A plan that no longer matches the code (a function renamed, its argument types changed) costs only
+time: what compiling ahead missed is compiled when first called, as without it, and ``tests/
+test_kernels.py`` checks that the plan is current.
+"""
+
+from __future__ import annotations
+
+import contextlib
+import importlib
+import json
+import multiprocessing
+import os
+from functools import cache
+from pathlib import Path
+from typing import Any
+
+import numba
+import numpy as np
+from numba.core import types
+from numba.core.dispatcher import Dispatcher
+
+from guardsim.kernels.compiler import cache_folder, silence_notice
+
+__all__ = ["PLAN_FILE", "compile_ahead", "decode_type", "encode_type", "plan"]
+
+#: The recorded plan: ``{command: [[module, function, [argument type, ...], seconds], ...]}``.
+PLAN_FILE = Path(__file__).with_name("plan.json")
+
+_DONE: set[str] = set()
+
+
+def encode_type(value: Any) -> Any:
+    """A numba argument type as plain JSON data (arrays, scalars and named tuples of them)."""
+    if isinstance(value, types.Array):
+        return {"array": str(np.dtype(str(value.dtype))), "ndim": value.ndim, "layout": value.layout,
+                "readonly": not value.mutable}  # fmt: skip
+    if isinstance(value, types.BaseNamedTuple):
+        cls = value.instance_class
+        return {"tuple": f"{cls.__module__}:{cls.__qualname__}", "fields": [encode_type(t) for t in value.types]}
+    if isinstance(value, (types.Integer, types.Float, types.Boolean)):
+        return str(np.dtype(str(value)))
+    raise TypeError(f"no plan encoding for the numba type {value}")
+
+
+def decode_type(data: Any) -> Any:
+    """The numba type of :func:`encode_type`'s data."""
+    if isinstance(data, str):
+        return numba.from_dtype(np.dtype(data))
+    if "array" in data:
+        dtype = numba.from_dtype(np.dtype(data["array"]))
+        return types.Array(dtype, data["ndim"], data["layout"], readonly=data["readonly"])
+    module, _, name = data["tuple"].partition(":")
+    cls = getattr(importlib.import_module(module), name)
+    return types.BaseTuple.from_types([decode_type(field) for field in data["fields"]], cls)
+
+
+@cache
+def plan() -> dict[str, list[list[Any]]]:
+    """The recorded plan (empty if the file is missing)."""
+    try:
+        loaded: dict[str, list[list[Any]]] = json.loads(PLAN_FILE.read_text(encoding="utf-8"))
+    except (OSError, ValueError):
+        return {}
+    return loaded
+
+
+def _dispatcher(entry: list[Any]) -> Any:
+    return getattr(importlib.import_module(entry[0]), entry[1])
+
+
+def _name(dispatcher: Any) -> str:
+    return f"{dispatcher.py_func.__module__}:{dispatcher.py_func.__qualname__}"
+
+
+def _compiled_with(dispatcher: Any) -> set[str]:
+    """The compiled functions that compiling ``dispatcher`` compiles: itself and, recursively, every
+    compiled function its code names."""
+    found: set[str] = set()
+    waiting = [dispatcher]
+    while waiting:
+        function = waiting.pop()
+        python = function.py_func
+        name = _name(function)
+        if name in found:
+            continue
+        found.add(name)
+        for word in python.__code__.co_names:
+            named = python.__globals__.get(word)
+            if isinstance(named, Dispatcher):
+                waiting.append(named)
+    return found
+
+
+def _compile(entries: list[list[Any]]) -> None:
+    for entry in entries:
+        _dispatcher(entry).compile(tuple(decode_type(argument) for argument in entry[2]))
+
+
+def _halves(entries: list[list[Any]]) -> tuple[list[list[Any]], list[list[Any]]]:
+    """Two lists of about equal recorded compile time, each in the plan's order.
+
+    An entry whose code calls another entry's function stays with it, else both halves would compile
+    that function. (Smaller functions both call are compiled by both.) The heaviest groups are placed
+    first, each on the lighter side.
+    """
+    group = list(range(len(entries)))
+
+    def root(index: int) -> int:
+        while group[index] != index:
+            group[index] = group[group[index]]
+            index = group[index]
+        return index
+
+    owner: dict[str, int] = {}
+    for index, entry in enumerate(entries):
+        owner.setdefault(_name(_dispatcher(entry)), index)
+    for index, entry in enumerate(entries):
+        for name in _compiled_with(_dispatcher(entry)):
+            if name in owner:
+                group[root(index)] = root(owner[name])
+    members: dict[int, list[int]] = {}
+    for index in range(len(entries)):
+        members.setdefault(root(index), []).append(index)
+    sides: tuple[list[int], list[int]] = ([], [])
+    load = [0.0, 0.0]
+    weight = {key: sum(float(entries[k][3]) for k in found) for key, found in members.items()}
+    for key in sorted(members, key=lambda k: (-weight[k], k)):
+        side = 0 if load[0] <= load[1] else 1
+        sides[side].extend(members[key])
+        load[side] += weight[key]
+    return [entries[k] for k in sorted(sides[0])], [entries[k] for k in sorted(sides[1])]
+
+
+def compile_ahead(command: str) -> None:
+    """Compile (or load) every kernel ``command`` will call, on two processes if it was never compiled.
+
+    Quick when done before: once per process, and once per cache folder (a mark file). Never raises:
+    an entry that fails to compile is left to be compiled, and its error reported, when it is called.
+    """
+    if command in _DONE or os.environ.get("GUARDSIM_COMPILE_AHEAD") == "0":
+        return
+    _DONE.add(command)
+    entries = plan().get(command, [])
+    mark = cache_folder() / f"ahead-{command}"
+    if not entries or mark.exists():
+        return
+    mine, theirs = _halves(entries)
+    # Set numba's compiler up once, here, so that the forked helper starts with it ready.
+    numba.core.registry.cpu_target.target_context.refresh()
+    helper = None
+    if theirs and "fork" in multiprocessing.get_all_start_methods():
+        helper = multiprocessing.get_context("fork").Process(target=_helper, args=(theirs,), daemon=True)
+        helper.start()
+    else:
+        mine = entries
+    _compile_quietly(mine)
+    if helper is not None:
+        helper.join()
+    with contextlib.suppress(OSError):  # an unwritable cache: the next run compiles ahead again, no harm
+        mark.touch()
+
+
+def _helper(entries: list[list[Any]]) -> None:
+    silence_notice()  # this process has said it already, or will
+    _compile_quietly(entries)
+
+
+def _compile_quietly(entries: list[list[Any]]) -> None:
+    # A stale entry only costs time; the call it stood for compiles, and reports, on its own.
+    for entry in entries:
+        try:
+            _compile([entry])
+        except Exception:
+            continue
+
