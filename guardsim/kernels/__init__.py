@@ -6,6 +6,7 @@ compiler; each module imports numba itself.
 
 - :mod:`~guardsim.kernels.compiler`: the decorator, the cache folder named after a digest of every
   compiled source (never stale), and the one-line notice while compiling;
+- :mod:`~guardsim.kernels.ahead`: a command's kernels compiled ahead on two processes, from ``plan.json``;
 - :mod:`~guardsim.kernels.states`: the state numbering (a cell and one of four headings), plain Python;
 - :mod:`~guardsim.kernels.steps`: the numbering for compiled code, and the greedy step every walker takes;
 - :mod:`~guardsim.kernels.distances`: breadth-first fills over cells and over states;
@@ -18,5 +19,6 @@ compiler; each module imports numba itself.
 - :mod:`~guardsim.kernels.estimate` and :mod:`~guardsim.kernels.frontier`: the exact search's lower
   bound and macro moves, shared with its beam seed;
 - :mod:`~guardsim.kernels.targets`, :mod:`~guardsim.kernels.screen` and :mod:`~guardsim.kernels.fill`:
-  a cone's cells, the wall screen and the compiled vision fill.
+  a cone's cells, the wall screen and the compiled vision fill;
+- :mod:`~guardsim.kernels.arrays`: copying into a slice by a plain loop.
 """

@@ -9,7 +9,7 @@ split walk is a path of these macro moves no longer than the walk. So the search
 
 Nodes are kept in flat arrays (position, steps, parent, seen bitset), found again through an
 open-addressing hash table on (position, seen), and ordered by a binary heap on ``f = g + h`` (ties:
-the deeper node first). The estimate ``h`` is :func:`guardsim.optimum.heuristic.estimate`, with
+the deeper node first). The estimate ``h`` is :func:`guardsim.kernels.estimate.estimate`, with
 pathmax. A greedy walk (nearest frontier first) gives the first incumbent; nodes whose ``f`` reaches the
 incumbent are never stored. The search runs in chunks of expansions, so the caller can stop it between
 chunks; everything it needs lives in the :class:`SearchState` arrays.

@@ -3,7 +3,7 @@
 Routing viewpoints by step counts between them misjudges what the walk sees on the way; a viewpoint
 one cell over, facing elsewhere, or left out may let the walk cover the level sooner. This tries such
 changes one at a time, each judged by walking the changed route with the loop's own rule
-(:func:`guardsim.planners.route_walk.team_walk`), and keeps any that ends the walk sooner (first
+(:func:`guardsim.kernels.walk.team_walk`), and keeps any that ends the walk sooner (first
 improvement, sweeping the route from its head, again while a sweep helps).
 
 The changes to the viewpoint at index ``j`` of the route: leave it out; turn it to each other heading;
