@@ -155,8 +155,9 @@ def compile_ahead(command: str) -> None:
     if not entries or mark.exists():
         return
     mine, theirs = _halves(entries)
-    # Set numba's compiler up once, here, so that the forked helper starts with it ready.
-    numba.core.registry.cpu_target.target_context.refresh()
+    # Set numba's compiler up once, here (a first compile sets up most of it), so that the forked
+    # helper starts with it ready.
+    numba.njit(_warm_up)(np.zeros(1, dtype=np.int64))
     helper = None
     if theirs and "fork" in multiprocessing.get_all_start_methods():
         helper = multiprocessing.get_context("fork").Process(target=_helper, args=(theirs,), daemon=True)
@@ -168,6 +169,10 @@ def compile_ahead(command: str) -> None:
         helper.join()
     with contextlib.suppress(OSError):  # an unwritable cache: the next run compiles ahead again, no harm
         mark.touch()
+
+
+def _warm_up(values: np.ndarray) -> int:
+    return int(values.sum()) + values.shape[0]
 
 
 def _helper(entries: list[list[Any]]) -> None:
