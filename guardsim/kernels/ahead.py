@@ -101,9 +101,8 @@ def _compiled_with(dispatcher: Any) -> set[str]:
     return found
 
 
-def _compile(entries: list[list[Any]]) -> None:
-    for entry in entries:
-        _dispatcher(entry).compile(tuple(decode_type(argument) for argument in entry[2]))
+def _compile(entry: list[Any]) -> None:
+    _dispatcher(entry).compile(tuple(decode_type(argument) for argument in entry[2]))
 
 
 def _halves(entries: list[list[Any]]) -> tuple[list[list[Any]], list[list[Any]]]:
@@ -184,7 +183,7 @@ def _compile_quietly(entries: list[list[Any]]) -> None:
     # A stale entry only costs time; the call it stood for compiles, and reports, on its own.
     for entry in entries:
         try:
-            _compile([entry])
+            _compile(entry)
         except Exception:
             continue
 
