@@ -20,6 +20,7 @@ from pathlib import Path
 
 import numpy as np
 
+from guardsim.detection import GuardDetection
 from guardsim.level import load_level
 from guardsim.patrol import patrol_setup, plan_loop, plan_patrol
 from guardsim.patrol.replay import patrol_trace
@@ -80,7 +81,9 @@ def main() -> None:
             )
             for number, (source, target) in enumerate(_corners(scene, setup.goal)):
                 began = time.perf_counter()
-                result = sneak_check(scene.grid, setup.table, loop.patrol, source, target)
+                result = sneak_check(
+                    scene.grid, setup.table, loop.patrol, source, target, detection=GuardDetection.of_level(scene.level)
+                )
                 seconds = time.perf_counter() - began
                 assert result.path is not None
                 answer = (

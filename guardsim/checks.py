@@ -25,6 +25,7 @@ from dataclasses import dataclass, field
 from pathlib import Path
 from typing import Any, NamedTuple
 
+from guardsim.detection import GuardDetection
 from guardsim.errors import GuardsimError
 from guardsim.patrol import Patrol, patrol_setup, plan_loop, read_patrol, score_patrol
 from guardsim.planners import PLANNERS
@@ -254,7 +255,9 @@ def run_checks(scene: Scene, rules: CheckRules, *, seed: int = 0) -> list[CheckR
                 f"{rule.where}: to {rule.target[0]:g},{rule.target[1]:g} cannot be reached from "
                 f"{rule.source[0]:g},{rule.source[1]:g}"
             )
-        result = sneak_check(scene.grid, setup.table, patrol, source, target)
+        result = sneak_check(
+            scene.grid, setup.table, patrol, source, target, detection=GuardDetection.of_level(scene.level)
+        )
         path = result.path
         assert path is not None
         answer = "sneaks" if result.found else "caught"

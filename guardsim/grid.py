@@ -33,6 +33,7 @@ __all__ = [
 #: Heading number k points at 90*k degrees with y down (clockwise on screen).
 DIRECTIONS: tuple[tuple[int, int], ...] = ((1, 0), (0, 1), (-1, 0), (0, -1))
 
+
 @dataclass(frozen=True, eq=False)
 class CoverageGrid:
     """Cells, their traversability and their 4-connectivity.

@@ -45,7 +45,9 @@ def test_missing_dask_is_one_line_error(tmp_path: Path, monkeypatch: pytest.Monk
     """Without dask.distributed installed, --scheduler says what to install."""
     monkeypatch.setitem(sys.modules, "distributed", None)  # makes `import distributed` fail as if absent
     hole = write_level(tmp_path, SQUARE_WITH_HOLE)
-    line = assert_one_line_error(bench(hole, "--scheduler", "tcp://127.0.0.1:8786", "--out", tmp_path), "Dask scheduler")
+    line = assert_one_line_error(
+        bench(hole, "--scheduler", "tcp://127.0.0.1:8786", "--out", tmp_path), "Dask scheduler"
+    )
     assert "pip install 'guardsim[cluster]'" in line
 
 

@@ -144,6 +144,10 @@ def test_every_known_key_is_in_the_schema() -> None:
             "move_speed": 2,
             "turn_speed": 180,
             "tick_hz": 30,
+            "detect_near": 0.5,
+            "detect_far": 2,
+            "forget": 3,
+            "suspicious": 0.4,
         },
     )
     assert set(schema["properties"]) == set(full)

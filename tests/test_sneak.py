@@ -12,6 +12,7 @@ import pytest
 from click.testing import CliRunner
 
 from guardsim.cli import main
+from guardsim.detection import GuardDetection
 from guardsim.grid import cell_of_state, heading_of_state, state_of
 from guardsim.patrol import Patrol, patrol_setup, plan_loop
 from guardsim.scene import Scene
@@ -112,7 +113,9 @@ def test_sneak_agrees_with_brute_force(name: str) -> None:
         patrol = Patrol(np.stack([np.tile(lap, period // lap.size) for lap in laps]), period, "test")
         for _ in range(3):
             source, target = (int(cells[rng.integers(cells.size)]) for _ in range(2))
-            result = sneak_check(grid, setup.table, patrol, source, target)
+            result = sneak_check(
+                grid, setup.table, patrol, source, target, detection=GuardDetection.of_level(scene.level)
+            )
             found, fastest, fewest = _brute_force(grid.neighbours, result.seen, source, target)
             assert result.path is not None
             assert result.found == found
@@ -140,13 +143,20 @@ def test_a_post_in_a_one_cell_corridor_stops_every_sneak() -> None:
     grid = scene.grid
     source, target = grid.flat(0, 0), grid.flat(10, 2)
     for heading in range(4):
-        result = sneak_check(grid, setup.table, _corridor_post(scene, 5, heading), source, target)
+        result = sneak_check(
+            grid,
+            setup.table,
+            _corridor_post(scene, 5, heading),
+            source,
+            target,
+            detection=GuardDetection.of_level(scene.level),
+        )
         assert not result.found
         assert result.path is not None and result.path.ticks_in_view >= 1
         assert 5 + 1 * 11 in result.path.cells.tolist()
     # The loop patrol of the same level, by contrast, leaves a gap to slip through.
     loop = plan_loop(setup, 1, planner="cover")[0].patrol
-    assert sneak_check(grid, setup.table, loop, source, target).found
+    assert sneak_check(grid, setup.table, loop, source, target, detection=GuardDetection.of_level(scene.level)).found
 
 
 def test_hiding_windows_are_the_longest_unseen_runs() -> None:

@@ -199,5 +199,3 @@ def _build(grid: CoverageGrid, table: ViewTable, label: int, candidates: int) ->
         np.empty((size, grid.size), dtype=np.int32), np.empty((size, size), dtype=np.int32),
         np.empty((size, size), dtype=np.int32), np.zeros(size, dtype=np.bool_),
     )  # fmt: skip
-
-

@@ -215,7 +215,15 @@ def cluster_bound(
             kept = area.position[cells]
             tree = int(spanning_tree_weight(neighbours, label, len(kept))) if len(kept) else 0
     eccentricity, greedy_edge, value, count, path, picks = _start_bounds(
-        area, kept, seen, cell_of_state(start_state), neighbours, SPREAD_CANDIDATES, MOST_CLUSTERS, MOST_TRIALS, PATH_CLUSTERS
+        area,
+        kept,
+        seen,
+        cell_of_state(start_state),
+        neighbours,
+        SPREAD_CANDIDATES,
+        MOST_CLUSTERS,
+        MOST_TRIALS,
+        PATH_CLUSTERS,
     )
     best = (tree + (0 if greedy_only else int(greedy_edge)), len(kept)) if len(kept) else (0, 0)
     if picks < 2:

@@ -26,6 +26,7 @@ __all__ = [
     "FiniteFloatRange",
     "build_scene",
     "cli_start",
+    "detection_options",
     "gif_suffix",
     "limit_options",
     "load",
@@ -33,6 +34,7 @@ __all__ = [
     "parse_point",
     "reports_errors",
     "vision_options",
+    "with_detection",
     "with_options",
 ]
 
@@ -209,6 +211,27 @@ def vision_options(command: F) -> F:
         help="Line of sight: pymunk rays against the walls, or Bresenham lines over free cells (grid solvers' rule).",
     )(command)
     return command
+
+
+def detection_options(command: F) -> F:
+    """Options that override the level's detection keys: --detect-near, --detect-far, --forget, --suspicious."""
+    helps = {
+        "suspicious": "Awareness level (0 to 1) at which a guard becomes suspicious [default: the level's, else 0.5].",
+        "forget": "Seconds for a full awareness meter to drain out of view [default: the level's, else 4].",
+        "detect-far": "Seconds in view to be detected at the edge of the view range [default: the level's, else 1.5].",
+        "detect-near": "Seconds in view to be detected at distance 0 (0 and --detect-far 0: seen is caught) "
+        "[default: the level's, else 0.25].",
+    }
+    for name, text in helps.items():
+        upper = 1 if name == "suspicious" else None
+        command = click.option(f"--{name}", type=FiniteFloatRange(min=0, max=upper), help=text)(command)
+    return command
+
+
+def with_detection(level: Level, **overrides: float | None) -> Level:
+    """The level with the detection options given (``detect_near=...``; ``None`` keeps the level's) applied."""
+    given = {key: value for key, value in overrides.items() if value is not None}
+    return dataclasses.replace(level, guard=dataclasses.replace(level.guard, **given)) if given else level
 
 
 def build_scene(level: Level, los: str = "pymunk", fov: float | None = None, view_range: float | None = None) -> Scene:

@@ -7,7 +7,16 @@ import json
 import click
 import numpy as np
 
-from guardsim.cli.common import build_scene, limit_options, load, parse_point, reports_errors, vision_options
+from guardsim.cli.common import (
+    build_scene,
+    detection_options,
+    limit_options,
+    load,
+    parse_point,
+    reports_errors,
+    vision_options,
+    with_detection,
+)
 from guardsim.cli.patrol import output_folder
 from guardsim.errors import GuardsimError
 from guardsim.grid import CoverageGrid
@@ -48,6 +57,12 @@ def sneak_cell(scene_grid: CoverageGrid, point: tuple[float, float], option: str
 @click.option(
     "--html", is_flag=True, help="Write DIR/sneak.html: the viewer, with the lap, the hiding spots and the intruder."
 )
+@click.option(
+    "--undetected",
+    is_flag=True,
+    help="Search for a path no guard's awareness meter fills on (seen briefly is allowed), not an unseen one.",
+)
+@detection_options
 @vision_options
 @limit_options
 @reports_errors
@@ -59,6 +74,11 @@ def sneak(
     out_dir: str | None,
     gif: bool,
     html: bool,
+    undetected: bool,
+    detect_near: float | None,
+    detect_far: float | None,
+    forget: float | None,
+    suspicious: float | None,
     los: str,
     fov: float | None,
     view_range: float | None,
@@ -71,7 +91,13 @@ def sneak(
     The intruder steps to a 4-neighbour or waits each tick and may enter at any tick its entry cell is
     unseen. Exit status 0 either way; the answer is printed and written to DIR/sneak.json. When no
     unseen path exists, the closest call (fewest ticks in view) is given instead.
+
+    With --undetected, the path may be seen as long as no guard's awareness meter fills (docs/detection.md):
+    the fastest undetected path, else the same closest call. Either way the path is replayed through the
+    meters (detected, peak awareness, risk) and the slack is counted: from how many of the lap's ticks a
+    player entering gets through.
     """
+    from guardsim.detection import GuardDetection
     from guardsim.patrol import read_patrol
     from guardsim.patrol.replay import patrol_trace
     from guardsim.sneak import sneak_check, sneak_data
@@ -79,7 +105,13 @@ def sneak(
 
     if (gif or html) and out_dir is None:
         raise GuardsimError("--gif and --html write into the --out folder: give --out DIR")
-    level = load(level_path, max_cells, max_vertices, max_file_bytes)
+    level = with_detection(
+        load(level_path, max_cells, max_vertices, max_file_bytes),
+        detect_near=detect_near,
+        detect_far=detect_far,
+        forget=forget,
+        suspicious=suspicious,
+    )
     from guardsim.kernels.ahead import compile_ahead
 
     compile_ahead("sneak")
@@ -98,7 +130,8 @@ def sneak(
             f"--to {target[0]:g},{target[1]:g} cannot be reached from --from {source[0]:g},{source[1]:g} at all"
         )
     table = view_table(grid, scene.vision())
-    result = sneak_check(grid, table, patrol, start, goal)
+    detection = GuardDetection.of_level(scene.level)
+    result = sneak_check(grid, table, patrol, start, goal, detection=detection, undetected=undetected)
     path = result.path
     assert path is not None
     data = sneak_data(result, grid, level=level.name, patrol=patrol_path, **{"from": list(source), "to": list(target)})
@@ -167,10 +200,19 @@ def sneak(
                 overlays = sneak_overlays(patrol, grid, result, source=source, target=target)
                 write_viewer(folder / "sneak.html", level, lap, overlays=overlays)
                 written.append(str(folder / "sneak.html"))
+    rule = "undetected" if undetected else "unseen"
     if path.found:
-        answer = f"sneaks: unseen from tick {path.start_tick} of the lap, {path.ticks} ticks"
+        answer = f"sneaks: {rule} from tick {path.start_tick} of the lap, {path.ticks} ticks"
     else:
         answer = (
-            f"caught: no unseen path; the closest call is seen for {path.ticks_in_view} ticks ({path.ticks} ticks long)"
+            f"caught: no {rule} path; the closest call is seen for {path.ticks_in_view} ticks ({path.ticks} ticks long)"
         )
-    click.echo(f"{level.name}: {answer}" + (f" -> {', '.join(written)}" if written else ""))
+    grade = result.grade
+    assert grade is not None
+    peak = ", ".join(f"{value:.2f}" for value in grade.peak_by_guard)
+    graded = (
+        f"detected: {'yes, at tick ' + str(grade.detected_at) if grade.detected else 'no'}; "
+        f"peak awareness {grade.peak:.2f} (by guard: {peak}); risk {grade.risk:.2f}; "
+        f"slack {result.slack}/{result.period} entry ticks"
+    )
+    click.echo(f"{level.name}: {answer}; {graded}" + (f" -> {', '.join(written)}" if written else ""))

@@ -186,4 +186,3 @@ def _compile_quietly(entries: list[list[Any]]) -> None:
             _compile(entry)
         except Exception:
             continue
-

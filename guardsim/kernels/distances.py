@@ -84,7 +84,13 @@ def spread(neighbours: np.ndarray, queue: np.ndarray, tail: int, far: int, dista
 
 @jit
 def spread_states(
-    neighbours: np.ndarray, queue: np.ndarray, tail: int, far: int, distance: np.ndarray, backward: bool, label: np.ndarray
+    neighbours: np.ndarray,
+    queue: np.ndarray,
+    tail: int,
+    far: int,
+    distance: np.ndarray,
+    backward: bool,
+    label: np.ndarray,
 ) -> int:
     """Breadth-first over states (``cell * 4 + heading``; a step goes from ``(c, h)`` to
     ``(neighbours[c, d], d)``) from the states ``queue[:tail]``, their distances set and every other

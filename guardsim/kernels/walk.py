@@ -82,7 +82,12 @@ def _fill_toward(
 
 @jit
 def _nearest_frontier(
-    neighbours: np.ndarray, counts: np.ndarray, cell: int, far: int, distance: np.ndarray, queue: np.ndarray,
+    neighbours: np.ndarray,
+    counts: np.ndarray,
+    cell: int,
+    far: int,
+    distance: np.ndarray,
+    queue: np.ndarray,
     filled: np.ndarray,
 ) -> int:
     """The state :func:`~guardsim.planners.frontier.nearest_frontier` picks from ``cell``, found by a

@@ -56,6 +56,14 @@ class GuardSpec:
     """Continuous motion: turning speed, degrees per second; ``None`` for the default."""
     tick_hz: float | None = None
     """Continuous motion: physics ticks per second; ``None`` for the default."""
+    detect_near: float = 0.25
+    """Seconds in view before the guard detects an intruder standing at its feet (see guardsim.detection)."""
+    detect_far: float = 1.5
+    """Seconds in view before the guard detects an intruder at the edge of its view range."""
+    forget: float = 4.0
+    """Seconds for a full awareness meter to drain while the intruder is out of view."""
+    suspicious: float = 0.5
+    """Awareness level (0 to 1) at which the guard becomes suspicious."""
 
 
 @dataclass(frozen=True)

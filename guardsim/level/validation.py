@@ -33,7 +33,8 @@ PAIRS_PER_VERTEX = 2
 
 _TOP_KEYS = {"name", "cell_size", "outer", "holes", "guard", "starts"}
 _MOTION_KEYS = ("move_speed", "turn_speed", "tick_hz")
-_GUARD_KEYS = {"view_range", "fov_degrees", "radius", "start", "heading", *_MOTION_KEYS}
+_DETECTION_KEYS = ("detect_near", "detect_far", "forget", "suspicious")
+_GUARD_KEYS = {"view_range", "fov_degrees", "radius", "start", "heading", *_MOTION_KEYS, *_DETECTION_KEYS}
 
 
 def parse_level(
@@ -246,9 +247,19 @@ def _guard(value: Any, problems: list[Problem]) -> GuardSpec | None:
         for key in _MOTION_KEYS
         if value.get(key) is not None
     }
+    detection = {
+        key: _number(
+            value, key, getattr(defaults, key), problems, where=f"guard.{key}", minimum=0,
+            maximum=1 if key == "suspicious" else None,
+        )
+        for key in _DETECTION_KEYS
+        if key in value
+    }  # fmt: skip
     if len(problems) > count or view_range is None or fov is None or radius is None:
         return None
-    return GuardSpec(view_range=view_range, fov_degrees=fov, radius=radius, start=start, heading=heading, **motion)
+    return GuardSpec(
+        view_range=view_range, fov_degrees=fov, radius=radius, start=start, heading=heading, **motion, **detection
+    )
 
 
 def _fmt(point: tuple[float, float]) -> str:

@@ -9,7 +9,7 @@ from __future__ import annotations
 import json
 from typing import Any
 
-from guardsim.level.model import Level
+from guardsim.level.model import GuardSpec, Level
 
 __all__ = ["compact_numbers", "level_json_text", "level_to_data"]
 
@@ -27,6 +27,10 @@ def level_to_data(level: Level) -> dict[str, Any]:
         guard["heading"] = level.guard.heading
     for key in ("move_speed", "turn_speed", "tick_hz"):
         if getattr(level.guard, key) is not None:
+            guard[key] = getattr(level.guard, key)
+    defaults = GuardSpec()
+    for key in ("detect_near", "detect_far", "forget", "suspicious"):
+        if getattr(level.guard, key) != getattr(defaults, key):
             guard[key] = getattr(level.guard, key)
     data: dict[str, Any] = {
         "name": level.name,

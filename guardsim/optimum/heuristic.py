@@ -54,5 +54,3 @@ def build_heuristic(graph: SearchGraph, pool: int = POOL, pivots: int = PIVOTS) 
     order = np.lexsort((np.arange(counts.size), counts))[:pool].astype(np.int64)
     between = _between(to_watchers, watch_start, watchers, order)
     return Heuristic(np.ascontiguousarray(to_watchers.T), order, between, pivots)
-
-

@@ -237,7 +237,9 @@ def start_search(
         counters[FLOOR] = 0
         return
     if h < incumbent:
-        counters[HEAP] = heap_push(state.heap_key, state.heap_node, counters[HEAP], h * _KEY_SHIFT + (_KEY_SHIFT - 1), node)
+        counters[HEAP] = heap_push(
+            state.heap_key, state.heap_node, counters[HEAP], h * _KEY_SHIFT + (_KEY_SHIFT - 1), node
+        )
 
 
 @jit
@@ -291,7 +293,11 @@ def run_search(
                 if g + h > f:
                     if g + h < counters[INCUMBENT]:
                         counters[HEAP] = heap_push(
-                            state.heap_key, state.heap_node, counters[HEAP], (g + h) * _KEY_SHIFT + (_KEY_SHIFT - 1 - g), node
+                            state.heap_key,
+                            state.heap_node,
+                            counters[HEAP],
+                            (g + h) * _KEY_SHIFT + (_KEY_SHIFT - 1 - g),
+                            node,
                         )
                     continue
         expanded += 1
@@ -336,5 +342,9 @@ def run_search(
                 counters[STATUS] = FULL
                 break
             counters[HEAP] = heap_push(
-                state.heap_key, state.heap_node, counters[HEAP], (steps + h) * _KEY_SHIFT + (_KEY_SHIFT - 1 - steps), other
+                state.heap_key,
+                state.heap_node,
+                counters[HEAP],
+                (steps + h) * _KEY_SHIFT + (_KEY_SHIFT - 1 - steps),
+                other,
             )

@@ -39,7 +39,6 @@ _COVERED, _STEP_LIMIT, _STUCK = 0, 1, 2
 _LOOK, _DECIDE = 0, 1
 
 
-
 class FieldState(NamedTuple):
     """The incremental field's state, kept between calls to the kernel."""
 

@@ -1,9 +1,11 @@
-"""The sneak check: can a player cross a patrolled level unseen, and where can it hide?
+"""The sneak check: can a player cross a patrolled level unseen (or undetected), and where can it hide?
 
 - :mod:`~guardsim.sneak.search`: the exact space-time search (unseen path, closest call, hiding windows).
+- :mod:`~guardsim.sneak.graded`: the same search under the detection model (undetected paths).
+- :mod:`~guardsim.sneak.grade`: a path's meters replayed, its risk, and the slack of the lap.
 - :mod:`~guardsim.sneak.gif`: the intruder drawn over the patrol's frames.
 
-See ``docs/patrols.md``.
+See ``docs/patrols.md`` and ``docs/detection.md``.
 """
 
 from __future__ import annotations
@@ -12,40 +14,76 @@ from typing import Any, NamedTuple
 
 import numpy as np
 
+from guardsim.detection import GuardDetection, PatrolGains, exposure_map, patrol_gains, time_to_detection
 from guardsim.errors import LimitError
 from guardsim.grid import CoverageGrid
 from guardsim.patrol.model import Patrol
-from guardsim.patrol.scoring import seen_timeline
+from guardsim.sneak.grade import PathGrade, grade_path, unseen_reach
+from guardsim.sneak.graded import undetected_search
 from guardsim.sneak.search import SneakPath, closest_call, find_sneak, hiding_windows
 from guardsim.vision.table import ViewTable
 
 __all__ = [
+    "HIDING_SPOTS_LISTED",
     "MAX_SNEAK_NODES",
+    "HidingSpot",
+    "PathGrade",
     "SneakPath",
     "SneakResult",
     "closest_call",
     "find_sneak",
+    "grade_path",
     "hiding_windows",
     "sneak_check",
     "sneak_data",
+    "undetected_search",
 ]
+
+#: Hiding spots listed in sneak.json.
+HIDING_SPOTS_LISTED = 10
+
+
+class HidingSpot(NamedTuple):
+    """A cell a player can reach from the entry and stand in."""
+
+    cell: int
+    """Flat cell index."""
+    lasts: int | None
+    """Ticks a player standing there lasts before detection, entering at the worst lap tick; ``None``:
+    never detected."""
+    exposure: float
+    """Fraction of the lap some guard sees the cell."""
 
 
 class SneakResult(NamedTuple):
     """The answer of the sneak check."""
 
     path: SneakPath | None
-    """The fastest unseen path when one exists, else the closest call; ``None`` when the target cannot
-    be reached at all."""
+    """The fastest path meeting the search's rule when one exists (unseen; undetected with
+    ``undetected=True``), else the closest call; ``None`` when the target cannot be reached at all."""
     period: int
     seen: np.ndarray
     """``bool (period, cells)``: what the patrol sees at each tick of its lap."""
     hiding: np.ndarray
     """``int64 (cells,)``: each cell's longest unseen window (see :func:`hiding_windows`)."""
+    undetected: bool
+    """Whether the search's rule was "undetected" (else "unseen")."""
+    grade: PathGrade | None
+    """The path replayed through the guards' meters."""
+    slack: int
+    """Lap ticks from which a player entering can reach the target under the search's rule."""
+    exposure: np.ndarray
+    """``float64 (cells,)``: fraction of the lap each cell is in some guard's view."""
+    time_to_detection: np.ndarray
+    """``int64 (cells,)``: see :func:`guardsim.detection.time_to_detection` (-1 never, -2 no floor)."""
+    hiding_spots: tuple[HidingSpot, ...]
+    """The best places to wait reachable undetected from the entry, safest first (at most
+    :data:`HIDING_SPOTS_LISTED`)."""
+    gains: PatrolGains
 
     @property
     def found(self) -> bool:
-        """Whether an unseen path exists."""
+        """Whether a path meeting the search's rule exists."""
         return self.path is not None and self.path.found
 
 
@@ -53,13 +91,24 @@ class SneakResult(NamedTuple):
 MAX_SNEAK_NODES = 20_000_000
 
 
-def sneak_check(grid: CoverageGrid, table: ViewTable, patrol: Patrol, source: int, target: int) -> SneakResult:
-    """Search for an unseen path from cell ``source`` to cell ``target`` (flat indices) under ``patrol``.
+def sneak_check(
+    grid: CoverageGrid,
+    table: ViewTable,
+    patrol: Patrol,
+    source: int,
+    target: int,
+    *,
+    detection: GuardDetection,
+    undetected: bool = False,
+) -> SneakResult:
+    """Search for an unseen path (``undetected=True``: an undetected one) from cell ``source`` to cell
+    ``target`` (flat indices) under ``patrol``, and grade it under ``detection``.
 
     Raises
     ------
     LimitError
-        When the period times the cells is over :data:`MAX_SNEAK_NODES`.
+        When the period times the cells is over :data:`MAX_SNEAK_NODES`, or the undetected search keeps
+        too many labels.
     """
     if patrol.period is None:
         raise ValueError("the sneak check needs a repeating patrol (its period is null)")
@@ -69,28 +118,116 @@ def sneak_check(grid: CoverageGrid, table: ViewTable, patrol: Patrol, source: in
             f"the sneak search would have {nodes} (cell, lap tick) nodes ({grid.size} cells x a {patrol.period}-tick lap), "
             f"over the limit of {MAX_SNEAK_NODES}"
         )
-    seen = seen_timeline(table, patrol.states, grid.size)
-    path = find_sneak(grid.neighbours, seen, source, target) or closest_call(grid.neighbours, seen, source, target)
-    return SneakResult(path, patrol.period, seen, hiding_windows(seen, grid.traversable))
+    gains = patrol_gains(grid, table, patrol.states, detection.model, view_range=detection.view_range, dt=detection.dt)
+    seen = gains.seen
+    neighbours = grid.neighbours
+    reach = unseen_reach(neighbours, seen, target)
+    entries = reach[:, source].copy()
+    # One search from every entry tick, on past the target: its first arrival is the fastest undetected
+    # path, and every cell it reaches is a place the player can get to.
+    search = undetected_search(neighbours, gains.gain, gains.fall, source, target, exhaustive=True, seen=seen)
+    path = find_sneak(neighbours, seen, source, target)
+    if undetected and search.found >= 0:
+        start, cells = search.path()
+        # An unseen path as fast is the better answer: no guard's meter moves at all.
+        if path is None or path.ticks > cells.size - 1:
+            path = SneakPath(
+                True, start, cells, int(seen[(start + np.arange(cells.size)) % patrol.period, cells].sum())
+            )
+        entries = entries | _undetected_entries(neighbours, gains, seen, source, target, reach)
+    elif path is None:
+        path = closest_call(neighbours, seen, source, target)
+    grade = None if path is None else grade_path(grid, table, patrol.states, detection, path.start_tick, path.cells)
+    reached = search.reached_cells()
+    exposure = exposure_map(gains)
+    lasts = time_to_detection(gains, grid.traversable)
+    return SneakResult(
+        path,
+        patrol.period,
+        seen,
+        hiding_windows(seen, grid.traversable),
+        undetected,
+        grade,
+        int(entries.sum()),
+        exposure,
+        lasts,
+        _hiding_spots(reached, lasts, exposure),
+        gains,
+    )
+
+
+def _undetected_entries(
+    neighbours: np.ndarray, gains: PatrolGains, seen: np.ndarray, source: int, target: int, reach: np.ndarray
+) -> np.ndarray:
+    """The lap ticks from which an undetected path exists and no unseen one, one search per entry tick.
+
+    A search may stop on any node an unseen path leads on from (``reach``): out of sight the meters only
+    drain, so what got there undetected gets through."""
+    goal = reach.copy()
+    goal[:, target] = True
+    known = reach[:, source]
+    found = np.zeros_like(known)
+    for phase in np.flatnonzero(~known):
+        only = np.zeros_like(known)
+        only[phase] = True
+        found[phase] = undetected_search(neighbours, gains.gain, gains.fall, source, goal, only, seen=seen).found >= 0
+    return found
+
+
+def _hiding_spots(reached: np.ndarray, lasts: np.ndarray, exposure: np.ndarray) -> tuple[HidingSpot, ...]:
+    cells = np.flatnonzero(reached & (lasts != -2))
+    # Never detected first, then the longest lasting, then the least seen, then by cell for a fixed order.
+    never = lasts[cells] == -1
+    order = np.lexsort((cells, exposure[cells], -lasts[cells], ~never))
+    return tuple(
+        HidingSpot(int(cell), None if lasts[cell] == -1 else int(lasts[cell]), float(exposure[cell]))
+        for cell in cells[order][:HIDING_SPOTS_LISTED]
+    )
 
 
 def sneak_data(result: SneakResult, grid: CoverageGrid, **header: Any) -> dict[str, Any]:
-    """sneak.json: ``found``, ``start_tick``, ``path`` (``[col, row]`` per tick), ``ticks``, the ticks in
-    view (0 when found; the closest call's otherwise) and the hiding spots."""
+    """sneak.json: ``found``, ``start_tick``, ``path`` (``[col, row]`` per tick), ``ticks``, the path's
+    grade (``detected``, ``peak_awareness``, ``ticks_in_view``, ``closest_distance``, ``risk``), ``slack``,
+    the hiding spots and the exposure and time-to-detection maps (docs/patrols.md lists every key)."""
     path = result.path
+    grade = result.grade
     rows, cols = grid.shape
     hiding = result.hiding.reshape(rows, cols)
     never = int(((result.hiding == result.period) & grid.traversable.ravel()).sum())
+    lasts = result.time_to_detection.reshape(rows, cols)
+    exposure = result.exposure.reshape(rows, cols)
+    traversable = grid.traversable
     return {
         **header,
         "period": result.period,
+        "rule": "undetected" if result.undetected else "unseen",
         "found": result.found,
         "reachable": path is not None,
         "start_tick": None if path is None else path.start_tick,
         "path": None if path is None else [list(grid.unflat(int(cell))) for cell in path.cells],
         "ticks": None if path is None else path.ticks,
-        "ticks_in_view": None if path is None else path.ticks_in_view,
+        "ticks_in_view": None if grade is None else grade.ticks_in_view,
         "closest_call": path is not None and not path.found,
+        "detected": None if grade is None else grade.detected,
+        "detected_at": None if grade is None else grade.detected_at,
+        "peak_awareness": None
+        if grade is None
+        else {"overall": round(grade.peak, 6), "by_guard": [round(value, 6) for value in grade.peak_by_guard]},
+        "awareness": None if grade is None else [[round(float(v), 6) for v in row] for row in grade.meters],
+        "closest_distance": None
+        if grade is None or grade.closest_distance is None
+        else round(grade.closest_distance, 6),
+        "risk": None if grade is None else round(grade.risk, 6),
+        "slack": result.slack,
         "never_seen_cells": never,
         "longest_unseen": [[None if value < 0 else int(value) for value in row] for row in hiding.tolist()],
+        "exposure": [
+            [round(float(value), 6) if traversable[r, c] else None for c, value in enumerate(row)]
+            for r, row in enumerate(exposure.tolist())
+        ],
+        "time_to_detection": [[None if value < 0 else int(value) for value in row] for row in lasts.tolist()],
+        "hiding_spots": [
+            {"cell": list(grid.unflat(spot.cell)), "lasts": spot.lasts, "exposure": round(spot.exposure, 6)}
+            for spot in result.hiding_spots
+        ],
     }

@@ -1,0 +1,206 @@
+"""A repeating patrol seen through the detection model: meter gains per tick, exposure, time to detection.
+
+The gains are the model applied once to every (guard, lap tick, cell): how much a tick spent in the cell
+adds to the guard's meter (0 where the guard does not see it). The graded sneak search, the
+time-to-detection map and the replay of a path all read them, so the model's numbers enter one place.
+"""
+
+from __future__ import annotations
+
+from typing import NamedTuple
+
+import numpy as np
+
+from guardsim.detection.model import DetectionModel
+from guardsim.grid import CoverageGrid
+from guardsim.kernels.compiler import jit
+from guardsim.kernels.meter import DETECTED, meter_after
+from guardsim.kernels.steps import cell_of_state
+from guardsim.vision.table import ViewTable
+
+__all__ = ["NEVER_DETECTED", "PatrolGains", "exposure_map", "patrol_gains", "time_to_detection"]
+
+#: :func:`time_to_detection` of a cell where a player standing still is never detected.
+NEVER_DETECTED = -1
+
+
+class PatrolGains(NamedTuple):
+    """The detection model applied to a repeating patrol."""
+
+    gain: np.ndarray
+    """``float64 (guards, period, cells)``: what a tick in the cell adds to the guard's meter; 0 where
+    the guard does not see the cell, ``inf`` where one tick detects."""
+    fall: float
+    """What a tick out of a guard's sight takes off its meter."""
+    guard_cells: np.ndarray
+    """``int64 (guards, period)``: each guard's flat cell at each lap tick."""
+    dt: float
+    """Seconds per tick."""
+
+    @property
+    def seen(self) -> np.ndarray:
+        """``bool (period, cells)``: whether any guard sees each cell at each tick."""
+        return (self.gain > 0).any(axis=0)
+
+
+@jit
+def _fill_gains(
+    sight_start: np.ndarray,
+    sight: np.ndarray,
+    states: np.ndarray,
+    cols: int,
+    cell_size: float,
+    near: float,
+    far: float,
+    view_range: float,
+    dt: float,
+    out: np.ndarray,
+) -> None:
+    for guard in range(states.shape[0]):
+        for tick in range(states.shape[1]):
+            state = states[guard, tick]
+            own = cell_of_state(state)
+            own_row, own_col = own // cols, own % cols
+            for index in range(sight_start[state], sight_start[state + 1]):
+                cell = sight[index]
+                distance = cell_size * np.hypot(cell // cols - own_row, cell % cols - own_col)
+                share = min(distance / view_range, 1.0) if view_range > 0 else 1.0
+                seconds = near + (far - near) * share
+                out[guard, tick, cell] = dt / seconds if seconds > 0 else np.inf
+
+
+def patrol_gains(
+    grid: CoverageGrid, table: ViewTable, states: np.ndarray, model: DetectionModel, *, view_range: float, dt: float
+) -> PatrolGains:
+    """The gains of a lap of ``states`` (``int64 (guards, period)``, a patrol's states).
+
+    ``view_range`` is the guards' view range in world units (the distance at which ``detect_far``
+    applies) and ``dt`` the seconds per tick (:func:`~guardsim.detection.grid_tick_seconds`).
+    """
+    states = np.ascontiguousarray(states, dtype=np.int64)
+    gain = np.zeros((states.shape[0], states.shape[1], grid.size), dtype=np.float64)
+    _fill_gains(
+        table.sight_start, table.sight, states, grid.shape[1], float(grid.cell_size),
+        float(model.detect_near), float(model.detect_far), float(view_range), float(dt), gain,
+    )  # fmt: skip
+    return PatrolGains(gain, model.fall(dt), cell_of_state(states), float(dt))
+
+
+def exposure_map(gains: PatrolGains) -> np.ndarray:
+    """``float64 (cells,)``: the fraction of the lap each cell is in some guard's view."""
+    return gains.seen.mean(axis=0)
+
+
+@jit
+def _standing(gain: np.ndarray, fall: float, cell: int, entry: int, limit: int) -> int:
+    """Ticks a player entering ``cell`` at lap tick ``entry`` with empty meters stands there before a meter
+    fills (1 when the first tick detects); -1 when none fills within ``limit`` ticks."""
+    guards, period = gain.shape[0], gain.shape[1]
+    levels = np.zeros(guards)
+    for tick in range(limit):
+        phase = (entry + tick) % period
+        for guard in range(guards):
+            levels[guard] = meter_after(levels[guard], gain[guard, phase, cell], fall)
+            if levels[guard] >= DETECTED:
+                return tick + 1
+    return -1
+
+
+@jit
+def _ever_detected(gain: np.ndarray, fall: float, cell: int, max_laps: int) -> int:
+    """Whether a player standing in ``cell`` for ever is detected: 1, 0, or -1 when ``max_laps`` laps did not
+    settle it. A lap maps the meters at its start to those at its end monotonically, so from empty meters
+    the lap-start meters only rise: they reach 1 or repeat."""
+    guards, period = gain.shape[0], gain.shape[1]
+    levels = np.zeros(guards)
+    before = np.zeros(guards)
+    for _ in range(max_laps):
+        before[:] = levels
+        for phase in range(period):
+            for guard in range(guards):
+                levels[guard] = meter_after(levels[guard], gain[guard, phase, cell], fall)
+                if levels[guard] >= DETECTED:
+                    return 1
+        same = True
+        for guard in range(guards):
+            if levels[guard] != before[guard]:
+                same = False
+        if same:
+            return 0
+    return -1
+
+
+@jit
+def _time_to_detection(gain: np.ndarray, fall: float, traversable: np.ndarray, max_laps: int, out: np.ndarray) -> int:
+    guards, period, cells = gain.shape
+    unsettled = 0
+    for cell in range(cells):
+        if not traversable[cell]:
+            out[cell] = -2
+            continue
+        seen = False
+        for guard in range(guards):
+            for phase in range(period):
+                if gain[guard, phase, cell] > 0:
+                    seen = True
+        if not seen:
+            out[cell] = -1
+            continue
+        ever = _ever_detected(gain, fall, cell, max_laps)
+        if ever <= 0:
+            out[cell] = -1
+            unsettled += ever == -1
+            continue
+        # Detected from one entry tick means detected from all (an earlier entrant's meters are never
+        # lower), so each entry's walk below ends; the worst entry is the shortest.
+        best = -1
+        for entry in range(period):
+            # Entering out of every guard's sight only waits, meters empty, for the next tick in sight:
+            # entering then is as quick to detect and counts fewer ticks.
+            in_sight = False
+            for guard in range(guards):
+                in_sight = in_sight or gain[guard, entry, cell] > 0
+            if not in_sight:
+                continue
+            ticks = _standing(gain, fall, cell, entry, (max_laps + 1) * period)
+            if ticks > 0 and (best < 0 or ticks < best):
+                best = ticks
+        out[cell] = best
+    return unsettled
+
+
+#: Laps a standing player's meters are followed before the time-to-detection map gives up on a cell.
+MAX_STANDING_LAPS = 1000
+
+
+def time_to_detection(gains: PatrolGains, traversable: np.ndarray) -> np.ndarray:
+    """``int64 (cells,)``: how many ticks a player standing still in each cell lasts before detection,
+    entering with empty meters at the worst tick of the lap; :data:`NEVER_DETECTED` (-1) when it is never
+    detected however long it stays, -2 where no one can stand.
+
+    Examples
+    --------
+    One guard, a two-tick lap, three cells: it sees cell 1 at tick 0 (one tick fills half the meter) and
+    cell 2 at both ticks (a third each tick); the meter drains half a tick:
+
+    >>> gain = np.array([[[0.0, 0.5, 1 / 3], [0.0, 0.0, 1 / 3]]])
+    >>> gains = PatrolGains(gain, 0.5, np.zeros((1, 2), dtype=np.int64), 0.5)
+    >>> time_to_detection(gains, np.ones(3, dtype=bool)).tolist()
+    [-1, -1, 3]
+    """
+    out = np.empty(gains.gain.shape[2], dtype=np.int64)
+    unsettled = _time_to_detection(
+        np.ascontiguousarray(gains.gain),
+        float(gains.fall),
+        np.ascontiguousarray(traversable.ravel()),
+        MAX_STANDING_LAPS,
+        out,
+    )
+    if unsettled:
+        import warnings
+
+        warnings.warn(
+            f"time to detection: {unsettled} cells' meters still rose after {MAX_STANDING_LAPS} laps; counted as never detected",
+            stacklevel=2,
+        )
+    return out

@@ -1,0 +1,142 @@
+"""How close a call a sneak path is: its meters replayed tick by tick, its risk, and the lap's slack.
+
+:func:`grade_path` replays a path through :class:`~guardsim.detection.AwarenessMeter`, deciding sight
+from the view table and distance from the guards' cells, apart from the search's precomputed gains: it
+is the independent check of what the search reports.
+
+The risk score is the mean, over the path's ticks, of the highest guard meter at that tick: 0 for a path
+no guard sees, 1 for one detected on entry and watched to the end. It grades a path the way the
+awareness bars a player watches do, in the spirit of the risk measures compared by Tremblay, Torres and
+Verbrugge ("Measuring risk in stealth games", FDG 2014), who found that measures built from time in view
+and distance to guards tracked players' judgement of danger, and of Stealth-Simulator's path risk in
+[0, 1]; see docs/detection.md.
+"""
+
+from __future__ import annotations
+
+import math
+from typing import NamedTuple
+
+import numpy as np
+
+from guardsim.detection.model import AwarenessMeter, GuardDetection
+from guardsim.grid import CoverageGrid
+from guardsim.kernels.compiler import jit
+from guardsim.kernels.steps import cell_of_state
+from guardsim.vision.table import ViewTable
+
+__all__ = ["PathGrade", "grade_path", "unseen_reach"]
+
+
+class PathGrade(NamedTuple):
+    """A path replayed through the guards' awareness meters."""
+
+    meters: np.ndarray
+    """``float64 (ticks + 1, guards)``: each guard's meter after each tick of the path."""
+    in_view: np.ndarray
+    """``bool (ticks + 1,)``: whether some guard sees the intruder at each tick."""
+    detected_at: int | None
+    """Tick of the path (0 = entering) at which a meter first fills; ``None`` when none does."""
+    closest_distance: float | None
+    """Smallest distance, world units, from the intruder to a guard over the path (in view or not)."""
+
+    @property
+    def detected(self) -> bool:
+        """Whether some guard's meter fills on the path."""
+        return self.detected_at is not None
+
+    @property
+    def peak_by_guard(self) -> list[float]:
+        """Each guard's highest meter."""
+        return [float(value) for value in self.meters.max(axis=0)]
+
+    @property
+    def peak(self) -> float:
+        """The highest meter of any guard."""
+        return float(self.meters.max())
+
+    @property
+    def ticks_in_view(self) -> int:
+        """Ticks at which some guard sees the intruder."""
+        return int(self.in_view.sum())
+
+    @property
+    def risk(self) -> float:
+        """The mean over the path's ticks of the highest meter: 0 (never noticed) to 1."""
+        return float(self.meters.max(axis=1).mean())
+
+
+def grade_path(
+    grid: CoverageGrid,
+    table: ViewTable,
+    states: np.ndarray,
+    detection: GuardDetection,
+    start_tick: int,
+    cells: np.ndarray,
+) -> PathGrade:
+    """Replay the intruder's flat ``cells``, entering at lap tick ``start_tick`` of the lap ``states``
+    (``int64 (guards, period)``), through one awareness meter per guard."""
+    period = states.shape[1]
+    meters = [AwarenessMeter(detection.model, detection.view_range) for _ in range(states.shape[0])]
+    levels = np.zeros((len(cells), states.shape[0]))
+    in_view = np.zeros(len(cells), dtype=bool)
+    detected_at: int | None = None
+    closest = math.inf
+    cols = grid.shape[1]
+    for tick, cell in enumerate(int(value) for value in cells):
+        row, col = divmod(cell, cols)
+        for guard, meter in enumerate(meters):
+            state = int(states[guard, (start_tick + tick) % period])
+            guard_row, guard_col = divmod(int(cell_of_state(state)), cols)
+            distance = grid.cell_size * math.hypot(row - guard_row, col - guard_col)
+            closest = min(closest, distance)
+            sees = bool(np.isin(cell, table.sees(state)))
+            in_view[tick] |= sees
+            levels[tick, guard] = meter.update(detection.dt, sees, distance)
+            if meter.detected and detected_at is None:
+                detected_at = tick
+    return PathGrade(levels, in_view, detected_at, None if math.isinf(closest) else closest)
+
+
+@jit
+def _unseen_reach(neighbours: np.ndarray, seen: np.ndarray, target: int) -> np.ndarray:
+    """``bool (period, cells)``: the nodes from which the target is reached without being seen, found
+    backwards from the target's unseen ticks (the grid's moves are symmetric, waiting included)."""
+    period, cells = seen.shape
+    reach = np.zeros((period, cells), dtype=np.bool_)
+    queue = np.empty(period * cells, dtype=np.int64)
+    tail = 0
+    for phase in range(period):
+        if not seen[phase, target]:
+            reach[phase, target] = True
+            queue[tail] = phase * cells + target
+            tail += 1
+    head = 0
+    while head < tail:
+        node = queue[head]
+        head += 1
+        phase, cell = node // cells, node % cells
+        before = (phase - 1) % period
+        for move in range(5):
+            other = cell if move == 4 else neighbours[cell, move]
+            if other < 0 or seen[before, other] or reach[before, other]:
+                continue
+            reach[before, other] = True
+            queue[tail] = before * cells + other
+            tail += 1
+    return reach
+
+
+def unseen_reach(neighbours: np.ndarray, seen: np.ndarray, target: int) -> np.ndarray:
+    """``bool (period, cells)``: the (lap tick, cell) nodes from which ``target`` can be reached unseen;
+    its column at an entry cell says from which lap ticks a player entering there gets through unseen
+    (their count is the unseen slack).
+
+    >>> neighbours = np.array([[1, -1, -1, -1], [2, -1, 0, -1], [-1, -1, 1, -1]])
+    >>> seen = np.array([[False, True, False], [False, False, False]])
+    >>> unseen_reach(neighbours, seen, 2)[:, 0].tolist()
+    [True, True]
+    """
+    return _unseen_reach(
+        np.ascontiguousarray(neighbours, dtype=np.int64), np.ascontiguousarray(seen, dtype=np.bool_), int(target)
+    )
