@@ -1,4 +1,4 @@
-"""CI gates: rules a level must keep (cover steps, idleness, reachability, sneaks), checked in one go.
+"""CI gates: rules a level must keep (cover steps, idleness, reachability, safe spots, sneaks), checked in one go.
 
 A studio's CI runs ``guardsim check`` on each level; it fails only when an edit breaks a rule the team
 chose, not on every change as a snapshot would. Rules come from the command line or a small checks file
@@ -9,11 +9,15 @@ chose, not on every change as a snapshot would. Rules come from the command line
     no_unreachable = true        # every cell a guard can stand in is reachable from the start
     guards = 1                   # team size of the loop patrol made when no patrol file is given
     planner = "ripplefront"      # the planner of max_cover_steps
-    patrol = "patrol.json"       # the patrol for max_idleness and the sneaks (else the loop is made)
+    patrol = "patrol.json"       # the patrol for max_idleness, safe and the sneaks (else the loop is made)
+    safe = [[30.5, 2.5]]         # cells no guard sees during the lap
+    undetected = true            # ... or rather: where a player standing still is never detected
+    min_slack = 20               # each sneak's path exists from at least this many of the lap's ticks
+    max_slack = 300              # and from at most this many
     [[sneak]]
     from = [2.5, 2.5]
     to = [57.5, 57.5]
-    expect = "caught"            # or "sneaks"
+    expect = "caught"            # or "sneaks"; "detected" or "undetected" under the detection model
 """
 
 from __future__ import annotations
@@ -25,7 +29,9 @@ from dataclasses import dataclass, field
 from pathlib import Path
 from typing import Any, NamedTuple
 
-from guardsim.detection import GuardDetection
+import numpy as np
+
+from guardsim.detection import NEVER_DETECTED, GuardDetection, patrol_gains, time_to_detection
 from guardsim.errors import GuardsimError
 from guardsim.patrol import Patrol, patrol_setup, plan_loop, read_patrol, score_patrol
 from guardsim.planners import PLANNERS
@@ -33,8 +39,18 @@ from guardsim.reading import display_path, json_type, parse_json, read_text_file
 from guardsim.scene import Scene
 from guardsim.simulation import Simulation
 from guardsim.sneak import sneak_check
+from guardsim.vision.table import ViewTable
 
-__all__ = ["CheckError", "CheckResult", "CheckRules", "SneakRule", "read_checks", "run_checks"]
+__all__ = [
+    "EXPECTATIONS",
+    "CheckError",
+    "CheckResult",
+    "CheckRules",
+    "SafeRule",
+    "SneakRule",
+    "read_checks",
+    "run_checks",
+]
 
 #: Largest checks file read.
 MAX_CHECKS_BYTES = 1024 * 1024
@@ -44,15 +60,34 @@ class CheckError(GuardsimError):
     """A checks file or a rule cannot be used (bad input, not a broken rule)."""
 
 
+#: What a sneak rule may expect: ``caught`` (no unseen path may exist), ``sneaks`` (one must), ``detected``
+#: (no undetected path may exist, under the detection model) or ``undetected`` (one must).
+EXPECTATIONS = ("caught", "sneaks", "detected", "undetected")
+
+
 class SneakRule(NamedTuple):
-    """Whether a player can get from one point to another unseen, and what the answer must be."""
+    """Whether a player can get from one point to another unseen (or undetected), and what the answer must be."""
 
     source: tuple[float, float]
     target: tuple[float, float]
     expect: str
-    """``"caught"`` (no unseen path may exist) or ``"sneaks"`` (one must)."""
+    """One of :data:`EXPECTATIONS`: ``"caught"`` or ``"sneaks"`` ask for an unseen path, ``"detected"`` or
+    ``"undetected"`` for an undetected one (seen briefly is allowed)."""
     where: str = "--sneak"
     """Where the rule was given, for error lines: ``--sneak`` or ``checks.toml: sneak[0]``."""
+
+    @property
+    def undetected(self) -> bool:
+        """Whether the rule asks about undetected paths (else unseen ones)."""
+        return self.expect in ("detected", "undetected")
+
+
+class SafeRule(NamedTuple):
+    """A point whose cell must stay out of every guard's view during the lap (or never lead to detection)."""
+
+    point: tuple[float, float]
+    where: str = "--safe"
+    """Where the rule was given, for error lines: ``--safe`` or ``checks.toml: safe[0]``."""
 
 
 @dataclass(frozen=True)
@@ -66,15 +101,40 @@ class CheckRules:
     planner: str = "ripplefront"
     patrol: str | None = None
     sneaks: tuple[SneakRule, ...] = field(default=())
+    safe: tuple[SafeRule, ...] = field(default=())
+    undetected: bool = False
+    """The safe rules ask that a player standing there is never detected, not that the cell is never seen."""
+    min_slack: int | None = None
+    """Each sneak's path must exist from at least this many of the lap's ticks (its undetected path for
+    ``detected``/``undetected`` expectations, else its unseen path)."""
+    max_slack: int | None = None
+    """... and from at most this many."""
+
+    def validate(self) -> None:
+        """Raise :class:`CheckError` when an option modifies rules that are not there (slack limits without
+        a sneak rule, ``undetected`` without a safe rule), or the slack limits exclude each other.
+
+        >>> CheckRules(min_slack=3).validate()
+        Traceback (most recent call last):
+        ...
+        guardsim.checks.CheckError: slack limits apply to the sneak rules' slack, and there is no sneak rule
+        """
+        if (self.min_slack is not None or self.max_slack is not None) and not self.sneaks:
+            raise CheckError("slack limits apply to the sneak rules' slack, and there is no sneak rule")
+        if self.min_slack is not None and self.max_slack is not None and self.min_slack > self.max_slack:
+            raise CheckError(f"min slack {self.min_slack} is over max slack {self.max_slack}: no slack meets both")
+        if self.undetected and not self.safe:
+            raise CheckError("undetected applies to the safe rules, and there is no safe rule")
 
     @property
     def count(self) -> int:
-        """How many rules are checked."""
+        """How many rules are checked (a slack limit counts once per sneak)."""
         return (
             (self.max_cover_steps is not None)
             + (self.max_idleness is not None)
             + self.no_unreachable
-            + len(self.sneaks)
+            + len(self.safe)
+            + len(self.sneaks) * (1 + (self.min_slack is not None) + (self.max_slack is not None))
         )
 
 
@@ -88,7 +148,19 @@ class CheckResult(NamedTuple):
     """What was measured against the limit."""
 
 
-_KEYS = {"max_cover_steps", "max_idleness", "no_unreachable", "guards", "planner", "patrol", "sneak"}
+_KEYS = {
+    "max_cover_steps",
+    "max_idleness",
+    "no_unreachable",
+    "guards",
+    "planner",
+    "patrol",
+    "sneak",
+    "safe",
+    "undetected",
+    "min_slack",
+    "max_slack",
+}
 
 
 def read_checks(path: str | os.PathLike[str]) -> CheckRules:
@@ -116,12 +188,16 @@ def _toml(text: str, source: str) -> Any:
 def parse_checks(data: Any, *, source: str = "<checks>", base: Path | None = None) -> CheckRules:
     """:class:`CheckRules` from checks-file data; a relative ``patrol`` path is taken from ``base``.
 
+    The file must hold the rules its ``undetected`` and slack limits apply to (safe and sneak rules).
+
     >>> parse_checks({"max_idleness": 600, "sneak": [{"from": [1, 2], "to": [3, 4], "expect": "caught"}]}).count
     2
+    >>> parse_checks({"safe": [[3.5, 2.5]], "undetected": True}).safe
+    (SafeRule(point=(3.5, 2.5), where='<checks>: safe[0]'),)
     >>> parse_checks({"max_idle": 600})
     Traceback (most recent call last):
     ...
-    guardsim.checks.CheckError: <checks>: unknown rule 'max_idle' (known: guards, max_cover_steps, max_idleness, no_unreachable, patrol, planner, sneak)
+    guardsim.checks.CheckError: <checks>: unknown rule 'max_idle' (known: guards, max_cover_steps, max_idleness, max_slack, min_slack, no_unreachable, patrol, planner, safe, sneak, undetected)
     """
     if not isinstance(data, dict):
         raise CheckError(f"{source}: expected a table of rules, got {json_type(data)}")
@@ -137,9 +213,13 @@ def parse_checks(data: Any, *, source: str = "<checks>", base: Path | None = Non
             raise CheckError(f"{source}: {key}: expected a whole number of at least {minimum}, got {value!r}"[:160])
         return value
 
-    unreachable = data.get("no_unreachable", False)
-    if not isinstance(unreachable, bool):
-        raise CheckError(f"{source}: no_unreachable: expected true or false, got {unreachable!r}"[:160])
+    def flag(key: str) -> bool:
+        value = data.get(key, False)
+        if not isinstance(value, bool):
+            raise CheckError(f"{source}: {key}: expected true or false, got {value!r}"[:160])
+        return value
+
+    unreachable = flag("no_unreachable")
     planner = data.get("planner", "ripplefront")
     if planner not in PLANNERS:
         raise CheckError(f"{source}: planner: {planner!r} is not one of {', '.join(PLANNERS)}"[:200])
@@ -157,6 +237,22 @@ def parse_checks(data: Any, *, source: str = "<checks>", base: Path | None = Non
             f"{source}: sneak: expected a list of {{from, to, expect}} tables, got {json_type(sneaks_data)}"
         )
     sneaks = tuple(_sneak_rule(item, f"{source}: sneak[{index}]") for index, item in enumerate(sneaks_data))
+    safe_data = data.get("safe", [])
+    if not isinstance(safe_data, list):
+        raise CheckError(f"{source}: safe: expected a list of [x, y] points, got {json_type(safe_data)}")
+    safe = tuple(
+        SafeRule(_point(item, f"{source}: safe[{index}]"), f"{source}: safe[{index}]")
+        for index, item in enumerate(safe_data)
+    )
+    undetected = flag("undetected")
+    if undetected and not safe:
+        raise CheckError(f"{source}: undetected: there is no safe rule in the file for it to apply to")
+    min_slack, max_slack = count("min_slack", 0), count("max_slack", 0)
+    for key, limit in (("min_slack", min_slack), ("max_slack", max_slack)):
+        if limit is not None and not sneaks:
+            raise CheckError(f"{source}: {key}: there is no sneak rule in the file for it to limit")
+    if min_slack is not None and max_slack is not None and min_slack > max_slack:
+        raise CheckError(f"{source}: min_slack: {min_slack} is over max_slack {max_slack}: no slack meets both")
     return CheckRules(
         max_cover_steps=count("max_cover_steps", 0),
         max_idleness=count("max_idleness", 0),
@@ -165,6 +261,10 @@ def parse_checks(data: Any, *, source: str = "<checks>", base: Path | None = Non
         planner=planner,
         patrol=patrol,
         sneaks=sneaks,
+        safe=safe,
+        undetected=undetected,
+        min_slack=min_slack,
+        max_slack=max_slack,
     )
 
 
@@ -181,8 +281,8 @@ def _point(value: Any, where: str) -> tuple[float, float]:
 def _sneak_rule(item: Any, where: str) -> SneakRule:
     if not isinstance(item, dict) or set(item) - {"from", "to", "expect"} or not {"from", "to", "expect"} <= set(item):
         raise CheckError(f"{where}: expected a table with exactly from, to and expect")
-    if item["expect"] not in ("caught", "sneaks"):
-        raise CheckError(f"{where}: expect: {item['expect']!r} is not 'caught' or 'sneaks'"[:160])
+    if item["expect"] not in EXPECTATIONS:
+        raise CheckError(f"{where}: expect: {item['expect']!r} is not one of {', '.join(EXPECTATIONS)}"[:160])
     return SneakRule(_point(item["from"], f"{where}: from"), _point(item["to"], f"{where}: to"), item["expect"], where)
 
 
@@ -194,7 +294,17 @@ def _cell(scene: Scene, point: tuple[float, float], where: str, what: str) -> in
 
 
 def run_checks(scene: Scene, rules: CheckRules, *, seed: int = 0) -> list[CheckResult]:
-    """Every rule's verdict, in the order: unreachable, cover steps, idleness, sneaks."""
+    """Every rule's verdict, in the order: unreachable, cover steps, idleness, safe spots, sneaks (each
+    followed by its slack limits).
+
+    Raises
+    ------
+    CheckError
+        When a rule cannot be checked: a point outside the level or in a wall, a patrol that does not
+        repeat for the safe and sneak rules, slack limits without a sneak rule, ``undetected`` without a
+        safe rule.
+    """
+    rules.validate()
     results: list[CheckResult] = []
     setup = patrol_setup(scene, rules.guards, seed=seed)
     goal = setup.goal
@@ -221,20 +331,19 @@ def run_checks(scene: Scene, rules: CheckRules, *, seed: int = 0) -> list[CheckR
                 f"{rules.planner} sees every reachable cell in {measured}, limit {rules.max_cover_steps}",
             )
         )
-    patrol: Patrol | None = None
-    if rules.max_idleness is not None or rules.sneaks:
-        if rules.patrol is not None:
-            patrol = read_patrol(rules.patrol, scene.grid, level=scene.level.name)
-            if patrol.motion != "grid":
-                raise CheckError(
-                    f"{rules.patrol}: motion is {patrol.motion!r}: check scores grid-motion patrols (ticks) only"
-                )
-            what = rules.patrol
-        else:
-            patrol = plan_loop(setup, rules.guards)[0].patrol
-            what = f"the loop patrol of {rules.guards} guard(s)"
+    if rules.max_idleness is None and not rules.sneaks and not rules.safe:
+        return results
+    if rules.patrol is not None:
+        patrol = read_patrol(rules.patrol, scene.grid, level=scene.level.name)
+        if patrol.motion != "grid":
+            raise CheckError(
+                f"{rules.patrol}: motion is {patrol.motion!r}: check scores grid-motion patrols (ticks) only"
+            )
+        what = rules.patrol
+    else:
+        patrol = plan_loop(setup, rules.guards)[0].patrol
+        what = f"the loop patrol of {rules.guards} guard(s)"
     if rules.max_idleness is not None:
-        assert patrol is not None
         score = score_patrol(setup.table, patrol, goal)
         worst = score.worst_idleness
         measured = f"{worst} ticks" if worst is not None else f"unbounded ({score.never_seen} cells never seen)"
@@ -245,27 +354,95 @@ def run_checks(scene: Scene, rules: CheckRules, *, seed: int = 0) -> list[CheckR
                 f"worst idleness of {what} is {measured}, limit {rules.max_idleness}",
             )
         )
+    if (rules.safe or rules.sneaks) and patrol.period is None:
+        raise CheckError(f"{what}: the safe and sneak rules need a repeating patrol (period null)")
+    if rules.safe:
+        results += _safe_results(scene, setup.table, patrol, rules)
     for rule in rules.sneaks:
-        assert patrol is not None
-        if patrol.period is None:
-            raise CheckError(f"{what}: the sneak rules need a repeating patrol (period null)")
-        source, target = _cell(scene, rule.source, rule.where, "from"), _cell(scene, rule.target, rule.where, "to")
-        if scene.grid.component_labels[source] != scene.grid.component_labels[target]:
-            raise CheckError(
-                f"{rule.where}: to {rule.target[0]:g},{rule.target[1]:g} cannot be reached from "
-                f"{rule.source[0]:g},{rule.source[1]:g}"
-            )
-        result = sneak_check(
-            scene.grid, setup.table, patrol, source, target, detection=GuardDetection.of_level(scene.level)
+        results += _sneak_results(scene, setup.table, patrol, rule, rules)
+    return results
+
+
+def _guards(guards: list[int]) -> str:
+    """``guard 0``, ``guards 0 and 2``, ``guards 0, 1 and 2``."""
+    if len(guards) == 1:
+        return f"guard {guards[0]}"
+    return f"guards {', '.join(map(str, guards[:-1]))} and {guards[-1]}"
+
+
+def _safe_results(scene: Scene, table: ViewTable, patrol: Patrol, rules: CheckRules) -> list[CheckResult]:
+    """The safe rules' verdicts: each cell out of every guard's view all lap (``undetected``: a player
+    standing there never detected)."""
+    cells = [_cell(scene, rule.point, rule.where, "point") for rule in rules.safe]
+    detection = GuardDetection.of_level(scene.level)
+    gains = patrol_gains(
+        scene.grid, table, patrol.states, detection.model, view_range=detection.view_range, dt=detection.dt
+    )
+    in_view = gains.gain > 0
+    lasts = time_to_detection(gains, scene.grid.traversable) if rules.undetected else None
+    period = patrol.ticks
+    results = []
+    for rule, cell in zip(rules.safe, cells):
+        col, row = scene.grid.unflat(cell)
+        ticks = np.flatnonzero(in_view[:, :, cell].any(axis=0))
+        watchers = np.flatnonzero(in_view[:, :, cell].any(axis=1)).tolist()
+        seen = (
+            f"in view of {_guards(watchers)} for {ticks.size} of {period} lap ticks, first at lap tick {ticks[0]}"
+            if ticks.size
+            else f"never in view during the {period}-tick lap"
         )
-        path = result.path
-        assert path is not None
+        if lasts is None:
+            holds, message = ticks.size == 0, f"cell [{col}, {row}] is {seen}"
+        elif lasts[cell] == NEVER_DETECTED:
+            holds, message = True, f"cell [{col}, {row}]: a player standing there is never detected ({seen})"
+        else:
+            holds = False
+            message = f"cell [{col}, {row}]: a player standing there is detected after {lasts[cell]} ticks ({seen})"
+        results.append(CheckResult(f"safe {rule.point[0]:g},{rule.point[1]:g}", holds, message))
+    return results
+
+
+def _sneak_results(
+    scene: Scene, table: ViewTable, patrol: Patrol, rule: SneakRule, rules: CheckRules
+) -> list[CheckResult]:
+    """A sneak rule's verdict, then its slack limits' verdicts."""
+    source, target = _cell(scene, rule.source, rule.where, "from"), _cell(scene, rule.target, rule.where, "to")
+    if scene.grid.component_labels[source] != scene.grid.component_labels[target]:
+        raise CheckError(
+            f"{rule.where}: to {rule.target[0]:g},{rule.target[1]:g} cannot be reached from "
+            f"{rule.source[0]:g},{rule.source[1]:g}"
+        )
+    result = sneak_check(
+        scene.grid,
+        table,
+        patrol,
+        source,
+        target,
+        detection=GuardDetection.of_level(scene.level),
+        undetected=rule.undetected,
+    )
+    path, grade = result.path, result.grade
+    assert path is not None and grade is not None
+    kind = "undetected" if rule.undetected else "unseen"
+    if rule.undetected:
+        answer = "undetected" if result.found else "detected"
+    else:
         answer = "sneaks" if result.found else "caught"
-        told = (
-            f"an unseen path of {path.ticks} ticks from lap tick {path.start_tick}"
-            if result.found
-            else f"no unseen path (closest call: {path.ticks_in_view} ticks in view)"
+    if result.found:
+        told = f"an {kind} path of {path.ticks} ticks from lap tick {path.start_tick}"
+        if rule.undetected:
+            told += f" (peak awareness {grade.peak:.2f})"
+    else:
+        told = f"no {kind} path (closest call: {path.ticks_in_view} ticks in view)"
+    name = f"sneak {rule.source[0]:g},{rule.source[1]:g} -> {rule.target[0]:g},{rule.target[1]:g}"
+    results = [CheckResult(name, answer == rule.expect, f"expected {rule.expect}, {answer}: {told}")]
+    slack = f"{name}: an {kind} path exists from {result.slack} of {result.period} lap ticks"
+    if rules.min_slack is not None:
+        results.append(
+            CheckResult("min-slack", result.slack >= rules.min_slack, f"{slack}, limit at least {rules.min_slack}")
         )
-        name = f"sneak {rule.source[0]:g},{rule.source[1]:g} -> {rule.target[0]:g},{rule.target[1]:g}"
-        results.append(CheckResult(name, answer == rule.expect, f"expected {rule.expect}, {answer}: {told}"))
+    if rules.max_slack is not None:
+        results.append(
+            CheckResult("max-slack", result.slack <= rules.max_slack, f"{slack}, limit at most {rules.max_slack}")
+        )
     return results

@@ -7,7 +7,16 @@ import sys
 
 import click
 
-from guardsim.cli.common import build_scene, limit_options, load, parse_point, reports_errors, vision_options
+from guardsim.cli.common import (
+    build_scene,
+    detection_options,
+    limit_options,
+    load,
+    parse_point,
+    reports_errors,
+    vision_options,
+    with_detection,
+)
 from guardsim.errors import GuardsimError
 from guardsim.planners import PLANNERS
 
@@ -26,6 +35,11 @@ def _points(
     return pairs
 
 
+def _each_point(_ctx: click.Context, param: click.Parameter, values: tuple[str, ...]) -> list[tuple[float, float]]:
+    points = [parse_point(_ctx, param, value) for value in values]
+    return [point for point in points if point is not None]
+
+
 @click.command()
 @click.argument("level_path", metavar="LEVEL")
 @click.option(
@@ -42,7 +56,7 @@ def _points(
     "--patrol",
     "patrol_path",
     type=str,
-    help="patrol.json for --max-idleness and --sneak [default: make the loop patrol].",
+    help="patrol.json for --max-idleness, --safe and --sneak [default: make the loop patrol].",
 )
 @click.option(
     "--guards",
@@ -51,6 +65,20 @@ def _points(
 )
 @click.option(
     "--planner", type=click.Choice(list(PLANNERS)), help="Planner of --max-cover-steps [default: ripplefront]."
+)
+@click.option(
+    "--safe",
+    "safe",
+    multiple=True,
+    callback=_each_point,
+    metavar="X,Y",
+    help="A safe spot: no guard sees its cell during the lap; repeatable.",
+)
+@click.option(
+    "--undetected",
+    is_flag=True,
+    default=None,
+    help="--safe asks only that a player standing there is never detected (seen briefly is allowed).",
 )
 @click.option(
     "--sneak",
@@ -62,12 +90,27 @@ def _points(
     help="X,Y X,Y: a sneak to check; repeatable, one --expect each.",
 )
 @click.option(
-    "--expect", "expects", type=click.Choice(["caught", "sneaks"]), multiple=True, help="What each --sneak must give."
+    "--expect",
+    "expects",
+    type=click.Choice(["caught", "sneaks", "detected", "undetected"]),
+    multiple=True,
+    help="What each --sneak must give: caught/sneaks (an unseen path), detected/undetected (an undetected one).",
+)
+@click.option(
+    "--min-slack",
+    type=click.IntRange(min=0),
+    help="Each --sneak's path must exist from at least N of the lap's ticks (too tight breaks the build).",
+)
+@click.option(
+    "--max-slack",
+    type=click.IntRange(min=0),
+    help="... and from at most N of them (too loose breaks the build).",
 )
 @click.option(
     "--checks", "checks_path", type=str, help="Read the rules from a checks file (TOML or JSON); options add to it."
 )
 @click.option("--seed", type=click.IntRange(min=0), default=0, show_default=True)
+@detection_options
 @vision_options
 @limit_options
 @reports_errors
@@ -79,10 +122,18 @@ def check(
     patrol_path: str | None,
     guards: int | None,
     planner: str | None,
+    safe: list[tuple[float, float]],
+    undetected: bool | None,
     sneaks: list[tuple[tuple[float, float], tuple[float, float]]],
     expects: tuple[str, ...],
+    min_slack: int | None,
+    max_slack: int | None,
     checks_path: str | None,
     seed: int,
+    detect_near: float | None,
+    detect_far: float | None,
+    forget: float | None,
+    suspicious: float | None,
     los: str,
     fov: float | None,
     view_range: float | None,
@@ -93,13 +144,13 @@ def check(
     """Check LEVEL against the rules given; print one line per broken rule and exit 1 if any is broken.
 
     Exit status: 0 every rule holds, 1 some rule is broken, 2 bad input (a level, patrol or checks file
-    that cannot be read, a sneak point outside the level, no rule at all).
+    that cannot be read, a safe or sneak point outside the level, no rule at all).
     """
-    from guardsim.checks import CheckRules, SneakRule, read_checks, run_checks
+    from guardsim.checks import EXPECTATIONS, CheckRules, SafeRule, SneakRule, read_checks, run_checks
 
     if len(expects) != len(sneaks):
         raise GuardsimError(
-            f"each --sneak needs its --expect caught|sneaks: {len(sneaks)} --sneak, {len(expects)} --expect"
+            f"each --sneak needs its --expect {'|'.join(EXPECTATIONS)}: {len(sneaks)} --sneak, {len(expects)} --expect"
         )
     rules = read_checks(checks_path) if checks_path else CheckRules()
     changes: dict[str, object] = {}
@@ -117,12 +168,28 @@ def check(
         changes["planner"] = planner
     if sneaks:
         changes["sneaks"] = rules.sneaks + tuple(SneakRule(a, b, e) for (a, b), e in zip(sneaks, expects))
+    if safe:
+        changes["safe"] = rules.safe + tuple(SafeRule(point) for point in safe)
+    if undetected:
+        changes["undetected"] = True
+    if min_slack is not None:
+        changes["min_slack"] = min_slack
+    if max_slack is not None:
+        changes["max_slack"] = max_slack
     rules = dataclasses.replace(rules, **changes)  # type: ignore[arg-type]
+    rules.validate()
     if rules.count == 0:
         raise GuardsimError(
-            f"{level_path}: no rule to check: give --max-cover-steps, --max-idleness, --no-unreachable, --sneak or --checks"
+            f"{level_path}: no rule to check: give --max-cover-steps, --max-idleness, --no-unreachable, --safe, "
+            "--sneak or --checks"
         )
-    level = load(level_path, max_cells, max_vertices, max_file_bytes)
+    level = with_detection(
+        load(level_path, max_cells, max_vertices, max_file_bytes),
+        detect_near=detect_near,
+        detect_far=detect_far,
+        forget=forget,
+        suspicious=suspicious,
+    )
     scene = build_scene(level, los, fov, view_range)
     results = run_checks(scene, rules, seed=seed)
     broken = [result for result in results if not result.holds]

@@ -230,7 +230,7 @@ def detection_options(command: F) -> F:
 
 def with_detection(level: Level, **overrides: float | None) -> Level:
     """The level with the detection options given (``detect_near=...``; ``None`` keeps the level's) applied."""
-    given = {key: value for key, value in overrides.items() if value is not None}
+    given: dict[str, Any] = {key: value for key, value in overrides.items() if value is not None}
     return dataclasses.replace(level, guard=dataclasses.replace(level.guard, **given)) if given else level
 
 

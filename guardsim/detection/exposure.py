@@ -40,7 +40,7 @@ class PatrolGains(NamedTuple):
     @property
     def seen(self) -> np.ndarray:
         """``bool (period, cells)``: whether any guard sees each cell at each tick."""
-        return (self.gain > 0).any(axis=0)
+        return np.asarray((self.gain > 0).any(axis=0))
 
 
 @jit

@@ -242,19 +242,19 @@ def _guard(value: Any, problems: list[Problem]) -> GuardSpec | None:
                 f"must be one of {', '.join(HEADINGS)}, not {quoted(heading) if isinstance(heading, str) else excerpt(heading, 40)}",
             )
         )
-    motion = {
+    motion: dict[str, Any] = {
         key: _number(value, key, 1.0, problems, where=f"guard.{key}", positive=True)
         for key in _MOTION_KEYS
         if value.get(key) is not None
     }
-    detection = {
-        key: _number(
-            value, key, getattr(defaults, key), problems, where=f"guard.{key}", minimum=0,
-            maximum=1 if key == "suspicious" else None,
-        )
-        for key in _DETECTION_KEYS
-        if key in value
-    }  # fmt: skip
+    detection: dict[str, float] = {}
+    for key in _DETECTION_KEYS:
+        number = None
+        if key in value:
+            upper = 1 if key == "suspicious" else None
+            number = _number(value, key, 0.0, problems, where=f"guard.{key}", minimum=0, maximum=upper)
+        if number is not None:
+            detection[key] = number
     if len(problems) > count or view_range is None or fov is None or radius is None:
         return None
     return GuardSpec(
