@@ -38,7 +38,7 @@ def commands(scratch: Path) -> dict[str, list[str]]:
         "play:tour": ["play", square, "--planner", "tour"],
         "patrol": ["patrol", square, "--out", str(scratch / "patrol")],
         "sneak": ["sneak", square, "--patrol", str(scratch / "patrol" / "patrol.json"),
-                  "--from", "2.5,2.5", "--to", "57.5,57.5", "--out", str(scratch / "sneak")],
+                  "--from", "2.5,2.5", "--to", "57.5,57.5", "--undetected", "--out", str(scratch / "sneak")],
         "bounds": ["bounds", square],
         "optimum": ["optimum", str(scratch / "room.json")],
         "bench": ["bench", square, "--episodes", "4", "--workers", "1", "--out", str(scratch / "bench")],

@@ -47,6 +47,8 @@ _SOURCES = {
     "run_team_episode": "guardsim.simulation",
     "run_batch_episode": "guardsim.simulation",
     "Trace": "guardsim.trace",
+    **dict.fromkeys(("AwarenessMeter", "DetectionModel", "GuardDetection"), "guardsim.detection"),
+    "sneak_check": "guardsim.sneak",
     **dict.fromkeys(("ContinuousSimulation", "GuardMotion", "run_continuous"), "guardsim.motion"),
 }
 
@@ -67,6 +69,9 @@ def __dir__() -> list[str]:
 
 
 if TYPE_CHECKING:
+    from guardsim.detection import AwarenessMeter as AwarenessMeter
+    from guardsim.detection import DetectionModel as DetectionModel
+    from guardsim.detection import GuardDetection as GuardDetection
     from guardsim.errors import GuardsimError as GuardsimError
     from guardsim.errors import LevelError as LevelError
     from guardsim.errors import LimitError as LimitError
@@ -87,6 +92,7 @@ if TYPE_CHECKING:
     from guardsim.simulation import run_batch_episode as run_batch_episode
     from guardsim.simulation import run_episode as run_episode
     from guardsim.simulation import run_team_episode as run_team_episode
+    from guardsim.sneak import sneak_check as sneak_check
     from guardsim.starts import episode_generator as episode_generator
     from guardsim.trace import Trace as Trace
     from guardsim.vision import LineOfSight as LineOfSight

@@ -8,12 +8,20 @@ from pathlib import Path
 import pytest
 from click.testing import CliRunner
 
-from guardsim.checks import CheckRules, SneakRule, run_checks
+from guardsim.checks import CheckRules, SafeRule, SneakRule, run_checks
 from guardsim.cli import main
 from tests.common import SPLIT_ROOMS, scene_from, write_level
 from tests.test_patrol import CORRIDOR
 
 POST = {"shape": [3, 11], "guards": [{"loop": [[5, 1]], "headings": [0]}]}
+#: A guard pacing the corridor, [3, 1] to [7, 1] and back: an 8-tick lap. Facing right from [7, 1] (lap
+#: tick 4) it glimpses the right room's [9, 0] and [9, 2] (once a lap, never detected under the default
+#: model) and [10, 0], [10, 2] at ticks 3 and 4 (detected after 2 ticks); it never sees [8, 0] or [8, 2].
+PACER_GUARD = {
+    "loop": [[3, 1], [4, 1], [5, 1], [6, 1], [7, 1], [6, 1], [5, 1], [4, 1], [3, 1]],
+    "headings": [2, 0, 0, 0, 0, 2, 2, 2, 2],
+}
+PACER = {"shape": [3, 11], "guards": [PACER_GUARD]}
 
 
 @pytest.fixture
@@ -151,3 +159,224 @@ def test_a_missing_patrol_in_a_checks_file_names_the_checks_file(corridor: tuple
     checks.write_text(json.dumps({"max_idleness": 10, "patrol": "1"}))
     code, lines = _run(str(level), "--checks", str(checks))
     assert code == 2 and lines == [f"guardsim: error: {checks}: patrol: {tmp_path / '1'}: no such file"]
+
+
+#: A sneak table, last in a TOML file (the keys after it would be its own).
+_SNEAK = '[[sneak]]\nfrom = [0.5, 0.5]\nto = [2.5, 2.5]\nexpect = "sneaks"\n'
+
+
+def _patrol_file(folder: Path, data: dict[str, object], name: str = "patrol.json") -> str:
+    path = folder / name
+    path.write_text(json.dumps(data))
+    return str(path)
+
+
+def _broken(lines: list[str]) -> list[str]:
+    """``rule: message`` of each broken-rule line."""
+    return [line.split(": broken: ", 1)[1] for line in lines]
+
+
+def test_a_safe_spot_a_guard_sees_breaks_the_build_until_it_is_fixed(corridor: tuple[Path, Path]) -> None:
+    level, _ = corridor
+    pacer = _patrol_file(level.parent, PACER)
+    code, lines = _run(str(level), "--patrol", pacer, "--safe", "9.5,0.5")
+    assert code == 1 and _broken(lines) == [
+        "safe 9.5,0.5: cell [9, 0] is in view of guard 0 for 1 of 8 lap ticks, first at lap tick 4"
+    ]
+    # Fixed by moving the spot to a cell the guard never sees ...
+    assert _run(str(level), "--patrol", pacer, "--safe", "8.5,0.5") == (0, [f"{level}: all 1 rule holds"])
+    # ... or by changing the patrol: a post facing left never looks into the right room.
+    left = _patrol_file(level.parent, {"shape": [3, 11], "guards": [{"loop": [[5, 1]], "headings": [2]}]}, "left.json")
+    assert _run(str(level), "--patrol", left, "--safe", "9.5,0.5") == (0, [f"{level}: all 1 rule holds"])
+
+
+def test_a_safe_spot_seen_by_two_guards_names_both(corridor: tuple[Path, Path]) -> None:
+    level, _ = corridor
+    both = {"shape": [3, 11], "guards": [PACER_GUARD, {"loop": [[5, 1]], "headings": [0]}]}
+    code, lines = _run(
+        str(level), "--patrol", _patrol_file(level.parent, both), "--safe", "9.5,1.5", "--safe", "8.5,0.5"
+    )
+    assert code == 1 and _broken(lines) == [
+        "safe 9.5,1.5: cell [9, 1] is in view of guards 0 and 1 for 8 of 8 lap ticks, first at lap tick 0"
+    ]
+
+
+def test_an_undetected_safe_spot_may_be_seen_briefly(corridor: tuple[Path, Path]) -> None:
+    level, _ = corridor
+    pacer = _patrol_file(level.parent, PACER)
+    # Seen once a lap from four cells away: the plain rule breaks, the undetected one holds.
+    assert _run(str(level), "--patrol", pacer, "--safe", "9.5,0.5")[0] == 1
+    assert _run(str(level), "--patrol", pacer, "--safe", "9.5,0.5", "--undetected") == (
+        0,
+        [f"{level}: all 1 rule holds"],
+    )
+    [result] = run_checks(scene_from(CORRIDOR), CheckRules(patrol=pacer, safe=(SafeRule((9.5, 0.5)),), undetected=True))
+    assert result == (
+        "safe 9.5,0.5",
+        True,
+        "cell [9, 0]: a player standing there is never detected "
+        "(in view of guard 0 for 1 of 8 lap ticks, first at lap tick 4)",
+    )
+    # Seen two ticks running: detected.
+    code, lines = _run(str(level), "--patrol", pacer, "--safe", "10.5,0.5", "--undetected")
+    assert code == 1 and _broken(lines) == [
+        "safe 10.5,0.5: cell [10, 0]: a player standing there is detected after 2 ticks "
+        "(in view of guard 0 for 2 of 8 lap ticks, first at lap tick 3)"
+    ]
+    # A slower model lets the same spot pass.
+    slow = ["--detect-near", "1", "--detect-far", "2"]
+    assert _run(str(level), "--patrol", pacer, "--safe", "10.5,0.5", "--undetected", *slow)[0] == 0
+
+
+#: The pacer stops every unseen crossing; under the default model every crossing is detected too, but with
+#: slower detection (--detect-near 1 --detect-far 2) a player can slip past undetected from any lap tick.
+SLOW = ("--detect-near", "1", "--detect-far", "2")
+
+
+@pytest.mark.parametrize(
+    ("model", "expect", "broken"),
+    [
+        ((), "detected", None),
+        ((), "caught", None),
+        ((), "undetected", "expected undetected, detected: no undetected path (closest call: 1 ticks in view)"),
+        (SLOW, "undetected", None),
+        (SLOW, "caught", None),
+        (SLOW, "detected", "expected detected, undetected: an undetected path of 12 ticks from lap tick"),
+    ],
+    ids=["default-detected", "default-caught", "default-undetected", "slow-undetected", "slow-caught", "slow-detected"],
+)
+def test_expect_undetected_or_detected(
+    corridor: tuple[Path, Path], model: tuple[str, ...], expect: str, broken: str | None
+) -> None:
+    level, _ = corridor
+    pacer = _patrol_file(level.parent, PACER)
+    code, lines = _run(str(level), "--patrol", pacer, "--sneak", "0.5,0.5", "10.5,2.5", "--expect", expect, *model)
+    if broken is None:
+        assert (code, lines) == (0, [f"{level}: all 1 rule holds"])
+    else:
+        assert code == 1 and len(lines) == 1
+        assert _broken(lines)[0].startswith(f"sneak 0.5,0.5 -> 10.5,2.5: {broken}"), lines
+
+
+@pytest.mark.parametrize(
+    ("expect", "limits", "broken"),
+    [
+        # Left room, [0, 0] to [2, 2]: an unseen path from 6 of the 8 lap ticks, an undetected one from 7.
+        ("sneaks", ["--min-slack", "6", "--max-slack", "6"], []),
+        (
+            "sneaks",
+            ["--min-slack", "7"],
+            ["min-slack: {sneak}: an unseen path exists from 6 of 8 lap ticks, limit at least 7"],
+        ),
+        (
+            "sneaks",
+            ["--max-slack", "5"],
+            ["max-slack: {sneak}: an unseen path exists from 6 of 8 lap ticks, limit at most 5"],
+        ),
+        ("undetected", ["--min-slack", "7", "--max-slack", "7"], []),
+        (
+            "undetected",
+            ["--max-slack", "6"],
+            ["max-slack: {sneak}: an undetected path exists from 7 of 8 lap ticks, limit at most 6"],
+        ),
+        (
+            "undetected",
+            ["--min-slack", "8"],
+            ["min-slack: {sneak}: an undetected path exists from 7 of 8 lap ticks, limit at least 8"],
+        ),
+    ],
+    ids=[
+        "unseen-holds",
+        "unseen-too-tight",
+        "unseen-too-loose",
+        "undetected-holds",
+        "undetected-too-loose",
+        "undetected-too-tight",
+    ],
+)
+def test_slack_limits(corridor: tuple[Path, Path], expect: str, limits: list[str], broken: list[str]) -> None:
+    level, _ = corridor
+    pacer = _patrol_file(level.parent, PACER)
+    code, lines = _run(str(level), "--patrol", pacer, "--sneak", "0.5,0.5", "2.5,2.5", "--expect", expect, *limits)
+    if not broken:
+        assert (code, lines) == (0, [f"{level}: all 3 rules hold"])
+    else:
+        assert code == 1 and _broken(lines) == [line.format(sneak="sneak 0.5,0.5 -> 2.5,2.5") for line in broken]
+
+
+def test_safe_and_slack_rules_from_a_checks_file(corridor: tuple[Path, Path], tmp_path: Path) -> None:
+    level, _ = corridor
+    _patrol_file(tmp_path, PACER)
+    checks = tmp_path / "checks.toml"
+    checks.write_text(
+        'patrol = "patrol.json"\nsafe = [[8.5, 0.5], [9.5, 0.5]]\nundetected = true\nmin_slack = 7\n'
+        '[[sneak]]\nfrom = [0.5, 0.5]\nto = [2.5, 2.5]\nexpect = "undetected"\n'
+    )
+    assert _run(str(level), "--checks", str(checks)) == (0, [f"{level}: all 4 rules hold"])
+    # An option adds to the file: a third safe spot, one a player standing in is detected in.
+    code, lines = _run(str(level), "--checks", str(checks), "--safe", "10.5,2.5")
+    assert code == 1 and _broken(lines) == [
+        "safe 10.5,2.5: cell [10, 2]: a player standing there is detected after 2 ticks "
+        "(in view of guard 0 for 2 of 8 lap ticks, first at lap tick 3)"
+    ]
+
+
+@pytest.mark.parametrize(
+    ("text", "message"),
+    [
+        ("safe = [3.5, 0.5]\n", "bad.toml: safe[0]: expected [x, y], two finite numbers, got 3.5"),
+        ("safe = [[3.5]]\n", "bad.toml: safe[0]: expected [x, y], two finite numbers, got [3.5]"),
+        ('safe = "3.5,0.5"\n', "bad.toml: safe: expected a list of [x, y] points, got a string"),
+        ("safe = [[4.5, 0.5]]\n", "bad.toml: safe[0]: point 4.5,0.5 is not a cell a guard-sized player can stand in"),
+        ("safe = [[8.5, 0.5]]\nundetected = 1\n", "bad.toml: undetected: expected true or false, got 1"),
+        ("undetected = true\nmax_idleness = 9\n", "bad.toml: undetected: there is no safe rule in the file"),
+        ("min_slack = 2\nmax_idleness = 9\n", "bad.toml: min_slack: there is no sneak rule in the file"),
+        (f"max_slack = -1\n{_SNEAK}", "bad.toml: max_slack: expected a whole number of at least 0, got -1"),
+        (f"min_slack = 1.5\n{_SNEAK}", "bad.toml: min_slack: expected a whole number of at least 0, got 1.5"),
+        (f"min_slack = 5\nmax_slack = 4\n{_SNEAK}", "bad.toml: min_slack: 5 is over max_slack 4: no slack meets both"),
+        (
+            '[[sneak]]\nfrom = [0, 0]\nto = [1, 1]\nexpect = "unseen"\n',
+            "bad.toml: sneak[0]: expect: 'unseen' is not one of caught, sneaks, detected, undetected",
+        ),
+    ],
+    ids=[
+        "point-not-list",
+        "short-point",
+        "safe-string",
+        "safe-in-wall",
+        "undetected-number",
+        "undetected-alone",
+        "slack-alone",
+        "negative-slack",
+        "fractional-slack",
+        "slack-crossed",
+        "expect-unseen",
+    ],
+)
+def test_bad_safe_and_slack_keys(corridor: tuple[Path, Path], tmp_path: Path, text: str, message: str) -> None:
+    level, _ = corridor
+    checks = tmp_path / "bad.toml"
+    checks.write_text(text)
+    code, lines = _run(str(level), "--checks", str(checks))
+    assert code == 2 and len(lines) == 1 and lines[0].startswith(f"guardsim: error: {tmp_path / message}"), lines
+
+
+@pytest.mark.parametrize(
+    ("args", "message"),
+    [
+        (["--min-slack", "3", "--max-idleness", "9"], "slack limits apply to the sneak rules' slack"),
+        (["--undetected", "--max-idleness", "9"], "undetected applies to the safe rules"),
+        (["--safe", "4.5,0.5"], "--safe: point 4.5,0.5 is not a cell"),
+        (["--safe", "9.5"], "expected X,Y"),
+        (
+            ["--sneak", "0.5,0.5", "2.5,2.5", "--expect", "caught", "--min-slack", "3", "--max-slack", "2"],
+            "min slack 3 is over max slack 2",
+        ),
+    ],
+    ids=["slack-alone", "undetected-alone", "safe-in-wall", "safe-not-a-point", "slack-crossed"],
+)
+def test_bad_safe_and_slack_options_are_exit_2(corridor: tuple[Path, Path], args: list[str], message: str) -> None:
+    level, _ = corridor
+    code, lines = _run(str(level), *args)
+    assert code == 2 and message in "\n".join(lines), lines
+    assert code == 2 and sum(line.startswith(("guardsim: error", "Error")) for line in lines) == 1, lines
