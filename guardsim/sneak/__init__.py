@@ -19,7 +19,7 @@ from guardsim.errors import LimitError
 from guardsim.grid import CoverageGrid
 from guardsim.patrol.model import Patrol
 from guardsim.sneak.grade import PathGrade, grade_path, unseen_reach
-from guardsim.sneak.graded import undetected_search
+from guardsim.sneak.graded import entry_searches, undetected_search
 from guardsim.sneak.search import SneakPath, closest_call, find_sneak, hiding_windows
 from guardsim.vision.table import ViewTable
 
@@ -166,11 +166,9 @@ def _undetected_entries(
     goal = reach.copy()
     goal[:, target] = True
     known = reach[:, source]
+    phases = np.flatnonzero(~known)
     found = np.zeros_like(known)
-    for phase in np.flatnonzero(~known):
-        only = np.zeros_like(known)
-        only[phase] = True
-        found[phase] = undetected_search(neighbours, gains.gain, gains.fall, source, goal, only, seen=seen).found >= 0
+    found[phases] = entry_searches(neighbours, gains.gain, gains.fall, source, goal, phases, seen=seen)
     return found
 
 

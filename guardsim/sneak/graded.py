@@ -19,7 +19,7 @@ from guardsim.errors import LimitError
 from guardsim.kernels.compiler import jit
 from guardsim.kernels.meter import DETECTED, meter_after
 
-__all__ = ["MAX_LABELS", "LabelSearch", "undetected_search"]
+__all__ = ["MAX_LABELS", "LabelSearch", "entry_searches", "undetected_search"]
 
 #: Most labels a graded search may keep (each about ``8 * guards + 24`` bytes).
 MAX_LABELS = 20_000_000
@@ -48,18 +48,17 @@ def _label_search(
     entries: np.ndarray,
     exhaustive: bool,
     max_labels: int,
+    head: np.ndarray,
+    settled: np.ndarray,
+    room: int,
 ) -> tuple[np.ndarray, np.ndarray, np.ndarray, int, int]:
     """Breadth-first label search; returns (label node, label parent, label meters, labels kept, found
     label): the first label on a ``goal`` node, -1 when none is, -2 past ``max_labels``. Stops at the
-    first unless ``exhaustive``."""
+    first unless ``exhaustive``. ``head`` (all -1) and ``settled`` (all false), one entry per node, are
+    the caller's, so that repeated searches share them; ``room`` is the labels to allocate at first."""
     guards, period, cells = gain.shape
-    head = np.full(period * cells, -1, dtype=np.int64)
-    # Nodes holding a label with every meter empty, which dominates all others: most edges of the search
-    # lead to one, and this small array settles them without touching the labels.
-    settled = np.zeros(period * cells, dtype=np.bool_)
-    # Room for a label per node to start with: most nodes keep one (all meters empty), and growing is
-    # the slow path.
-    room = period * cells + 1
+    # ``settled`` marks nodes holding a label with every meter empty, which dominates all others: most
+    # edges of the search lead to one, and the small array settles them without touching the labels.
     node_of = np.empty(room, dtype=np.int64)
     parent = np.empty(room, dtype=np.int64)
     after_in_node = np.empty(room, dtype=np.int64)
@@ -159,6 +158,73 @@ def _label_search(
     return node_of, parent, meters, count, found
 
 
+@jit
+def _entry_searches(
+    neighbours: np.ndarray,
+    gain: np.ndarray,
+    seen: np.ndarray,
+    fall: float,
+    source: int,
+    goal: np.ndarray,
+    phases: np.ndarray,
+    max_labels: int,
+) -> np.ndarray:
+    """One search per lap tick in ``phases``, entering then only; whether each reaches a goal node (-2 in
+    the first entry past ``max_labels``). The node arrays are cleaned between searches, not rebuilt."""
+    period, cells = gain.shape[1], gain.shape[2]
+    head = np.full(period * cells, -1, dtype=np.int64)
+    settled = np.zeros(period * cells, dtype=np.bool_)
+    entries = np.zeros(period, dtype=np.bool_)
+    out = np.zeros(phases.size, dtype=np.int64)
+    room = 1024
+    for index in range(phases.size):
+        entries[phases[index]] = True
+        node_of, _, _, count, found = _label_search(
+            neighbours, gain, seen, fall, source, goal, entries, False, max_labels, head, settled, room
+        )
+        entries[phases[index]] = False
+        if found == -2:
+            out[index] = -2
+            return out
+        out[index] = 1 if found >= 0 else 0
+        room = max(room, count + 1)
+        for label in range(count):
+            head[node_of[label]] = -1
+            settled[node_of[label]] = False
+    return out
+
+
+def entry_searches(
+    neighbours: np.ndarray,
+    gain: np.ndarray,
+    fall: float,
+    source: int,
+    goal: np.ndarray,
+    phases: np.ndarray,
+    *,
+    seen: np.ndarray | None = None,
+    max_labels: int = MAX_LABELS,
+) -> np.ndarray:
+    """``bool (len(phases),)``: for each lap tick in ``phases``, whether a player entering ``source`` then
+    (and only then) reaches a ``goal`` node (``bool (period, cells)``) undetected.
+
+    >>> neighbours = np.array([[1, -1, -1, -1], [2, -1, 0, -1], [-1, -1, 1, -1]])
+    >>> gain = np.array([[[0.0, 1.0, 0.0], [0.0, 0.0, 0.0]]])
+    >>> goal = np.array([[False, False, True], [False, False, True]])
+    >>> entry_searches(neighbours, gain, 0.25, 0, goal, np.array([0, 1])).tolist()
+    [True, True]
+    """
+    gain = np.ascontiguousarray(gain, dtype=np.float64)
+    seen = (gain > 0).any(axis=0) if seen is None else np.ascontiguousarray(seen, dtype=np.bool_)
+    out = _entry_searches(
+        np.ascontiguousarray(neighbours, dtype=np.int64), gain, seen, float(fall), int(source),
+        np.ascontiguousarray(goal, dtype=np.bool_), np.ascontiguousarray(phases, dtype=np.int64), int(max_labels),
+    )  # fmt: skip
+    if (out == -2).any():
+        raise LimitError(f"a slack search passed {max_labels} labels; the level, lap or guards are too large for it")
+    return out == 1
+
+
 class LabelSearch:
     """The labels of one graded search, kept to read paths and reached cells from."""
 
@@ -238,8 +304,11 @@ def undetected_search(
         goal[:, int(target)] = True
     node_of, parent, meters, count, found = _label_search(
         np.ascontiguousarray(neighbours, dtype=np.int64), gain,
-        (gain > 0).any(axis=0) if seen is None else np.ascontiguousarray(seen, dtype=np.bool_), float(fall), int(source), goal, entries,
-        bool(exhaustive), int(max_labels),
+        (gain > 0).any(axis=0) if seen is None else np.ascontiguousarray(seen, dtype=np.bool_), float(fall),
+        int(source), goal, entries, bool(exhaustive), int(max_labels),
+        np.full(period * cells, -1, dtype=np.int64), np.zeros(period * cells, dtype=np.bool_),
+        # Room for a label per node to start with: most nodes keep one (all meters empty).
+        period * cells + 1,
     )  # fmt: skip
     if found == -2:
         raise LimitError(
