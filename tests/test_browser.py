@@ -550,3 +550,215 @@ def test_cell_readout_gives_a_cells_worst_gap_and_idleness_now(pages: Path, tmp_
         assert (
             element(dom, "cell-readout") == f"cell [{col}, {row}]: worst gap {worst} ticks \u00b7 idle now {idle} ticks"
         )
+
+
+# --- Sneak pages under the detection model: meters, the intruder's state, the peak, exposure, time to
+# detection, safe spots ---
+
+#: Slow detection past the corridor post, so the intruder goes unseen, in view, suspicious, detected.
+SLOW_DETECTION = ["--detect-near", "1", "--detect-far", "2", "--suspicious", "0.6"]
+
+
+@pytest.fixture(scope="module")
+def detection_page(tmp_path_factory) -> tuple[Path, dict]:
+    """`sneak --html` past the corridor post with slow detection and two safe spots (one never seen,
+    one in the post's view): the page and its sneak.json."""
+    from tests.common import write_level
+    from tests.test_patrol import CORRIDOR
+    from tests.test_viewer import CORRIDOR_POST
+
+    folder = tmp_path_factory.mktemp("detection-page")
+    level = write_level(folder, CORRIDOR, "corridor.json")
+    (folder / "post.json").write_text(json.dumps(CORRIDOR_POST))
+    args = ["--from", "0.5,0.5", "--to", "10.5,2.5", "--out", str(folder / "c"), "--html", *SLOW_DETECTION]
+    args += ["--safe", "0.5,2.5", "--safe", "6.5,1.5"]
+    result = CliRunner().invoke(main, ["sneak", str(level), "--patrol", str(folder / "post.json"), *args])
+    assert result.exit_code == 0 and "caught" in result.output, result.output
+    return folder / "c" / "sneak.html", json.loads((folder / "c" / "sneak.json").read_text())
+
+
+def meter_colour(level: float, suspicious: float, colours: dict) -> tuple[int, int, int]:
+    """A meter bar's fill colour: red full, orange from the suspicious level, the walls' grey below."""
+    name = "detected" if level >= 1 else "suspicious" if level >= suspicious else "in view"
+    return tuple(colours[name])  # type: ignore[return-value]
+
+
+def test_sneak_page_shows_each_guards_meter_and_the_intruders_state(detection_page, tmp_path: Path) -> None:
+    """At ticks unseen, in view, suspicious, detected and draining: a bar over the post, framed in the
+    outline colour, is filled from the left by sneak.json's ``awareness`` at that tick (in the colour of
+    its level) and white beyond; the state beside the readout is the one sneak.json's meters give (shown
+    in the state's colour, with the highest meter); once the intruder has arrived the bar is gone."""
+    from guardsim.detection import intruder_state
+
+    page, sneak = detection_page
+    data = page_data_of(page)
+    intruder = data["intruder"]
+    awareness = np.asarray(sneak["awareness"])
+    assert np.abs(decoded_f4(intruder["meters"]) - awareness.ravel()).max() < 1e-6
+    in_view = np.frombuffer(base64.b64decode(intruder["in_view"]), dtype=np.uint8) == 1
+    cols = data["cols"]
+    guard_path = np.frombuffer(base64.b64decode(data["paths"][0]), dtype="<i4")
+    states = [
+        intruder_state(
+            list(awareness[t]), bool(in_view[t]), 0.6, sneak["detected_at"] is not None and t >= sneak["detected_at"]
+        )
+        for t in range(len(awareness))
+    ]
+    assert {"unseen", "in view", "suspicious", "detected"} <= set(states)
+    wanted = {states.index(name) for name in ("unseen", "in view", "suspicious", "detected")}
+    ticks = sorted(wanted | {len(awareness) - 2})
+    scale = 40
+    radius = max(7, 0.45 * scale)
+    half, height = round(radius) + 1, max(5, round(0.6 * radius))
+    for step in ticks:
+        tick = intruder["start"] + step
+        dom, image = view(page, f"tick={tick}&layers=meters&scale={scale}", tmp_path / "profile")
+        assert element(dom, "errors") == ""
+        found = re.search(
+            r'id="intruder-state" data-state="([^"]+)" style="background: rgb\((\d+), (\d+), (\d+)\)', dom
+        )
+        assert found is not None
+        assert found.group(1) == states[step]
+        assert tuple(int(found.group(k)) for k in (2, 3, 4)) == tuple(intruder["state_colours"][states[step]])
+        assert element(dom, "intruder-state") == f"{states[step]} \u00b7 awareness {awareness[step].max():.2f}"
+        left, top, _ = geometry(dom)
+        cell = int(guard_path[tick % len(guard_path)])
+        x, y = left + (cell % cols + 0.5) * scale, top + (cell // cols + 0.5) * scale
+        x0, y0 = round(x) - half, round(y - radius) - 4 - height
+        outline = tuple(int(data["colours"]["outline"][i : i + 2], 16) for i in (1, 3, 5))
+        assert tuple(image[y0, x0 + half]) == outline and tuple(image[y0 + height // 2, x0]) == outline
+        inside = 2 * half - 2
+        row = image[y0 + height // 2, x0 + 1 : x0 + 1 + inside].astype(int)
+        level = float(awareness[step, 0])
+        filled = round(level * inside)
+        assert (row[:filled] == meter_colour(level, 0.6, intruder["state_colours"])).all(), step
+        assert (row[filled:] == 255).all(), step
+    # Past the arrival no bar is drawn: the bar's frame is floor or cone, not the outline colour.
+    end = intruder["start"] + len(awareness)
+    dom, image = view(page, f"tick={end}&layers=meters&scale={scale}", tmp_path / "profile")
+    assert readout_tick(dom) == end
+    assert element(dom, "intruder-state") == ""
+    assert tuple(image[y0, x0 + half]) != outline
+
+
+def decoded_f4(text: str) -> np.ndarray:
+    return np.frombuffer(base64.b64decode(text), dtype="<f4").astype(float)
+
+
+def test_sneak_timeline_marks_the_peak_awareness_and_the_detection(detection_page, tmp_path: Path) -> None:
+    """The timeline marks the first tick of the highest meter in sneak.json's ``awareness`` and its
+    ``detected_at``, named; a page whose meters never rise (Square, unseen) marks no peak."""
+    page, sneak = detection_page
+    data = page_data_of(page)
+    awareness = np.asarray(sneak["awareness"])
+    peak = int(np.argmax(awareness.max(axis=1)))
+    start = data["intruder"]["start"]
+    dom = dump(page, "tick=0", tmp_path / "profile")
+    named = dict(re.findall(r'<option value="(\d+)">([^<]+)</option>', timeline_marks(dom)))
+    assert named[str(start + peak)].startswith(f"peak awareness {awareness.max():.2f}")
+    assert "detected" in named[str(start + sneak["detected_at"])].split(", ")
+    assert len(named) == len({peak, sneak["detected_at"]})
+
+
+def test_square_sneak_page_marks_no_peak(pages: Path, tmp_path: Path) -> None:
+    page = pages / "s" / "sneak.html"
+    dom = dump(page, "tick=0", tmp_path / "profile")
+    assert element(dom, "errors") == ""
+    assert not re.findall(r'<option value="\d+">[^<]+</option>', timeline_marks(dom))
+
+
+def heat_layer_check(
+    page: Path, sneak: dict, key: str, page_key: str, layer: str, tmp_path: Path
+) -> tuple[np.ndarray, np.ndarray]:
+    """With the layer ``layer`` alone: the page's ``page_key`` equals sneak.json's ``key``; every drawn cell (away
+    from the guard) has the ramp colour of its value over the colour bar's range, which the bar shows at
+    that value; cells with no value are floor or wall. Returns the values and the never cells."""
+    data = page_data_of(page)
+    info = data[page_key]
+    rows, cols = data["rows"], data["cols"]
+    values = decoded_f4(info["values"]).reshape(rows, cols)
+    never = np.frombuffer(base64.b64decode(info["never"]), dtype=np.uint8).reshape(rows, cols) == 1
+    expected = np.array([[np.nan if v is None else v for v in row] for row in sneak[key]], dtype=float)
+    drawn = values >= 0
+    assert (np.isfinite(expected) == drawn).all()
+    assert np.abs(values[drawn] - expected[drawn]).max() < 1e-6
+    dom, image = view(page, f"tick=0&layers={layer}&scale=8", tmp_path / "profile")
+    assert element(dom, "errors") == ""
+    assert element(dom, "bar-label") == info["label"] and element(dom, "bar-unit") == info["unit"]
+    top_value = info["max"]
+    path = np.frombuffer(base64.b64decode(data["paths"][0]), dtype="<i4")
+    guard = (int(path[0] % cols), int(path[0] // cols))
+    rr, cc = np.nonzero(drawn)
+    cells = np.stack([cc, rr], axis=1)
+    cells = cells[away_from(cells, guard)]
+    pixels = cell_pixels(image, dom, cells)
+    colours = np.array([rgb_ramp(data["ramp"], float(values[r, c]) / top_value) for c, r in cells])
+    assert len(cells) > 100 and (pixels == colours).all()
+    assert len(np.unique(colours, axis=0)) > 5
+    bar_left = int(re.search(r'data-bar-left="(\d+)"', dom).group(1))  # type: ignore[union-attr]
+    bar_top = int(re.search(r'data-bar-top="(\d+)"', dom).group(1))  # type: ignore[union-attr]
+    for c, r in cells[:: max(1, len(cells) // 40)]:
+        bar = image[bar_top + 8, bar_left + 1 + round(float(values[r, c]) / top_value * 255)].astype(int)
+        assert np.abs(bar - np.array(rgb_ramp(data["ramp"], float(values[r, c]) / top_value))).max() <= 3
+    rr, cc = np.nonzero(never)
+    if len(rr):
+        black = cell_pixels(image, dom, np.stack([cc, rr], axis=1)[away_from(np.stack([cc, rr], axis=1), guard)])
+        assert (black == 0).all()
+    rr, cc = np.nonzero(~drawn & ~never)
+    holes = np.stack([cc, rr], axis=1)
+    hole_pixels = cell_pixels(image, dom, holes[away_from(holes, guard)])
+    assert ((hole_pixels == COLOURS["free"]).all(axis=1) | (hole_pixels == COLOURS["wall"]).all(axis=1)).all()
+    return values, never
+
+
+def test_exposure_layer_has_the_colour_bars_colours(pages: Path, tmp_path: Path) -> None:
+    """Square's sneak page, exposure alone: each floor cell is the ramp colour of sneak.json's
+    ``exposure`` on a bar from 0 to 1 (a fraction of the lap); walls are holes."""
+    page = pages / "s" / "sneak.html"
+    sneak = json.loads((pages / "s" / "sneak.json").read_text())
+    values, never = heat_layer_check(page, sneak, "exposure", "exposure", "exposure", tmp_path)
+    assert page_data_of(page)["exposure"]["max"] == 1 and not never.any()
+    assert 0 < values.max() <= 1
+
+
+def test_time_to_detection_layer_marks_never_detected_cells_black(pages: Path, tmp_path: Path) -> None:
+    """Square's sneak page, time to detection alone: each cell sneak.json gives a number is the ramp
+    colour of it over the bar's range (0 to the largest); floor cells it gives null (never detected) are
+    black, and the cell readout says so."""
+    page = pages / "s" / "sneak.html"
+    sneak = json.loads((pages / "s" / "sneak.json").read_text())
+    data = page_data_of(page)
+    sneak_never = np.array(
+        [
+            [lasts is None and seen is not None for lasts, seen in zip(row, exposure_row)]
+            for row, exposure_row in zip(sneak["time_to_detection"], sneak["exposure"])
+        ]
+    )
+    values, never = heat_layer_check(page, sneak, "time_to_detection", "detection_time", "detection-time", tmp_path)
+    assert (never == sneak_never).all() and never.any()
+    assert data["detection_time"]["max"] == np.nanmax(np.where(values >= 0, values, np.nan))
+    row, col = (int(v) for v in np.argwhere(never)[0])
+    dom = dump(page, f"tick=0&cell={col},{row}", tmp_path / "profile")
+    assert "time to detection never detected" in element(dom, "cell-readout")
+
+
+def test_safe_spots_are_outlined_green_where_they_hold(detection_page, tmp_path: Path) -> None:
+    """--safe 0.5,2.5 (never seen: holds) and --safe 6.5,1.5 (in the post's view: broken): each cell is
+    ringed just outside its edges in the colour of its verdict, its centre is not, and its readout says
+    why."""
+    page, sneak = detection_page
+    data = page_data_of(page)
+    scale = 40
+    dom, image = view(page, f"tick=0&layers=safe&scale={scale}", tmp_path / "profile")
+    assert element(dom, "errors") == ""
+    left, top, _ = geometry(dom)
+    for col, row in ((0, 2), (6, 1)):
+        holds = sneak["exposure"][row][col] == 0
+        ring = tuple(data["safe_colours"]["holds" if holds else "broken"])
+        x0, y0 = left + col * scale, top + row * scale
+        assert tuple(image[y0 - 1, x0 + scale // 2]) == ring
+        assert tuple(image[y0 + scale // 2, x0 + scale]) == ring
+        assert tuple(image[y0 + scale // 2, x0 + scale // 2]) != ring
+        cell = element(dump(page, f"tick=0&cell={col},{row}", tmp_path / "profile"), "cell-readout")
+        assert cell.endswith("safe spot holds: never seen" if holds else "safe spot broken: seen 100% of the lap")
+    assert {spot["holds"] for spot in data["safe"]} == {True, False}

@@ -243,3 +243,68 @@ def test_sneak_bad_points_are_one_line(tmp_path: Path, point: str, message: str)
     )
     assert result.exit_code == 2
     assert result.output.strip() == f"guardsim: error: {message}"
+
+
+def test_sneak_gif_draws_each_guards_meter_and_colours_the_intruder_by_state(tmp_path: Path) -> None:
+    """Past the corridor post (caught, detected as it passes the post, the meter draining after): decoded
+    back, each frame has a bar over the post framed in the outline colour and filled from the left by the
+    meter of sneak.json's ``awareness`` at that tick (red once full, orange from the suspicious level,
+    white where empty), and the intruder's disc is white while unseen and red once detected."""
+    import imageio.v3 as iio
+
+    from guardsim.patrol.replay import patrol_trace
+    from guardsim.render.gif import GifOptions
+    from guardsim.render.palette import COLOURS, GUARD_COLOURS
+    from guardsim.sneak import sneak_data
+    from guardsim.sneak.gif import SneakFrames, path_states, write_sneak_gif
+
+    level = level_from(CORRIDOR)
+    scene = Scene.from_level(level)
+    setup = patrol_setup(scene)
+    grid = scene.grid
+    post = _corridor_post(scene, 5, 0)
+    detection = GuardDetection.of_level(scene.level)
+    result = sneak_check(grid, setup.table, post, grid.flat(0, 0), grid.flat(10, 2), detection=detection)
+    path, grade = result.path, result.grade
+    assert path is not None and grade is not None
+    data = sneak_data(result, grid)
+    awareness = np.asarray(data["awareness"])[:, 0]
+    # The meter fills on the post's cell and drains after: full, partial and empty bars all occur.
+    assert (awareness == 0).any() and (awareness == 1).any() and ((awareness > 0.5) & (awareness < 1)).any()
+    goal = np.asarray(grid.largest_component()).ravel()
+    trace = patrol_trace(scene, setup.table, post, goal, start=path.start_tick, ticks=path.ticks, label="sneak")
+    cells = [grid.unflat(int(cell)) for cell in path.cells]
+    states = path_states(grade.meters, grade.in_view, grade.detected_at, 0.5)
+    gif = tmp_path / "sneak.gif"
+    options = GifOptions(size=300)
+    frames = write_sneak_gif(gif, level, trace, cells, options=options, meters=grade.meters, states=states)
+    assert frames == path.ticks + 1
+    layout = SneakFrames(level, trace, size=300).layout
+    scale = layout.scale
+    radius = max(7, 0.45 * scale)
+    # The post's disc is at its cell's centre (play area padded by 4 pixels); the bar sits above it.
+    x = layout.left + 4 + 5.5 * scale
+    y = layout.top + 4 + 1.5 * scale
+    half, height = round(radius) + 1, max(5, round(0.6 * radius))
+    left, top = round(x) - half, round(y - radius) - 4 - height
+    inside = 2 * half - 2
+    colours = {"white": COLOURS["white"], "orange": GUARD_COLOURS[3], "red": GUARD_COLOURS[0]}
+    for tick, level_now in enumerate(awareness):
+        image = iio.imread(gif, index=tick)[:, :, :3]
+        assert tuple(image[top, left + half]) == COLOURS["outline"]
+        assert tuple(image[top + height - 1, left + half]) == COLOURS["outline"]
+        assert tuple(image[top + height // 2, left]) == COLOURS["outline"]
+        row = image[top + height // 2, left + 1 : left + 1 + inside]
+        filled = round(level_now * inside)
+        fill = colours["red"] if level_now == 1 else colours["orange"] if level_now >= 0.5 else None
+        if fill is not None:
+            assert (row[:filled] == fill).all(), tick
+        assert (row[filled:] == colours["white"]).all(), tick
+        # The intruder: white while unseen, red once detected (the state of sneak.json's awareness).
+        col, r = data["path"][tick]
+        disc = tuple(image[layout.top + 4 + int((r + 0.5) * scale), layout.left + 4 + int((col + 0.5) * scale)])
+        detected = data["detected_at"] is not None and tick >= data["detected_at"]
+        if detected and (col, r) != (5, 1):
+            assert disc == colours["red"], tick
+        elif not detected and not (awareness[: tick + 1] > 0).any():
+            assert disc == colours["white"], tick

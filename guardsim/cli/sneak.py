@@ -25,6 +25,11 @@ from guardsim.output import write_text_atomic
 __all__ = ["sneak", "sneak_cell"]
 
 
+def _each_point(ctx: click.Context, param: click.Parameter, values: tuple[str, ...]) -> tuple[tuple[float, float], ...]:
+    """Click callback of a repeatable ``X,Y`` option."""
+    return tuple(point for point in (parse_point(ctx, param, value) for value in values) if point is not None)
+
+
 def sneak_cell(scene_grid: CoverageGrid, point: tuple[float, float], option: str) -> int:
     """The flat cell of a point given as ``option``, or a one-line error saying why it cannot be used."""
     cell = scene_grid.cell_of(point)
@@ -62,6 +67,14 @@ def sneak_cell(scene_grid: CoverageGrid, point: tuple[float, float], option: str
     is_flag=True,
     help="Search for a path no guard's awareness meter fills on (seen briefly is allowed), not an unseen one.",
 )
+@click.option(
+    "--safe",
+    "safe",
+    multiple=True,
+    callback=_each_point,
+    metavar="X,Y",
+    help="A safe spot to outline on DIR/sneak.html (as check --safe gives them); repeatable.",
+)
 @detection_options
 @vision_options
 @limit_options
@@ -75,6 +88,7 @@ def sneak(
     gif: bool,
     html: bool,
     undetected: bool,
+    safe: tuple[tuple[float, float], ...],
     detect_near: float | None,
     detect_far: float | None,
     forget: float | None,
@@ -105,6 +119,8 @@ def sneak(
 
     if (gif or html) and out_dir is None:
         raise GuardsimError("--gif and --html write into the --out folder: give --out DIR")
+    if safe and not html:
+        raise GuardsimError("--safe outlines spots on the page: give --html")
     level = with_detection(
         load(level_path, max_cells, max_vertices, max_file_bytes),
         detect_near=detect_near,
@@ -129,6 +145,8 @@ def sneak(
         raise GuardsimError(
             f"--to {target[0]:g},{target[1]:g} cannot be reached from --from {source[0]:g},{source[1]:g} at all"
         )
+    for point in safe:
+        sneak_cell(grid, point, "--safe")
     table = view_table(grid, scene.vision())
     detection = GuardDetection.of_level(scene.level)
     result = sneak_check(grid, table, patrol, start, goal, detection=detection, undetected=undetected)
@@ -173,8 +191,10 @@ def sneak(
                 label="sneak",
             )
             cells = [grid.unflat(int(cell)) for cell in path.cells]
+            grade = result.grade
+            assert grade is not None
             if gif:
-                from guardsim.sneak.gif import write_sneak_gif
+                from guardsim.sneak.gif import path_states, write_sneak_gif
 
                 seen_at = {
                     tick
@@ -189,6 +209,9 @@ def sneak(
                     seen_ticks=seen_at,
                     lap_start=path.start_tick,
                     period=result.period,
+                    meters=grade.meters,
+                    states=path_states(grade.meters, grade.in_view, grade.detected_at, detection.model.suspicious),
+                    suspicious=detection.model.suspicious,
                 )
                 written.append(str(folder / "sneak.gif"))
             if html:
@@ -197,7 +220,9 @@ def sneak(
 
                 # The page runs in lap ticks from lap tick 0; the intruder enters at its start tick.
                 lap = patrol_trace(scene, table, patrol, trace.goal.ravel(), start=0, ticks=patrol.ticks, label="sneak")
-                overlays = sneak_overlays(patrol, grid, result, source=source, target=target)
+                overlays = sneak_overlays(
+                    patrol, grid, result, source=source, target=target, detection=detection, safe=safe
+                )
                 write_viewer(folder / "sneak.html", level, lap, overlays=overlays)
                 written.append(str(folder / "sneak.html"))
     rule = "undetected" if undetected else "unseen"

@@ -1,23 +1,73 @@
-"""The sneak as an animated GIF: the patrol's frames, with the intruder's trail and position drawn on top."""
+"""The sneak as an animated GIF: the patrol's frames, with the intruder's trail and position drawn on top,
+coloured by its state, and each guard's awareness meter as a bar over the guard."""
 
 from __future__ import annotations
 
+import math
 import os
+from collections.abc import Sequence
 
 import numpy as np
 from PIL import Image, ImageDraw
 
+from guardsim.detection.model import IntruderState, intruder_state
+from guardsim.kernels.meter import DETECTED
 from guardsim.level import Level
 from guardsim.output import atomic_path
-from guardsim.render.frames import FrameDrawer
+from guardsim.render.frames import MIN_GUARD_RADIUS, FrameDrawer
 from guardsim.render.gif import GifOptions, GifStream, frame_ticks
 from guardsim.render.palette import Index, guard_index
 from guardsim.trace import Trace
 
-__all__ = ["SneakFrames", "write_sneak_gif"]
+__all__ = ["STATE_INDEX", "SneakFrames", "meter_bar_box", "meter_state", "path_states", "write_sneak_gif"]
 
 #: The intruder's colour: a guard colour no team of up to five guards uses.
 _INTRUDER = guard_index(5)
+
+#: Palette entries of the intruder's states (its disc) and of a meter bar's fill: white while unseen, the
+#: walls' grey in view, orange (guard colour 4) suspicious, red (guard colour 1) detected. The viewer's
+#: page uses the same colours (:data:`guardsim.viewer.layers.STATE_COLOURS`).
+STATE_INDEX: dict[str, int] = {
+    "unseen": int(Index.WHITE),
+    "in view": int(Index.WALL),
+    "suspicious": guard_index(3),
+    "detected": guard_index(0),
+}
+
+
+def path_states(
+    meters: np.ndarray, in_view: Sequence[bool] | np.ndarray, detected_at: int | None, suspicious: float
+) -> list[IntruderState]:
+    """The intruder's state at each tick of a graded path (:func:`~guardsim.detection.intruder_state`):
+    ``meters`` ``(ticks + 1, guards)`` and ``in_view`` from its :class:`~guardsim.sneak.PathGrade`."""
+    return [
+        intruder_state(
+            [float(v) for v in meters[tick]],
+            bool(in_view[tick]),
+            suspicious,
+            detected_at is not None and tick >= detected_at,
+        )
+        for tick in range(len(meters))
+    ]
+
+
+def meter_state(level: float, suspicious: float) -> IntruderState:
+    """The state one meter's level says by itself, which colours its bar's fill: ``detected`` full,
+    ``suspicious`` at or above ``suspicious``, ``in view`` above 0, ``unseen`` empty."""
+    if level >= DETECTED:
+        return "detected"
+    if level > 0 and level >= suspicious:
+        return "suspicious"
+    return "in view" if level > 0 else "unseen"
+
+
+def meter_bar_box(x: float, y: float, radius: float) -> tuple[int, int, int, int]:
+    """The meter bar over a guard drawn at ``(x, y)`` with ``radius`` (pixels): ``(left, top, width,
+    height)`` of its frame, one pixel of outline round a white inside filled from the left by the level
+    (``round(level * (width - 2))`` pixels). The viewer's page draws it the same way."""
+    half = round(radius) + 1
+    height = max(5, round(0.6 * radius))
+    return round(x) - half, round(y - radius) - 4 - height, 2 * half, height
 
 
 class SneakFrames(FrameDrawer):
@@ -39,6 +89,43 @@ class SneakFrames(FrameDrawer):
         both = f"  |  sneak tick {tick} / {self.trace.steps} \u00b7 lap tick {lap} / {self.period}"
         return first.replace(plain, both, 1), second
 
+    def guard_centres(self, tick: int) -> list[tuple[float, float]]:
+        """Where each guard's disc is drawn at ``tick``, in frame pixels (guards sharing a place are
+        spread round it as the frames draw them)."""
+        radius = max(MIN_GUARD_RADIUS, 0.45 * self.layout.scale)
+        sharing: dict[tuple[float, float], list[int]] = {}
+        for guard in range(self.guards):
+            sharing.setdefault(self.pose(guard, tick)[0], []).append(guard)
+        centres: list[tuple[float, float]] = [(0.0, 0.0)] * self.guards
+        for point, team in sharing.items():
+            cx, cy = self.to_pixels(point)
+            spread = 0.9 * radius if len(team) > 1 else 0.0
+            for place, guard in enumerate(team):
+                angle = 2 * math.pi * place / len(team) - math.pi / 2
+                centres[guard] = (
+                    self.layout.left + cx + spread * math.cos(angle),
+                    self.layout.top + cy + spread * math.sin(angle),
+                )
+        return centres
+
+
+def _draw_meters(frame: np.ndarray, drawer: SneakFrames, tick: int, levels: np.ndarray, suspicious: float) -> None:
+    """Each guard's meter bar at ``tick``, clipped to the play area, onto ``frame`` (palette indices)."""
+    layout = drawer.layout
+    radius = max(MIN_GUARD_RADIUS, 0.45 * layout.scale)
+    top, bottom = layout.top, layout.top + layout.play[1]
+    left, right = layout.left, layout.left + layout.play[0]
+    for guard, (x, y) in enumerate(drawer.guard_centres(tick)):
+        x0, y0, width, height = meter_bar_box(x, y, radius)
+        bar = np.full((height, width), Index.OUTLINE, dtype=np.uint8)
+        bar[1:-1, 1:-1] = Index.WHITE
+        level = float(levels[guard])
+        filled = round(min(1.0, max(0.0, level)) * (width - 2))
+        bar[1:-1, 1 : 1 + filled] = STATE_INDEX[meter_state(level, suspicious)]
+        ya, yb, xa, xb = max(y0, top), min(y0 + height, bottom), max(x0, left), min(x0 + width, right)
+        if ya < yb and xa < xb:
+            frame[ya:yb, xa:xb] = bar[ya - y0 : yb - y0, xa - x0 : xb - x0]
+
 
 def write_sneak_gif(
     path: str | os.PathLike[str],
@@ -50,16 +137,34 @@ def write_sneak_gif(
     options: GifOptions | None = None,
     lap_start: int = 0,
     period: int | None = None,
+    meters: np.ndarray | None = None,
+    states: Sequence[str] = (),
+    suspicious: float = 0.5,
 ) -> int:
     """Write the guards of ``trace`` with the intruder walking ``intruder`` (one cell per tick of the
     trace): its trail in the cyan of guard colour 6 (teams of up to five keep their own colours), itself a
-    white disc ringed in that colour, filled black at ticks in ``seen_ticks`` (a closest call's).
+    disc ringed in that colour, filled by its state at each tick (``states``, one per tick, see
+    :data:`STATE_INDEX`); without ``states``, white, and the walls' grey at ticks in ``seen_ticks`` (a
+    closest call's).
+
+    ``meters`` (``float (ticks + 1, guards)``, the path's :attr:`~guardsim.sneak.PathGrade.meters`) adds a
+    bar over each guard filled by its awareness meter at the frame's tick, coloured by
+    :func:`meter_state` at the ``suspicious`` level.
 
     With ``period`` (the patrol's lap) the caption also gives the lap tick: the trace's tick 0 is lap tick
     ``lap_start`` (the sneak's start tick)."""
     options = options or GifOptions()
     drawer = SneakFrames(level, trace, size=options.size, lap_start=lap_start, period=period)
     layout = drawer.layout
+    if meters is not None:
+        meters = np.asarray(meters, dtype=np.float64)
+        if meters.ndim != 2 or meters.shape[0] < len(intruder) or meters.shape[1] != drawer.guards:
+            raise ValueError(
+                f"meters has shape {meters.shape}, expected ({len(intruder)}, {drawer.guards}): a row per tick of "
+                "the path, a column per guard"
+            )
+    if states and len(states) < len(intruder):
+        raise ValueError(f"{len(states)} intruder states for {len(intruder)} ticks of path")
     ticks = frame_ticks(trace.steps, options)
     radius = max(2.0, layout.scale * 0.45)
     with atomic_path(path) as temporary, open(temporary, "wb") as file:
@@ -68,15 +173,19 @@ def write_sneak_gif(
             frame = drawer.frame(tick)
             image = Image.frombytes("P", (frame.shape[1], frame.shape[0]), np.ascontiguousarray(frame).tobytes())
             draw = ImageDraw.Draw(image)
-            shown = intruder[: min(tick, len(intruder) - 1) + 1]
-            points = [_pixel(drawer, cell) for cell in shown]
+            step = min(tick, len(intruder) - 1)
+            points = [_pixel(drawer, cell) for cell in intruder[: step + 1]]
             if len(points) > 1:
                 draw.line(points, fill=_INTRUDER, width=max(2, layout.scale // 2))
             x, y = points[-1]
-            fill = int(Index.WALL) if tick in seen_ticks else int(Index.WHITE)
+            plain = int(Index.WALL) if tick in seen_ticks else int(Index.WHITE)
+            fill = STATE_INDEX[states[step]] if states else plain
             draw.ellipse([x - radius, y - radius, x + radius, y + radius], fill=fill, outline=_INTRUDER, width=2)
+            shown = np.array(image)
+            if meters is not None:
+                _draw_meters(shown, drawer, tick, meters[step], suspicious)
             last = number == len(ticks) - 1
-            stream.add(np.asarray(image), max(options.frame_ms, options.hold_ms) if last else options.frame_ms)
+            stream.add(shown, max(options.frame_ms, options.hold_ms) if last else options.frame_ms)
         stream.close()
     return len(ticks)
 

@@ -215,7 +215,7 @@ def entry_searches(
     [True, True]
     """
     gain = np.ascontiguousarray(gain, dtype=np.float64)
-    seen = (gain > 0).any(axis=0) if seen is None else np.ascontiguousarray(seen, dtype=np.bool_)
+    seen = np.asarray((gain > 0).any(axis=0)) if seen is None else np.ascontiguousarray(seen, dtype=np.bool_)
     out = _entry_searches(
         np.ascontiguousarray(neighbours, dtype=np.int64), gain, seen, float(fall), int(source),
         np.ascontiguousarray(goal, dtype=np.bool_), np.ascontiguousarray(phases, dtype=np.int64), int(max_labels),

@@ -6,7 +6,7 @@ with :mod:`guardsim.viewer.patrols`.
 
 from __future__ import annotations
 
-from guardsim.viewer.layers import IdlenessMap, Intruder, LapViews, Overlays
+from guardsim.viewer.layers import IdlenessMap, Intruder, LapViews, Overlays, SafeSpot
 from guardsim.viewer.page import FIELD_BUDGET_BYTES, build_page, page_data, write_viewer
 
 __all__ = [
@@ -15,6 +15,7 @@ __all__ = [
     "Intruder",
     "LapViews",
     "Overlays",
+    "SafeSpot",
     "build_page",
     "page_data",
     "write_viewer",

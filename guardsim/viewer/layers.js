@@ -2,9 +2,12 @@
 // Inlined before viewer.js, which calls GuardsimLayers.make(env) once its canvas is laid out:
 // - laps: the trace is one lap; page tick t shows lap tick t mod period, for several laps;
 // - idleness: a number per cell (worst gap, longest unseen window) as a heat map with a colour bar;
+// - exposure, detection-time: a sneak's other numbers per cell, drawn by the same heat-map code;
 // - idle-now: each cell's idleness at the current tick (ticks since a guard last saw it), in steady state;
 // - route: each guard's loop, a closed dashed polyline under the animation;
-// - intruder: a player who is not a guard: its path from its start tick, no cone, marked when in view.
+// - intruder: a player who is not a guard: its path from its start tick, no cone, marked when in view;
+// - meters: each guard's awareness meter as a bar over it while the intruder is in;
+// - safe: the safe spots given, each cell outlined (green: holds, magenta: broken).
 "use strict";
 const GuardsimLayers = (function () {
   const NEVER = [0, 0, 0];
@@ -24,12 +27,26 @@ const GuardsimLayers = (function () {
     const runs = laps
       ? { offsets: decode(laps.offsets, Int32Array), starts: decode(laps.starts, Int32Array), ends: decode(laps.ends, Int32Array) }
       : null;
-    const heat = data.idleness
-      ? { values: decode(data.idleness.values, Float32Array), never: decode(data.idleness.never, Uint8Array) }
-      : null;
+    // The heat maps, in drawing order (the colour bar describes the upper one shown): layer name, data.
+    const heats = [["idleness", data.idleness], ["exposure", data.exposure], ["detection-time", data.detection_time]]
+      .filter(([, info]) => info)
+      .map(([name, info]) => ({
+        name: name,
+        info: info,
+        values: decode(info.values, Float32Array),
+        never: decode(info.never, Uint8Array),
+        image: null,
+      }));
     const intruder = data.intruder
-      ? { path: decode(data.intruder.path, Int32Array), inView: decode(data.intruder.in_view, Uint8Array), start: data.intruder.start }
+      ? {
+          path: decode(data.intruder.path, Int32Array),
+          inView: decode(data.intruder.in_view, Uint8Array),
+          start: data.intruder.start,
+          meters: data.intruder.meters ? decode(data.intruder.meters, Float32Array) : null,
+          states: data.intruder.states ? decode(data.intruder.states, Uint8Array) : null,
+        }
       : null;
+    const meters = intruder && intruder.meters ? intruder.meters : null;
     const colour = (value, top) => ramp(data.ramp, top > 0 ? value / top : 0);
 
     // The timeline: whole laps (from the address, else the page's default), and the intruder's walk.
@@ -60,16 +77,19 @@ const GuardsimLayers = (function () {
       return tau <= runs.ends[found] ? 0 : tau - runs.ends[found];
     }
 
-    const staticImage = heat
-      ? cellImage((pixels) => {
+    function heatImage(heat) {
+      if (!heat.image) {
+        heat.image = cellImage((pixels) => {
           for (let i = 0; i < cells; i++) {
             let rgb = null;
             if (heat.never[i]) rgb = NEVER;
-            else if (heat.values[i] >= 0) rgb = colour(heat.values[i], data.idleness.max);
+            else if (heat.values[i] >= 0) rgb = colour(heat.values[i], heat.info.max);
             if (rgb) pixels.set([rgb[0], rgb[1], rgb[2], 255], 4 * i);
           }
-        })
-      : null;
+        });
+      }
+      return heat.image;
+    }
     let nowCache = { tau: -1, image: null };
     function nowImage(tau) {
       if (nowCache.tau !== tau) {
@@ -88,7 +108,7 @@ const GuardsimLayers = (function () {
 
     // Drawn inside the floor's clip, over the trace's own cell layers and under cones and guards.
     function drawUnder(tick, layers, canvas) {
-      if (layers.idleness && staticImage) context.drawImage(staticImage, 0, 0, canvas.width, canvas.height);
+      for (const heat of heats) if (layers[heat.name]) context.drawImage(heatImage(heat), 0, 0, canvas.width, canvas.height);
       if (layers["idle-now"] && runs) context.drawImage(nowImage(tick % period), 0, 0, canvas.width, canvas.height);
       if (layers.route && data.routes) {
         // Dashes of the guard's dark shade over a white line, thinner than the trail: the solid trail in the
@@ -126,8 +146,63 @@ const GuardsimLayers = (function () {
       }
     }
 
-    function drawOver(tick, layers, radius) {
-      if (!intruder || !layers.intruder) return;
+    // Each safe spot's cell outlined outside its edge (its own colours stay visible), cased in black.
+    function drawSafe() {
+      const width = Math.max(2, Math.round(scale / 6));
+      for (const spot of data.safe) {
+        const x = spot.cell[0] * scale, y = spot.cell[1] * scale;
+        const rgb = data.safe_colours[spot.holds ? "holds" : "broken"];
+        context.strokeStyle = data.colours.outline;
+        context.lineWidth = 1;
+        context.strokeRect(x - width - 0.5, y - width - 0.5, scale + 2 * width + 1, scale + 2 * width + 1);
+        context.fillStyle = "rgb(" + rgb.join(",") + ")";
+        context.fillRect(x - width, y - width, scale + 2 * width, width);
+        context.fillRect(x - width, y + scale, scale + 2 * width, width);
+        context.fillRect(x - width, y, width, scale);
+        context.fillRect(x + scale, y, width, scale);
+      }
+    }
+
+    // The path tick shown at page tick `tick` while the intruder is in (entered, not yet arrived), else -1.
+    const walking = (tick) => (intruder && tick >= intruder.start && tick - intruder.start < intruder.path.length ? tick - intruder.start : -1);
+
+    // What one meter's level says by itself (guardsim.sneak.gif.meter_state): its bar's fill colour.
+    function meterState(level) {
+      if (level >= 1 - 1e-6) return "detected";
+      if (level > 0 && level >= data.intruder.suspicious) return "suspicious";
+      return level > 0 ? "in view" : "unseen";
+    }
+
+    // A bar over each guard (at `spots`, where viewer.js drew it), framed in the outline colour, white
+    // inside, filled from the left by its meter: the box of guardsim.sneak.gif.meter_bar_box.
+    function drawMeters(step, radius, spots) {
+      const guards = data.intruder.guards;
+      spots.forEach(([x, y], guard) => {
+        if (guard >= guards) return;
+        const level = Math.min(1, Math.max(0, meters[step * guards + guard]));
+        const half = Math.round(radius) + 1;
+        const height = Math.max(5, Math.round(0.6 * radius));
+        const left = Math.round(x) - half, top = Math.round(y - radius) - 4 - height;
+        context.fillStyle = data.colours.outline;
+        context.fillRect(left, top, 2 * half, height);
+        context.fillStyle = "#ffffff";
+        context.fillRect(left + 1, top + 1, 2 * half - 2, height - 2);
+        const filled = Math.round(level * (2 * half - 2));
+        if (filled > 0) {
+          context.fillStyle = "rgb(" + data.intruder.state_colours[meterState(level)].join(",") + ")";
+          context.fillRect(left + 1, top + 1, filled, height - 2);
+        }
+      });
+    }
+
+    function drawOver(tick, layers, radius, spots) {
+      if (data.safe && layers.safe) drawSafe();
+      if (intruder && layers.intruder) drawIntruder(tick, radius);
+      const step = walking(tick);
+      if (meters && layers.meters && step >= 0) drawMeters(step, radius, spots || []);
+    }
+
+    function drawIntruder(tick, radius) {
       const info = data.intruder;
       if (info.from) drawPoint(info.from, false, radius + 3);
       if (info.to) drawPoint(info.to, true, radius + 3);
@@ -170,6 +245,21 @@ const GuardsimLayers = (function () {
       return "lap " + lap + " / " + count + " \u00b7 lap tick " + (tick % period) + " / " + period;
     }
 
+    // The intruder's state at page tick `tick` (guardsim.detection.intruder_state, worked out in Python)
+    // and its colour, while it is in; null otherwise.
+    function intruderState(tick) {
+      const step = walking(tick);
+      if (step < 0 || !intruder.states) return null;
+      const name = data.intruder.state_names[intruder.states[step]];
+      let text = name;
+      if (meters) {
+        let top = 0;
+        for (let guard = 0; guard < data.intruder.guards; guard++) top = Math.max(top, meters[step * data.intruder.guards + guard]);
+        text += " \u00b7 awareness " + top.toFixed(2);
+      }
+      return { name: name, text: text, colour: data.intruder.state_colours[name] };
+    }
+
     function intruderText(tick) {
       if (!intruder) return "";
       const step = intruderStep(tick);
@@ -182,16 +272,20 @@ const GuardsimLayers = (function () {
       return name + " tick " + step + " / " + ticks + ": " + (intruder.inView[step] === 1 ? "IN VIEW" : "unseen");
     }
 
-    // The colour bar describes the upper idleness layer shown.
+    // The upper heat map shown, of those drawn from data (idleness now is drawn over them all).
+    const upperHeat = (layers) => heats.filter((heat) => layers[heat.name]).pop() || null;
+
+    // The colour bar describes the upper heat layer shown.
     function colourBar(layers, parts) {
       const now = layers["idle-now"] && runs;
-      const shown = now || (layers.idleness && heat);
+      const heat = upperHeat(layers);
+      const shown = now || heat;
       parts.box.style.visibility = shown ? "visible" : "hidden";
       if (!shown) return;
-      const top = now ? laps.max : data.idleness.max;
-      parts.label.textContent = now ? "idleness now" : data.idleness.label;
+      const top = now ? laps.max : heat.info.max;
+      parts.label.textContent = now ? "idleness now" : heat.info.label;
       parts.max.textContent = String(Math.round(top * 10) / 10);
-      parts.unit.textContent = now ? "ticks since last seen" : data.idleness.unit;
+      parts.unit.textContent = now ? "ticks since last seen" : heat.info.unit;
     }
 
     function paintBar(bar) {
@@ -209,20 +303,39 @@ const GuardsimLayers = (function () {
     // What the idleness layers say of one cell at page tick `tick` (the inspected cell's readout).
     function cellText(cell, tick) {
       const parts = [];
-      if (heat) {
+      for (const heat of heats) {
         const value = heat.values[cell];
-        const text = heat.never[cell] ? "never seen" : value >= 0 ? Math.round(value * 1000) / 1000 + " " + data.idleness.unit : "-";
-        parts.push(data.idleness.label + " " + text);
+        const text = heat.never[cell] ? heat.info.never_text : value >= 0 ? Math.round(value * 1000) / 1000 + " " + heat.info.unit : "-";
+        parts.push(heat.info.label + " " + text);
       }
       if (runs && kinds[cell] === 1) {
         const value = idleAt(cell, tick % period);
         parts.push("idle now " + (value < 0 ? "never seen" : value + " ticks"));
       }
+      for (const spot of data.safe || []) {
+        if (spot.cell[1] * data.cols + spot.cell[0] === cell) parts.push("safe spot " + (spot.holds ? "holds" : "broken") + ": " + spot.label);
+      }
       return parts.join(" \u00b7 ");
     }
 
+    // The peak awareness is marked unless no meter ever rose.
+    const peakShown = Boolean(meters && data.intruder.peak && data.intruder.peak.value > 0);
+
+    // What a mark of the timeline is, when it is more than a tick: the peak awareness, the detection.
+    function markLabel(tick) {
+      if (!intruder) return "";
+      const found = [];
+      if (peakShown && tick === intruder.start + data.intruder.peak.step) {
+        found.push("peak awareness " + data.intruder.peak.value.toFixed(2));
+      }
+      if (data.intruder.detected_at !== null && data.intruder.detected_at !== undefined && tick === intruder.start + data.intruder.detected_at) {
+        found.push("detected");
+      }
+      return found.join(", ");
+    }
+
     // Ticks marked on the timeline: where each lap begins, where the intruder enters, each stretch in
-    // view begins, and where it arrives.
+    // view begins, where the guards' awareness peaks, where it is detected, and where it arrives.
     function marks(total) {
       const found = new Set();
       if (laps && total / period <= 50) for (let t = period; t < total; t += period) found.add(t);
@@ -232,36 +345,56 @@ const GuardsimLayers = (function () {
           if (intruder.inView[step] === 1 && (step === 0 || intruder.inView[step - 1] !== 1)) found.add(intruder.start + step);
         }
         found.add(intruder.start + intruder.path.length - 1);
+        if (peakShown) found.add(intruder.start + data.intruder.peak.step);
+        if (data.intruder.detected_at !== null && data.intruder.detected_at !== undefined) found.add(intruder.start + data.intruder.detected_at);
       }
       return [...found].filter((t) => t >= 0 && t <= total).sort((a, b) => a - b);
     }
 
     // Whether a viridis layer lies under the cones (viridis ends in the cone's yellow; viewer.js then
     // draws the cones as a white wash with a cased edge).
-    const heatShown = (layers) => Boolean((layers.idleness && heat) || (layers["idle-now"] && runs));
+    const heatShown = (layers) => Boolean(upperHeat(layers) || (layers["idle-now"] && runs));
 
-    const present = [];
-    if (heat) present.push("idleness");
+    const present = heats.map((heat) => heat.name);
     if (runs) present.push("idle-now");
     if (data.routes) present.push("route");
     if (intruder) present.push("intruder");
+    if (meters) present.push("meters");
+    if (data.safe) present.push("safe");
+
+    const hex = (rgb) => "#" + rgb.map((v) => v.toString(16).padStart(2, "0")).join("");
 
     function legend() {
       const items = [];
-      if (heat || runs) items.push(["#000000", "never seen"]);
+      const blacks = new Set(heats.map((heat) => heat.info.never_text));
+      if (runs) blacks.add("never seen");
+      for (const text of blacks) items.push(["#000000", text]);
+      const heat = heats.length > 0 || runs;
       if (data.routes) {
         const dark = data.route_colours[0];
         items.push(["repeating-linear-gradient(90deg," + dark + " 0 4px," + ROUTE_GAP + " 4px 7px)", "route (dashed: each guard's loop)"]);
       }
-      if (heat || runs) items.push([CONE_OVER_HEAT, "sees now, over a heat map (white wash, dark edge)"]);
+      if (heat) items.push([CONE_OVER_HEAT, "sees now, over a heat map (white wash, dark edge)"]);
       if (intruder) {
         items.push([data.colours.intruder, data.intruder.label + " (no cone; \u25cb from, \u25a1 to)"]);
         items.push(["#000000", "intruder in view (ringed red)"]);
       }
+      if (meters) {
+        const colours = data.intruder.state_colours;
+        const bar = ["in view", "suspicious", "detected"].map((name) => hex(colours[name]));
+        items.push(["linear-gradient(90deg," + bar.join(",") + ")", "awareness meter over each guard: rising, suspicious, full"]);
+      }
+      if (data.safe) {
+        items.push([hex(data.safe_colours.holds), "safe spot (holds)"]);
+        items.push([hex(data.safe_colours.broken), "safe spot (broken)"]);
+      }
       return items;
     }
 
-    return { total, local, drawUnder, drawOver, describe, intruderText, colourBar, paintBar, present, legend, marks, cellText, heatShown };
+    return {
+      total, local, drawUnder, drawOver, describe, intruderText, intruderState, colourBar, paintBar, present, legend,
+      marks, markLabel, cellText, heatShown, heats,
+    };
   }
 
   return { make: make };

@@ -4,8 +4,10 @@ A trace says where the guards were and what they had seen so far. A patrol page 
 does not hold: each cell's worst unwatched gap (an :class:`IdlenessMap`), the lap the trace repeats and
 what the team sees at each of its ticks (:class:`LapViews`, from which the page works out each cell's
 idleness at the current tick), each guard's loop (:attr:`Overlays.routes`) and a sneaking player who is
-not a guard (:class:`Intruder`). These are plain arrays; :mod:`guardsim.viewer.patrols` builds them from
-patrol and sneak results.
+not a guard (:class:`Intruder`, with the guards' awareness meters and its state at each tick). A sneak
+page adds two more heat maps of the same kind (each cell's exposure and time to detection) and the safe
+spots to outline (:class:`SafeSpot`). These are plain arrays; :mod:`guardsim.viewer.patrols` builds them
+from patrol and sneak results.
 """
 
 from __future__ import annotations
@@ -17,10 +19,22 @@ from typing import Any
 import numpy as np
 
 from guardsim.errors import GuardsimError
+from guardsim.render.palette import COLOURS, GUARD_COLOURS
 from guardsim.trace import Trace
 from guardsim.viewer.packing import packed
 
-__all__ = ["DEFAULT_LAPS", "IDLENESS_RAMP", "IdlenessMap", "Intruder", "LapViews", "Overlays", "overlay_data"]
+__all__ = [
+    "DEFAULT_LAPS",
+    "IDLENESS_RAMP",
+    "SAFE_COLOURS",
+    "STATE_COLOURS",
+    "IdlenessMap",
+    "Intruder",
+    "LapViews",
+    "Overlays",
+    "SafeSpot",
+    "overlay_data",
+]
 
 #: Colour stops of every idleness layer and of its colour bar: matplotlib's viridis (as ``idleness.png``
 #: draws), sampled at ninths; the page interpolates linearly between stops and rounds each channel.
@@ -39,6 +53,19 @@ IDLENESS_RAMP: tuple[tuple[float, tuple[int, int, int]], ...] = (
 #: Laps a patrol page's timeline spans unless the address asks for more (``#laps=N``).
 DEFAULT_LAPS = 3
 
+#: The intruder's states (its readout) and a meter bar's fill, as the sneak GIF draws them
+#: (:data:`guardsim.sneak.gif.STATE_INDEX`): white unseen, the walls' grey in view, orange suspicious,
+#: red detected.
+STATE_COLOURS: dict[str, tuple[int, int, int]] = {
+    "unseen": COLOURS["white"],
+    "in view": COLOURS["wall"],
+    "suspicious": GUARD_COLOURS[3],
+    "detected": GUARD_COLOURS[0],
+}
+
+#: A safe spot's outline: green where its rule holds, magenta where it is broken.
+SAFE_COLOURS: dict[str, tuple[int, int, int]] = {"holds": (0, 200, 80), "broken": (255, 0, 255)}
+
 
 @dataclass(frozen=True, eq=False)
 class IdlenessMap:
@@ -52,7 +79,11 @@ class IdlenessMap:
     label: str = "worst gap"
     """What the numbers are, shown in the layer's toggle and the colour bar."""
     never: np.ndarray | None = None
-    """``bool (rows, cols)``: cells never seen, drawn apart (black) whatever their value."""
+    """``bool (rows, cols)``: cells never seen (or never detected), drawn apart (black) whatever their value."""
+    top: float | None = None
+    """The colour bar's top; ``None``: the largest value drawn (exposure, a fraction, runs to 1)."""
+    never_text: str = "never seen"
+    """What the black cells are, in the legend and a cell's readout."""
 
 
 @dataclass(frozen=True, eq=False)
@@ -83,6 +114,26 @@ class Intruder:
     target: tuple[float, float] | None = None
     """The point it must reach (world units)."""
     label: str = "intruder"
+    meters: np.ndarray | None = None
+    """``float (len(cells), guards)``: each guard's awareness meter after each tick of :attr:`cells` (a
+    :class:`~guardsim.sneak.PathGrade`'s), drawn as a bar over each guard while the intruder is in."""
+    states: Sequence[str] = ()
+    """Per tick of :attr:`cells`, one of :data:`~guardsim.detection.INTRUDER_STATES`; empty: no readout."""
+    suspicious: float = 0.5
+    """The meter level at which a guard is suspicious (the bars turn orange)."""
+    detected_at: int | None = None
+    """The tick of :attr:`cells` at which a meter first fills, marked on the timeline."""
+
+
+@dataclass(frozen=True, eq=False)
+class SafeSpot:
+    """A spot given as safe (``check --safe``), outlined on the page: green if it holds, else magenta."""
+
+    cell: tuple[int, int]
+    """``(col, row)``."""
+    holds: bool
+    label: str = ""
+    """Shown in the legend and the cell's readout, e.g. ``"never seen"`` or ``"seen 12% of the lap"``."""
 
 
 @dataclass(frozen=True, eq=False)
@@ -95,6 +146,11 @@ class Overlays:
     """Each guard's loop as a closed polyline of world points (the route.json waypoints), drawn in the
     guard's dark shade, dashed over white (apart from its solid trail), under the animation."""
     intruder: Intruder | None = None
+    exposure: IdlenessMap | None = None
+    """A sneak's exposure map (fraction of the lap each cell is seen), drawn like :attr:`idleness`."""
+    detection_time: IdlenessMap | None = None
+    """A sneak's time-to-detection map (ticks a player standing still lasts; ``never`` never detected)."""
+    safe: Sequence[SafeSpot] = ()
     layers: Sequence[str] = field(default=())
     """Layers shown when the page opens (empty: the page's usual ones); ``#layers=...`` overrides."""
 
@@ -135,22 +191,27 @@ def _worst_idleness(offsets: np.ndarray, starts: np.ndarray, ends: np.ndarray, p
     return worst
 
 
-def _idleness_data(layer: IdlenessMap, shape: tuple[int, int]) -> dict[str, Any]:
+def _idleness_data(layer: IdlenessMap, shape: tuple[int, int], name: str = "idleness") -> dict[str, Any]:
     values = np.asarray(layer.values, dtype=np.float64)
     if values.shape != shape:
-        raise GuardsimError(f"the idleness layer has shape {values.shape}, expected the trace's grid {shape}")
+        raise GuardsimError(f"the {name} layer has shape {values.shape}, expected the trace's grid {shape}")
     never = np.zeros(shape, dtype=bool) if layer.never is None else np.asarray(layer.never, dtype=bool)
     if never.shape != shape:
-        raise GuardsimError(f"the never-seen cells have shape {never.shape}, expected the trace's grid {shape}")
+        raise GuardsimError(
+            f"the {name} layer's never cells have shape {never.shape}, expected the trace's grid {shape}"
+        )
     drawn = np.isfinite(values) & ~never
+    if (values[drawn] < 0).any():
+        raise GuardsimError(f"the {name} layer has negative values (give NaN where nothing is drawn)")
     top = float(values[drawn].max()) if drawn.any() else 0.0
     return {
-        # NaN (nothing drawn) travels as -1: idleness is never negative.
+        # NaN (nothing drawn) travels as -1: the layers' values are never negative.
         "values": packed(np.where(drawn, values, -1.0), "f4"),
         "never": packed(never.ravel(), "u1"),
-        "max": top,
+        "max": top if layer.top is None else float(layer.top),
         "unit": layer.unit,
         "label": layer.label,
+        "never_text": layer.never_text,
     }
 
 
@@ -176,7 +237,7 @@ def _laps_data(laps: LapViews, trace: Trace) -> dict[str, Any]:
     }
 
 
-def _intruder_data(intruder: Intruder, shape: tuple[int, int]) -> dict[str, Any]:
+def _intruder_data(intruder: Intruder, shape: tuple[int, int], guards: int) -> dict[str, Any]:
     rows, cols = shape
     cells = list(intruder.cells)
     if not cells:
@@ -186,7 +247,9 @@ def _intruder_data(intruder: Intruder, shape: tuple[int, int]) -> dict[str, Any]
     in_view = list(intruder.in_view) or [False] * len(cells)
     if len(in_view) != len(cells):
         raise GuardsimError(f"the intruder has {len(in_view)} in-view flags for {len(cells)} ticks of path")
-    return {
+    from guardsim.detection.model import INTRUDER_STATES  # here: a plain trace's page needs no detection
+
+    data: dict[str, Any] = {
         "path": packed([row * cols + col for col, row in cells], "i4"),
         "start": int(intruder.start_tick),
         "in_view": packed(in_view, "u1"),
@@ -194,7 +257,39 @@ def _intruder_data(intruder: Intruder, shape: tuple[int, int]) -> dict[str, Any]
         "from": None if intruder.source is None else [float(v) for v in intruder.source],
         "to": None if intruder.target is None else [float(v) for v in intruder.target],
         "label": intruder.label,
+        "suspicious": float(intruder.suspicious),
+        "detected_at": intruder.detected_at,
+        "state_names": list(INTRUDER_STATES),
+        "state_colours": {name: list(colour) for name, colour in STATE_COLOURS.items()},
     }
+    if intruder.meters is not None:
+        meters = np.asarray(intruder.meters, dtype=np.float64)
+        if meters.ndim != 2 or meters.shape != (len(cells), guards):
+            raise GuardsimError(
+                f"the intruder's meters have shape {meters.shape}, expected ({len(cells)}, {guards}): "
+                "a row per tick of its path, a column per guard"
+            )
+        # The peak: the first tick at which the highest meter is highest.
+        highest = meters.max(axis=1) if guards else np.zeros(len(cells))
+        step = int(np.argmax(highest))
+        data["guards"] = guards
+        data["meters"] = packed(meters.ravel(), "f4")
+        data["peak"] = {"step": step, "value": float(highest[step])}
+    if intruder.states:
+        if len(intruder.states) != len(cells):
+            raise GuardsimError(f"the intruder has {len(intruder.states)} states for {len(cells)} ticks of path")
+        unknown = sorted(set(intruder.states) - set(INTRUDER_STATES))
+        if unknown:
+            raise GuardsimError(f"unknown intruder state {unknown[0]!r} (known: {', '.join(INTRUDER_STATES)})")
+        data["states"] = packed([INTRUDER_STATES.index(state) for state in intruder.states], "u1")
+    return data
+
+
+def _safe_data(spots: Sequence[SafeSpot], shape: tuple[int, int]) -> list[dict[str, Any]]:
+    rows, cols = shape
+    if any(not (0 <= spot.cell[0] < cols and 0 <= spot.cell[1] < rows) for spot in spots):
+        raise GuardsimError(f"a safe spot lies off the trace's grid of {cols} x {rows} cells")
+    return [{"cell": [int(v) for v in spot.cell], "holds": bool(spot.holds), "label": spot.label} for spot in spots]
 
 
 def overlay_data(overlays: Overlays, trace: Trace) -> dict[str, Any]:
@@ -213,7 +308,14 @@ def overlay_data(overlays: Overlays, trace: Trace) -> dict[str, Any]:
     if overlays.routes:
         data["routes"] = [[[float(x), float(y)] for x, y in route] for route in overlays.routes]
     if overlays.intruder is not None:
-        data["intruder"] = _intruder_data(overlays.intruder, trace.shape)
+        data["intruder"] = _intruder_data(overlays.intruder, trace.shape, len(trace.team_paths()))
+    if overlays.exposure is not None:
+        data["exposure"] = _idleness_data(overlays.exposure, trace.shape, "exposure")
+    if overlays.detection_time is not None:
+        data["detection_time"] = _idleness_data(overlays.detection_time, trace.shape, "time-to-detection")
+    if overlays.safe:
+        data["safe"] = _safe_data(overlays.safe, trace.shape)
+        data["safe_colours"] = {name: list(colour) for name, colour in SAFE_COLOURS.items()}
     if overlays.layers:
         data["default_layers"] = list(overlays.layers)
     return data

@@ -5,22 +5,28 @@ Downstream of :mod:`guardsim.patrol` and :mod:`guardsim.sneak`: they never impor
 
 from __future__ import annotations
 
+from collections.abc import Sequence
+
 import numpy as np
 
+from guardsim.detection import NEVER_DETECTED, DetectionModel, GuardDetection
+from guardsim.errors import GuardsimError
 from guardsim.grid import CoverageGrid
 from guardsim.patrol.export import waypoints
 from guardsim.patrol.model import Patrol
 from guardsim.patrol.scoring import seen_timeline
 from guardsim.sneak import SneakResult
-from guardsim.viewer.layers import DEFAULT_LAPS, IdlenessMap, Intruder, LapViews, Overlays
+from guardsim.sneak.gif import path_states
+from guardsim.viewer.layers import DEFAULT_LAPS, IdlenessMap, Intruder, LapViews, Overlays, SafeSpot
 from guardsim.vision.table import ViewTable
 
-__all__ = ["PATROL_LAYERS", "SNEAK_LAYERS", "patrol_overlays", "patrol_routes", "sneak_overlays"]
+__all__ = ["PATROL_LAYERS", "SNEAK_LAYERS", "patrol_overlays", "patrol_routes", "safe_spots", "sneak_overlays"]
 
 #: Layers a patrol page opens with: the worst-gap heat map under the guards, their loops and cones.
 PATROL_LAYERS = ("idleness", "route", "trail", "cone")
-#: Layers a sneak page opens with: the hiding-spot heat map, the loops, the cones and the intruder.
-SNEAK_LAYERS = ("idleness", "route", "cone", "intruder")
+#: Layers a sneak page opens with: the hiding-spot heat map, the loops, the cones, the intruder, the
+#: guards' awareness meters and the safe spots.
+SNEAK_LAYERS = ("idleness", "route", "cone", "intruder", "meters", "safe")
 
 
 def patrol_routes(patrol: Patrol, grid: CoverageGrid) -> list[list[tuple[float, float]]]:
@@ -62,6 +68,32 @@ def patrol_overlays(
     )
 
 
+def safe_spots(grid: CoverageGrid, result: SneakResult, points: Sequence[tuple[float, float]]) -> list[SafeSpot]:
+    """The safe spots at ``points`` (world units), each checked as ``check --safe`` checks it under the
+    sneak's rule: never seen during the lap, or (``--undetected``) a player standing there never detected.
+
+    Raises
+    ------
+    GuardsimError
+        When a point lies outside the grid.
+    """
+    spots = []
+    for point in points:
+        cell = grid.cell_of(point)
+        if cell is None:
+            raise GuardsimError(f"safe spot {point[0]:g},{point[1]:g} lies outside the level")
+        flat = grid.flat(*cell)
+        if result.undetected:
+            lasts = int(result.time_to_detection[flat])
+            holds = lasts == NEVER_DETECTED
+            label = "never detected" if holds else ("no floor" if lasts < 0 else f"detected after {lasts} ticks")
+        else:
+            holds = not bool(result.seen[:, flat].any())
+            label = "never seen" if holds else f"seen {result.exposure[flat]:.0%} of the lap"
+        spots.append(SafeSpot(cell, holds, label))
+    return spots
+
+
 def sneak_overlays(
     patrol: Patrol,
     grid: CoverageGrid,
@@ -69,22 +101,38 @@ def sneak_overlays(
     *,
     source: tuple[float, float] | None = None,
     target: tuple[float, float] | None = None,
+    detection: GuardDetection | None = None,
+    safe: Sequence[tuple[float, float]] = (),
 ) -> Overlays:
-    """The page layers of a sneak check: the lap, the hiding spots, the loops and the intruder.
+    """The page layers of a sneak check: the lap, the hiding spots, the exposure and time-to-detection
+    maps, the loops, the intruder with the guards' awareness meters and its state, and the safe spots at
+    the points ``safe``.
 
     The page's tick 0 is the lap's tick 0 (pair it with the patrol's trace from lap tick 0); the intruder
-    enters at its ``start_tick`` and the timeline spans the laps its walk needs.
+    enters at its ``start_tick`` and the timeline spans the laps its walk needs. ``detection`` gives the
+    suspicious level of the intruder's states (default: the model's default).
     """
     path = result.path
     windows = result.hiding.reshape(grid.shape).astype(float)
     never = (windows == result.period) & grid.traversable
     windows[windows < 0] = np.nan
     heat = IdlenessMap(windows, unit="ticks", label="longest unseen window", never=never)
+    exposure = np.where(grid.traversable, result.exposure.reshape(grid.shape), np.nan)
+    lasts = result.time_to_detection.reshape(grid.shape)
+    detection_time = IdlenessMap(
+        np.where(lasts >= 0, lasts, np.nan).astype(float),
+        unit="ticks",
+        label="time to detection",
+        never=lasts == NEVER_DETECTED,
+        never_text="never detected",
+    )
+    suspicious = (detection.model if detection is not None else DetectionModel()).suspicious
     intruder = None
     laps = 1
     if path is not None:
         cells = [int(cell) for cell in path.cells]
         in_view = [bool(result.seen[(path.start_tick + tick) % result.period, cell]) for tick, cell in enumerate(cells)]
+        grade = result.grade
         intruder = Intruder(
             [grid.unflat(cell) for cell in cells],
             path.start_tick,
@@ -92,6 +140,10 @@ def sneak_overlays(
             source=source,
             target=target,
             label="intruder" if path.found else "intruder (closest call)",
+            meters=None if grade is None else grade.meters,
+            states=() if grade is None else path_states(grade.meters, grade.in_view, grade.detected_at, suspicious),
+            suspicious=suspicious,
+            detected_at=None if grade is None else grade.detected_at,
         )
         laps = -(-(path.start_tick + len(cells)) // result.period)
     return Overlays(
@@ -99,5 +151,8 @@ def sneak_overlays(
         laps=LapViews(result.period, result.seen, laps=laps),
         routes=patrol_routes(patrol, grid),
         intruder=intruder,
+        exposure=IdlenessMap(exposure, unit="of the lap in view", label="exposure", top=1.0),
+        detection_time=detection_time,
+        safe=safe_spots(grid, result, safe),
         layers=SNEAK_LAYERS,
     )

@@ -195,7 +195,7 @@
       unit: document.getElementById("bar-unit"),
       canvas: document.getElementById("bar"),
     };
-    if (data.idleness || data.laps) bar.box.hidden = false;
+    if (data.idleness || data.laps || data.exposure || data.detection_time) bar.box.hidden = false;
 
     // Whole pixels per cell, so every cell is a solid block of one colour.
     const stage = document.getElementById("stage");
@@ -329,7 +329,8 @@
     }
 
     const extra =
-      typeof GuardsimLayers !== "undefined" && (data.laps || data.idleness || data.routes || data.intruder)
+      typeof GuardsimLayers !== "undefined" &&
+      (data.laps || data.idleness || data.routes || data.intruder || data.exposure || data.detection_time || data.safe)
         ? GuardsimLayers.make({ data, context, scale, px, py, decode, ramp, cellImage, centre, kinds })
         : null;
     const total = extra ? extra.total(steps, hash.laps) : steps;
@@ -337,16 +338,20 @@
     timeline.max = String(total);
     if (extra) {
       for (const name of extra.present) document.querySelector('[data-layer="' + name + '"]').parentElement.hidden = false;
-      if (data.idleness) document.getElementById("idleness-name").textContent = data.idleness.label;
+      for (const heat of extra.heats) document.getElementById(heat.name + "-name").textContent = heat.info.label;
       extra.paintBar(bar.canvas);
       const list = document.getElementById("timeline-marks");
       for (const mark of extra.marks(total)) {
         const option = document.createElement("option");
         option.value = String(mark);
+        // The peak awareness and the detection are named (option text, which the slider does not show).
+        const label = extra.markLabel(mark);
+        if (label) option.textContent = label;
         list.append(option);
       }
     }
     const intruderReadout = document.getElementById("intruder-readout");
+    const intruderState = document.getElementById("intruder-state");
     const cellReadout = document.getElementById("cell-readout");
     // The cell whose idleness is read out: under the pointer, or from the address (#cell=COL,ROW).
     let inspected = null;
@@ -410,6 +415,7 @@
       }
       // Guards in one place are spread round it so that each stays visible.
       const sharing = new Map();
+      const spots = [];
       for (let guard = 0; guard < guards; guard++) {
         const [point, facing] = pose(guard, now);
         const key = point[0] + "," + point[1];
@@ -421,10 +427,11 @@
         team.forEach(([guard, facing], place) => {
           const angle = (2 * Math.PI * place) / team.length - Math.PI / 2;
           const spread = team.length > 1 ? 0.9 * radius : 0;
-          drawGuard(cx + spread * Math.cos(angle), cy + spread * Math.sin(angle), facing, radius, data.guard_colours[guard]);
+          spots[guard] = [cx + spread * Math.cos(angle), cy + spread * Math.sin(angle)];
+          drawGuard(spots[guard][0], spots[guard][1], facing, radius, data.guard_colours[guard]);
         });
       }
-      if (extra) extra.drawOver(tick, layers, radius);
+      if (extra) extra.drawOver(tick, layers, radius, spots);
       const clock = data.tick_hz ? " (" + (tick / data.tick_hz).toFixed(1) + " s)" : "";
       const lap = extra ? extra.describe(tick, total) : null;
       readout.textContent =
@@ -432,6 +439,15 @@
         data.unseen_text[now] + (lap ? "% unseen this lap" : "% unseen");
       if (extra) {
         intruderReadout.textContent = extra.intruderText(tick);
+        const state = extra.intruderState(tick);
+        intruderState.hidden = !state;
+        if (state) {
+          const [r, g, b] = state.colour;
+          intruderState.textContent = state.text;
+          intruderState.dataset.state = state.name;
+          intruderState.style.background = "rgb(" + r + "," + g + "," + b + ")";
+          intruderState.style.color = 0.299 * r + 0.587 * g + 0.114 * b > 150 ? "#000000" : "#ffffff";
+        }
         cellReadout.textContent = inspected
           ? "cell [" + inspected[0] + ", " + inspected[1] + "]: " + extra.cellText(inspected[1] * cols + inspected[0], tick)
           : "";
