@@ -7,6 +7,7 @@ Brute force is the breadth-first search over (state, seen cells as a bitmask) of
 from __future__ import annotations
 
 import json
+from collections.abc import Callable
 import re
 import subprocess
 from pathlib import Path
@@ -19,6 +20,7 @@ from click.testing import CliRunner
 import guardsim.cli.optimum as cli_optimum
 from guardsim.bounds import lower_bounds
 from guardsim.cli import main
+from guardsim.kernels.frontier import frontier, frontier_work
 from guardsim.optimum import OptimumResult, SearchProgress, solve
 from guardsim.optimum.graph import build_search_graph
 from guardsim.optimum.residual import residual_goal
@@ -86,6 +88,54 @@ def test_optimum_equals_brute_force_with_bresenham(name: str) -> None:
             assert result.headings_matter == (guard.get("fov_degrees") != 360)
             assert result.steps == optimum_steps(scene, start, heading, vision), (start, heading)
             assert_covering_walk(scene, result, start, heading, vision)
+
+
+@pytest.mark.parametrize("name", [*SHORT_SIGHTED, "pillar-360"], ids=[*SHORT_SIGHTED, "pillar-360"])
+def test_frontier_moves_cost_their_shortest_distance(name: str) -> None:
+    """Each macro move is exactly the positions an avoiding walk reaches first-seeing something, costed
+    at the plain breadth-first distance: the walk rebuilt along shortest paths then has the steps the
+    search counted (once a detour's length, which raised "the walk has 272 steps, the search counted
+    276" on arena at range 8)."""
+    data = SHORT_SIGHTED["pillar"] if name == "pillar-360" else SHORT_SIGHTED[name]
+    guard = {"view_range": 2.0, "fov_degrees": 360} if name == "pillar-360" else {}
+    scene = scene_from(data, guard={**data.get("guard", {}), **guard})
+    table = view_table(scene.grid, scene.vision())
+    generator = np.random.default_rng(27)
+    detours = 0
+    for start in starts(scene, most=4):
+        graph = build_search_graph(scene.grid, table, start, 1)
+        work = frontier_work(graph.positions)
+        for _ in range(60):
+            bits = [generator.integers(0, 2**63, size=graph.full.size, dtype=np.uint64) for _ in range(3)]
+            seen = graph.full & (bits[0] | bits[1] | bits[2])  # mostly seen: few, far frontier positions
+            fresh = [bool((graph.views[p] & ~seen).any()) for p in range(graph.positions)]
+            origin = int(generator.integers(graph.positions))
+            plain = _distances(graph.successors, origin, lambda _: True)
+            avoiding = _distances(graph.successors, origin, lambda p: not fresh[p])
+            count = frontier(graph.successors, graph.views, origin, seen, *work)
+            found, steps = work[2][:count].tolist(), work[3][:count].tolist()
+            expected = {p for p in avoiding if fresh[p] and p != origin}
+            assert set(found) == expected and len(found) == count
+            assert steps == [plain[p] for p in found]
+            assert (work[0] == -1).all()
+            detours += sum(avoiding[p] > plain[p] for p in found)
+    assert detours > 0 or name == "corridor"  # the case that once disagreed occurs
+
+
+def _distances(successors: np.ndarray, origin: int, passable: Callable[[int], bool]) -> dict[int, int]:
+    """Breadth-first distances from ``origin``, expanding only ``passable`` positions (and the origin)."""
+    distance, layer = {origin: 0}, [origin]
+    while layer:
+        following = []
+        for here in layer:
+            if here != origin and not passable(here):
+                continue
+            for there in successors[here].tolist():
+                if there >= 0 and there not in distance:
+                    distance[there] = distance[here] + 1
+                    following.append(there)
+        layer = following
+    return distance
 
 
 def _seen_cells(views: np.ndarray, cells: np.ndarray, position: int) -> set[int]:
