@@ -148,6 +148,9 @@ def test_every_known_key_is_in_the_schema() -> None:
             "detect_far": 2,
             "forget": 3,
             "suspicious": 0.4,
+            "capture_radius": 1.5,
+            "search_seconds": 20,
+            "radio_delay": 1,
         },
     )
     assert set(schema["properties"]) == set(full)

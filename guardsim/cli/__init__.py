@@ -29,6 +29,11 @@ COMMANDS: dict[str, tuple[str, str, str]] = {
         "optimum",
         "The fewest steps needed to see every reachable cell, proved by search.",
     ),
+    "alert": (
+        "guardsim.cli.alert",
+        "alert",
+        "Guards that notice, chase, search and return, against an intruder.",
+    ),
     "check": (
         "guardsim.cli.check",
         "check",

@@ -64,6 +64,12 @@ class GuardSpec:
     """Seconds for a full awareness meter to drain while the intruder is out of view."""
     suspicious: float = 0.5
     """Awareness level (0 to 1) at which the guard becomes suspicious."""
+    capture_radius: float | None = None
+    """Alert: world units within which a chasing guard captures the intruder; ``None``: one cell."""
+    search_seconds: float = 30.0
+    """Alert: seconds a guard searches after losing sight of the intruder before it gives up."""
+    radio_delay: float = 2.0
+    """Alert: seconds before a guard's detection reaches its teammates."""
 
 
 @dataclass(frozen=True)

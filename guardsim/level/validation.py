@@ -34,7 +34,8 @@ PAIRS_PER_VERTEX = 2
 _TOP_KEYS = {"name", "cell_size", "outer", "holes", "guard", "starts"}
 _MOTION_KEYS = ("move_speed", "turn_speed", "tick_hz")
 _DETECTION_KEYS = ("detect_near", "detect_far", "forget", "suspicious")
-_GUARD_KEYS = {"view_range", "fov_degrees", "radius", "start", "heading", *_MOTION_KEYS, *_DETECTION_KEYS}
+_ALERT_KEYS = ("capture_radius", "search_seconds", "radio_delay")
+_GUARD_KEYS = {"view_range", "fov_degrees", "radius", "start", "heading", *_MOTION_KEYS, *_DETECTION_KEYS, *_ALERT_KEYS}
 
 
 def parse_level(
@@ -248,7 +249,7 @@ def _guard(value: Any, problems: list[Problem]) -> GuardSpec | None:
         if value.get(key) is not None
     }
     detection: dict[str, float] = {}
-    for key in _DETECTION_KEYS:
+    for key in (*_DETECTION_KEYS, *_ALERT_KEYS):
         number = None
         if key in value:
             upper = 1 if key == "suspicious" else None

@@ -1,0 +1,40 @@
+"""Guards that notice: patrol, suspicious, investigate, chase, search and return, against an intruder.
+
+- :mod:`~guardsim.alert.model`: states, events, the rules' numbers, an episode's outcome.
+- :mod:`~guardsim.alert.search`: the contaminated set and the search strategies.
+- :mod:`~guardsim.alert.intruders`: route, sneak, evader and still intruders.
+- :mod:`~guardsim.alert.episode`: the tick loop.
+- :mod:`~guardsim.alert.run`: one episode from given points or many from seeded starts, traces, summaries.
+
+See ``docs/alert.md``.
+"""
+
+from __future__ import annotations
+
+from guardsim.alert.episode import AlertEpisode
+from guardsim.alert.intruders import Intruder, make_intruder
+from guardsim.alert.model import EVENTS, GUARD_STATES, INTRUDERS, OUTCOMES, AlertEvent, AlertOutcome, AlertRules
+from guardsim.alert.run import DEFAULT_MAX_SECONDS, AlertSummary, alert_episode, alert_trace_data, run_alerts, summarise
+from guardsim.alert.search import SEARCHES, Contamination, make_search
+
+__all__ = [
+    "DEFAULT_MAX_SECONDS",
+    "EVENTS",
+    "GUARD_STATES",
+    "INTRUDERS",
+    "OUTCOMES",
+    "SEARCHES",
+    "AlertEpisode",
+    "AlertEvent",
+    "AlertOutcome",
+    "AlertRules",
+    "AlertSummary",
+    "Contamination",
+    "Intruder",
+    "alert_episode",
+    "alert_trace_data",
+    "make_intruder",
+    "make_search",
+    "run_alerts",
+    "summarise",
+]

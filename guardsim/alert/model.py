@@ -1,0 +1,129 @@
+"""The alert game's vocabulary: guard states, events, the rules' numbers and an episode's outcome.
+
+A guard is in one of :data:`GUARD_STATES` at every tick::
+
+    patrol --meter >= suspicious--> suspicious --meter rose 2 ticks--> investigate
+      ^                              |  meter back to 0                   |  meter full, in sight
+      |                              v                                    v
+    return <--gave up-- search <--sight lost-- chase <--meter full, in sight (any state)
+      |                  |  ^                    |
+      |                  |  +--seen again--------+
+      +--on the route at its phase--> patrol     +--within capture_radius--> captured (episode ends)
+
+``investigate`` ends with a look around the noticed cell, then ``return``; a teammate's detection,
+``radio_delay`` seconds later, puts a patrolling, suspicious, investigating or returning guard in
+``search`` from the last known position.
+"""
+
+from __future__ import annotations
+
+import math
+from dataclasses import dataclass
+from typing import NamedTuple
+
+from guardsim.level.model import Level
+
+__all__ = ["EVENTS", "GUARD_STATES", "INTRUDERS", "OUTCOMES", "AlertEvent", "AlertOutcome", "AlertRules"]
+
+#: Every state a guard can be in, calm to alarmed, then back.
+GUARD_STATES = ("patrol", "suspicious", "investigate", "chase", "search", "return")
+
+#: What the ``events`` list of an alert trace records.
+EVENTS = ("noticed", "detected", "lost", "joined", "captured", "gave_up", "back_on_route", "arrived")
+
+#: The intruder kinds, by the name ``guardsim alert --intruder`` takes.
+INTRUDERS = ("route", "sneak", "evader", "still")
+
+#: How an episode ends.
+OUTCOMES = ("captured", "undetected_arrival", "escaped", "hidden", "time_limit")
+
+
+@dataclass(frozen=True)
+class AlertRules:
+    """The alert numbers of a level's guard keys, in ticks and cells where the episode counts them.
+
+    >>> rules = AlertRules(capture_radius=1.0, search_seconds=30.0, radio_delay=2.0, dt=0.5)
+    >>> rules.search_ticks, rules.radio_ticks
+    (60, 4)
+    """
+
+    capture_radius: float
+    """World units between guard and intruder centres at or within which a chasing guard captures."""
+    search_seconds: float
+    radio_delay: float
+    dt: float
+    """Seconds per tick."""
+    intruder_speed: float = 1.0
+    """Cells the intruder may move per tick (the guard moves one); fractions accumulate."""
+
+    def __post_init__(self) -> None:
+        for name in ("capture_radius", "search_seconds", "radio_delay", "intruder_speed"):
+            value = getattr(self, name)
+            if not (math.isfinite(value) and value >= 0):
+                raise ValueError(f"alert: {name} must be a finite number >= 0, not {value!r}")
+        if not (math.isfinite(self.dt) and self.dt > 0):
+            raise ValueError(f"alert: dt must be a finite number > 0, not {self.dt!r}")
+
+    @classmethod
+    def of_level(cls, level: Level, *, intruder_speed: float | None = None) -> AlertRules:
+        """The level's guard keys; the intruder moves at ``intruder_speed`` world units per second
+        (default: the guard's walking speed)."""
+        from guardsim.detection import grid_tick_seconds
+
+        dt = grid_tick_seconds(level)
+        guard = level.guard
+        radius = guard.capture_radius if guard.capture_radius is not None else level.cell_size
+        cells_per_tick = 1.0 if intruder_speed is None else intruder_speed * dt / level.cell_size
+        return cls(radius, guard.search_seconds, guard.radio_delay, dt, cells_per_tick)
+
+    @property
+    def search_ticks(self) -> int:
+        """Ticks a guard searches before giving up."""
+        return math.ceil(self.search_seconds / self.dt - 1e-9)
+
+    @property
+    def radio_ticks(self) -> int:
+        """Ticks a detection takes to reach the other guards."""
+        return math.ceil(self.radio_delay / self.dt - 1e-9)
+
+
+class AlertEvent(NamedTuple):
+    """Something that happened at a tick: ``guard`` is -1 for the intruder's own events."""
+
+    tick: int
+    guard: int
+    event: str
+
+
+class AlertOutcome(NamedTuple):
+    """How one alert episode went; times in seconds, ``None`` where it did not happen."""
+
+    outcome: str
+    """One of :data:`OUTCOMES`."""
+    ticks: int
+    seconds: float
+    detected_at: float | None
+    """First detection."""
+    captured_at: float | None
+    searching: float
+    """Seconds during which some guard was searching."""
+    reacquired_after: float | None
+    """Seconds from the first loss of sight to the next detection in sight, if any."""
+    gave_up_at: float | None
+    back_on_route_at: float | None
+    """When every guard that left its route was patrolling it again (after a detection)."""
+    detections: int
+    """Times the intruder was detected (first detection and each re-acquisition)."""
+
+    def summary(self) -> str:
+        """One line for a designer."""
+        parts = [self.outcome.replace("_", " ")]
+        for label, value in (
+            ("detected at", self.detected_at),
+            ("captured at", self.captured_at),
+            ("search gave up at", self.gave_up_at),
+            ("back on route at", self.back_on_route_at),
+        ):
+            if value is not None:
+                parts.append(f"{label} {value:g} s")
+        return ", ".join(parts) + f" ({self.ticks} ticks, {self.seconds:g} s)"

@@ -1,0 +1,224 @@
+"""Setting up and running alert episodes: one from given points, or many from seeded starts; their
+traces as JSON and their summary per search strategy."""
+
+from __future__ import annotations
+
+from collections.abc import Sequence
+from typing import Any, NamedTuple
+
+import numpy as np
+
+from guardsim.alert.episode import AlertEpisode
+from guardsim.alert.intruders import make_intruder
+from guardsim.alert.model import AlertOutcome, AlertRules
+from guardsim.detection import GuardDetection
+from guardsim.grid import CoverageGrid
+from guardsim.kernels.distances import FAR, distances_from
+from guardsim.patrol.model import Patrol
+from guardsim.scene import Scene
+from guardsim.vision.table import ViewTable, view_table
+
+__all__ = ["DEFAULT_MAX_SECONDS", "AlertSummary", "alert_episode", "alert_trace_data", "run_alerts", "summarise"]
+
+#: Seconds an alert episode may last when no limit is given.
+DEFAULT_MAX_SECONDS = 300.0
+
+
+def _shortest_path(grid: CoverageGrid, source: int, target: int) -> list[int]:
+    field = distances_from(grid.neighbours, np.array([target], dtype=np.int64))
+    if field[source] >= FAR:
+        raise ValueError("the intruder's goal cannot be reached from its start")
+    path, here = [source], source
+    while here != target:
+        here = min((int(n) for n in grid.neighbours[here] if n >= 0), key=lambda n: (field[n], n))
+        path.append(here)
+    return path
+
+
+def alert_episode(
+    scene: Scene,
+    patrol: Patrol,
+    *,
+    intruder: str = "route",
+    source: int,
+    target: int = -1,
+    route: Sequence[int] | None = None,
+    search: str = "ripple",
+    phase: int = 0,
+    max_seconds: float = DEFAULT_MAX_SECONDS,
+    table: ViewTable | None = None,
+    rules: AlertRules | None = None,
+    detection: GuardDetection | None = None,
+) -> AlertEpisode:
+    """An alert episode ready to :meth:`~AlertEpisode.step`: ``patrol``'s guards from lap tick ``phase``
+    against an ``intruder`` entering at flat cell ``source`` and heading for ``target`` (-1: none).
+
+    A ``route`` intruder walks ``route`` (flat cells from ``source``) or else the shortest path to
+    ``target``; a ``sneak`` intruder plans the fastest unseen path of the patrol's lap (the closest call
+    when there is none) and waits at its entry for the lap tick that path starts.
+    """
+    grid = scene.grid
+    table = table if table is not None else view_table(grid, scene.vision())
+    rules = rules if rules is not None else AlertRules.of_level(scene.level)
+    detection = detection if detection is not None else GuardDetection.of_level(scene.level)
+    wait = 0
+    if intruder in ("route", "sneak") and target < 0 and route is None:
+        raise ValueError(f"a {intruder} intruder needs a goal (or a route)")
+    if intruder == "route" and route is None:
+        route = _shortest_path(grid, source, target)
+    if intruder == "sneak" and route is None:
+        from guardsim.patrol.scoring import seen_timeline
+        from guardsim.sneak import closest_call, find_sneak
+
+        seen = seen_timeline(table, patrol.states, grid.size)
+        path = find_sneak(grid.neighbours, seen, source, target) or closest_call(grid.neighbours, seen, source, target)
+        if path is None:
+            raise ValueError("the intruder's goal cannot be reached from its start")
+        route = path.cells.tolist()
+        wait = (path.start_tick - phase) % int(patrol.period or 1)
+    runner = make_intruder(
+        intruder, grid.neighbours, source, goal=target, route=route, speed=rules.intruder_speed, wait_until=wait
+    )
+    max_ticks = max(1, int(max_seconds / rules.dt + 1e-9))
+    return AlertEpisode(
+        grid, table, patrol, runner, rules=rules, detection=detection, search=search, phase=phase, max_ticks=max_ticks
+    )
+
+
+def alert_trace_data(episode: AlertEpisode, scene: Scene, *, search: str, intruder: str) -> dict[str, Any]:
+    """The episode's trace as JSON data: per tick each guard's cell, heading, state and meter, the
+    intruder's cell and position, the contaminated count, and the events."""
+    grid = scene.grid
+    record = episode.record
+    guards = len(episode.modes)
+
+    def cell_pair(cell: int) -> list[int]:
+        col, row = grid.unflat(cell)
+        return [col, row]
+
+    intruder_path = [None if cell is None else cell_pair(cell) for cell in record["intruder"]]
+    return {
+        "format": "guardsim alert trace",
+        "level": scene.level.name,
+        "cell_size": grid.cell_size,
+        "origin": list(grid.origin),
+        "shape": list(grid.shape),
+        "dt": episode.rules.dt,
+        "search": search,
+        "intruder": intruder,
+        "outcome": episode.result()._asdict(),
+        "paths": [[cell_pair(tick[g]) for tick in record["cells"]] for g in range(guards)],
+        "headings": [[tick[g] for tick in record["headings"]] for g in range(guards)],
+        "guard_states": [[tick[g] for tick in record["guard_states"]] for g in range(guards)],
+        "awareness": [[tick[g] for tick in record["awareness"]] for g in range(guards)],
+        "intruder_path": intruder_path,
+        "intruder_positions": [None if cell is None else list(grid.centre(*cell)) for cell in intruder_path],
+        "contaminated": record["contaminated"],
+        "last_known": [None if cell < 0 else cell_pair(cell) for cell in record["last_known"]],
+        "events": [{"tick": e.tick, "guard": e.guard, "event": e.event} for e in episode.events],
+    }
+
+
+class AlertSummary(NamedTuple):
+    """One search strategy over many episodes (means over the episodes where the moment happened)."""
+
+    search: str
+    episodes: int
+    detected: int
+    captured: int
+    capture_rate: float
+    """Captures per episode with a detection."""
+    time_to_capture: float | None
+    """Seconds from the first detection to the capture."""
+    searching: float
+    reacquire: float | None
+    back_on_route: float | None
+    """Seconds from the first detection until every guard is back on its route."""
+    detections: float
+
+
+def _mean(values: list[float]) -> float | None:
+    return round(float(np.mean(values)), 3) if values else None
+
+
+def summarise(search: str, outcomes: Sequence[AlertOutcome]) -> AlertSummary:
+    """The table row of ``search`` over ``outcomes``."""
+    detected = [o for o in outcomes if o.detected_at is not None]
+    captured = [o for o in detected if o.captured_at is not None]
+    return AlertSummary(
+        search,
+        len(outcomes),
+        len(detected),
+        len(captured),
+        round(len(captured) / len(detected), 3) if detected else 0.0,
+        _mean(
+            [o.captured_at - o.detected_at for o in captured if o.captured_at is not None and o.detected_at is not None]
+        ),
+        _mean([o.searching for o in detected]) or 0.0,
+        _mean([o.reacquired_after for o in detected if o.reacquired_after is not None]),
+        _mean(
+            [
+                o.back_on_route_at - o.detected_at
+                for o in detected
+                if o.back_on_route_at is not None and o.detected_at is not None
+            ]
+        ),
+        _mean([float(o.detections) for o in detected]) or 0.0,
+    )
+
+
+def _seeded_points(scene: Scene, patrol: Patrol, generator: np.random.Generator) -> tuple[int, int]:
+    """An entry and a goal on the guards' area, drawn apart (at least a third of the area's diameter)."""
+    grid = scene.grid
+    label = grid.component_labels[int(patrol.states[0, 0]) // 4]
+    cells = np.flatnonzero(grid.component_labels == label)
+    source = int(cells[generator.integers(cells.size)])
+    far = distances_from(grid.neighbours, np.array([source], dtype=np.int64))[cells]
+    apart = cells[far >= max(1, int(far.max()) // 3)]
+    return source, int(apart[generator.integers(apart.size)])
+
+
+def run_alerts(
+    scene: Scene,
+    patrol: Patrol,
+    *,
+    intruder: str = "evader",
+    searches: Sequence[str] = ("ripple",),
+    episodes: int = 1,
+    seed: int = 0,
+    source: int | None = None,
+    target: int | None = None,
+    max_seconds: float = DEFAULT_MAX_SECONDS,
+    rules: AlertRules | None = None,
+    detection: GuardDetection | None = None,
+) -> dict[str, list[AlertEpisode]]:
+    """Episodes ``0 .. episodes - 1`` of each search strategy, the same starts for every strategy: a
+    seeded patrol phase, and the entry and goal given or drawn (see :func:`_seeded_points`)."""
+    table = view_table(scene.grid, scene.vision())
+    generator = np.random.default_rng(seed)
+    starts = []
+    for _ in range(episodes):
+        phase = int(generator.integers(int(patrol.period or 1)))
+        drawn = _seeded_points(scene, patrol, generator)
+        starts.append((phase, drawn[0] if source is None else source, drawn[1] if target is None else target))
+    out: dict[str, list[AlertEpisode]] = {}
+    for name in searches:
+        runs = []
+        for phase, entry, goal in starts:
+            episode = alert_episode(
+                scene,
+                patrol,
+                intruder=intruder,
+                source=entry,
+                target=-1 if intruder == "still" else goal,
+                search=name,
+                phase=phase,
+                max_seconds=max_seconds,
+                table=table,
+                rules=rules,
+                detection=detection,
+            )
+            episode.run()
+            runs.append(episode)
+        out[name] = runs
+    return out

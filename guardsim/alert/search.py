@@ -1,0 +1,223 @@
+"""Search strategies: where guards go once they have lost sight of the intruder.
+
+Every strategy sees the same picture: the *contaminated* set (cells the intruder may be in now: the last
+known cell, grown each tick by the intruder's reach and cleared by every guard's sight; kept by the
+episode, :class:`Contamination`), the last known cell and the searching guards' cells. Each tick it gives
+each searching guard a distance field to walk down (the greedy step every guardsim walker takes), or
+``None`` when that guard's search is over. A guard standing at the bottom of its field turns in place to
+look around.
+
+- ``ripple``: RippleFront over the contaminated set: the distance to the nearest cell the intruder may be
+  in, one compiled fill per tick (a 60 x 60 level: about 20 microseconds).
+- ``diffuse``: a probability grid seeded at the last known cell, diffusing each tick and losing the mass
+  in view (Stealth-Simulator's grid search); a guard heads for the cell with the most probability per
+  step of distance.
+- ``team``: the contaminated set split among the searchers, each cell to the nearest searcher; each
+  walks RippleFront over its own share.
+- ``last-known``: walk to the last known cell, look around once, give up (what most games ship).
+"""
+
+from __future__ import annotations
+
+from typing import Protocol
+
+import numpy as np
+
+from guardsim.kernels.distances import FAR, distance_fields, distances_from
+
+__all__ = ["SEARCHES", "Contamination", "SearchStrategy", "make_search"]
+
+#: The strategies, by the name ``guardsim alert --search`` takes.
+SEARCHES = ("ripple", "diffuse", "team", "last-known")
+
+#: Ticks a ``last-known`` guard turns in place at the last known cell (a full turn) before giving up.
+LOOK_AROUND_TICKS = 4
+
+
+class Contamination:
+    """Cells the intruder may occupy: grown by its reach each tick, cleared by sight.
+
+    >>> neighbours = np.array([[1, -1, -1, -1], [2, -1, 0, -1], [-1, -1, 1, -1]])
+    >>> field = Contamination(neighbours)
+    >>> field.seed(0); field.spread(1); field.cells.tolist()
+    [True, True, False]
+    >>> field.clear(np.array([0])); field.count
+    1
+    """
+
+    def __init__(self, neighbours: np.ndarray) -> None:
+        self.neighbours = np.ascontiguousarray(neighbours, dtype=np.int64)
+        self.cells = np.zeros(self.neighbours.shape[0], dtype=bool)
+        self._padded = np.zeros(self.neighbours.shape[0] + 1, dtype=bool)
+
+    def seed(self, cell: int) -> None:
+        """Only ``cell``: the intruder was seen there."""
+        self.cells[:] = False
+        self.cells[cell] = True
+
+    def spread(self, steps: int) -> None:
+        """Grow by ``steps`` 4-connected moves (the intruder's reach this tick)."""
+        padded = self._padded
+        for _ in range(steps):
+            padded[:-1] = self.cells
+            # Index -1 (no neighbour) reads the padding's last entry, which stays False.
+            self.cells |= padded[self.neighbours].any(axis=1)
+
+    def clear(self, seen: np.ndarray) -> None:
+        """Remove the cells in view (flat indices)."""
+        self.cells[seen] = False
+
+    @property
+    def count(self) -> int:
+        """Cells the intruder may be in."""
+        return int(np.count_nonzero(self.cells))
+
+
+class SearchStrategy(Protocol):
+    """A search strategy (see the module's list)."""
+
+    name: str
+
+    def start(self, last_known: int) -> None:
+        """A search starts (or restarts after a loss of sight) from the last known cell."""
+
+    def observe(self, contaminated: Contamination, seen: np.ndarray) -> None:
+        """The tick's picture after spreading and clearing; ``seen`` is every guard's view (flat cells)."""
+
+    def fields(self, searchers: dict[int, int]) -> dict[int, np.ndarray | None]:
+        """Each searching guard's field (``{guard: cell}`` in, ``{guard: field or None}`` out)."""
+
+
+class _Base:
+    name = ""
+
+    def __init__(self, neighbours: np.ndarray) -> None:
+        self.neighbours = np.ascontiguousarray(neighbours, dtype=np.int64)
+        self.contaminated = np.zeros(self.neighbours.shape[0], dtype=bool)
+        self.last_known = -1
+
+    def start(self, last_known: int) -> None:
+        self.last_known = int(last_known)
+
+    def observe(self, contaminated: Contamination, seen: np.ndarray) -> None:
+        self.contaminated = contaminated.cells
+
+    def fields(self, searchers: dict[int, int]) -> dict[int, np.ndarray | None]:
+        raise NotImplementedError
+
+
+class RippleSearch(_Base):
+    """RippleFront over the contaminated set, shared by every searcher."""
+
+    name = "ripple"
+
+    def fields(self, searchers: dict[int, int]) -> dict[int, np.ndarray | None]:
+        if not self.contaminated.any():
+            return dict.fromkeys(searchers)
+        field = distances_from(self.neighbours, self.contaminated)
+        return dict.fromkeys(searchers, field)
+
+
+class TeamSearch(_Base):
+    """The contaminated set split among the searchers by nearest searcher (ties: lower guard number)."""
+
+    name = "team"
+
+    def fields(self, searchers: dict[int, int]) -> dict[int, np.ndarray | None]:
+        cells = np.flatnonzero(self.contaminated)
+        if cells.size == 0:
+            return dict.fromkeys(searchers)
+        guards = sorted(searchers)
+        if len(guards) == 1:
+            return {guards[0]: distances_from(self.neighbours, cells)}
+        to_guard = distance_fields(self.neighbours, np.array([searchers[g] for g in guards], dtype=np.int64))
+        owner = np.argmin(to_guard[:, cells], axis=0)
+        out: dict[int, np.ndarray | None] = {}
+        for index, guard in enumerate(guards):
+            share = cells[owner == index]
+            out[guard] = distances_from(self.neighbours, share if share.size else cells)
+        return out
+
+
+class DiffuseSearch(_Base):
+    """A probability grid: each tick every cell passes ``rate / 4`` of its mass to each neighbour, the mass
+    in view is dropped and the rest renormalised; a guard heads for the cell with the most mass per step
+    of distance (``mass / (1 + steps)``)."""
+
+    name = "diffuse"
+
+    def __init__(self, neighbours: np.ndarray, rate: float = 0.5) -> None:
+        super().__init__(neighbours)
+        self.rate = rate
+        self.mass = np.zeros(self.neighbours.shape[0], dtype=np.float64)
+        self._degree = (self.neighbours >= 0).sum(axis=1)
+        self._padded = np.zeros(self.neighbours.shape[0] + 1, dtype=np.float64)
+
+    def start(self, last_known: int) -> None:
+        super().start(last_known)
+        self.mass[:] = 0.0
+        self.mass[last_known] = 1.0
+
+    def observe(self, contaminated: Contamination, seen: np.ndarray) -> None:
+        super().observe(contaminated, seen)
+        padded = self._padded
+        padded[:-1] = self.mass
+        inflow = padded[self.neighbours].sum(axis=1)
+        self.mass += (self.rate / 4.0) * (inflow - self._degree * self.mass)
+        self.mass[seen] = 0.0
+        total = self.mass.sum()
+        if total > 0:
+            self.mass /= total
+
+    def fields(self, searchers: dict[int, int]) -> dict[int, np.ndarray | None]:
+        if not (self.mass > 0).any():
+            return dict.fromkeys(searchers)
+        out: dict[int, np.ndarray | None] = {}
+        for guard, cell in sorted(searchers.items()):
+            steps = distances_from(self.neighbours, np.array([cell], dtype=np.int64)).astype(np.float64)
+            steps[steps >= FAR] = np.inf
+            target = int(np.argmax(self.mass / (1.0 + steps)))
+            out[guard] = distances_from(self.neighbours, np.array([target], dtype=np.int64))
+        return out
+
+
+class LastKnownSearch(_Base):
+    """Walk to the last known cell, turn around once there, then give up."""
+
+    name = "last-known"
+
+    def __init__(self, neighbours: np.ndarray) -> None:
+        super().__init__(neighbours)
+        self._looked: dict[int, int] = {}
+        self._field: np.ndarray | None = None
+
+    def start(self, last_known: int) -> None:
+        super().start(last_known)
+        self._looked = {}
+        self._field = distances_from(self.neighbours, np.array([last_known], dtype=np.int64))
+
+    def fields(self, searchers: dict[int, int]) -> dict[int, np.ndarray | None]:
+        out: dict[int, np.ndarray | None] = {}
+        for guard, cell in searchers.items():
+            if cell == self.last_known:
+                self._looked[guard] = self._looked.get(guard, 0) + 1
+            done = self._looked.get(guard, 0) > LOOK_AROUND_TICKS
+            out[guard] = None if done or self._field is None else self._field
+        return out
+
+
+def make_search(name: str, neighbours: np.ndarray) -> SearchStrategy:
+    """The strategy called ``name`` (one of :data:`SEARCHES`).
+
+    >>> make_search("ripple", np.array([[-1, -1, -1, -1]])).name
+    'ripple'
+    """
+    kinds: dict[str, type[_Base]] = {
+        "ripple": RippleSearch,
+        "diffuse": DiffuseSearch,
+        "team": TeamSearch,
+        "last-known": LastKnownSearch,
+    }
+    if name not in kinds:
+        raise ValueError(f"unknown search strategy {name!r}; choose from {', '.join(SEARCHES)}")
+    return kinds[name](neighbours)
