@@ -49,6 +49,7 @@ _SOURCES = {
     "Trace": "guardsim.trace",
     **dict.fromkeys(("AwarenessMeter", "DetectionModel", "GuardDetection"), "guardsim.detection"),
     "sneak_check": "guardsim.sneak",
+    **dict.fromkeys(("AlertEpisode", "AlertRules", "alert_episode", "run_alerts"), "guardsim.alert"),
     **dict.fromkeys(("ContinuousSimulation", "GuardMotion", "run_continuous"), "guardsim.motion"),
 }
 
@@ -93,6 +94,10 @@ if TYPE_CHECKING:
     from guardsim.simulation import run_episode as run_episode
     from guardsim.simulation import run_team_episode as run_team_episode
     from guardsim.sneak import sneak_check as sneak_check
+    from guardsim.alert import AlertEpisode as AlertEpisode
+    from guardsim.alert import AlertRules as AlertRules
+    from guardsim.alert import alert_episode as alert_episode
+    from guardsim.alert import run_alerts as run_alerts
     from guardsim.starts import episode_generator as episode_generator
     from guardsim.trace import Trace as Trace
     from guardsim.vision import LineOfSight as LineOfSight

@@ -12,8 +12,8 @@ look around.
 - ``diffuse``: a probability grid seeded at the last known cell, diffusing each tick and losing the mass
   in view (Stealth-Simulator's grid search); a guard heads for the cell with the most probability per
   step of distance.
-- ``team``: the contaminated set split among the searchers, each cell to the nearest searcher; each
-  walks RippleFront over its own share.
+- ``team``: the contaminated set split into one part per searcher (grown from centres spread over the
+  set); each walks RippleFront over its own part.
 - ``last-known``: walk to the last known cell, look around once, give up (what most games ship).
 """
 
@@ -119,7 +119,13 @@ class RippleSearch(_Base):
 
 
 class TeamSearch(_Base):
-    """The contaminated set split among the searchers by nearest searcher (ties: lower guard number)."""
+    """The contaminated set split into one part per searcher, each walking RippleFront over its own.
+
+    The parts grow from centres spread over the set (the first contaminated cell in row order, then each
+    next centre the cell farthest from those chosen); every cell joins its nearest centre, and the
+    searchers take the parts nearest to them, closest pair first. A split by nearest *searcher* would
+    leave every searcher but one with nothing when the set lies to one side of them all.
+    """
 
     name = "team"
 
@@ -128,14 +134,29 @@ class TeamSearch(_Base):
         if cells.size == 0:
             return dict.fromkeys(searchers)
         guards = sorted(searchers)
-        if len(guards) == 1:
-            return {guards[0]: distances_from(self.neighbours, cells)}
+        parts = min(len(guards), int(cells.size))
+        if parts == 1:
+            return dict.fromkeys(guards, distances_from(self.neighbours, cells))
+        centres = [int(cells[0])]
+        nearest = distances_from(self.neighbours, np.array(centres, dtype=np.int64))
+        while len(centres) < parts:
+            centres.append(int(cells[int(np.argmax(nearest[cells]))]))
+            nearest = np.minimum(nearest, distances_from(self.neighbours, np.array(centres[-1:], dtype=np.int64)))
+        owner = np.argmin(distance_fields(self.neighbours, np.array(centres, dtype=np.int64))[:, cells], axis=0)
         to_guard = distance_fields(self.neighbours, np.array([searchers[g] for g in guards], dtype=np.int64))
-        owner = np.argmin(to_guard[:, cells], axis=0)
+        pairs = sorted((int(to_guard[i, centre]), i, k) for i in range(len(guards)) for k, centre in enumerate(centres))
+        taken_guards: set[int] = set()
+        taken_parts: set[int] = set()
         out: dict[int, np.ndarray | None] = {}
-        for index, guard in enumerate(guards):
-            share = cells[owner == index]
-            out[guard] = distances_from(self.neighbours, share if share.size else cells)
+        for _, index, part in pairs:
+            if index in taken_guards or part in taken_parts:
+                continue
+            taken_guards.add(index)
+            taken_parts.add(part)
+            out[guards[index]] = distances_from(self.neighbours, cells[owner == part])
+        whole = distances_from(self.neighbours, cells)
+        for guard in guards:
+            out.setdefault(guard, whole)  # more searchers than cells: the rest sweep the whole set
         return out
 
 
