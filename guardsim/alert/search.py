@@ -98,6 +98,8 @@ class _Base:
 
     def start(self, last_known: int) -> None:
         self.last_known = int(last_known)
+        self.contaminated = np.zeros(self.neighbours.shape[0], dtype=bool)
+        self.contaminated[last_known] = True
 
     def observe(self, contaminated: Contamination, seen: np.ndarray) -> None:
         self.contaminated = contaminated.cells
