@@ -325,6 +325,7 @@ class AlertEpisode:
         record["awareness"].append([round(m.level, 4) for m in self.meters])
         record["intruder"].append(None if self.intruder.gone else self.intruder.cell)
         record["contaminated"].append(self.contamination.count)
+        record["contaminated_cells"].append(np.flatnonzero(self.contamination.cells).astype(np.int32))
         record["last_known"].append(self.last_known)
 
     def result(self) -> AlertOutcome:

@@ -5,11 +5,9 @@ from __future__ import annotations
 import itertools
 import json
 import math
-from pathlib import Path
 from typing import TYPE_CHECKING
 
 import click
-import numpy as np
 
 from guardsim.cli.common import (
     build_scene,
@@ -27,9 +25,7 @@ from guardsim.errors import GuardsimError
 from guardsim.output import write_text_atomic
 
 if TYPE_CHECKING:
-    from guardsim.alert import AlertEpisode, AlertSummary
-    from guardsim.scene import Scene
-    from guardsim.vision.table import ViewTable
+    from guardsim.alert import AlertSummary
 
 __all__ = ["alert"]
 
@@ -222,7 +218,9 @@ def alert(
         write_text_atomic(folder / "alert.json", json.dumps(summary, indent=1) + "\n")
         written.append(str(folder / "alert.json"))
     if gif_path is not None:
-        _write_gif(gif_path, scene, table, first, detection.model.suspicious)
+        from guardsim.alert.gif import write_alert_gif
+
+        write_alert_gif(gif_path, scene, table, first, suspicious=detection.model.suspicious)
         written.append(gif_path)
     if episodes == 1:
         for name, eps in runs.items():
@@ -249,25 +247,3 @@ def _table(rows: list[AlertSummary]) -> str:
             f"{fmt(row.detections)} |"
         )
     return "\n".join(lines)
-
-
-def _write_gif(path: str, scene: Scene, table: ViewTable, episode: AlertEpisode, suspicious: float) -> None:
-    from guardsim.alert.trace import guard_trace
-    from guardsim.detection import intruder_state
-    from guardsim.sneak.gif import write_sneak_gif
-
-    grid = scene.grid
-    trace = guard_trace(scene, table, episode)
-    cells: list[tuple[int, int]] = []
-    last = episode.record["intruder"][0]
-    for cell in episode.record["intruder"]:
-        last = cell if cell is not None else last
-        cells.append(grid.unflat(last))
-    meters = np.asarray(episode.record["awareness"], dtype=np.float64)
-    detected_at = next((e.tick for e in episode.events if e.event == "detected"), None)
-    states = [
-        intruder_state(list(meters[t]), False, suspicious, detected_at is not None and t >= detected_at)
-        for t in range(meters.shape[0])
-    ]
-    Path(path).parent.mkdir(parents=True, exist_ok=True)
-    write_sneak_gif(path, scene.level, trace, cells, meters=meters, states=states, suspicious=suspicious)

@@ -5,7 +5,7 @@ from __future__ import annotations
 
 import math
 import os
-from collections.abc import Sequence
+from collections.abc import Callable, Sequence
 
 import numpy as np
 from PIL import Image, ImageDraw
@@ -140,6 +140,7 @@ def write_sneak_gif(
     meters: np.ndarray | None = None,
     states: Sequence[str] = (),
     suspicious: float = 0.5,
+    overlay: Callable[[ImageDraw.ImageDraw, SneakFrames, int], None] | None = None,
 ) -> int:
     """Write the guards of ``trace`` with the intruder walking ``intruder`` (one cell per tick of the
     trace): its trail in the cyan of guard colour 6 (teams of up to five keep their own colours), itself a
@@ -152,7 +153,8 @@ def write_sneak_gif(
     :func:`meter_state` at the ``suspicious`` level.
 
     With ``period`` (the patrol's lap) the caption also gives the lap tick: the trace's tick 0 is lap tick
-    ``lap_start`` (the sneak's start tick)."""
+    ``lap_start`` (the sneak's start tick). ``overlay(draw, drawer, tick)`` draws more on each frame (palette
+    indices) before the intruder and the meters."""
     options = options or GifOptions()
     drawer = SneakFrames(level, trace, size=options.size, lap_start=lap_start, period=period)
     layout = drawer.layout
@@ -173,6 +175,8 @@ def write_sneak_gif(
             frame = drawer.frame(tick)
             image = Image.frombytes("P", (frame.shape[1], frame.shape[0]), np.ascontiguousarray(frame).tobytes())
             draw = ImageDraw.Draw(image)
+            if overlay is not None:
+                overlay(draw, drawer, tick)
             step = min(tick, len(intruder) - 1)
             points = [_pixel(drawer, cell) for cell in intruder[: step + 1]]
             if len(points) > 1:

@@ -1,0 +1,71 @@
+"""An alert episode as an animated GIF: the sneak GIF's guards, meters and intruder, plus each guard's
+state as a letter over it, the contaminated set as dots and the last known position as a cross."""
+
+from __future__ import annotations
+
+import os
+
+import numpy as np
+from PIL import ImageDraw
+
+from guardsim.alert.episode import AlertEpisode
+from guardsim.alert.trace import guard_trace
+from guardsim.detection import intruder_state
+from guardsim.render.frames import MIN_GUARD_RADIUS
+from guardsim.render.palette import Index, guard_index
+from guardsim.scene import Scene
+from guardsim.sneak.gif import SneakFrames, write_sneak_gif
+from guardsim.vision.table import ViewTable
+
+__all__ = ["STATE_LETTERS", "write_alert_gif"]
+
+#: The letter drawn over a guard in each state.
+STATE_LETTERS = {"patrol": "P", "suspicious": "?", "investigate": "I", "chase": "!", "search": "S", "return": "R"}
+
+#: Contaminated cells: dots in guard colour 3 (purple in the default palette).
+_CONTAMINATED = guard_index(2)
+_LAST_KNOWN = guard_index(0)
+
+
+def write_alert_gif(
+    path: str | os.PathLike[str], scene: Scene, table: ViewTable, episode: AlertEpisode, *, suspicious: float
+) -> int:
+    """Write ``episode`` as a GIF; returns the number of frames."""
+    grid = scene.grid
+    trace = guard_trace(scene, table, episode)
+    record = episode.record
+    cells: list[tuple[int, int]] = []
+    last = record["intruder"][0]
+    for cell in record["intruder"]:
+        last = cell if cell is not None else last
+        cells.append(grid.unflat(last))
+    meters = np.asarray(record["awareness"], dtype=np.float64)
+    detected_at = next((e.tick for e in episode.events if e.event == "detected"), None)
+    states = [
+        intruder_state(list(meters[t]), False, suspicious, detected_at is not None and t >= detected_at)
+        for t in range(meters.shape[0])
+    ]
+    def overlay(draw: ImageDraw.ImageDraw, drawer: SneakFrames, tick: int) -> None:
+        step = min(tick, len(record["cells"]) - 1)
+        layout = drawer.layout
+        dot = max(1.0, layout.scale / 5)
+        for cell in record["contaminated_cells"][step].tolist():
+            x, y = drawer.cell_centre(grid.unflat(cell))
+            x, y = x + layout.left, y + layout.top
+            draw.rectangle([x - dot, y - dot, x + dot, y + dot], fill=_CONTAMINATED)
+        known = record["last_known"][step]
+        if known >= 0:
+            x, y = drawer.cell_centre(grid.unflat(known))
+            x, y, arm = x + layout.left, y + layout.top, max(3.0, layout.scale * 0.6)
+            draw.line([x - arm, y - arm, x + arm, y + arm], fill=_LAST_KNOWN, width=2)
+            draw.line([x - arm, y + arm, x + arm, y - arm], fill=_LAST_KNOWN, width=2)
+        radius = max(MIN_GUARD_RADIUS, 0.45 * layout.scale)
+        for guard, (x, y) in enumerate(drawer.guard_centres(step)):
+            letter = STATE_LETTERS[record["guard_states"][step][guard]]
+            # Left of the meter bar near the right edge, right of it elsewhere.
+            side = x - radius - 9 if x > layout.left + layout.play[0] - 3 * radius - 8 else x + radius + 2
+            draw.text((side, y - radius - 13), letter, fill=int(Index.OUTLINE))
+
+    return write_sneak_gif(
+        path, scene.level, trace, cells, meters=meters, states=states, suspicious=suspicious, overlay=overlay
+    )
