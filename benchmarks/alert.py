@@ -7,9 +7,9 @@ Usage::
     python benchmarks/alert.py --episodes 10 --maps square,arena --guards 1,2
 
 The experiment: on each map, a loop patrol for K guards (``guardsim patrol``'s planner), then N seeded
-episodes (entry, goal and patrol phase drawn from seed 0, the same for every strategy) of an ``evader``
-intruder walking from its entry to its goal, which the guards detect mid-level or not; once detected it
-runs for the cell it reaches first that is farthest from every guard and waits there while any guard
+episodes (patrol phase, entry and goal drawn from seed 0, the same for every strategy) of an ``evader``
+intruder that starts in some guard's view, detected (``spotted``: that guard's meter starts full), mid-level
+on its way from its entry to its goal; it then runs for the cell it reaches first that is farthest from every guard and waits there while any guard
 searches. One row per map, team size and strategy: detections, capture rate among detected episodes,
 seconds from detection to capture, seconds searching, seconds to re-acquire after losing sight, seconds
 from detection until every guard is back on its route. Prints a Markdown table.
@@ -96,7 +96,9 @@ def experiment(maps: list[str], guards: list[int], episodes: int) -> None:
         scene = _scene(name)
         for count in guards:
             patrol = _patrol(scene, count)
-            runs = run_alerts(scene, patrol, intruder="evader", searches=SEARCHES, episodes=episodes, seed=0)
+            runs = run_alerts(
+                scene, patrol, intruder="evader", searches=SEARCHES, episodes=episodes, seed=0, spotted=True
+            )
             for search, eps in runs.items():
                 row = summarise(search, [e.result() for e in eps])
                 print(

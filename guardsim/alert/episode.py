@@ -34,6 +34,9 @@ __all__ = ["AlertEpisode"]
 class AlertEpisode:
     """Guards walking ``patrol`` (from lap tick ``phase``) against ``intruder``; :meth:`step` advances a tick.
 
+    ``spotted``: every guard that sees the intruder at tick 0 starts with a full meter (it is detected at
+    once), as the experiments of docs/results.md start.
+
     The per-tick record (:attr:`record`) is what :func:`guardsim.alert.trace.alert_trace_data` writes.
     """
 
@@ -49,6 +52,7 @@ class AlertEpisode:
         search: str = "ripple",
         phase: int = 0,
         max_ticks: int = 600,
+        spotted: bool = False,
     ) -> None:
         if patrol.period is None:
             raise ValueError("an alert episode needs a repeating patrol (its period is null)")
@@ -94,6 +98,9 @@ class AlertEpisode:
         for guard in range(guards):
             state = patrol.state(guard, self.phase)
             self.cells[guard], self.headings[guard] = int(cell_of_state(state)), int(heading_of_state(state))
+            if spotted and _contains(table.sees(state), intruder.cell):
+                meter = self.meters[guard]
+                meter.level = meter.peak = 1.0  # the experiments' "detected mid-level": the meter starts full
         self._look_and_update()
         self._record()
 

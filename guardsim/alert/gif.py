@@ -45,6 +45,7 @@ def write_alert_gif(
         intruder_state(list(meters[t]), False, suspicious, detected_at is not None and t >= detected_at)
         for t in range(meters.shape[0])
     ]
+
     def overlay(draw: ImageDraw.ImageDraw, drawer: SneakFrames, tick: int) -> None:
         step = min(tick, len(record["cells"]) - 1)
         layout = drawer.layout

@@ -49,6 +49,7 @@ def alert_episode(
     table: ViewTable | None = None,
     rules: AlertRules | None = None,
     detection: GuardDetection | None = None,
+    spotted: bool = False,
 ) -> AlertEpisode:
     """An alert episode ready to :meth:`~AlertEpisode.step`: ``patrol``'s guards from lap tick ``phase``
     against an ``intruder`` entering at flat cell ``source`` and heading for ``target`` (-1: none).
@@ -81,7 +82,16 @@ def alert_episode(
     )
     max_ticks = max(1, int(max_seconds / rules.dt + 1e-9))
     return AlertEpisode(
-        grid, table, patrol, runner, rules=rules, detection=detection, search=search, phase=phase, max_ticks=max_ticks
+        grid,
+        table,
+        patrol,
+        runner,
+        rules=rules,
+        detection=detection,
+        search=search,
+        phase=phase,
+        max_ticks=max_ticks,
+        spotted=spotted,
     )
 
 
@@ -167,12 +177,30 @@ def summarise(search: str, outcomes: Sequence[AlertOutcome]) -> AlertSummary:
     )
 
 
-def _seeded_points(scene: Scene, patrol: Patrol, generator: np.random.Generator) -> tuple[int, int]:
-    """An entry and a goal on the guards' area, drawn apart (at least a third of the area's diameter)."""
+def _seeded_points(
+    scene: Scene, patrol: Patrol, generator: np.random.Generator, *, table: ViewTable | None = None, phase: int = 0
+) -> tuple[int, int]:
+    """An entry and a goal on the guards' area, drawn apart (at least a third of the area's diameter).
+
+    With ``table``, the entry is drawn among the cells some guard sees at lap tick ``phase``, at least 3
+    cells from it (any seen cell when there is none; any cell when no guard sees one)."""
     grid = scene.grid
     label = grid.component_labels[int(patrol.states[0, 0]) // 4]
     cells = np.flatnonzero(grid.component_labels == label)
-    source = int(cells[generator.integers(cells.size)])
+    pool = cells
+    if table is not None:
+        seen: set[int] = set()
+        near: set[int] = set()
+        cols = grid.shape[1]
+        for guard in range(patrol.guards):
+            state = patrol.state(guard, phase)
+            row, col = divmod(state // 4, cols)
+            for cell in table.sees(state).tolist():
+                (seen if (cell // cols - row) ** 2 + (cell % cols - col) ** 2 >= 9 else near).add(cell)
+        chosen = seen or near
+        if chosen:
+            pool = np.array(sorted(chosen), dtype=np.int64)
+    source = int(pool[generator.integers(pool.size)])
     far = distances_from(grid.neighbours, np.array([source], dtype=np.int64))[cells]
     apart = cells[far >= max(1, int(far.max()) // 3)]
     return source, int(apart[generator.integers(apart.size)])
@@ -191,15 +219,18 @@ def run_alerts(
     max_seconds: float = DEFAULT_MAX_SECONDS,
     rules: AlertRules | None = None,
     detection: GuardDetection | None = None,
+    spotted: bool = False,
 ) -> dict[str, list[AlertEpisode]]:
     """Episodes ``0 .. episodes - 1`` of each search strategy, the same starts for every strategy: a
-    seeded patrol phase, and the entry and goal given or drawn (see :func:`_seeded_points`)."""
+    seeded patrol phase, and the entry and goal given or drawn (see :func:`_seeded_points`). With
+    ``spotted``, a drawn entry lies in some guard's view at the start and that guard detects the intruder
+    at tick 0 (see :class:`AlertEpisode`)."""
     table = view_table(scene.grid, scene.vision())
     generator = np.random.default_rng(seed)
     starts = []
     for _ in range(episodes):
         phase = int(generator.integers(int(patrol.period or 1)))
-        drawn = _seeded_points(scene, patrol, generator)
+        drawn = _seeded_points(scene, patrol, generator, table=table if spotted else None, phase=phase)
         starts.append((phase, drawn[0] if source is None else source, drawn[1] if target is None else target))
     out: dict[str, list[AlertEpisode]] = {}
     for name in searches:
@@ -217,6 +248,7 @@ def run_alerts(
                 table=table,
                 rules=rules,
                 detection=detection,
+                spotted=spotted,
             )
             episode.run()
             runs.append(episode)

@@ -80,6 +80,11 @@ def _route_file(path: str, grid_cell: object) -> list[tuple[float, float]]:
 @click.option(
     "--intruder-speed", type=click.FloatRange(min=0, max=1e6), help="World units per second [default: the guard's]."
 )
+@click.option(
+    "--spotted",
+    is_flag=True,
+    help="The intruder starts detected by the guards that see it (drawn entries: in some guard's view).",
+)
 @click.option("--out", "out_dir", type=click.Path(file_okay=False), help="Folder: a trace per episode and alert.json.")
 @click.option("--trace", "trace_path", help="Write the (first) episode's trace as JSON.")
 @click.option("--gif", "gif_path", help="Write the (first) episode as a GIF.")
@@ -99,6 +104,7 @@ def alert(
     seed: int,
     max_seconds: float,
     intruder_speed: float | None,
+    spotted: bool,
     out_dir: str | None,
     trace_path: str | None,
     gif_path: str | None,
@@ -175,6 +181,7 @@ def alert(
                 table=table,
                 rules=rules,
                 detection=detection,
+                spotted=spotted,
             )
             episode.run()
             runs[name] = [episode]
@@ -191,6 +198,7 @@ def alert(
             max_seconds=max_seconds,
             rules=rules,
             detection=detection,
+            spotted=spotted,
         )
     rows = [summarise(name, [e.result() for e in eps]) for name, eps in runs.items()]
     first = runs[searches[0]][0]
