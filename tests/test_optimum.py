@@ -7,9 +7,9 @@ Brute force is the breadth-first search over (state, seen cells as a bitmask) of
 from __future__ import annotations
 
 import json
-from collections.abc import Callable
 import re
 import subprocess
+from collections.abc import Callable
 from pathlib import Path
 from typing import Any
 
@@ -66,6 +66,24 @@ def test_optimum_equals_brute_force_with_the_cone(name: str) -> None:
             assert_covering_walk(scene, result, start, heading, vision)
 
 
+@short_sighted
+def test_weighted_search_is_within_its_weight_of_the_brute_force_optimum(name: str) -> None:
+    """``weight`` W: a covering walk of at most W times the breadth-first optimum, its bound at most the
+    optimum, and W = 1 the optimum itself."""
+    scene = scene_from(SHORT_SIGHTED[name])
+    vision = scene.vision()
+    for start in starts(scene, most=3):
+        best = optimum_steps(scene, start, 1, vision)
+        for weight in (1.0, 1.25, 2.0):
+            result = solve(scene, start, 1, vision, weight=weight)
+            assert result.proved and result.weight == weight
+            assert best <= result.steps <= weight * best, (start, weight, result.steps, best)
+            assert result.lower_bound <= best
+            assert_covering_walk(scene, result, start, 1, vision)
+            if weight == 1.0:
+                assert result.steps == best
+
+
 BRESENHAM_LEVELS: dict[str, tuple[dict[str, Any], dict[str, Any]]] = {
     "l-room-cone": (SHORT_SIGHTED["l-room"], {}),
     "pillar-cone": (SHORT_SIGHTED["pillar"], {}),
@@ -111,7 +129,7 @@ def test_frontier_moves_cost_their_shortest_distance(name: str) -> None:
             fresh = [bool((graph.views[p] & ~seen).any()) for p in range(graph.positions)]
             origin = int(generator.integers(graph.positions))
             plain = _distances(graph.successors, origin, lambda _: True)
-            avoiding = _distances(graph.successors, origin, lambda p: not fresh[p])
+            avoiding = _distances(graph.successors, origin, lambda p, fresh=fresh: not fresh[p])
             count = frontier(graph.successors, graph.views, origin, seen, *work)
             found, steps = work[2][:count].tolist(), work[3][:count].tolist()
             expected = {p for p in avoiding if fresh[p] and p != origin}

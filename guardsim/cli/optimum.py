@@ -72,6 +72,13 @@ class _Progress:
     show_default=True,
     help="Most memory for the search's stored nodes; the search stops unproved when they are full.",
 )
+@click.option(
+    "--weight",
+    type=FiniteFloatRange(min=1.0),
+    default=1.0,
+    show_default=True,
+    help="Stop once the walk found is proved at most this many times the optimum (1: the optimum itself).",
+)
 @click.option("--out", "out_path", type=str, help="Write the result (steps, path, proved, bounds) as JSON.")
 @vision_options
 @map_options
@@ -86,6 +93,7 @@ def optimum(
     max_expansions: int,
     time_limit: float | None,
     memory_mb: int,
+    weight: float,
     out_path: str | None,
     los: str,
     fov: float | None,
@@ -99,8 +107,9 @@ def optimum(
 
     A* over the guard's position and the cells seen so far, with the lower bounds of `guardsim bounds`
     as estimates (docs/optimum.md). It prints the optimum and proves it, or, stopped by a limit, the
-    best walk found and the proved lower bound (proved: false). A search running longer than 10 s prints
-    where it is to stderr every 10 s. The start and heading are chosen as by `guardsim play`.
+    best walk found and the proved lower bound (proved: false). With --weight W it stops as soon as the
+    walk in hand is proved within W times the optimum (proved: true then means within W). A search
+    running longer than 10 s prints where it is to stderr every 10 s. The start and heading are chosen as by `guardsim play`.
     """
     level = load(level_path, max_cells, max_vertices, max_file_bytes, map_import)
     from guardsim.kernels.ahead import compile_ahead
@@ -116,13 +125,18 @@ def optimum(
         time_limit=time_limit,
         memory_bytes=memory_mb * 2**20,
         progress=_Progress(),
+        weight=weight,
     )
     names = list(HEADINGS)
-    verdict = (
-        f"optimum {result.steps} steps"
-        if result.proved
-        else f"best found {result.steps} steps (stopped by {result.stopped_by}; optimum >= {result.lower_bound})"
-    )
+    if result.proved and weight > 1.0:
+        verdict = (
+            f"{result.steps} steps, within {weight:g} x the optimum (optimum between {result.lower_bound} "
+            f"and {result.steps})"
+        )
+    elif result.proved:
+        verdict = f"optimum {result.steps} steps"
+    else:
+        verdict = f"best found {result.steps} steps (stopped by {result.stopped_by}; optimum >= {result.lower_bound})"
     click.echo(
         f"{level.name}: from cell [{cell[0]}, {cell[1]}] facing {names[first_heading]}: {verdict}; "
         f"proved: {str(result.proved).lower()}; start bound {result.root_bound}; "
@@ -138,6 +152,7 @@ def optimum(
             "view_range": scene.cone.view_range,
             "steps": result.steps,
             "proved": result.proved,
+            "weight": weight,
             "lower_bound": result.lower_bound,
             "start_bound": result.root_bound,
             "stopped_by": result.stopped_by,

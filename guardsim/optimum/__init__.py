@@ -108,6 +108,9 @@ class OptimumResult(NamedTuple):
     """Whether the search ran over states (the cone) or over cells (headings change nothing)."""
     seconds: float
     """Wall time of the call, the view table included when it was not cached."""
+    weight: float = 1.0
+    """The ``weight`` asked for: when above 1, :attr:`proved` means "at most ``weight`` times the
+    optimum", and :attr:`lower_bound` is the proved bound."""
 
 
 def solve(
@@ -120,6 +123,7 @@ def solve(
     time_limit: float | None = None,
     memory_bytes: int = DEFAULT_MEMORY_BYTES,
     progress: Callable[[SearchProgress], None] | None = None,
+    weight: float = 1.0,
 ) -> OptimumResult:
     """The fewest steps after which a guard from ``(start, heading)`` has seen every cell reachable from it.
 
@@ -141,6 +145,9 @@ def solve(
     progress
         Called after every chunk of expansions (2 000) with where the search is; it does not change
         the search.
+    weight
+        W >= 1: weighted A* (heap on ``g + W * h``), which stops once the walk in hand is proved at most
+        W times the optimum. 1: the optimum itself.
 
     Returns
     -------
@@ -172,7 +179,9 @@ def solve(
         state = new_search_state(capacity, words, graph.positions)
     except (MemoryError, ValueError) as error:  # numpy: "Maximum allowed dimension exceeded"
         raise LimitError(f"cannot reserve {memory_bytes // 2**20} MB for the search nodes (memory_bytes)") from error
-    start_search(state, heuristic, graph.views, graph.full, graph.start, greedy_steps + 1)
+    if not (weight >= 1.0 and np.isfinite(weight)):
+        raise ValueError(f"weight must be a finite number >= 1, not {weight!r}")
+    start_search(state, heuristic, graph.views, graph.full, graph.start, greedy_steps + 1, float(weight))
     root_bound = int(state.estimate[0])
     stopped_by = "proved"
     counters = state.counters
@@ -189,10 +198,12 @@ def solve(
         if time_limit is not None and time.perf_counter() - began > time_limit:
             stopped_by = "time"
             break
-        run_search(state, heuristic, graph.successors, graph.views, graph.full, budget, DOMINANCE_CHECKS)
+        run_search(state, heuristic, graph.successors, graph.views, graph.full, budget, DOMINANCE_CHECKS, float(weight))
         if progress is not None:
             best = int(counters[INCUMBENT]) if counters[INCUMBENT_NODE] >= 0 else int(greedy_steps)
             floor = best if counters[STATUS] == PROVED else min(best, max(int(counters[FLOOR]), root_bound))
+            if weight != 1.0:
+                floor = _weighted_floor(best, weight) if counters[STATUS] == PROVED else root_bound
             progress(
                 SearchProgress(
                     int(counters[EXPANSIONS]), int(counters[NODES]), floor, best, time.perf_counter() - began
@@ -205,6 +216,9 @@ def solve(
         route, incumbent = greedy, int(greedy_steps)
     proved = stopped_by == "proved"
     floor = incumbent if proved or counters[HEAP] == 0 else min(incumbent, int(state.heap_key[0] // (1 << 16)))
+    if weight != 1.0:
+        # A weighted key bounds nothing: only the weighted proof (or the start's estimate) does.
+        floor = _weighted_floor(incumbent, weight) if proved else root_bound
     if not proved and max(floor, root_bound) >= incumbent:
         # The walk in hand already meets the proved bound: it is optimal, whatever stopped the search.
         proved, stopped_by = True, "proved"
@@ -216,14 +230,20 @@ def solve(
         incumbent,
         path,
         proved,
-        max(floor, root_bound) if not proved else incumbent,
+        max(floor, root_bound) if not proved or weight != 1.0 else incumbent,
         root_bound,
         int(counters[EXPANSIONS]),
         int(counters[NODES]),
         stopped_by,
         graph.headings_matter,
         time.perf_counter() - began,
+        float(weight),
     )
+
+
+def _weighted_floor(incumbent: int, weight: float) -> int:
+    """The bound a finished weighted search proves: the incumbent is at most ``weight`` times the optimum."""
+    return int(np.ceil(incumbent / weight - 1e-9))
 
 
 def search_route(

@@ -22,6 +22,7 @@ from collections.abc import Iterator
 from typing import NamedTuple
 
 import numpy as np
+from numba.extending import register_jitable
 
 from guardsim.kernels.arrays import copy_into
 from guardsim.kernels.compiler import jit
@@ -210,11 +211,24 @@ def _dominated(state: SearchState, position: int, steps: int, seen: np.ndarray, 
     return False
 
 
+@register_jitable(inline="always")
+def _f(g: int, h: int, weight: float) -> int:
+    """The heap's key: ``g + h``, or ``g + floor(weight * h)`` for a weighted search."""
+    return g + h if weight == 1.0 else g + int(weight * h)
+
+
 @jit
 def start_search(
-    state: SearchState, heuristic: Heuristic, views: np.ndarray, full: np.ndarray, start: int, incumbent: int
+    state: SearchState,
+    heuristic: Heuristic,
+    views: np.ndarray,
+    full: np.ndarray,
+    start: int,
+    incumbent: int,
+    weight: float = 1.0,
 ) -> None:
-    """Put the root in the heap; ``incumbent`` is the steps of a known covering walk."""
+    """Put the root in the heap; ``incumbent`` is the steps of a known covering walk; ``weight`` as in
+    :func:`run_search`."""
     counters = state.counters
     counters[:] = 0
     counters[INCUMBENT] = incumbent
@@ -236,9 +250,9 @@ def start_search(
         counters[STATUS] = PROVED
         counters[FLOOR] = 0
         return
-    if h < incumbent:
+    if _f(0, h, weight) < incumbent:
         counters[HEAP] = heap_push(
-            state.heap_key, state.heap_node, counters[HEAP], h * _KEY_SHIFT + (_KEY_SHIFT - 1), node
+            state.heap_key, state.heap_node, counters[HEAP], _f(0, h, weight) * _KEY_SHIFT + (_KEY_SHIFT - 1), node
         )
 
 
@@ -251,10 +265,14 @@ def run_search(
     full: np.ndarray,
     budget: int,
     checks: int,
+    weight: float = 1.0,
 ) -> None:
     """Expand at most ``budget`` nodes, or until the optimum is proved or the node arrays are full.
 
-    A new node is dropped when one of the last ``checks`` nodes at its position dominates it.
+    A new node is dropped when one of the last ``checks`` nodes at its position dominates it. With
+    ``weight`` W > 1 the heap is ordered on ``g + floor(W * h)`` (weighted A*): when its least key reaches
+    the incumbent, the incumbent is at most W times the optimum (a node of an optimal walk waits in the
+    heap with its optimal g, so its key is at most W times the optimum).
     """
     counters = state.counters
     positions = successors.shape[0]
@@ -276,7 +294,8 @@ def run_search(
             counters[STATUS] = PROVED
             counters[FLOOR] = counters[INCUMBENT]
             break
-        counters[FLOOR] = f
+        if weight == 1.0:
+            counters[FLOOR] = f  # a weighted key bounds nothing
         key, node, counters[HEAP] = heap_pop(state.heap_key, state.heap_node, counters[HEAP])
         g = _KEY_SHIFT - 1 - key % _KEY_SHIFT
         if g != state.steps[node]:
@@ -290,13 +309,13 @@ def run_search(
             h = estimate(heuristic, here, state.seen[node], full, kept, link, gap, order)
             if h > state.estimate[node]:
                 state.estimate[node] = h
-                if g + h > f:
-                    if g + h < counters[INCUMBENT]:
+                if _f(g, h, weight) > f:
+                    if _f(g, h, weight) < counters[INCUMBENT]:
                         counters[HEAP] = heap_push(
                             state.heap_key,
                             state.heap_node,
                             counters[HEAP],
-                            (g + h) * _KEY_SHIFT + (_KEY_SHIFT - 1 - g),
+                            _f(g, h, weight) * _KEY_SHIFT + (_KEY_SHIFT - 1 - g),
                             node,
                         )
                     continue
@@ -330,7 +349,7 @@ def run_search(
                     break
                 h = 0 if complete else eccentricity(heuristic, there, seen, full)
                 h = max(h, parent_h - found_steps[index])
-                if steps + h >= counters[INCUMBENT]:
+                if _f(steps, h, weight) >= counters[INCUMBENT]:
                     continue
                 other = _add(state, slot, there, steps, node, h, seen)
                 state.exact[other] = complete
@@ -345,6 +364,6 @@ def run_search(
                 state.heap_key,
                 state.heap_node,
                 counters[HEAP],
-                (steps + h) * _KEY_SHIFT + (_KEY_SHIFT - 1 - steps),
+                _f(steps, h, weight) * _KEY_SHIFT + (_KEY_SHIFT - 1 - steps),
                 other,
             )
