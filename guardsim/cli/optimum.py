@@ -4,23 +4,28 @@ from __future__ import annotations
 
 import json
 import time
+from typing import TYPE_CHECKING
 
 import click
 
-from guardsim.cli.bounds import start_options
 from guardsim.cli.common import (
     FiniteFloatRange,
     build_scene,
     cli_start,
     limit_options,
     load,
+    parse_point,
     reports_errors,
     vision_options,
 )
 from guardsim.cli.map_options import MapImport, map_options
+from guardsim.errors import GuardsimError
 from guardsim.level import HEADINGS
 from guardsim.optimum import DEFAULT_MEMORY_BYTES, SearchProgress, solve
 from guardsim.output import write_text_atomic
+
+if TYPE_CHECKING:
+    from guardsim.scene import Scene
 
 __all__ = ["DEFAULT_MAX_EXPANSIONS", "optimum"]
 
@@ -49,9 +54,57 @@ class _Progress:
         )
 
 
+def _points(ctx: click.Context, param: click.Parameter, values: tuple[str, ...]) -> tuple[tuple[float, float], ...]:
+    return tuple(point for point in (parse_point(ctx, param, value) for value in values) if point is not None)
+
+
+def _search_from(_ctx: click.Context, _param: click.Parameter, value: str | None) -> str | tuple[float, float] | None:
+    if value is None or value == "all":
+        return value
+    return parse_point(_ctx, _param, value)
+
+
 @click.command()
 @click.argument("level_path", metavar="LEVEL")
-@start_options
+@click.option(
+    "--start",
+    multiple=True,
+    callback=_points,
+    metavar="X,Y",
+    help="Start position in world units; repeat once per guard for the guaranteed search.",
+)
+@click.option(
+    "--heading",
+    type=click.Choice(list(HEADINGS)),
+    multiple=True,
+    help="First heading (default: the level's, or drawn); one for every guard, or one per --start.",
+)
+@click.option("--seed", type=click.IntRange(min=0), default=0, show_default=True, help="Seed for random choices.")
+@click.option(
+    "--episode",
+    type=click.IntRange(min=0),
+    help="The start of episode K of a batch seeded with --seed, drawn as in `guardsim bench`.",
+)
+@click.option(
+    "--search-from",
+    callback=_search_from,
+    metavar="X,Y|all",
+    help="The guaranteed search instead: the fewest ticks until the guards are certain to have seen an "
+    "intruder that started within --search-radius steps of X,Y (all: anywhere) and moves a cell a tick.",
+)
+@click.option(
+    "--search-radius",
+    type=click.IntRange(min=0, max=100_000),
+    default=0,
+    show_default=True,
+    help="Cells (4-connected steps) around --search-from the intruder may start in.",
+)
+@click.option(
+    "--guards",
+    type=click.IntRange(min=1, max=8),
+    help="Guards of the guaranteed search [default: one per --start, else 1; starts beyond the given ones "
+    "repeat the first]. Impossible for them: the smallest team (up to 4) that can is also given.",
+)
 @click.option(
     "--max-expansions",
     type=click.IntRange(min=0),
@@ -86,10 +139,13 @@ class _Progress:
 @reports_errors
 def optimum(
     level_path: str,
-    start: tuple[float, float] | None,
-    heading: str | None,
+    start: tuple[tuple[float, float], ...],
+    heading: tuple[str, ...],
     seed: int,
     episode: int | None,
+    search_from: str | tuple[float, float] | None,
+    search_radius: int,
+    guards: int | None,
     max_expansions: int,
     time_limit: float | None,
     memory_mb: int,
@@ -116,7 +172,16 @@ def optimum(
 
     compile_ahead("optimum")
     scene = build_scene(level, los, fov, view_range)
-    _, cell, first_heading = cli_start(scene, seed=seed, episode=episode, start=start, heading=heading)
+    if len(heading) > 1 and len(heading) != len(start):
+        raise GuardsimError(f"{len(heading)} --heading options for {len(start)} --start: give one, or one per --start")
+    if search_from is not None:
+        _guaranteed(scene, level.name, start, heading, seed, episode, search_from, search_radius, guards, out_path)
+        return
+    if len(start) > 1 or guards not in (None, 1):
+        raise GuardsimError("the coverage optimum is for one guard: several --start or --guards need --search-from")
+    _, cell, first_heading = cli_start(
+        scene, seed=seed, episode=episode, start=start[0] if start else None, heading=heading[0] if heading else None
+    )
     result = solve(
         scene,
         cell,
@@ -160,5 +225,78 @@ def optimum(
             "nodes": result.nodes,
             "seconds": round(result.seconds, 3),
             "path": [list(step) for step in result.path],
+        }
+        write_text_atomic(out_path, json.dumps(data) + "\n")
+
+
+def _guaranteed(
+    scene: Scene,
+    name: str,
+    start: tuple[tuple[float, float], ...],
+    heading: tuple[str, ...],
+    seed: int,
+    episode: int | None,
+    search_from: str | tuple[float, float],
+    radius: int,
+    guards: int | None,
+    out_path: str | None,
+) -> None:
+    """``--search-from``: the guaranteed search, printed and written."""
+    from guardsim.cli.sneak import sneak_cell
+    from guardsim.optimum.guaranteed import guaranteed_search, search_region, smallest_team
+    from guardsim.vision.table import view_table
+
+    grid = scene.grid
+    count = guards if guards is not None else max(1, len(start))
+    if len(start) > count:
+        raise GuardsimError(f"{len(start)} --start options for --guards {count}")
+    teams = []
+    for index in range(count):
+        point = start[index] if index < len(start) else (start[0] if start else None)
+        facing = heading[index] if len(heading) > 1 and index < len(heading) else (heading[0] if heading else None)
+        _, cell, first = cli_start(scene, seed=seed, episode=episode, start=point, heading=facing)
+        teams.append((cell, first))
+    if search_from == "all":
+        region = search_region(grid, None, 0)
+        where = "anywhere"
+    else:
+        assert isinstance(search_from, tuple)
+        centre = grid.unflat(sneak_cell(grid, search_from, "--search-from"))
+        region = search_region(grid, centre, radius)
+        where = f"within {radius} steps of cell [{centre[0]}, {centre[1]}]"
+    table = view_table(grid, scene.vision())
+    result = guaranteed_search(grid, table, teams, region)
+    team = None
+    if result.proved and result.impossible:
+        team = smallest_team(grid, table, teams[0], region)
+    if not result.proved:
+        verdict = f"not settled: {result.pairs} (guards, set) pairs stored"
+    elif result.impossible:
+        smallest = (
+            "more than 4 guards"
+            if team is None
+            else f"{team[0]} guards (from the first start) can, in {team[1].steps} ticks"
+        )
+        verdict = f"impossible: {count} guard{'s' if count > 1 else ''} can never be certain; {smallest}"
+    else:
+        verdict = f"certain after {result.steps} ticks"
+    click.echo(
+        f"{name}: guaranteed search, intruder starting {where}, {count} guard{'s' if count > 1 else ''}: "
+        f"{verdict}; proved: {str(result.proved).lower()}; {result.pairs} pairs, {result.seconds:.1f} s"
+    )
+    if out_path is not None:
+        data = {
+            "level": name,
+            "search_from": search_from if search_from == "all" else list(search_from),
+            "search_radius": radius,
+            "guards": count,
+            "starts": [[cell[0], cell[1], list(HEADINGS)[facing]] for cell, facing in teams],
+            "proved": result.proved,
+            "steps": result.steps,
+            "impossible": result.impossible,
+            "smallest_team": None if team is None else team[0],
+            "paths": [[list(step) for step in path] for path in result.paths],
+            "pairs": result.pairs,
+            "seconds": round(result.seconds, 3),
         }
         write_text_atomic(out_path, json.dumps(data) + "\n")
