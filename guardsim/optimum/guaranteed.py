@@ -33,7 +33,7 @@ from guardsim.vision.table import ViewTable
 __all__ = ["DEFAULT_MAX_PAIRS", "GuaranteedResult", "guaranteed_search", "search_region", "smallest_team"]
 
 #: Most (guards, set) pairs the search stores before it stops unproved.
-DEFAULT_MAX_PAIRS = 2_000_000
+DEFAULT_MAX_PAIRS = 500_000
 #: Earlier sets of the same guards a new set is checked against for dominance.
 _DOMINANCE_CHECKS = 32
 
