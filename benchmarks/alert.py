@@ -108,13 +108,46 @@ def experiment(maps: list[str], guards: list[int], episodes: int) -> None:
                 )
 
 
+def figure(table: Path, out: Path) -> None:
+    """Capture rate per strategy and team size, averaged over the maps of a saved experiment table."""
+    import matplotlib
+
+    matplotlib.use("Agg")
+    import matplotlib.pyplot as plt
+
+    from guardsim.alert import SEARCHES
+
+    rates: dict[tuple[str, int], list[float]] = {}
+    for line in table.read_text().splitlines():
+        cells = [c.strip() for c in line.strip().strip("|").split("|")]
+        if len(cells) == 9 and cells[1].isdigit():
+            rates.setdefault((cells[2], int(cells[1])), []).append(float(cells[4]))
+    teams = sorted({k for _, k in rates})
+    fig, ax = plt.subplots(figsize=(6.4, 3.6), dpi=100)
+    width = 0.8 / len(SEARCHES)
+    for index, search in enumerate(SEARCHES):
+        means = [statistics.mean(rates.get((search, k), [0.0])) for k in teams]
+        ax.bar([t + (index - 1.5) * width for t in range(len(teams))], means, width, label=search)
+    ax.set_xticks(range(len(teams)), [f"{k} guard{'s' if k > 1 else ''}" for k in teams])
+    ax.set_ylabel("capture rate (mean over maps)")
+    ax.set_ylim(0, 1)
+    ax.legend(ncol=4, fontsize=8, loc="upper left")
+    ax.set_title("Evader spotted mid-level: captures by search strategy")
+    fig.tight_layout()
+    fig.savefig(out)
+
+
 def main() -> None:
     parser = argparse.ArgumentParser(description=__doc__.split("\n\n")[0])
     parser.add_argument("--frame", action="store_true", help="Only the frame budget.")
     parser.add_argument("--episodes", type=int, default=100)
     parser.add_argument("--maps", default=",".join([*SHIPPED, *REAL]))
     parser.add_argument("--guards", default="1,2,4")
+    parser.add_argument("--figure", nargs=2, metavar=("TABLE", "PNG"), help="Draw the figure of a saved table.")
     args = parser.parse_args()
+    if args.figure:
+        figure(Path(args.figure[0]), Path(args.figure[1]))
+        return
     frame_budget()
     if not args.frame:
         experiment(args.maps.split(","), [int(g) for g in args.guards.split(",")], args.episodes)
