@@ -149,3 +149,15 @@ def test_stored_trace_check_never_raises_anything_else(data: dict[str, Any]) -> 
         assert str(error).startswith("t.trace.json: ") and "\n" not in str(error)
     except GuardsimError:  # pragma: no cover - any other library error is a bug here
         raise
+
+
+@pytest.mark.parametrize("field", ["cell_size", "origin", "unseen_percent"])
+def test_stored_trace_integers_past_float_range_are_one_line(field: str) -> None:
+    """An integer too large for a float in a number field is the field's one-line error, not an
+    OverflowError (found by an outside fuzzer)."""
+    stored = json.loads((Path(__file__).parent / "data" / "trace-l-room.json").read_text(encoding="utf-8"))
+    huge = 10**400
+    stored[field] = {"cell_size": huge, "origin": [huge, 0], "unseen_percent": [huge]}[field]
+    with pytest.raises(RegressionError, match=rf"^t\.trace\.json: not a guardsim trace: {field} must be"):
+        trace_from_stored(stored, source="t.trace.json", max_cells=10_000)
+

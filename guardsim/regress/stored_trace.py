@@ -7,14 +7,13 @@ The check covers the fields the trace format has always had; fields added later 
 
 from __future__ import annotations
 
-import math
 from typing import Any
 
 import numpy as np
 
 from guardsim.errors import RegressionError
 from guardsim.motion.parameters import MOTIONS
-from guardsim.reading import excerpt, json_type
+from guardsim.reading import NumberError, excerpt, finite_number, json_type
 from guardsim.trace import OUTCOMES, Trace
 
 __all__ = ["trace_from_stored"]
@@ -37,10 +36,10 @@ def trace_from_stored(data: Any, *, source: str, max_cells: int) -> Trace:
     if data.get("seed") is not None and not _is_int(data.get("seed")):
         raise bad("seed must be a whole number or null")
     cell_size: Any = data.get("cell_size")
-    if not (_is_number(cell_size) and math.isfinite(cell_size) and cell_size > 0):
+    if not (_finite(cell_size) and cell_size > 0):
         raise bad(f"cell_size must be a positive number, not {excerpt(cell_size, 40)}")
     origin = data.get("origin")
-    if not (isinstance(origin, list) and len(origin) == 2 and all(_is_number(v) and math.isfinite(v) for v in origin)):
+    if not (isinstance(origin, list) and len(origin) == 2 and all(_finite(v) for v in origin)):
         raise bad(f"origin must be [x, y], not {excerpt(origin, 40)}")
     shape = data.get("shape")
     if not (isinstance(shape, list) and len(shape) == 2 and all(_is_int(v) and v > 0 for v in shape)):
@@ -53,7 +52,7 @@ def trace_from_stored(data: Any, *, source: str, max_cells: int) -> Trace:
             raise bad(f"{key} must be a whole number from 0, not {excerpt(data.get(key), 40)}")
     _check_path(data.get("path"), data.get("headings"), "path", "headings", rows, cols, bad)
     unseen = data.get("unseen_percent")
-    if not (isinstance(unseen, list) and all(_is_number(v) and math.isfinite(v) for v in unseen)):
+    if not (isinstance(unseen, list) and all(_finite(v) for v in unseen)):
         raise bad("unseen_percent must be a list of numbers")
     for key in ("first_seen", "goal", "traversable"):
         _check_grid(data.get(key), key, rows, cols, bad)
@@ -75,8 +74,13 @@ def _is_int(value: Any) -> bool:
     return isinstance(value, int) and not isinstance(value, bool)
 
 
-def _is_number(value: Any) -> bool:
-    return isinstance(value, (int, float)) and not isinstance(value, bool)
+def _finite(value: Any) -> bool:
+    """Whether the one number parser takes ``value`` (an integer past float range is refused, not raised)."""
+    try:
+        finite_number(value)
+    except NumberError:
+        return False
+    return True
 
 
 def _check_path(path: Any, headings: Any, name: str, headings_name: str, rows: int, cols: int, bad: Any) -> None:
@@ -102,7 +106,7 @@ def _check_motion(data: dict[str, Any], ticks: int, bad: Any) -> None:
         raise bad(f"motion must be one of {', '.join(MOTIONS)}, not {excerpt(motion, 40)}")
     for key in ("move_speed", "turn_speed", "tick_hz"):
         value = data.get(key)
-        if value is not None and not (_is_number(value) and math.isfinite(value) and value > 0):
+        if value is not None and not (_finite(value) and value > 0):
             raise bad(f"{key} must be a positive number, not {excerpt(value, 40)}")
     poses = data.get("poses")
     if motion == "continuous" and poses is None:
@@ -112,7 +116,7 @@ def _check_motion(data: dict[str, Any], ticks: int, bad: Any) -> None:
     if not (isinstance(poses, list) and len(poses) == ticks):
         raise bad(f"poses must be a list of one [t, x, y, heading] per tick of the path ({ticks})")
     for index, pose in enumerate(poses):
-        if not (isinstance(pose, list) and len(pose) == 4 and all(_is_number(v) and math.isfinite(v) for v in pose)):
+        if not (isinstance(pose, list) and len(pose) == 4 and all(_finite(v) for v in pose)):
             raise bad(f"poses[{index}] must be [t, x, y, heading] of finite numbers, not {excerpt(pose, 40)}")
 
 
