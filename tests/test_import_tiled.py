@@ -342,7 +342,19 @@ BAD_TILED = {
         "map.tmx",
         '<map orientation="orthogonal" tilewidth="8" tileheight="8"><objectgroup name="W">'
         '<object id="3" x="0" y="0"><polygon points="0,0 8,x 8,8"/></object></objectgroup></map>',
-        "layer 'W' object 3: not a number ('x')",
+        "layer 'W' object 3 polygon: point 2 is '8,x', not two numbers",
+    ),
+    "malformed-polygon-points": (
+        "map.tmx",
+        '<map orientation="orthogonal" tilewidth="8" tileheight="8"><objectgroup name="W">'
+        '<object id="4" x="0" y="0"><polygon points="0,0 16,0,5 3,3"/></object></objectgroup></map>',
+        "layer 'W' object 4 polygon: point 2 is '16,0,5', not x,y",
+    ),
+    "nan-polyline-point": (
+        "map.tmx",
+        '<map orientation="orthogonal" tilewidth="8" tileheight="8"><objectgroup name="W">'
+        '<object id="5" x="0" y="0"><polyline points="0,0 nan,1"/></object></objectgroup></map>',
+        "layer 'W' object 5 polyline: point 2 is 'nan,1', not two finite numbers",
     ),
     "no-floor": (
         "map.json",

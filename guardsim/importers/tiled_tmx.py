@@ -3,6 +3,7 @@
 from __future__ import annotations
 
 import functools
+import math
 from typing import Any
 from xml.etree import ElementTree
 
@@ -80,6 +81,11 @@ class TmxReader(MapReader):
     def tmx_object_layer(self, element: ElementTree.Element, where: str) -> PtObjectLayer:
         """The object layer parsed by pytiled-parser; on failure, the first object it fails on is named."""
         filled = tmx_objects_defaults(element)
+        for item in filled.findall("object"):
+            for tag in ("polygon", "polyline"):
+                child = item.find(tag)
+                if child is not None:
+                    self.check_points(child.get("points", ""), f"{where} object {word(item.get('id'))} {tag}")
         try:
             layer = tmx_layer.parse(filled, "utf-8", self.folder)
         except LevelError:
@@ -94,6 +100,24 @@ class TmxReader(MapReader):
         if not isinstance(layer, PtObjectLayer):
             raise self.error(where, "not an object layer")
         return layer
+
+    def check_points(self, text: str, where: str) -> None:
+        """A ``points`` list is pairs ``x,y`` of finite numbers separated by spaces (Tiled's own format);
+        anything else is refused here rather than guessed into a shape."""
+        pairs = text.split()
+        if not pairs:
+            raise self.error(where, "points is empty")
+        for index, pair in enumerate(pairs):
+            parts = pair.split(",")
+            if len(parts) != 2:
+                raise self.error(where, f"point {index + 1} is {word(pair)}, not x,y")
+            for part in parts:
+                try:
+                    value = float(part)
+                except ValueError:
+                    raise self.error(where, f"point {index + 1} is {word(pair)}, not two numbers") from None
+                if not math.isfinite(value):
+                    raise self.error(where, f"point {index + 1} is {word(pair)}, not two finite numbers")
 
     def tmx_tile_data(self, element: ElementTree.Element, where: str) -> Blocks:
         data = element.find("data")
