@@ -161,3 +161,35 @@ def test_stored_trace_integers_past_float_range_are_one_line(field: str) -> None
     with pytest.raises(RegressionError, match=rf"^t\.trace\.json: not a guardsim trace: {field} must be"):
         trace_from_stored(stored, source="t.trace.json", max_cells=10_000)
 
+
+def test_long_or_multiline_level_names_are_refused() -> None:
+    """A level name starts every summary line: a huge one was echoed whole, a newline split the line."""
+    from guardsim.level import parse_level
+
+    square = {"outer": [[0, 0], [4, 0], [4, 4], [0, 4]]}
+    with pytest.raises(LevelError, match=r"name: is 1000000 characters long; at most 200"):
+        parse_level({**square, "name": "x" * 1_000_000})
+    with pytest.raises(LevelError, match=r"name: must not contain control characters"):
+        parse_level({**square, "name": "two\nlines"})
+    assert parse_level({**square, "name": "x" * 200}).name == "x" * 200
+
+
+def test_many_layers_make_short_lines(tmp_path: Path) -> None:
+    """A Tiled map with 2,000 wall layers: every change and warning line stays short."""
+    from guardsim.importers import import_map
+
+    layers = "".join(
+        f'<objectgroup name="walls {"n" * 80} {index}"><object id="{index + 1}" x="{8 * (index % 40)}" '
+        f'y="0" width="8" height="8"/></objectgroup>'
+        for index in range(2000)
+    )
+    path = tmp_path / "many.tmx"
+    floor = ",".join(["1"] * 2000)
+    path.write_text(
+        '<map orientation="orthogonal" width="40" height="50" tilewidth="8" tileheight="8">'
+        '<tileset firstgid="1" name="t" tilewidth="8" tileheight="8" tilecount="1" columns="1"/>'
+        f'<layer id="1" name="Ground" width="40" height="50"><data encoding="csv">{floor}</data></layer>{layers}</map>'
+    )
+    imported = import_map(path)
+    lines = [*imported.changes, *imported.warnings]
+    assert lines and max(len(line) for line in lines) < 1000, max(len(line) for line in lines)

@@ -3,7 +3,7 @@
 from __future__ import annotations
 
 import os
-from collections.abc import Sequence
+from collections.abc import Iterable, Sequence
 from dataclasses import dataclass
 from pathlib import Path
 from typing import Any
@@ -74,6 +74,23 @@ class ImportedLevel:
             f"(cell size {self.level.cell_size:g}), {len(self.level.holes)} holes, {self.vertices} vertices"
         )
         return f"{text}; {'; '.join(self.changes)}" if self.changes else text
+
+
+#: Items a summary or warning names before it says how many more there are.
+LISTED = 6
+
+
+def listed(items: Iterable[str], most: int = LISTED) -> str:
+    """Items joined for one line, the first ``most`` of them and a count of the rest, each shortened.
+
+    >>> listed(["a", "b", "c"], 2), listed([])
+    ('a, b and 1 more', 'none')
+    """
+    items = [item if len(item) <= 60 else item[:28] + " ... " + item[-27:] for item in items]
+    if not items:
+        return "none"
+    shown = ", ".join(items[:most])
+    return shown if len(items) <= most else f"{shown} and {len(items) - most} more"
 
 
 def counted(number: int, noun: str) -> str:

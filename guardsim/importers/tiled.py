@@ -29,7 +29,7 @@ from shapely.geometry import Polygon, box
 from shapely.geometry.base import BaseGeometry
 
 from guardsim.errors import LevelError
-from guardsim.importers.imported import ImportedLevel, check_raster_limits, counted, level_from_walls
+from guardsim.importers.imported import ImportedLevel, check_raster_limits, counted, level_from_walls, listed
 from guardsim.importers.source import display_name
 from guardsim.importers.tiled_data import TileLayer
 from guardsim.importers.tiled_geometry import TileGeometry, blocked_mask
@@ -262,7 +262,7 @@ def _walls_phrase(
     parts = []
     object_layers = {"/".join(layer.path) for layer, _ in roles.wall_objects}
     parts.append(
-        f"{counted(objects, 'wall object')}" + (f" in {', '.join(map(repr, sorted(object_layers)))}" if objects else "")
+        f"{counted(objects, 'wall object')}" + (f" in {listed(map(repr, sorted(object_layers)))}" if objects else "")
     )
     whole = [layer for layer, gids in tiles if gids is None]
     if whole:

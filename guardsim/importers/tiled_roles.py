@@ -38,6 +38,7 @@ from typing import Any
 
 import numpy as np
 
+from guardsim.importers.imported import listed
 from guardsim.importers.tiled_data import ObjectLayer, Properties, TiledMap, TiledObject, TileLayer
 
 __all__ = [
@@ -300,4 +301,4 @@ def _void_tile(tiled: TiledMap, found: Guesses) -> int:
 
 def names(layers: Iterable[TileLayer | ObjectLayer]) -> str:
     """Layer names for a summary: ``'Walls 1', 'Walls 2'``."""
-    return ", ".join(repr("/".join(layer.path)) for layer in layers) or "none"
+    return listed(repr("/".join(layer.path)) for layer in layers)

@@ -11,7 +11,7 @@ from shapely.geometry import Point as ShapelyPoint
 from shapely.geometry import Polygon
 from shapely.geometry.base import BaseGeometry
 
-from guardsim.importers.imported import counted, level_from_walls
+from guardsim.importers.imported import counted, level_from_walls, listed
 from guardsim.importers.tiled_data import TiledMap
 from guardsim.importers.tiled_geometry import TileGeometry
 from guardsim.importers.tiled_roles import Guesses
@@ -43,7 +43,7 @@ def spawn_points(tiled: TiledMap, roles: Guesses, geometry: TileGeometry) -> tup
             )
             tile_count += 1
     if tile_count:
-        sources.append(f"{counted(tile_count, 'spawn tile')} (gids {', '.join(map(str, sorted(roles.spawn_gids)))})")
+        sources.append(f"{counted(tile_count, 'spawn tile')} (gids {listed(map(str, sorted(roles.spawn_gids)))})")
     return points, ", ".join(sources)
 
 

@@ -25,6 +25,8 @@ from guardsim.reading import NumberError, captured_warnings, excerpt, finite_num
 
 __all__ = ["MAX_OVERLAPS_LISTED", "check_level_data", "parse_level"]
 
+#: Longest level name: it starts every summary line.
+MAX_NAME_CHARS = 200
 #: Overlapping pairs of holes reported before the check stops (a stack of identical holes has millions).
 MAX_OVERLAPS_LISTED = 20
 #: Pairs of holes whose boxes meet examined per vertex allowed: past ``max_vertices`` times this, the
@@ -94,6 +96,14 @@ def _check(data: Any, source: str, max_cells: int, max_vertices: int) -> tuple[L
     if not isinstance(name, str):
         problems.append(Problem("name", f"must be a string, not {json_type(name)}"))
         name = Path(source).stem
+    elif len(name) > MAX_NAME_CHARS:
+        # Every summary line starts with the name: a long one would be echoed whole.
+        problems.append(Problem("name", f"is {len(name)} characters long; at most {MAX_NAME_CHARS}"))
+        name = name[:MAX_NAME_CHARS]
+    elif any(ord(char) < 32 or ord(char) == 127 for char in name):
+        problems.append(
+            Problem("name", f"must not contain control characters (line breaks, tabs): {excerpt(name, 40)}")
+        )
     cell_size = _number(data, "cell_size", 1.0, problems, positive=True)
 
     # Counted on the raw lists, so that a million points are refused before one is converted.
