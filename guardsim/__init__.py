@@ -70,6 +70,10 @@ def __dir__() -> list[str]:
 
 
 if TYPE_CHECKING:
+    from guardsim.alert import AlertEpisode as AlertEpisode
+    from guardsim.alert import AlertRules as AlertRules
+    from guardsim.alert import alert_episode as alert_episode
+    from guardsim.alert import run_alerts as run_alerts
     from guardsim.detection import AwarenessMeter as AwarenessMeter
     from guardsim.detection import DetectionModel as DetectionModel
     from guardsim.detection import GuardDetection as GuardDetection
@@ -94,10 +98,6 @@ if TYPE_CHECKING:
     from guardsim.simulation import run_episode as run_episode
     from guardsim.simulation import run_team_episode as run_team_episode
     from guardsim.sneak import sneak_check as sneak_check
-    from guardsim.alert import AlertEpisode as AlertEpisode
-    from guardsim.alert import AlertRules as AlertRules
-    from guardsim.alert import alert_episode as alert_episode
-    from guardsim.alert import run_alerts as run_alerts
     from guardsim.starts import episode_generator as episode_generator
     from guardsim.trace import Trace as Trace
     from guardsim.vision import LineOfSight as LineOfSight
