@@ -39,6 +39,8 @@ def commands(scratch: Path) -> dict[str, list[str]]:
         "patrol": ["patrol", square, "--out", str(scratch / "patrol")],
         "sneak": ["sneak", square, "--patrol", str(scratch / "patrol" / "patrol.json"),
                   "--from", "2.5,2.5", "--to", "57.5,57.5", "--undetected", "--out", str(scratch / "sneak")],
+        "alert": ["alert", square, "--patrol", str(scratch / "patrol" / "patrol.json"),
+                  "--from", "10.5,10.5", "--to", "50.5,50.5", "--search", "all"],
         "bounds": ["bounds", square],
         "optimum": ["optimum", str(scratch / "room.json")],
         "bench": ["bench", square, "--episodes", "4", "--workers", "1", "--out", str(scratch / "bench")],

@@ -247,7 +247,7 @@ print(json.dumps(unplanned))
 """
 
 
-@pytest.mark.parametrize("command", ["play:tour", "patrol", "sneak", "bounds", "optimum", "bench"])
+@pytest.mark.parametrize("command", ["play:tour", "patrol", "sneak", "alert", "bounds", "optimum", "bench"])
 def test_compiling_ahead_covers_what_the_command_compiles(command: str, tmp_path: Path) -> None:
     # After compile_ahead(command), running the command compiles nothing more: the plan is current.
     # (When this fails, run `python benchmarks/compile_plan.py --commands COMMAND`.)
@@ -259,12 +259,13 @@ def test_compiling_ahead_covers_what_the_command_compiles(command: str, tmp_path
         "play:tour": ["play", square, "--planner", "tour"],
         "patrol": ["patrol", square, "--out", str(patrol)],
         "sneak": ["sneak", square, "--patrol", str(patrol / "patrol.json"), "--from", "2.5,2.5", "--to", "57.5,57.5"],
+        "alert": ["alert", square, "--patrol", str(patrol / "patrol.json"), "--from", "10.5,10.5", "--to", "50.5,50.5"],
         "bounds": ["bounds", square],
         "optimum": ["optimum", str(room), "--start", "0.5,0.5"],
         "bench": ["bench", square, "--episodes", "2", "--workers", "1", "--out", str(tmp_path / "bench")],
     }
     env = dict(os.environ, GUARDSIM_COMPILE_NOTICE="0")
-    if command == "sneak":
+    if command in ("sneak", "alert"):
         subprocess.run([sys.executable, "-m", "guardsim.cli", *lines["patrol"]], env=env, cwd=tmp_path,
                        check=True, capture_output=True)  # fmt: skip
     done = subprocess.run([sys.executable, "-c", _UNPLANNED, command, *lines[command]], env=env, cwd=tmp_path,

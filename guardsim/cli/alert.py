@@ -138,6 +138,9 @@ def alert(
         forget=forget,
         suspicious=suspicious,
     )
+    from guardsim.kernels.ahead import compile_ahead
+
+    compile_ahead("alert")
     scene = build_scene(level, los, fov, view_range)
     grid = scene.grid
     patrol = read_patrol(patrol_path, grid, level=level.name)
