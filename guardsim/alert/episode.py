@@ -270,9 +270,13 @@ class AlertEpisode:
                 self.contamination.seed(self.last_known)  # in sight: exactly where it is
                 self.search.start(self.last_known)
             else:
+                cleared = self.seen_now
+                if intruder >= 0 and any(self.in_sight):
+                    # A guard whose meter rose this tick saw something there: not a cell to mark clear.
+                    cleared = cleared[cleared != intruder]
                 self.contamination.spread(self._reach())
-                self.contamination.clear(self.seen_now)
-                self.search.observe(self.contamination, self.seen_now)
+                self.contamination.clear(cleared)
+                self.search.observe(self.contamination, cleared)
         if intruder >= 0:
             for guard, mode in enumerate(self.modes):
                 # A guard that lost sight at arm's length (the cone turned away) still grabs.
@@ -297,7 +301,7 @@ class AlertEpisode:
         if first:
             self._stats["detected"] = tick
         if self._radio_at < tick:
-            self._radio_at = tick + max(self.rules.radio_ticks, 1)
+            self._radio_at = tick + self.rules.radio_ticks
 
     def _reach(self) -> int:
         speed = self.rules.intruder_speed
