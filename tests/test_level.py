@@ -23,6 +23,7 @@ from guardsim.level import (
     Level,
     Problem,
     check_level_data,
+    free_area_of,
     level_to_data,
     load_level,
     parse_level,
@@ -163,6 +164,18 @@ BAD_LEVELS: dict[str, BadLevel] = {
         ("holes[1] point 3 (4.5, 5)", "crosses or touches itself"),
     ),
     "collinear-outer": BadLevel(changed(EMPTY_SQUARE, outer=[[0, 0], [2, 0], [4, 0]]), ("outer", "encloses no area")),
+    # Holes are screened all at once; these must still reach the exact per-ring check.
+    "collinear-hole": BadLevel(
+        changed(SQUARE_WITH_HOLE, holes=[PILLAR, [[4.5, 4.5], [5, 4.5], [5.5, 4.5]]]), ("holes[1]", "encloses no area")
+    ),
+    "nearly-collinear-hole": BadLevel(
+        changed(SQUARE_WITH_HOLE, holes=[[[4.5, 4.5], [5, 4.5], [5.5, 4.5 + 1e-13]], PILLAR]),
+        ("holes[0]", "encloses no area"),
+    ),
+    "hole-touching-itself": BadLevel(
+        changed(SQUARE_WITH_HOLE, holes=[PILLAR, [[4.5, 4.5], [5.5, 4.5], [5, 5], [5.5, 5.5], [4.5, 5.5], [5, 5]]]),
+        ("holes[1] point", "crosses or touches itself"),
+    ),
     # Holes against the outer ring and each other.
     "hole-outside": BadLevel(
         changed(SQUARE_WITH_HOLE, holes=[PILLAR, [[4.5, 4.5], [5.5, 4.5], [7, 7], [4.5, 5.5]]]),
@@ -426,3 +439,49 @@ def test_shipped_levels_load(level_path: Path) -> None:
     assert level.source == str(level_path)
     assert level.guard.start is not None
     start_of(level)
+
+
+#: Holes whose polygon-with-holes is not valid (an enclosed pocket, a shared edge) and ones where it is.
+FREE_AREA_HOLES = {
+    **{name: holes for name, (holes, _) in TOUCHING_HOLES.items()},
+    "disjoint-holes": [[[1, 1], [2, 1], [2, 2], [1, 2]], [[3, 3], [4, 3], [4, 4], [3, 4]]],
+    "pocket-closed-by-corners": [
+        [[1, 1], [2, 1], [2, 2], [1, 2]],
+        [[2, 2], [3, 2], [3, 3], [2, 3]],
+        [[1, 3], [2, 3], [2, 4], [1, 4]],
+        [[0.5, 2], [1, 2], [1, 3], [0.5, 3]],
+    ],
+}
+
+
+@pytest.mark.parametrize("holes", list(FREE_AREA_HOLES.values()), ids=list(FREE_AREA_HOLES))
+def test_free_area_is_the_outer_ring_minus_the_union_of_the_holes(holes: list[Any]) -> None:
+    """Whichever way it is built (the polygon with holes when that is valid), the free area is the
+    difference, and valid."""
+    outer = ((0, 0), (6, 0), (6, 6), (0, 6))
+    rings = [tuple(map(tuple, hole)) for hole in holes]
+    area = free_area_of(outer, rings)
+    reference = shapely.Polygon(outer).difference(shapely.union_all([shapely.Polygon(ring) for ring in rings]))
+    assert shapely.is_valid(area)
+    assert area.equals(reference)
+
+
+def test_many_disjoint_holes_are_checked_without_per_hole_geometry(monkeypatch: pytest.MonkeyPatch) -> None:
+    """2,500 apart holes: no union of the holes and no per-ring check (validate of 24,000 such holes
+    took 27 s, 16 of them in three unions; now 5.7 s)."""
+    import guardsim.level.model as model
+    import guardsim.level.validation as validation
+
+    def no_union(*_: Any, **__: Any) -> Any:
+        raise AssertionError("the holes were merged although they lie apart")
+
+    checked: list[str] = []
+    exact = validation._ring_problem
+    monkeypatch.setattr(model.shapely, "union_all", no_union)
+    monkeypatch.setattr(validation, "_ring_problem", lambda ring, where: checked.append(where) or exact(ring, where))
+    holes = [[[x, y], [x + 1, y], [x + 1, y + 1], [x, y + 1]] for x in range(1, 100, 2) for y in range(1, 100, 2)]
+    level, problems = check_level_data({"outer": [[0, 0], [101, 0], [101, 101], [0, 101]], "holes": holes})
+    assert problems == []
+    assert level is not None and len(level.holes) == 2500
+    assert checked == ["outer"]
+    assert level.free_area().area == pytest.approx(101 * 101 - 2500)

@@ -9,6 +9,7 @@ import math
 from dataclasses import dataclass, field
 from typing import NamedTuple
 
+import numpy as np
 import shapely
 from shapely.geometry import Polygon
 
@@ -109,10 +110,25 @@ class Level:
 
 
 def free_area_of(outer: Ring, holes: tuple[Ring, ...] | list[Ring]) -> shapely.Geometry:
-    """The outer ring's polygon minus the union of the holes' polygons."""
-    walls = shapely.union_all([Polygon(hole) for hole in holes]) if holes else None
+    """The outer ring's polygon minus the union of the holes' polygons.
+
+    >>> free_area_of(((0, 0), (4, 0), (4, 4), (0, 4)), [((1, 1), (2, 1), (2, 2), (1, 2))]).area
+    15.0
+    """
     area = Polygon(outer)
-    return area.difference(walls) if walls is not None else area
+    if not holes:
+        return area
+    # When the holes lie inside the outer ring and apart (touching at most at points), the polygon
+    # with those holes is already the free area. Checking that costs a fraction of the union: GEOS
+    # merges 24,000 disjoint holes in about 4 s, the polygon is checked in 0.2 s. It is built in one
+    # call: Polygon(outer, holes) makes a Python object per hole (0.7 s for 24,000).
+    coords = np.asarray([point for hole in holes for point in hole], dtype=float)
+    which = np.repeat(np.arange(len(holes)), [len(hole) for hole in holes])
+    rings = np.asarray(shapely.linearrings(coords, indices=which), dtype=object)
+    direct = shapely.polygons(outer, holes=rings)
+    if shapely.is_valid(direct):
+        return direct
+    return area.difference(shapely.union_all([Polygon(hole) for hole in holes]))
 
 
 def grid_shape_of(bounds: tuple[float, float, float, float], cell_size: float) -> tuple[int, int]:

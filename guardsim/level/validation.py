@@ -319,6 +319,28 @@ def _ring_problem(ring: Ring, where: str) -> Problem | None:
     )
 
 
+def _hole_polygons(rings: list[Ring]) -> tuple[np.ndarray, np.ndarray]:
+    """Every hole's polygon, built in one call, and which holes :func:`_ring_problem` must look at.
+
+    A ring that is simple and encloses an area above float noise has no problem; only the others
+    (crossing, touching or collinear) go through the per-ring check. One Python-level shapely call per
+    hole cost about 0.2 ms each, seconds for a level of 24,000 holes.
+    """
+    if not rings:
+        return np.empty(0, dtype=object), np.empty(0, dtype=bool)
+    coords = np.asarray([point for ring in rings for point in ring], dtype=float)
+    which = np.repeat(np.arange(len(rings)), [len(ring) for ring in rings])
+    polygons = np.asarray(shapely.polygons(shapely.linearrings(coords, indices=which)), dtype=object)
+    # A collinear ring (to _collinear's 1e-12 of its extent) encloses at most ~1e-11 of its extent
+    # squared; 1e-9 leaves a wide margin, and a ring caught here only pays the exact check.
+    xmin, ymin, xmax, ymax = shapely.bounds(polygons).T
+    with np.errstate(over="ignore", invalid="ignore"):  # coordinates near 1e300: suspect, checked exactly
+        extent = np.maximum(xmax - xmin, ymax - ymin)
+        flat = ~(shapely.area(polygons) > 1e-9 * extent * extent)
+    suspect = ~shapely.is_simple(shapely.get_exterior_ring(polygons)) | flat
+    return polygons, suspect
+
+
 def _check_geometry(
     outer: Ring,
     holes: list[Ring | None],
@@ -335,16 +357,20 @@ def _check_geometry(
     outer_polygon = Polygon(outer)
     shapely.prepare(outer_polygon)
     valid_holes: list[tuple[int, Polygon]] = []
-    for index, hole in enumerate(holes):
-        if hole is None:
-            continue
+    given = [(index, hole) for index, hole in enumerate(holes) if hole is not None]
+    hole_polygons, suspect = _hole_polygons([hole for _, hole in given])
+    # Only rings known to be simple are tested all at once: a predicate on a crossing ring may raise.
+    covered = np.zeros(len(given), dtype=bool)
+    covered[~suspect] = shapely.covers(outer_polygon, hole_polygons[~suspect])
+    for (index, hole), hole_polygon, odd, inside in zip(given, hole_polygons, suspect, covered):
         where = f"holes[{index}]"
-        hole_problem = _ring_problem(hole, where)
-        if hole_problem:
-            problems.append(hole_problem)
-            continue
-        hole_polygon = Polygon(hole)
-        if not outer_polygon.covers(hole_polygon):
+        if odd:
+            hole_problem = _ring_problem(hole, where)
+            if hole_problem:
+                problems.append(hole_problem)
+                continue
+            inside = outer_polygon.covers(hole_polygon)
+        if not inside:
             outside = next((i for i, p in enumerate(hole) if not outer_polygon.covers(shapely.Point(p))), None)
             if outside is None:
                 problems.append(Problem(where, "hole crosses the outer ring", "keep holes inside the outer ring"))
@@ -362,7 +388,7 @@ def _check_geometry(
     # designer drew. `guardsim import` and `guardsim validate --fix` merge them and say so.
     if len(valid_holes) > 1 and _overlap_problems(valid_holes, problems, max_pairs=max_pairs):
         return  # the free area of a stack of overlapping holes is not worth its cost: the level is invalid
-    free_area = free_area_of(outer, [hole for index, _ in valid_holes if (hole := holes[index]) is not None])
+    free_area = free_area_of(outer, [ring for index, _ in valid_holes if (ring := holes[index]) is not None])
     if valid_holes and shapely.area(free_area) <= 1e-12 * shapely.area(outer_polygon):
         problems.append(Problem("holes", "the holes cover the whole outer ring: the level has no free area"))
         return
