@@ -50,6 +50,7 @@ LIMIT_OPTIONS = {
     "max_frames": "raise it with --max-frames",
     "max_frame_size": "raise it with --max-frame-size",
     "max_view_entries": "shorten the view range or use larger cells",
+    "max_wall_entries": "use fewer long walls, or a longer view range for larger buckets",
     "memory_bytes": "lower --memory-mb",
     "update": "run with --update",
 }
