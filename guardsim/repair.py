@@ -26,7 +26,7 @@ from shapely.geometry import LinearRing, Polygon
 
 from guardsim.importers.walls import hole_rings
 from guardsim.level import compact_numbers
-from guardsim.reading import MAX_MAGNITUDE
+from guardsim.reading import NumberError, finite_number
 
 __all__ = ["MAX_PAIRS", "Repair", "repair_level_data"]
 
@@ -97,13 +97,12 @@ def _read_ring(value: Any) -> Ring | None:
         if not (isinstance(item, list) and len(item) == 2):
             return None
         # Coordinates past the loader's bound are the loader's to report: GEOS loses every digit of the
-        # level's size next to 1e40 and "repairs" the ring into another one.
-        if not all(
-            isinstance(v, (int, float)) and not isinstance(v, bool) and math.isfinite(v) and abs(v) <= MAX_MAGNITUDE
-            for v in item
-        ):
+        # level's size next to 1e40 and "repairs" the ring into another one. The loader's own parser
+        # decides, so an integer no float holds (10**400) is left to it rather than raised here.
+        try:
+            points.append((finite_number(item[0]), finite_number(item[1])))
+        except NumberError:
             return None
-        points.append((float(item[0]), float(item[1])))
     return points
 
 

@@ -111,6 +111,12 @@ NOT_REPAIRABLE = {
     ),
     "unknown-key": ({"outer": OUTER, "hole": []}, "unknown key"),
     "string-coordinate": ({"outer": [[0, 0], [10, "0"], [10, 10], [0, 10]]}, "must be numbers"),
+    # An integer no float holds was an OverflowError inside the repair (fuzz: holes.0.1.0 = 10**400).
+    "integer-past-float-range": (
+        {"outer": OUTER, "holes": [[[2, 2], [10**400, 2], [4, 4]]]},
+        "coordinate must be a number of at most",
+    ),
+    "huge-outer-coordinate": ({"outer": [[0, 0], [10**400, 0], [10, 10], [0, 10]]}, "coordinate must be a number"),
 }
 
 
