@@ -35,7 +35,7 @@ from guardsim.detection import NEVER_DETECTED, GuardDetection, patrol_gains, tim
 from guardsim.errors import GuardsimError
 from guardsim.patrol import Patrol, patrol_setup, plan_loop, read_patrol, score_patrol
 from guardsim.planners import PLANNERS
-from guardsim.reading import display_path, json_type, parse_json, read_text_file
+from guardsim.reading import NumberError, display_path, excerpt, finite_number, json_type, parse_json, read_text_file
 from guardsim.scene import Scene
 from guardsim.simulation import Simulation
 from guardsim.sneak import sneak_check
@@ -269,13 +269,13 @@ def parse_checks(data: Any, *, source: str = "<checks>", base: Path | None = Non
 
 
 def _point(value: Any, where: str) -> tuple[float, float]:
-    if not (
-        isinstance(value, list)
-        and len(value) == 2
-        and all(isinstance(v, (int, float)) and not isinstance(v, bool) and math.isfinite(v) for v in value)
-    ):
-        raise CheckError(f"{where}: expected [x, y], two finite numbers, got {value!r}"[:160])
-    return float(value[0]), float(value[1])
+    # The one number parser: an integer no float holds (10**400) is this one-line error, not an OverflowError.
+    try:
+        if isinstance(value, list) and len(value) == 2:
+            return finite_number(value[0], magnitude=math.inf), finite_number(value[1], magnitude=math.inf)
+    except NumberError:
+        pass
+    raise CheckError(f"{where}: expected [x, y], two finite numbers, got {excerpt(value, 60)}")
 
 
 def _sneak_rule(item: Any, where: str) -> SneakRule:

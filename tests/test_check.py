@@ -4,6 +4,7 @@ from __future__ import annotations
 
 import json
 from pathlib import Path
+from typing import Any
 
 import pytest
 from click.testing import CliRunner
@@ -131,6 +132,22 @@ def test_bad_checks_files(corridor: tuple[Path, Path], tmp_path: Path, text: str
     checks.write_text(text)
     code, lines = _run(str(level), "--checks", str(checks))
     assert code == 2 and len(lines) == 1 and message in lines[0], lines
+
+
+@pytest.mark.parametrize("rules", [{"safe": [[10**400, 0.5]]}, {"sneak": [{"from": [0.5, -(10**400)], "to": [1, 1],
+                                   "expect": "sneaks"}]}], ids=["safe", "sneak-from"])  # fmt: skip
+def test_integers_past_float_range_in_a_checks_file_are_one_line(
+    corridor: tuple[Path, Path], tmp_path: Path, rules: dict[str, Any]
+) -> None:
+    """A JSON checks file may hold integers no float holds: one line naming the file and the rule
+    (was an OverflowError traceback, found by the fuzz)."""
+    level, _ = corridor
+    checks = tmp_path / "huge.json"
+    checks.write_text(json.dumps(rules))
+    code, lines = _run(str(level), "--checks", str(checks))
+    assert code == 2 and len(lines) == 1, lines
+    assert "huge.json: " in lines[0] and "expected [x, y], two finite numbers, got [" in lines[0]
+    assert len(lines[0]) - len(str(checks)) < 160
 
 
 def test_sneak_rule_library_call() -> None:
