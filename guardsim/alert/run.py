@@ -220,30 +220,37 @@ def run_alerts(
     rules: AlertRules | None = None,
     detection: GuardDetection | None = None,
     spotted: bool = False,
+    phase: int | None = None,
+    route: Sequence[int] | None = None,
+    table: ViewTable | None = None,
 ) -> dict[str, list[AlertEpisode]]:
-    """Episodes ``0 .. episodes - 1`` of each search strategy, the same starts for every strategy: a
-    seeded patrol phase, and the entry and goal given or drawn (see :func:`_seeded_points`). With
-    ``spotted``, a drawn entry lies in some guard's view at the start and that guard detects the intruder
-    at tick 0 (see :class:`AlertEpisode`)."""
-    table = view_table(scene.grid, scene.vision())
+    """Episodes ``0 .. episodes - 1`` of each search strategy, the same starts for every strategy: the
+    patrol phase given or seeded, and the entry and goal given or drawn (see :func:`_seeded_points`).
+    With ``spotted``, a drawn entry lies in some guard's view at the start and that guard detects the
+    intruder at tick 0 (see :class:`AlertEpisode`). ``route``: a route intruder's path (from ``source``)."""
+    table = table if table is not None else view_table(scene.grid, scene.vision())
     generator = np.random.default_rng(seed)
     starts = []
     for _ in range(episodes):
-        phase = int(generator.integers(int(patrol.period or 1)))
-        drawn = _seeded_points(scene, patrol, generator, table=table if spotted else None, phase=phase)
-        starts.append((phase, drawn[0] if source is None else source, drawn[1] if target is None else target))
+        if source is not None and target is not None and phase is not None:
+            starts.append((phase, source, target))
+            continue
+        lap = int(generator.integers(int(patrol.period or 1))) if phase is None else phase
+        drawn = _seeded_points(scene, patrol, generator, table=table if spotted else None, phase=lap)
+        starts.append((lap, drawn[0] if source is None else source, drawn[1] if target is None else target))
     out: dict[str, list[AlertEpisode]] = {}
     for name in searches:
         runs = []
-        for phase, entry, goal in starts:
+        for lap, entry, goal in starts:
             episode = alert_episode(
                 scene,
                 patrol,
                 intruder=intruder,
                 source=entry,
                 target=-1 if intruder == "still" else goal,
+                route=route,
                 search=name,
-                phase=phase,
+                phase=lap,
                 max_seconds=max_seconds,
                 table=table,
                 rules=rules,

@@ -126,7 +126,7 @@ def alert(
     --seed, the same for every strategy) a table per search strategy. --from/--to fix the entry and
     goal; a still intruder needs only --from.
     """
-    from guardsim.alert import SEARCHES, AlertRules, alert_episode, alert_trace_data, run_alerts, summarise
+    from guardsim.alert import SEARCHES, AlertRules, alert_trace_data, run_alerts, summarise
     from guardsim.detection import GuardDetection
     from guardsim.patrol import read_patrol
     from guardsim.vision.table import view_table
@@ -168,41 +168,26 @@ def alert(
     if intruder != "still" and start is not None and goal is None and route is None:
         raise GuardsimError(f"a {intruder} intruder needs --to X,Y (or --route)")
     table = view_table(grid, scene.vision())
-    if episodes == 1:
-        assert start is not None
-        runs = {}
-        for name in searches:
-            episode = alert_episode(
-                scene,
-                patrol,
-                intruder=intruder,
-                source=start,
-                target=-1 if intruder == "still" or goal is None else goal,
-                route=route,
-                search=name,
-                max_seconds=max_seconds,
-                table=table,
-                rules=rules,
-                detection=detection,
-                spotted=spotted,
-            )
-            episode.run()
-            runs[name] = [episode]
-    else:
-        runs = run_alerts(
-            scene,
-            patrol,
-            intruder=intruder,
-            searches=searches,
-            episodes=episodes,
-            seed=seed,
-            source=start,
-            target=goal,
-            max_seconds=max_seconds,
-            rules=rules,
-            detection=detection,
-            spotted=spotted,
-        )
+    if episodes == 1 and intruder == "still" and goal is None:
+        goal = -1
+    # One episode starts at lap tick 0; many draw their phases (and any entry or goal not given) from --seed.
+    runs = run_alerts(
+        scene,
+        patrol,
+        intruder=intruder,
+        searches=searches,
+        episodes=episodes,
+        seed=seed,
+        source=start,
+        target=goal,
+        max_seconds=max_seconds,
+        rules=rules,
+        detection=detection,
+        spotted=spotted,
+        phase=0 if episodes == 1 else None,
+        route=route,
+        table=table,
+    )
     rows = [summarise(name, [e.result() for e in eps]) for name, eps in runs.items()]
     first = runs[searches[0]][0]
     written: list[str] = []
