@@ -29,6 +29,7 @@ import os
 import re
 import shutil
 import stat
+import sys
 import traceback
 import warnings
 from collections.abc import Callable
@@ -106,9 +107,13 @@ class Case:
 # ---------------------------------------------------------------- value mutations
 
 
+#: An integer JSON allows and no float holds (``float(HUGE_INT)`` is an OverflowError).
+HUGE_INT = 10**400
+
+
 def _nasty_number(rng: np.random.Generator) -> Any:
-    return [math.nan, math.inf, -math.inf, 1e308, -1e308, 1e-320, 0, -1, 10**40, 1e15, 2**63, 0.5][
-        int(rng.integers(12))
+    return [math.nan, math.inf, -math.inf, 1e308, -1e308, 1e-320, 0, -1, 10**40, 1e15, 2**63, 0.5, HUGE_INT][
+        int(rng.integers(13))
     ]
 
 
@@ -142,7 +147,7 @@ def _leaves(value: Any, path: tuple[Any, ...] = ()) -> list[tuple[Any, ...]]:
 def _set(value: Any, path: tuple[Any, ...], new: Any) -> Any:
     if not path:
         return new
-    value[path[0]] = _set(value[path[0]], path[1:], new)
+    value[path[0]] = new if len(path) == 1 else _set(value[path[0]], path[1:], new)  # a new key may be set
     return value
 
 
@@ -175,7 +180,7 @@ def _scaled(value: Any, scale: float) -> Any:
     if isinstance(value, bool):
         return value
     if isinstance(value, (int, float)):
-        return value * scale
+        return value * scale if abs(value) < 2**1023 else value
     if isinstance(value, list):
         return [_scaled(item, scale) for item in value]
     if isinstance(value, dict):
@@ -236,11 +241,57 @@ def _level_bytes(rng: np.random.Generator) -> tuple[bytes, str, bool]:
     if roll < 0.2:
         data = {"outer": [[0, 0], [10, 0], [10, 10], [0, 10]], "cell_size": float(rng.choice([0.02, 0.05, 1e-9]))}
         return json.dumps(data).encode(), f"cell_size {data['cell_size']}", data["cell_size"] < 1e-6
+    if roll < 0.26:
+        name, bad = LEVEL_NAMES[int(rng.integers(len(LEVEL_NAMES)))]
+        data["name"] = name
+        return json.dumps(data, ensure_ascii=bool(rng.integers(2))).encode(), f"name {name[:20]!r}", bad
+    if roll < 0.32:
+        path = _NUMERIC_FIELDS[int(rng.integers(len(_NUMERIC_FIELDS)))]
+        data.setdefault("guard", {})
+        data.setdefault("holes", [[[2, 2], [3, 2], [3, 3]]])
+        return json.dumps(_set(data, path, HUGE_INT)).encode(), f"{'.'.join(map(str, path))} = 10**400", True
     if roll < 0.55:
         mutated, note = mutate_json(data, rng)
         return json.dumps(mutated, allow_nan=True).encode(), note, False
     text, note = mutate_text(json.dumps(data).encode(), rng)
     return text, note, False
+
+
+#: Level names and whether the loader must refuse them: a name starts every summary line.
+LEVEL_NAMES: tuple[tuple[str, bool], ...] = (
+    ("x" * 1_000_000, True),
+    ("x" * 201, True),
+    ("two\nlines", True),
+    ("tab\there", True),
+    ("escape \x1b[31mred", True),
+    ("\x7f", True),
+    ("Crypte \u2620 \u2014 niveau 2", False),
+    ("\u202eright to left", False),
+    ("\ufeffbyte-order mark inside", False),
+    ("", False),
+)
+#: Every numeric field of a level (the seed levels hold each), given an integer no float holds.
+_NUMERIC_FIELDS: tuple[tuple[Any, ...], ...] = (
+    ("cell_size",),
+    ("outer", 0, 0),
+    ("outer", 2, 1),
+    ("holes", 0, 1, 0),
+    ("guard", "view_range"),
+    ("guard", "fov_degrees"),
+    ("guard", "radius"),
+    ("guard", "move_speed"),
+    ("guard", "turn_speed"),
+    ("guard", "tick_hz"),
+    ("guard", "detect_near"),
+    ("guard", "detect_far"),
+    ("guard", "forget"),
+    ("guard", "suspicious"),
+    ("guard", "capture_radius"),
+    ("guard", "search_seconds"),
+    ("guard", "radio_delay"),
+    ("guard", "start"),
+    ("starts",),
+)
 
 
 def level_case(rng: np.random.Generator, command: str) -> Case:
@@ -351,10 +402,15 @@ def view_case(rng: np.random.Generator, templates: Templates) -> Case:
 
 def _trace_mutation(data: dict[str, Any], rng: np.random.Generator) -> tuple[bytes, str]:
     """The damage to stored traces that once raised inside regress."""
-    what = int(rng.integers(5))
+    what = int(rng.integers(6))
     if what == 0:
         data["path"] = []
         note = "empty path"
+    elif what == 5:
+        key = ["cell_size", "origin", "unseen_percent", "shape", "steps", "seed", "reachable"][int(rng.integers(7))]
+        value = data.get(key)
+        data[key] = [HUGE_INT, *value[1:]] if isinstance(value, list) and value else HUGE_INT
+        note = f"{key} holds 10**400"
     elif what == 1:
         data["cell_size"] = "1"
         note = "string cell size"
@@ -579,6 +635,12 @@ _TMX = b"""<?xml version="1.0" encoding="UTF-8"?>
 """
 
 
+_TMX_WALL = b'<object id="1" x="64" y="16" width="16" height="16"/>'
+#: ``points`` lists Tiled would never write: each must be refused naming the object, not guessed into a shape.
+_BAD_POINTS = (b"0,0 16,0,5 3,3", b"0,0 8,x 8,8", b"0,0 nan,1 3,3", b"0,0 inf,0 3,3", b"0,0 1e999,0 3,3", b"",
+               b"0;0 8;0 8;8", b"0,0 16 3,3", b"0,0,0,0")  # fmt: skip
+
+
 def tmx_case(rng: np.random.Generator) -> Case:
     roll = rng.random()
     if roll < 0.05:
@@ -600,6 +662,25 @@ def tmx_case(rng: np.random.Generator) -> Case:
             _TMX.replace(b'width="6" height="4" tilewidth', b'width="2048" height="2048" tilewidth'),
             "2048^2",
         )
+    elif roll < 0.6:
+        points = _BAD_POINTS[int(rng.integers(len(_BAD_POINTS)))]
+        tag = b"polygon" if rng.random() < 0.7 else b"polyline"
+        shape = b'<object id="1" name="blob" x="64" y="16"><' + tag + b' points="' + points + b'"/></object>'
+        content, note = _TMX.replace(_TMX_WALL, shape), f"{tag.decode()} points {points!r}"
+        return Case("tmx", "import", {"map.tmx": content}, ["import", "{dir}/map.tmx", "--out", "{dir}/out.json"],
+                    "map.tmx", ["out.json"], bad=True, note=note)  # fmt: skip
+    elif roll < 0.68:
+        count = int(rng.choice([300, 3000]))
+        long_name = b"n" * int(rng.choice([10, 200]))
+        layers = b"".join(
+            b'<objectgroup id="%d" name="walls %s %d"><object id="%d" x="%d" y="16" width="16" height="16"/>'
+            b"</objectgroup>" % (index + 10, long_name, index, index + 10, 16 * (index % 6))
+            for index in range(count)
+        )
+        content, note = _TMX.replace(b"</map>", layers + b"</map>"), f"{count} layers"
+    elif roll < 0.74:
+        name = [b"wa&#10;lls", b"w&#9;alls", b"walls \xe2\x98\x83 \xe2\x80\xae", b"w" * 100_000][int(rng.integers(4))]
+        content, note = _TMX.replace(b'name="walls"', b'name="' + name + b'"'), f"layer name {name[:20]!r}"
     else:
         content, note = mutate_text(_TMX, rng)
     return Case("tmx", "import", {"map.tmx": content}, ["import", "{dir}/map.tmx", "--out", "{dir}/out.json"],
@@ -726,7 +807,9 @@ def _level_is_acceptable(content: bytes) -> bool:
     from guardsim.schema import level_schema
 
     def finite(value: Any, bound: float = math.inf) -> bool:
-        if isinstance(value, (int, float)) and not isinstance(value, bool):
+        if isinstance(value, int) and not isinstance(value, bool):
+            return abs(value) <= min(bound, sys.float_info.max)  # math.isfinite(10**400) would raise
+        if isinstance(value, float):
             return math.isfinite(value) and abs(value) <= bound
         if isinstance(value, list):
             return all(finite(item, bound) for item in value)
@@ -743,11 +826,17 @@ def _level_is_acceptable(content: bytes) -> bool:
     return finite(data) and all(finite(item, 1e15) for item in points if item is not None)
 
 
+#: Longest line any command may print: a name or a list echoed whole once made lines of 190,000.
+MAX_LINE_CHARS = 2000
+
+
 def verdict(case: Case, folder: Path, exit_code: int, stdout: str, stderr: str, exception: str = "") -> str:
-    """``ok`` or the class of failure: ``traceback``, ``multi-line``, ``unnamed``, ``accepted-bad``,
-    ``wrong-result``, ``half-written`` or ``bad-status``."""
+    """``ok`` or the class of failure: ``traceback``, ``huge-line``, ``multi-line``, ``unnamed``,
+    ``accepted-bad``, ``wrong-result``, ``half-written`` or ``bad-status``."""
     if exception or "Traceback (most recent call last)" in stderr + stdout:
         return "traceback"
+    if any(len(line) > MAX_LINE_CHARS for line in (stdout + "\n" + stderr).splitlines()):
+        return "huge-line"
     leftovers = [p for p in folder.rglob(".*") if ".part" in p.name]
     if leftovers:
         return "half-written"
