@@ -362,12 +362,14 @@ def test_tiled_copy_holds_the_route_and_reimports_to_the_same_level(tmp_path: Pa
     assert result.exit_code == 0, result.output
     root = ElementTree.parse(copy).getroot()
     [layer] = [group for group in root.iter("objectgroup") if group.get("name") == "guardsim"]
-    routes = layer.findall("object")
+    routes = [item for item in layer.findall("object") if item.get("type") == "guardsim_route"]
     assert len(routes) == 2
     period = json.loads((out / "patrol.json").read_text())["period"]
     for route in routes:
         properties = {item.get("name"): item.get("value") for item in route.iter("property")}
-        assert properties == {"period": str(period * 0.25), "period_ticks": str(period), "speed": "4.0"}
+        shared = {key: properties.pop(key) for key in ("period", "period_ticks", "speed")}
+        assert shared == {"period": str(period * 0.25), "period_ticks": str(period), "speed": "4.0"}
+        assert len(properties["headings"].split()) == len(properties["times"].split())
         points = [tuple(float(v) for v in pair.split(",")) for pair in route.find("polyline").get("points").split()]
         # Closed, in map pixels (16 per tile), on tile centres.
         assert points[0] == points[-1] and all((x / 16 - 0.5) % 1 == 0 for x, _ in points)
@@ -381,13 +383,24 @@ def test_tiled_copy_holds_the_route_and_reimports_to_the_same_level(tmp_path: Pa
     assert [g.get("name") for g in ElementTree.parse(copy).getroot().iter("objectgroup")] == ["guardsim"]
 
 
-def test_tiled_out_of_a_plain_level_needs_its_source(tmp_path: Path) -> None:
+def test_tiled_out_of_a_plain_level_writes_a_fresh_map_that_imports_to_the_same_level(tmp_path: Path) -> None:
+    import shapely.affinity
+
+    from guardsim.importers import import_map
+    from guardsim.level import load_level
+
     level = write_level(tmp_path, CORRIDOR)
-    result = CliRunner().invoke(
-        main, ["patrol", str(level), "--out", str(tmp_path / "o"), "--tiled-out", str(tmp_path / "x.tmx")]
-    )
-    assert result.exit_code == 2
-    assert "give --tiled-source MAP.tmx" in result.output and len(result.output.strip().splitlines()) == 1
+    for suffix in (".tmx", ".tmj"):
+        fresh = tmp_path / f"fresh{suffix}"
+        result = CliRunner().invoke(
+            main, ["patrol", str(level), "--out", str(tmp_path / "o"), "--tiled-out", str(fresh)]
+        )
+        assert result.exit_code == 0, result.output
+        imported = import_map(fresh)
+        assert imported.warnings == ()
+        # The fresh map puts a wall border one tile wide around the level, so it comes back moved by (1, 1).
+        again, drawn = imported.level.free_area(), shapely.affinity.translate(load_level(level).free_area(), 1, 1)
+        assert again.symmetric_difference(drawn).area == 0 and imported.level.starts == ((1.5, 1.5),)
 
 
 TMJ = {
@@ -442,7 +455,7 @@ def test_tiled_json_copy_reimports_to_the_same_level(tmp_path: Path) -> None:
     assert result.exit_code == 0, result.output
     layers = json.loads(copy.read_text())["layers"]
     assert [layer["name"] for layer in layers] == ["Ground", "guardsim"]
-    [route] = layers[1]["objects"]
+    [route] = [item for item in layers[1]["objects"] if item["type"] == "guardsim_route"]
     assert route["type"] == "guardsim_route" and route["polyline"][0] == route["polyline"][-1]
     routed, plain = (level_to_data(import_map(path).level) for path in (copy, source))
     routed.pop("name"), plain.pop("name")

@@ -147,14 +147,11 @@ def patrol(
     from guardsim.patrol import patrol_data, patrol_setup, plan_loop, plan_patrol, read_patrol, score_patrol
 
     tiled_source = tiled_source_of(level_path, tiled_source_path)
-    if tiled_out and tiled_source is None:
-        raise GuardsimError(
-            f"{level_path}: --tiled-out needs the Tiled map the level came from: LEVEL is a guardsim level, so give --tiled-source MAP.tmx"
-        )
-    if tiled_out and tiled_source is not None:
+    if tiled_out:
         from guardsim.patrol.export import check_tiled_formats
 
-        check_tiled_formats(tiled_source, tiled_out)
+        # A level drawn by hand has no source map: a fresh map is written (any Tiled format).
+        check_tiled_formats(tiled_source or tiled_out, tiled_out)
     level = load(level_path, max_cells, max_vertices, max_file_bytes)
     from guardsim.kernels.ahead import compile_ahead
 
@@ -294,12 +291,14 @@ def patrol(
         written.append(export_path)
     if tiled_out:
         from guardsim.output import atomic_path
-        from guardsim.patrol.export import tiled_with_routes
+        from guardsim.patrol.export import tiled_from_level, tiled_with_routes
         from guardsim.reading import read_limited_bytes
 
-        assert tiled_source is not None
-        source_bytes = read_limited_bytes(tiled_source, max_file_bytes=max_file_bytes, kind="Tiled map")
-        copy = tiled_with_routes(tiled_source, tiled_out, chosen, scene.grid, speed=speed, source_bytes=source_bytes)
+        if tiled_source is None:
+            copy = tiled_from_level(level, tiled_out, chosen, scene.grid, speed=speed)
+        else:
+            source_bytes = read_limited_bytes(tiled_source, max_file_bytes=max_file_bytes, kind="Tiled map")
+            copy = tiled_with_routes(tiled_source, tiled_out, chosen, scene.grid, speed=speed, source_bytes=source_bytes)
         with atomic_path(tiled_out) as temporary:
             temporary.write_bytes(copy)
         written.append(tiled_out)

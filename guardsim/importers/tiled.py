@@ -169,7 +169,7 @@ def import_tiled(
     level, left_out = keep_spawn_areas(level, starts, source=source, max_cells=max_cells, max_vertices=max_vertices)
     if left_out:
         changes.append(left_out)
-    warnings += _look_warnings(level, bool(starts))
+    warnings += _look_warnings(level, bool(starts), tiled.size)
     if starts:
         data = level_to_data(level)
         data["guard"]["start"] = list(starts[0])
@@ -276,13 +276,17 @@ def _walls_phrase(
     return f"walls from {', '.join(parts)} ({counted(boxes, 'wall tile run')})"
 
 
-def _look_warnings(level: Level, has_starts: bool) -> list[str]:
-    """Warnings about a level that looks unlike a drawn level."""
+def _look_warnings(level: Level, has_starts: bool, map_size: tuple[int, int]) -> list[str]:
+    """Warnings about a level that looks unlike a drawn level (``map_size`` in tiles, one world unit each)."""
     warnings = []
     free = cast(BaseGeometry, level.free_area())
     if free.is_empty or free.area <= 0:
         return ["the free area is empty"]
+    # The map's edges where the map declares them (a free area ending inside its wall border is drawn);
+    # an infinite map's nominal size says nothing, so there the level's own bounds stand in.
     min_x, min_y, max_x, max_y = level.bounds
+    if min_x >= 0 and min_y >= 0 and max_x <= map_size[0] and max_y <= map_size[1]:
+        min_x, min_y, max_x, max_y = 0.0, 0.0, float(map_size[0]), float(map_size[1])
     edges = [
         shapely.LineString([(min_x, min_y), (max_x, min_y)]),
         shapely.LineString([(max_x, min_y), (max_x, max_y)]),
