@@ -24,6 +24,7 @@ from guardsim.envs import ACTIONS, CHANNELS, CoverageEnv, coverage_parallel_env 
 from guardsim.grid import DIRECTIONS  # noqa: E402
 from guardsim.planners import make_planner  # noqa: E402
 from guardsim.planners.base import STAY, EpisodeSetup, GuardState  # noqa: E402
+from guardsim.render.palette import GUARD_COLOURS  # noqa: E402
 from guardsim.simulation import Simulation, run_batch_episode  # noqa: E402
 from tests.common import REPO, SQUARE_WITH_HOLE, level_from  # noqa: E402
 
@@ -285,7 +286,7 @@ def test_rgb_frame_marks_the_guard() -> None:
     frame = env.render()
     assert frame is not None and frame.shape == (18, 18, 3) and frame.dtype == np.uint8
     col, row = info["cell"]
-    assert frame[row * 3 + 1, col * 3 + 1].tolist() == [200, 40, 40]
+    assert frame[row * 3 + 1, col * 3 + 1].tolist() == list(GUARD_COLOURS[0])  # the GIF's first guard
 
 
 def test_import_without_the_rl_extra_says_what_to_install(monkeypatch: pytest.MonkeyPatch) -> None:

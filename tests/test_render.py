@@ -458,7 +458,10 @@ def test_preview_marks_reachable_and_unreachable() -> None:
     image = render_preview(scene.level, grid.traversable, grid.component(0, 0), grid.origin, size=600)
     margin, scale = 36, 100
     assert tuple(int(v) for v in image[margin + 2, margin + 2]) == COLOURS["reachable"]
-    assert tuple(int(v) for v in image[margin + 2, margin + 5 * scale + 2]) == COLOURS["unreachable"]
+    room = {
+        tuple(int(v) for v in pixel) for pixel in image[margin + 2, margin + 5 * scale + 2 : margin + 5 * scale + 9]
+    }
+    assert room == {COLOURS["unreachable"], COLOURS["hatch"]}
     assert image.shape == (3 * scale + 2 * margin, 6 * scale + 2 * margin, 3)
 
 

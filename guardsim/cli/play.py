@@ -68,6 +68,12 @@ __all__ = ["play"]
 @click.option("--stride", type=click.IntRange(min=1), help="Ticks between GIF frames [default: fit --max-frames].")
 @click.option("--frame-ms", type=click.IntRange(min=10), default=60, show_default=True, help="GIF frame duration.")
 @click.option("--max-frames", type=click.IntRange(min=1), default=DEFAULT_MAX_FRAMES, show_default=True)
+@click.option(
+    "--size",
+    type=click.IntRange(min=64, max=8192),
+    metavar="PX",
+    help="Longest side of the GIF's map in pixels [default: at least 6 pixels a cell, up to 1600].",
+)
 @speed_up_option
 @vision_options
 @motion_options
@@ -92,6 +98,7 @@ def play(
     stride: int | None,
     frame_ms: int,
     max_frames: int,
+    size: int | None,
     speed_up: float | None,
     los: str,
     fov: float | None,
@@ -142,7 +149,7 @@ def play(
         simulation.reset(seed=seed, starts=cells, headings=headings, rng=rng)
         trace = simulation.run()
     seconds = time.perf_counter() - began
-    gif_options = GifOptions(stride=stride, frame_ms=frame_ms, max_frames=max_frames, speed_up=speed_up)
+    gif_options = GifOptions(stride=stride, frame_ms=frame_ms, max_frames=max_frames, size=size, speed_up=speed_up)
     written = []
     if gif_path:
         from guardsim.render.gif import write_gif

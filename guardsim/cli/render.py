@@ -11,6 +11,7 @@ from guardsim.errors import LevelError
 from guardsim.level import HEADINGS
 from guardsim.output import atomic_path
 from guardsim.render import draw_cone_overlay, render_preview
+from guardsim.render.preview import tight_cells, with_legend
 from guardsim.scene import Scene
 from guardsim.starts import choose_start
 
@@ -43,7 +44,12 @@ def parse_cone(
     metavar="X,Y,HEADING",
     help="Overlay what a guard standing at X,Y facing HEADING (right, down, left, up) sees.",
 )
-@click.option("--size", type=click.IntRange(min=64, max=8192), default=640, show_default=True, help="Image size.")
+@click.option(
+    "--size",
+    type=click.IntRange(min=64, max=8192),
+    metavar="PX",
+    help="Longest side of the map in pixels [default: at least 6 pixels a cell, up to 1600].",
+)
 @map_options
 @limit_options
 @reports_errors
@@ -52,13 +58,13 @@ def render(
     png_path: str,
     start: tuple[float, float] | None,
     cone: tuple[tuple[float, float], str] | None,
-    size: int,
+    size: int | None,
     max_cells: int,
     max_vertices: int,
     max_file_bytes: int,
     map_import: MapImport,
 ) -> None:
-    """Draw a preview of LEVEL: walls, grid, reachable and unreachable cells, coordinate rulers.
+    """Draw a preview of LEVEL: walls, grid, reachable and unreachable cells, coordinate rulers, a legend.
 
     Reachable means reachable from the start; with no start, from the largest connected area.
     """
@@ -90,6 +96,13 @@ def render(
             image, level, scene.grid.shape, seen.reshape(scene.grid.shape), eye, heading, size=size
         )
         cone_note = f", a guard at ({eye_x:g}, {eye_y:g}) facing {heading_name} sees {int(seen.sum())} cells"
+    image = with_legend(
+        image,
+        unreachable=bool((scene.grid.traversable & ~reachable).any()),
+        tight=bool(tight_cells(level, scene.grid.traversable, scene.grid.origin).any()),
+        start=cell is not None or cone is not None,
+        cone=cone is not None,
+    )
     with atomic_path(png_path) as temporary:
         iio.imwrite(temporary, image, extension=".png")
     traversable = int(scene.grid.traversable.sum())

@@ -10,7 +10,7 @@ from gymnasium import spaces
 
 from guardsim.envs.actions import ACTIONS
 from guardsim.envs.observations import observation_space
-from guardsim.envs.rgb import rgb_frame
+from guardsim.envs.rgb import TightCells, rgb_frame
 from guardsim.envs.task import CoverageTask, LevelSource
 from guardsim.simulation import Simulation
 from guardsim.vision.rules import LineOfSight
@@ -68,6 +68,7 @@ class CoverageEnv(gymnasium.Env[dict[str, Any], np.int64]):
         self.observation_space = observation_space(self.task.scene.grid.shape, crop)
         self.render_mode = render_mode
         self.cell_pixels = cell_pixels
+        self._tight = TightCells()
 
     @property
     def simulation(self) -> Simulation:
@@ -106,4 +107,5 @@ class CoverageEnv(gymnasium.Env[dict[str, Any], np.int64]):
         """An ``rgb_array`` frame of the grid, or ``None`` without a render mode."""
         if self.render_mode != "rgb_array":
             return None
-        return rgb_frame(self.task.simulation, self.cell_pixels)
+        simulation = self.task.simulation
+        return rgb_frame(simulation, self.cell_pixels, tight=self._tight.of(simulation.scene))

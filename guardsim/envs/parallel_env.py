@@ -11,7 +11,7 @@ from pettingzoo import ParallelEnv
 
 from guardsim.envs.actions import ACTIONS
 from guardsim.envs.observations import observation_space, state_planes, state_space
-from guardsim.envs.rgb import rgb_frame
+from guardsim.envs.rgb import TightCells, rgb_frame
 from guardsim.envs.task import CoverageTask, LevelSource
 from guardsim.simulation import Simulation
 from guardsim.vision.rules import LineOfSight
@@ -67,6 +67,7 @@ class CoverageParallelEnv(ParallelEnv):
         self.state_space = state_space(shape)
         self.render_mode = render_mode
         self.cell_pixels = cell_pixels
+        self._tight = TightCells()
         self._np_random: np.random.Generator | None = None
 
     @property
@@ -145,7 +146,8 @@ class CoverageParallelEnv(ParallelEnv):
         """An ``rgb_array`` frame of the grid, or ``None`` without a render mode."""
         if self.render_mode != "rgb_array":
             return None
-        return rgb_frame(self.task.simulation, self.cell_pixels)
+        simulation = self.task.simulation
+        return rgb_frame(simulation, self.cell_pixels, tight=self._tight.of(simulation.scene))
 
     def close(self) -> None:
         """Nothing to release."""

@@ -23,15 +23,26 @@ import numpy as np
 from PIL import Image, ImageDraw
 
 from guardsim.level import GuardSpec, Level
+from guardsim.render.cells import tight_cells
 from guardsim.render.legend import draw_legend
 from guardsim.render.palette import Index, guard_index, palette_rgb, text_index, trail_index
 from guardsim.render.sight import SightCaster
 from guardsim.render.text import Typesetter
-from guardsim.render.timeline import DEFAULT_FRAME_SIZE
+from guardsim.render.timeline import DEFAULT_FRAME_SIZE, cell_pixels
 from guardsim.trace import Trace
 from guardsim.world import World
 
-__all__ = ["DEFAULT_FRAME_SIZE", "FrameDrawer", "Layout", "VisionSettings", "pixels_per_cell", "render_frame"]
+__all__ = [
+    "DEFAULT_FRAME_SIZE",
+    "FrameDrawer",
+    "Layout",
+    "VisionSettings",
+    "cell_pixels",
+    "grow_mask",
+    "pixels_per_cell",
+    "render_frame",
+    "wrap_caption",
+]
 
 #: Narrowest frame: the caption and legend need this much room even for a small level.
 MIN_FRAME_WIDTH = 400
@@ -45,6 +56,8 @@ TRAIL_BLOCKS = 24
 _TRAIL_AGES = np.asarray([1, 2, 4, 8])
 _CAPTION_SIZE = 13
 _CAPTION_LINE = 17
+#: Where a caption line may be broken first: between its ``|``-separated parts.
+_CAPTION_SEPARATOR = "  |  "
 
 
 def pixels_per_cell(shape: tuple[int, int], size: int) -> int:
@@ -107,15 +120,15 @@ class FrameDrawer:
     trace
         The episode.
     size
-        Longest side of the play area in pixels (approximate: cells are whole pixels).
+        Longest side of the play area in pixels (approximate: cells are whole pixels); ``None`` chooses
+        it from the level's size (:func:`~guardsim.render.timeline.cell_pixels`: at least 6 pixels a
+        cell up to 1600 pixels a side).
     speed_up
         Under continuous motion, game seconds per second of animation, named in the caption (``None``:
         not named, as when a frame is drawn alone).
     """
 
-    def __init__(
-        self, level: Level, trace: Trace, *, size: int = DEFAULT_FRAME_SIZE, speed_up: float | None = None
-    ) -> None:
+    def __init__(self, level: Level, trace: Trace, *, size: int | None = None, speed_up: float | None = None) -> None:
         self.level = level
         self.trace = trace
         self.vision = VisionSettings.of(level, trace)
@@ -124,15 +137,25 @@ class FrameDrawer:
         self.headings = trace.team_headings()
         self.guards = len(self.paths)
         rows, cols = trace.shape
-        scale = pixels_per_cell(trace.shape, size)
+        scale = cell_pixels(trace.shape, size)
         self.pixels_per_unit = scale / trace.cell_size
+        self.speed_up = speed_up
         self.caption_setter = Typesetter(_CAPTION_SIZE)
-        width = max(cols * scale, MIN_FRAME_WIDTH)
-        legend = draw_legend(width, guards=self.guards, unreachable=bool(trace.unreachable))
         play = (cols * scale + 2 * PLAY_PAD, rows * scale + 2 * PLAY_PAD)
-        width = max(width, play[0])
-        legend = draw_legend(width, guards=self.guards, unreachable=bool(trace.unreachable))
-        self.layout = Layout(scale, play, (width - play[0]) // 2, 2 * _CAPTION_LINE + 8, legend.shape[0], width)
+        width = max(MIN_FRAME_WIDTH, play[0])
+        self.tight = tight_cells(level, trace.traversable, trace.origin)
+        legend = draw_legend(
+            width, guards=self.guards, unreachable=bool(trace.unreachable), tight=bool(self.tight.any())
+        )
+        # The caption bar holds as many lines as the longest caption wraps to (the first and last ticks'
+        # have the widest numbers); a subclass that rewrites the caption gets a spare line.
+        self.caption_width = width - 16
+        lines = max(len(wrap_caption(FrameDrawer.caption(self, tick), self.caption_setter, self.caption_width))
+                    for tick in (0, trace.steps))  # fmt: skip
+        if type(self).caption is not FrameDrawer.caption:
+            lines += 1
+        top = lines * _CAPTION_LINE + 8
+        self.layout = Layout(scale, play, (width - play[0]) // 2, top, legend.shape[0], width)
         self.template = np.full((self.layout.height, width), Index.BAR, dtype=np.uint8)
         self.template[self.layout.height - legend.shape[0] :] = legend
         self.static = self._draw_level()
@@ -144,7 +167,6 @@ class FrameDrawer:
         self._seen_cells, self._seen_ticks = flat[order], ticks[order]
         self.trail_block = max(1, math.ceil(trace.steps / TRAIL_BLOCKS))
         self.trail_width = max(1, round(scale / 3))
-        self.speed_up = speed_up
         # Pose points in the coordinates Pillow draws in (pixel centres on whole numbers), for the trail.
         self._pose_points: np.ndarray | None = None
         if trace.poses is not None and self.guards == 1:
@@ -170,25 +192,35 @@ class FrameDrawer:
         scale = self.layout.scale
         return np.pad(np.repeat(np.repeat(cells, scale, axis=0), scale, axis=1), PLAY_PAD)
 
-    def _draw_level(self) -> np.ndarray:
-        """Walls, floor, unreachable cells hatched, the outline of every wall ring."""
-        image = Image.new("L", self.layout.play, Index.WALL)
+    def _floor(self, shape: tuple[int, int]) -> np.ndarray:
+        """The level's floor (outer ring minus holes) rasterised: ``uint8`` ``FREE`` on ``WALL``."""
+        image = Image.new("L", (shape[1], shape[0]), Index.WALL)
         draw = ImageDraw.Draw(image)
         draw.polygon([self.to_pixels(p) for p in self.level.outer], fill=Index.FREE)
         for hole in self.level.holes:
             draw.polygon([self.to_pixels(p) for p in hole], fill=Index.WALL)
-        static = np.asarray(image).copy()
-        unreachable = self._upscale(self.trace.traversable & ~self.trace.goal) & (static == Index.FREE)
+        return np.asarray(image).copy()
+
+    def _draw_level(self) -> np.ndarray:
+        """Walls, floor, unreachable cells hatched, cells too tight to stand in, and an outline where a
+        wall meets the floor (not where two wall pieces touch, as where an importer cut a wall open)."""
+        play = self.layout.play
+        static = self._floor((play[1], play[0]))
+        floor = static == Index.FREE
+        unreachable = self._upscale(self.trace.traversable & ~self.trace.goal) & floor
         rows, cols = np.indices(static.shape)
         static[unreachable] = Index.UNREACHABLE
         static[unreachable & ((rows + cols) % 6 == 0)] = Index.HATCH
-        image = Image.fromarray(static)
+        static[self._upscale(self.tight) & floor] = Index.TIGHT
+        image = Image.new("L", play, 0)
         draw = ImageDraw.Draw(image)
         width = 2 if self.layout.scale >= 4 else 1
         for ring in (self.level.outer, *self.level.holes):
             points = [self.to_pixels(p) for p in ring]
-            draw.line([*points, points[0]], fill=Index.OUTLINE, width=width)
-        return np.asarray(image).copy()
+            draw.line([*points, points[0]], fill=1, width=width)
+        outline = (np.asarray(image) > 0) & grow_mask(floor, width)
+        static[outline] = Index.OUTLINE
+        return static
 
     # -- what changes with the tick ---------------------------------------------------------------
 
@@ -330,8 +362,10 @@ class FrameDrawer:
         ImageDraw.Draw(mask_image).polygon([(x - x0, y - y0) for x, y in ring], fill=1)
         region = play[y0:y1, x0:x1]
         # Only floor entries are tinted: never walls or outlines, nor a cone another guard already tinted.
-        mask = (np.asarray(mask_image) > 0) & (region >= Index.FREE) & (region <= Index.HATCH)
+        inside = np.asarray(mask_image) > 0
+        mask = inside & (region >= Index.FREE) & (region <= Index.HATCH)
         region[mask] += Index.CONE_BASE
+        region[inside & (region == Index.TIGHT)] = Index.TIGHT_CONE
 
     def _paint_trail(self, play: np.ndarray) -> None:
         if self._trail_box is not None:
@@ -368,7 +402,7 @@ class FrameDrawer:
         return np.asarray(image)
 
     def caption(self, tick: int) -> tuple[str, str]:
-        """The two caption lines at ``tick``."""
+        """The two caption lines at ``tick`` (before wrapping to the frame's width)."""
         trace = self.trace
         team = f"{self.guards} guards" if self.guards > 1 else "1 guard"
         tick_hz = getattr(trace, "tick_hz", None)
@@ -396,13 +430,57 @@ class FrameDrawer:
         layout = self.layout
         canvas = self.template.copy()
         canvas[layout.top : layout.top + layout.play[1], layout.left : layout.left + layout.play[0]] = play
-        first, second = self.caption(tick)
+        lines = wrap_caption(self.caption(tick), self.caption_setter, self.caption_width)
         coverage = self.caption_setter.mask(
-            (layout.width, layout.top), [((8, 4), first), ((8, 4 + _CAPTION_LINE), second)]
+            (layout.width, layout.top), [((8, 4 + k * _CAPTION_LINE), line) for k, line in enumerate(lines)]
         )
         inked = coverage > 0
         canvas[: layout.top][inked] = text_index(coverage[inked])
         return canvas
+
+
+def grow_mask(mask: np.ndarray, reach: int) -> np.ndarray:
+    """``mask`` grown by ``reach`` pixels in every direction (a square neighbourhood)."""
+    grown = mask.copy()
+    padded = np.pad(mask, reach)
+    height, width = mask.shape
+    for dy in range(2 * reach + 1):
+        for dx in range(2 * reach + 1):
+            grown |= padded[dy : dy + height, dx : dx + width]
+    return grown
+
+
+def wrap_caption(lines: tuple[str, ...] | list[str], setter: Typesetter, width: float) -> list[str]:
+    """Caption ``lines`` wrapped to ``width`` pixels: broken between ``|``-separated parts first, then
+    between words, never cut; a word wider than ``width`` stands alone on its line.
+
+    Examples
+    --------
+    >>> setter = Typesetter(13)
+    >>> wrap_caption(["a  |  b"], setter, 400)
+    ['a  |  b']
+    >>> wrap_caption(["1.0% of 2 cells unseen  |  321 unreachable cells (not counted)"], setter, 200)
+    ['1.0% of 2 cells unseen', '321 unreachable cells (not', 'counted)']
+    """
+    wrapped: list[str] = []
+    for line in lines:
+        current = ""
+        for part in line.split(_CAPTION_SEPARATOR):
+            joined = f"{current}{_CAPTION_SEPARATOR}{part}" if current else part
+            if setter.width(joined) <= width:
+                current = joined
+                continue
+            if current:
+                wrapped.append(current)
+            current = ""
+            for word in part.split(" "):
+                joined = f"{current} {word}" if current else word
+                if current and setter.width(joined) > width:
+                    wrapped.append(current)
+                    joined = word
+                current = joined
+        wrapped.append(current)
+    return wrapped
 
 
 def _grown(box: tuple[int, int, int, int] | None, part: tuple[int, int, int, int]) -> tuple[int, int, int, int]:
@@ -431,6 +509,6 @@ def _draw_guard(
     draw.ellipse((eye[0] - 1.5, eye[1] - 1.5, eye[0] + 1.5, eye[1] + 1.5), fill=Index.WHITE)
 
 
-def render_frame(level: Level, trace: Trace, tick: int, *, size: int = DEFAULT_FRAME_SIZE) -> np.ndarray:
+def render_frame(level: Level, trace: Trace, tick: int, *, size: int | None = None) -> np.ndarray:
     """The frame at ``tick`` as an RGB ``uint8 (height, width, 3)`` array."""
     return palette_rgb()[FrameDrawer(level, trace, size=size).frame(tick)]

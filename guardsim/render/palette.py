@@ -1,4 +1,22 @@
-"""The one fixed palette every episode frame is drawn in.
+"""The one palette every picture is drawn in: one colour per meaning.
+
+Every picture guardsim draws takes its colours from here: the GIF frames (:mod:`~guardsim.render.frames`),
+the designer's preview (``guardsim render``), the Gymnasium ``rgb_array`` (:mod:`guardsim.envs.rgb`) and
+the HTML viewer's cell colours (its page reads :data:`COLOURS`). What each name means:
+
+=============  =====================================================================================
+``wall``       a wall (slate grey), with an ``outline`` (near black) where it meets the floor
+``unseen``     floor the guard can reach and has not seen yet (dark navy)
+``free``       floor seen (near white); in the preview, floor with nothing to say about it
+``tight``      floor in a cell too tight for the guard's circle to stand in: never a goal (sand)
+``unreachable`` floor the guard fits on but cannot reach from its start (purple, hatched)
+``cone``       what a guard sees now (a yellow tint)
+``guard``      the first guard (red); the others take :data:`GUARD_COLOURS` in turn
+``reachable``  preview only: floor reachable from the start (pale green)
+=============  =====================================================================================
+
+:data:`HEAT_RAMP` is the ramp for a per-cell number such as the tick a cell was first seen; it runs
+from pale cyan through blue to deep violet, away from the cone's yellow, so the cone stays visible over it.
 
 Frames are arrays of palette indices, not RGB: the GIF writer never quantises, every frame of every GIF
 shares the same global colour table, and equal inputs give byte-identical files. Translucent effects (the
@@ -12,6 +30,7 @@ import numpy as np
 __all__ = [
     "COLOURS",
     "GUARD_COLOURS",
+    "HEAT_RAMP",
     "PALETTE",
     "TRAIL_LEVELS",
     "Index",
@@ -26,6 +45,7 @@ COLOURS: dict[str, tuple[int, int, int]] = {
     "wall": (118, 122, 134),
     "free": (250, 250, 246),
     "unseen": (30, 34, 62),
+    "tight": (226, 204, 150),
     "unreachable": (196, 150, 212),
     "hatch": (140, 84, 162),
     "outline": (24, 26, 32),
@@ -34,7 +54,6 @@ COLOURS: dict[str, tuple[int, int, int]] = {
     "text": (246, 246, 246),
     "white": (255, 255, 255),
     # Preview-only colours (guardsim render), kept for the level designer's preview.
-    "blocked": (236, 222, 196),
     "reachable": (206, 236, 210),
     "grid": (222, 224, 228),
     "ruler": (90, 90, 100),
@@ -52,6 +71,14 @@ GUARD_COLOURS: tuple[tuple[int, int, int], ...] = (
     (0, 170, 190),
     (120, 80, 30),
     (90, 90, 90),
+)
+
+#: Stops ``(fraction, RGB)`` of a heat map over the floor (early/low to late/high): pale cyan, blue, deep
+#: violet. None is near the cone's yellow, so a yellow cone tinted over any of them stays visible.
+HEAT_RAMP: tuple[tuple[float, tuple[int, int, int]], ...] = (
+    (0.0, (200, 240, 244)),
+    (0.5, (60, 130, 200)),
+    (1.0, (60, 24, 110)),
 )
 
 #: Opacities of the trail over the floor, newest first: recent steps strong, old steps faint.
@@ -80,6 +107,10 @@ class Index:
     """``TEXT_BASE + k``: caption text at coverage ``k / (TEXT_LEVELS - 1)`` over the bar."""
     GUARD_BASE = 32
     """Each guard colour takes eight entries: the trail levels, then the solid colour, then a dark one."""
+    TIGHT = 24
+    """Floor in a cell too tight for the guard to stand in (never a goal)."""
+    TIGHT_CONE = 25
+    """``TIGHT`` under the cone's tint."""
     TRANSPARENT = 255
     """Never drawn: marks the pixels a GIF frame leaves as they were in the previous frame."""
 
@@ -99,10 +130,12 @@ def _build() -> list[tuple[int, int, int]]:
         ("outline", Index.OUTLINE),
         ("bar", Index.BAR),
         ("white", Index.WHITE),
+        ("tight", Index.TIGHT),
     ):
         entries[index] = COLOURS[name]
     for base in range(Index.WALL, Index.HATCH + 1):
         entries[Index.CONE_BASE + base] = _blend(COLOURS["cone"], entries[base], CONE_ALPHA)
+    entries[Index.TIGHT_CONE] = _blend(COLOURS["cone"], COLOURS["tight"], CONE_ALPHA)
     for level in range(TEXT_LEVELS):
         entries[Index.TEXT_BASE + level] = _blend(COLOURS["text"], COLOURS["bar"], level / (TEXT_LEVELS - 1))
     for guard, colour in enumerate(GUARD_COLOURS):

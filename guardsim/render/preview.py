@@ -1,5 +1,6 @@
-"""Level previews for designers (``guardsim render``): walls, grid, reachable and unreachable cells, rulers,
-and optionally what a guard sees from one spot.
+"""Level previews for designers (``guardsim render``): walls, grid, reachable and unreachable cells, cells
+too tight to stand in, rulers, a legend, and optionally what a guard sees from one spot. Colours are the
+frames' (:mod:`~guardsim.render.palette`): one colour per meaning in every picture.
 
 Cell colours are composed with numpy; Pillow draws only the vector overlays.
 """
@@ -9,17 +10,24 @@ from __future__ import annotations
 import math
 
 import numpy as np
-import shapely
 from PIL import Image, ImageDraw
 
 from guardsim.level import Level
-from guardsim.render.frames import pixels_per_cell
-from guardsim.render.palette import COLOURS
+from guardsim.render.cells import tight_cells
+from guardsim.render.frames import grow_mask
+from guardsim.render.legend import draw_rgb_legend
+from guardsim.render.palette import COLOURS, GUARD_COLOURS
 from guardsim.render.sight import SightCaster
 from guardsim.render.text import font
+from guardsim.render.timeline import cell_pixels
 from guardsim.world import World
 
-__all__ = ["draw_cone_overlay", "render_preview"]
+__all__ = ["draw_cone_overlay", "preview_scale", "render_preview", "tight_cells", "with_legend"]
+
+
+def preview_scale(shape: tuple[int, int], size: int | None) -> int:
+    """Pixels per cell of a preview of a grid of ``shape``: as the GIF frames' (at least 2)."""
+    return max(2, cell_pixels(shape, size))
 
 
 def _level_drawing(level: Level, origin: tuple[float, float], shape: tuple[int, int], scale: int) -> Image.Image:
@@ -38,10 +46,15 @@ def _level_drawing(level: Level, origin: tuple[float, float], shape: tuple[int, 
     return image
 
 
-def _paint_cells(base: np.ndarray, cells: np.ndarray, colour: tuple[int, int, int], scale: int) -> None:
-    """Paint every cell where ``cells`` is true with ``colour``, in place."""
+def _paint_cells(
+    base: np.ndarray, cells: np.ndarray, colour: tuple[int, int, int], scale: int, *, hatch: bool = False
+) -> None:
+    """Paint every cell where ``cells`` is true with ``colour`` (hatched as in the frames), in place."""
     mask = np.repeat(np.repeat(cells, scale, axis=0), scale, axis=1)
     base[mask] = colour
+    if hatch:
+        rows, cols = np.indices(mask.shape)
+        base[mask & ((rows + cols) % 6 == 0)] = COLOURS["hatch"]
 
 
 def _draw_guard(
@@ -72,34 +85,38 @@ def render_preview(
     origin: tuple[float, float],
     *,
     start: tuple[int, int] | None = None,
-    size: int = 640,
+    size: int | None = None,
 ) -> np.ndarray:
     """A level designer's preview: walls, grid, reachable and unreachable cells, the start.
 
-    Traversable cells reachable from the start are tinted green, other traversable cells purple, and
-    free-area cells where the guard does not fit are tinted sand.
+    Traversable cells reachable from the start are tinted green, other traversable cells purple and
+    hatched, and free-area cells where the guard does not fit are sand (the frames' ``tight``). Walls
+    are outlined only where they meet the floor. ``size`` is the longest side of the cells in pixels
+    (``None``: as the GIF frames, at least 6 pixels a cell up to 1600 pixels). Add the legend with
+    :func:`with_legend`.
     """
     shape = traversable.shape
-    scale = max(2, pixels_per_cell(shape, size))
+    scale = preview_scale(shape, size)
     drawing = np.asarray(_level_drawing(level, origin, shape, scale)).copy()
-    rows, cols = shape
-    centre_x = origin[0] + (np.arange(cols) + 0.5) * level.cell_size
-    centre_y = origin[1] + (np.arange(rows) + 0.5) * level.cell_size
-    free = shapely.contains_xy(level.free_area(), *np.meshgrid(centre_x, centre_y))
-    _paint_cells(drawing, free & ~traversable, COLOURS["blocked"], scale)
+    floor = (drawing == np.asarray(COLOURS["free"], dtype=np.uint8)).all(axis=2)
+    _paint_cells(drawing, tight_cells(level, traversable, origin), COLOURS["tight"], scale)
     _paint_cells(drawing, reachable, COLOURS["reachable"], scale)
-    _paint_cells(drawing, traversable & ~reachable, COLOURS["unreachable"], scale)
-    image = Image.fromarray(drawing)
-    draw = ImageDraw.Draw(image)
+    _paint_cells(drawing, traversable & ~reachable, COLOURS["unreachable"], scale, hatch=True)
     if scale >= 4:
-        for col in range(shape[1] + 1):
-            draw.line([(col * scale, 0), (col * scale, image.height)], fill=COLOURS["grid"])
-        for row in range(shape[0] + 1):
-            draw.line([(0, row * scale), (image.width, row * scale)], fill=COLOURS["grid"])
+        # Grid lines on the floor only: over the walls they would read as a texture.
+        rows, cols = np.indices(floor.shape)
+        drawing[floor & ((rows % scale == 0) | (cols % scale == 0))] = COLOURS["grid"]
     pixels_per_unit = scale / level.cell_size
+    rings = Image.new("L", (drawing.shape[1], drawing.shape[0]), 0)
+    ring_draw = ImageDraw.Draw(rings)
     for ring in (level.outer, *level.holes):
         points = [((x - origin[0]) * pixels_per_unit, (y - origin[1]) * pixels_per_unit) for x, y in ring]
-        draw.line([*points, points[0]], fill=COLOURS["ruler"], width=1)
+        ring_draw.line([*points, points[0]], fill=1, width=1)
+    # Where two wall pieces touch (a wall an importer cut open) there is wall on both sides: no line.
+    outline = (np.asarray(rings) > 0) & grow_mask(floor, 1)
+    drawing[outline] = COLOURS["outline"]
+    image = Image.fromarray(drawing)
+    draw = ImageDraw.Draw(image)
     if start is not None:
         centre = ((start[0] + 0.5) * scale, (start[1] + 0.5) * scale)
         radius = max(2, scale // 2)
@@ -152,7 +169,7 @@ def draw_cone_overlay(
     cell: tuple[int, int],
     heading: int,
     *,
-    size: int = 640,
+    size: int | None = None,
 ) -> np.ndarray:
     """A copy of a :func:`render_preview` image showing what a guard at ``cell`` facing ``heading`` sees.
 
@@ -160,7 +177,7 @@ def draw_cone_overlay(
     the guard are drawn on top. ``shape`` and ``size`` must be the ones the preview was drawn with.
     """
     rows, cols = shape
-    scale = max(2, pixels_per_cell(shape, size))
+    scale = preview_scale(shape, size)
     # render_preview frames the cells in an equal margin on every side (the rulers).
     margin = (preview.shape[1] - cols * scale) // 2
     framed = preview.copy()
@@ -171,3 +188,39 @@ def draw_cone_overlay(
     _draw_guard(ImageDraw.Draw(image), level, level.bounds[:2], cell, heading, scale)
     framed[margin : margin + rows * scale, margin : margin + cols * scale] = np.asarray(image)
     return framed
+
+
+def with_legend(
+    preview: np.ndarray,
+    *,
+    unreachable: bool = False,
+    tight: bool = False,
+    start: bool = False,
+    cone: bool = False,
+) -> np.ndarray:
+    """``preview`` with a legend bar below it naming each colour drawn (as the GIF frames' legend does).
+
+    Examples
+    --------
+    >>> preview = np.full((100, 300, 3), 255, dtype=np.uint8)
+    >>> framed = with_legend(preview, tight=True)
+    >>> framed.shape[0] > 100 and framed.shape[1] == 300, framed[-1, 0].tolist() == list(COLOURS["bar"])
+    (True, True)
+    """
+    items = [(COLOURS["wall"], "wall"), (COLOURS["reachable"], "reachable floor")]
+    if unreachable:
+        items.append((COLOURS["unreachable"], "unreachable"))
+    if tight:
+        items.append((COLOURS["tight"], "too tight to stand in"))
+    if cone:
+        items.append((_cone_tint(COLOURS["reachable"]), "sees now"))
+    if start:
+        items.append((GUARD_COLOURS[0], "guard"))
+    legend = draw_rgb_legend(preview.shape[1], items)
+    return np.concatenate([preview, legend])
+
+
+def _cone_tint(colour: tuple[int, int, int]) -> tuple[int, int, int]:
+    """``colour`` under the cone's tint, as :func:`draw_cone_overlay` blends it."""
+    r, g, b = (np.asarray(colour) * 0.45 + np.asarray(COLOURS["cone"]) * 0.55).astype(np.uint8).tolist()
+    return r, g, b

@@ -12,14 +12,23 @@ __all__ = [
     "DEFAULT_FRAME_SIZE",
     "DEFAULT_MAX_FRAMES",
     "FRAME_CEILING",
+    "MAX_FRAME_SIDE",
+    "MIN_CELL_PIXELS",
     "MIN_FRAME_MS",
     "GifOptions",
+    "cell_pixels",
     "frame_durations",
     "frame_ticks",
 ]
 
-#: Longest side of the play area in pixels, before rounding to whole pixels per cell.
+#: Longest side of the play area in pixels, before rounding to whole pixels per cell, for a small level.
 DEFAULT_FRAME_SIZE = 480
+#: Fewest pixels per cell by default: a real map (130 x 90 cells) drawn in 480 pixels is 3 per cell, too
+#: few to read a cell, a trail or a cone's edge.
+MIN_CELL_PIXELS = 6
+#: Longest side of the play area that the default size grows to, for big maps (past 266 cells a side the
+#: default gives fewer than ``MIN_CELL_PIXELS``).
+MAX_FRAME_SIDE = 1600
 #: Frames in a GIF unless the caller asks for more; the stride grows to stay under it.
 DEFAULT_MAX_FRAMES = 200
 #: Hard ceiling on frames, whatever the options, to keep GIFs bounded.
@@ -40,12 +49,31 @@ class GifOptions:
     """Duration of the last frame, so the final coverage stays on screen."""
     max_frames: int = DEFAULT_MAX_FRAMES
     """Most frames the GIF may have."""
-    size: int = DEFAULT_FRAME_SIZE
-    """Longest side of the play area in pixels (approximate: cells are whole pixels)."""
+    size: int | None = None
+    """Longest side of the play area in pixels (approximate: cells are whole pixels); ``None`` chooses
+    it from the level (:func:`cell_pixels`)."""
     speed_up: float | None = None
     """Continuous motion: game seconds per second of GIF (1 is real time). Each frame is then shown for
     the game time to the next frame divided by this, and frames are at least ``frame_ms`` apart; ``None``
     shows each frame ``frame_ms``."""
+
+
+def cell_pixels(shape: tuple[int, int], size: int | None = None) -> int:
+    """Whole pixels per cell for a grid of ``shape`` ``(rows, cols)``.
+
+    With ``size``, the longest side is about ``size`` pixels (at least 1 per cell). Without it, the
+    longest side is about :data:`DEFAULT_FRAME_SIZE`, but never fewer than :data:`MIN_CELL_PIXELS` per
+    cell unless that would pass :data:`MAX_FRAME_SIDE`.
+
+    Examples
+    --------
+    >>> cell_pixels((60, 60)), cell_pixels((90, 130)), cell_pixels((512, 512)), cell_pixels((90, 130), 260)
+    (8, 6, 3, 2)
+    """
+    longest = max(shape)
+    if size is not None:
+        return max(1, size // longest)
+    return max(1, min(max(MIN_CELL_PIXELS, DEFAULT_FRAME_SIZE // longest), MAX_FRAME_SIDE // longest))
 
 
 def frame_ticks(steps: int, options: GifOptions, tick_hz: float | None = None) -> list[int]:

@@ -75,7 +75,9 @@ class SneakFrames(FrameDrawer):
     frame's) and the lap tick it falls on, ``(lap_start + tick) % period``, as sneak.json and the page
     count them. Without ``period`` the caption is the plain one."""
 
-    def __init__(self, level: Level, trace: Trace, *, size: int, lap_start: int = 0, period: int | None = None) -> None:
+    def __init__(
+        self, level: Level, trace: Trace, *, size: int | None, lap_start: int = 0, period: int | None = None
+    ) -> None:
         super().__init__(level, trace, size=size)
         self.lap_start = lap_start
         self.period = period
