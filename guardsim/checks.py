@@ -293,6 +293,42 @@ def _cell(scene: Scene, point: tuple[float, float], where: str, what: str) -> in
     return scene.grid.flat(*cell)
 
 
+#: Places named in the unreachable rule's message, largest first.
+SHOWN_PLACES = 3
+
+
+def unreachable_places(scene: Scene, goal: np.ndarray) -> str:
+    """Where the cells a guard can stand in but not reach from the start are: ``": N around (x, y), ..."``
+    for the largest connected areas of them (a cell's centre in world units, inside the area), and how
+    many more areas there are; ``""`` when there are none.
+
+    Examples
+    --------
+    >>> from guardsim.level import parse_level
+    >>> level = parse_level({"outer": [[0, 0], [6, 0], [6, 3], [0, 3]],
+    ...                      "holes": [[[2.9, 0], [3.1, 0], [3.1, 3], [2.9, 3]]]})
+    >>> scene = Scene.from_level(level)
+    >>> unreachable_places(scene, scene.grid.component(0, 0).ravel())
+    ': 9 around (4.5, 1.5)'
+    """
+    grid = scene.grid
+    pocket = grid.traversable & ~goal.reshape(grid.shape)
+    if not pocket.any():
+        return ""
+    labels = grid.component_labels.reshape(grid.shape)
+    areas, sizes = np.unique(labels[pocket], return_counts=True)
+    order = sorted(range(len(areas)), key=lambda k: (-int(sizes[k]), int(areas[k])))
+    places = []
+    for k in order[:SHOWN_PLACES]:
+        members = np.argwhere(labels == areas[k])
+        mean = members.mean(axis=0)
+        row, col = members[int(np.argmin(((members - mean) ** 2).sum(axis=1)))]
+        x, y = grid.centre(int(col), int(row))
+        places.append(f"{int(sizes[k])} around ({x:g}, {y:g})")
+    more = len(areas) - SHOWN_PLACES
+    return ": " + ", ".join(places) + (f" and {more} more place{'s' if more != 1 else ''}" if more > 0 else "")
+
+
 def run_checks(scene: Scene, rules: CheckRules, *, seed: int = 0) -> list[CheckResult]:
     """Every rule's verdict, in the order: unreachable, cover steps, idleness, safe spots, sneaks (each
     followed by its slack limits).
@@ -314,7 +350,8 @@ def run_checks(scene: Scene, rules: CheckRules, *, seed: int = 0) -> list[CheckR
             CheckResult(
                 "no-unreachable",
                 unreachable == 0,
-                f"{unreachable} cells a guard can stand in cannot be reached from the start",
+                f"{unreachable} cells a guard can stand in cannot be reached from the start"
+                + unreachable_places(scene, goal),
             )
         )
     if rules.max_cover_steps is not None:

@@ -206,3 +206,15 @@ def test_rgb_array_uses_the_gif_palette() -> None:
     assert {COLOURS["wall"], COLOURS["tight"], GUARD_COLOURS[0]} <= colours
     assert rgb(frame, 0, 2 * 7) == COLOURS["wall"]
     assert rgb(frame, 0, 0) == COLOURS["tight"]
+
+
+def test_check_names_where_the_unreachable_cells_are(tmp_path: Path) -> None:
+    """`guardsim check --no-unreachable` says how many cells and where (the hatched room of the pictures):
+    a cell centre inside each of the largest unreachable areas, in world units."""
+    from guardsim.checks import CheckRules, run_checks
+
+    result = run_checks(scene_from(SPLIT_ROOMS), CheckRules(no_unreachable=True))[0]
+    assert not result.holds
+    assert "9 cells" in result.message and result.message.endswith(": 9 around (4.5, 1.5)")
+    run = CliRunner().invoke(main, ["check", str(write_level(tmp_path, SPLIT_ROOMS)), "--no-unreachable"])
+    assert "9 around (4.5, 1.5)" in run.output
