@@ -218,3 +218,16 @@ def test_check_names_where_the_unreachable_cells_are(tmp_path: Path) -> None:
     assert "9 cells" in result.message and result.message.endswith(": 9 around (4.5, 1.5)")
     run = CliRunner().invoke(main, ["check", str(write_level(tmp_path, SPLIT_ROOMS)), "--no-unreachable"])
     assert "9 around (4.5, 1.5)" in run.output
+
+
+def test_render_keeps_six_pixels_a_cell_on_a_real_sized_map(tmp_path: Path) -> None:
+    """guardsim render on a 130 x 90 map: 6 pixels a cell (it was 4), and --size still sets the long side."""
+    level = {"name": "wide", "outer": [[0, 0], [130, 0], [130, 90], [0, 90]], "guard": {"start": [1.5, 1.5]}}
+    path = write_level(tmp_path, level)
+    widths = {}
+    for name, options in {"default": [], "sized": ["--size", "260"]}.items():
+        png = tmp_path / f"{name}.png"
+        result = CliRunner().invoke(main, ["render", str(path), "--png", str(png), *options])
+        assert result.exit_code == 0, result.output
+        widths[name] = iio.imread(png).shape[1]
+    assert widths == {"default": 130 * 6 + 2 * 36, "sized": 130 * 2 + 2 * 36}

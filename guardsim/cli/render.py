@@ -48,7 +48,7 @@ def parse_cone(
     "--size",
     type=click.IntRange(min=64, max=8192),
     metavar="PX",
-    help="Longest side of the map in pixels [default: at least 6 pixels a cell, up to 1600].",
+    help="Longest side of the map in pixels [default: 640, or 6 pixels a cell if more, up to 1600].",
 )
 @map_options
 @limit_options

@@ -25,9 +25,14 @@ from guardsim.world import World
 __all__ = ["draw_cone_overlay", "preview_scale", "render_preview", "tight_cells", "with_legend"]
 
 
+#: Longest side of a small level's preview in pixels, before rounding to whole pixels per cell.
+PREVIEW_SIZE = 640
+
+
 def preview_scale(shape: tuple[int, int], size: int | None) -> int:
-    """Pixels per cell of a preview of a grid of ``shape``: as the GIF frames' (at least 2)."""
-    return max(2, cell_pixels(shape, size))
+    """Pixels per cell of a preview of a grid of ``shape`` (at least 2): ``size`` on the longest side, else
+    about :data:`PREVIEW_SIZE` but at least 6 pixels a cell up to 1600 pixels, as the GIF frames."""
+    return max(2, cell_pixels(shape, size, base=PREVIEW_SIZE))
 
 
 def _level_drawing(level: Level, origin: tuple[float, float], shape: tuple[int, int], scale: int) -> Image.Image:
@@ -92,8 +97,7 @@ def render_preview(
     Traversable cells reachable from the start are tinted green, other traversable cells purple and
     hatched, and free-area cells where the guard does not fit are sand (the frames' ``tight``). Walls
     are outlined only where they meet the floor. ``size`` is the longest side of the cells in pixels
-    (``None``: as the GIF frames, at least 6 pixels a cell up to 1600 pixels). Add the legend with
-    :func:`with_legend`.
+    (``None``: :func:`preview_scale`). Add the legend with :func:`with_legend`.
     """
     shape = traversable.shape
     scale = preview_scale(shape, size)

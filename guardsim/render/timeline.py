@@ -58,12 +58,12 @@ class GifOptions:
     shows each frame ``frame_ms``."""
 
 
-def cell_pixels(shape: tuple[int, int], size: int | None = None) -> int:
+def cell_pixels(shape: tuple[int, int], size: int | None = None, *, base: int = DEFAULT_FRAME_SIZE) -> int:
     """Whole pixels per cell for a grid of ``shape`` ``(rows, cols)``.
 
     With ``size``, the longest side is about ``size`` pixels (at least 1 per cell). Without it, the
-    longest side is about :data:`DEFAULT_FRAME_SIZE`, but never fewer than :data:`MIN_CELL_PIXELS` per
-    cell unless that would pass :data:`MAX_FRAME_SIDE`.
+    longest side is about ``base`` pixels (:data:`DEFAULT_FRAME_SIZE` for the GIF frames), but never
+    fewer than :data:`MIN_CELL_PIXELS` per cell unless that would pass :data:`MAX_FRAME_SIDE`.
 
     Examples
     --------
@@ -73,7 +73,7 @@ def cell_pixels(shape: tuple[int, int], size: int | None = None) -> int:
     longest = max(shape)
     if size is not None:
         return max(1, size // longest)
-    return max(1, min(max(MIN_CELL_PIXELS, DEFAULT_FRAME_SIZE // longest), MAX_FRAME_SIDE // longest))
+    return max(1, min(max(MIN_CELL_PIXELS, base // longest), MAX_FRAME_SIDE // longest))
 
 
 def frame_ticks(steps: int, options: GifOptions, tick_hz: float | None = None) -> list[int]:
