@@ -109,7 +109,9 @@ def test_guaranteed_search_agrees_with_brute_force(data: dict[str, Any]) -> None
     scene = scene_from(data)
     grid = scene.grid
     table = view_table(grid, scene.vision())
-    generator = np.random.default_rng(28)
+    # The room's draws under seed 28 held two teams of two with no sure search, which the brute force
+    # proves by exhausting about 10^6 joint states (15 s each); seed 35 draws both answers cheaply.
+    generator = np.random.default_rng(35 if data is ROOM else 28)
     free = [grid.unflat(int(c)) for c in np.flatnonzero(grid.traversable.ravel())]
     answers = set()
     for _ in range(6):
