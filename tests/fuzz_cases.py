@@ -48,9 +48,11 @@ KINDS: dict[str, tuple[str, ...]] = {
     "reference": ("regress",),
     "trace": ("regress", "view"),
     "bench-folder": ("bench",),
-    "option": ("play", "bench", "validate", "render", "bounds", "regress", "patrol", "sneak", "check", "optimum"),
-    "patrol": ("evaluate", "sneak", "check"),
+    "option": ("play", "bench", "validate", "render", "bounds", "regress", "patrol", "sneak", "check", "optimum",
+               "alert"),
+    "patrol": ("evaluate", "sneak", "check", "alert"),
     "checks": ("check",),
+    "intruder-route": ("alert",),
     "movingai": ("import",),
     "png": ("import",),
     "tmx": ("import",),
@@ -514,11 +516,14 @@ _OPTIONS = {
     "sneak": ("--from", "--to", "--fov", "--max-cells"),
     "check": ("--max-cover-steps", "--max-idleness", "--guards", "--fov"),
     "optimum": ("--start", "--heading", "--fov", "--view-range", "--time-limit", "--max-expansions", "--memory-mb"),
+    "alert": ("--from", "--to", "--episodes", "--seed", "--max-seconds", "--intruder-speed", "--detect-near",
+              "--detect-far"),
 }  # fmt: skip
 #: Options whose value must be a finite number in a range: exit 0 with nan, inf or out of range is a bug.
 _FINITE = {"--fov": (0, 360), "--view-range": (0, math.inf), "--move-speed": (0, math.inf),
            "--turn-speed": (0, math.inf), "--tick-hz": (0, math.inf), "--max-seconds": (0, math.inf),
-           "--speed": (0, 1e6), "--time-limit": (0, math.inf)}  # fmt: skip
+           "--speed": (0, 1e6), "--time-limit": (0, math.inf), "--intruder-speed": (-1e-300, 1e6),
+           "--detect-near": (-1e-300, math.inf), "--detect-far": (-1e-300, math.inf)}  # fmt: skip
 
 
 def option_case(rng: np.random.Generator, command: str, templates: Templates | None = None) -> Case:
@@ -549,6 +554,15 @@ def option_case(rng: np.random.Generator, command: str, templates: Templates | N
         "optimum": ["--max-expansions", "20000", "--out", "{dir}/out.json"]
         if option != "--max-expansions"
         else ["--out", "{dir}/out.json"],
+        "alert": [
+            "--patrol",
+            "{dir}/in.patrol.json",
+            "--trace",
+            "{dir}/out.json",
+            *([] if option == "--from" else ["--from", _TINY_FROM]),
+            *([] if option == "--to" else ["--to", _TINY_TO]),
+            *([] if option == "--max-seconds" else ["--max-seconds", "20"]),
+        ],
     }.get(command, [])
     bad = False
     if option in _FINITE:
@@ -559,7 +573,7 @@ def option_case(rng: np.random.Generator, command: str, templates: Templates | N
         except ValueError:
             bad = True
     files = {"tiny.json": _TINY_LEVEL}
-    if command in ("sneak", "check"):
+    if command in ("sneak", "check", "alert"):
         assert templates is not None
         files["in.patrol.json"] = templates.patrol
     return Case(
@@ -744,9 +758,21 @@ def patrol_case(rng: np.random.Generator, command: str, templates: Templates) ->
         "sneak": (["sneak", "{dir}/tiny.json", "--patrol", "{dir}/in.patrol.json", "--from", _TINY_FROM,
                    "--to", _TINY_TO, "--out", "{dir}/out"], ["out/sneak.json", "out/hiding.png"]),
         "check": (["check", "{dir}/tiny.json", "--patrol", "{dir}/in.patrol.json", *_CHECK_RULES], []),
+        "alert": (["alert", "{dir}/tiny.json", "--patrol", "{dir}/in.patrol.json", "--from", _TINY_FROM,
+                   "--to", _TINY_TO, "--max-seconds", "20", "--trace", "{dir}/out.json"], ["out.json"]),
     }[command]  # fmt: skip
     files = {"tiny.json": _TINY_LEVEL, "in.patrol.json": content}
     return Case("patrol", command, files, args, "in.patrol.json", outputs, note=note)
+
+
+def intruder_route_case(rng: np.random.Generator, templates: Templates) -> Case:
+    """A damaged intruder route (JSON ``[[x, y], ...]``) read by ``alert --intruder route --route``."""
+    route = [[0.5, 0.5], [0.5, 5.5], [5.5, 5.5]]
+    content, note = _damaged_json(json.dumps(route).encode(), rng)
+    args = ["alert", "{dir}/tiny.json", "--patrol", "{dir}/in.patrol.json", "--intruder", "route", "--route",
+            "{dir}/route.json", "--max-seconds", "20", "--trace", "{dir}/out.json"]  # fmt: skip
+    files = {"tiny.json": _TINY_LEVEL, "in.patrol.json": templates.patrol, "route.json": content}
+    return Case("intruder-route", "alert", files, args, "route.json", ["out.json"], note=note)
 
 
 def checks_case(rng: np.random.Generator, templates: Templates) -> Case:
@@ -781,6 +807,9 @@ def generate(kind: str, command: str, rng: np.random.Generator, templates: Templ
     if kind in ("patrol", "checks"):
         assert templates is not None
         return patrol_case(rng, command, templates) if kind == "patrol" else checks_case(rng, templates)
+    if kind == "intruder-route":
+        assert templates is not None
+        return intruder_route_case(rng, templates)
     return {"movingai": movingai_case, "png": png_case, "tmx": tmx_case, "tiled-json": tiled_json_case}[kind](rng)
 
 

@@ -42,6 +42,7 @@ CASES = {
     "bench-folder": 100,
     "patrol": 90,
     "checks": 40,
+    "intruder-route": 30,
 }
 #: The seed of the CI cases: derandomised, so a failure here fails the same way on every machine.
 SEED = 16

@@ -10,6 +10,7 @@ from typing import TYPE_CHECKING
 import click
 
 from guardsim.cli.common import (
+    FiniteFloatRange,
     build_scene,
     detection_options,
     limit_options,
@@ -76,9 +77,9 @@ def _route_file(path: str, grid_cell: object) -> list[tuple[float, float]]:
 )
 @click.option("--episodes", type=click.IntRange(min=1, max=100_000), default=1, show_default=True)
 @click.option("--seed", type=click.IntRange(min=0), default=0, show_default=True, help="Seed for drawn starts.")
-@click.option("--max-seconds", type=click.FloatRange(min=0, min_open=True, max=1e6), default=300.0, show_default=True)
+@click.option("--max-seconds", type=FiniteFloatRange(min=0, min_open=True, max=1e6), default=300.0, show_default=True)
 @click.option(
-    "--intruder-speed", type=click.FloatRange(min=0, max=1e6), help="World units per second [default: the guard's]."
+    "--intruder-speed", type=FiniteFloatRange(min=0, max=1e6), help="World units per second [default: the guard's]."
 )
 @click.option(
     "--spotted",
