@@ -4,11 +4,14 @@ from __future__ import annotations
 
 import copy
 import json
+import sys
 from pathlib import Path
 from typing import Any
 
 import pytest
+from click.testing import CliRunner, Result
 
+from guardsim.cli import main
 from guardsim.level import Level, parse_level
 from guardsim.simulation import Scene
 
@@ -81,3 +84,31 @@ def write_level(folder: Path, data: Any, name: str = "level.json") -> Path:
     path = folder / name
     path.write_text(data if isinstance(data, str) else json.dumps(data), encoding="utf-8")
     return path
+
+
+# Running the command line: in-process, or as the real installed program.
+
+
+def run(*args: str | Path) -> Result:
+    """Invoke ``guardsim ARGS`` in-process, keeping stdout and stderr apart."""
+    return CliRunner().invoke(main, [str(arg) for arg in args])
+
+
+def assert_one_line_error(result: Result, path: Path) -> str:
+    """Exit status 2, exactly one stderr line ``guardsim: error: ...`` naming ``path``, and no traceback."""
+    assert "Traceback" not in result.output
+    assert isinstance(result.exception, SystemExit), result.exception
+    assert result.exit_code == 2
+    lines = result.stderr.splitlines()
+    assert len(lines) == 1, result.stderr
+    assert lines[0].startswith("guardsim: error: ")
+    assert str(path) in lines[0]
+    return lines[0]
+
+
+def guardsim_command() -> list[str]:
+    """The installed console script next to the interpreter, else its entry point through ``python -c``."""
+    script = Path(sys.executable).with_name("guardsim")
+    if script.exists():
+        return [str(script)]
+    return [sys.executable, "-c", "from guardsim.cli import main; main()"]

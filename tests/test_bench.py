@@ -31,8 +31,7 @@ from guardsim.level import load_level
 from guardsim.plots import StepsBox, plot_steps
 from guardsim.simulation import Scene, run_batch_episode
 from guardsim.trace import Trace
-from tests.common import EMPTY_SQUARE, L_ROOM, REPO, SQUARE_WITH_HOLE, write_level
-from tests.test_cli import guardsim_command
+from tests.common import EMPTY_SQUARE, L_ROOM, REPO, SQUARE_WITH_HOLE, guardsim_command, write_level
 
 SQUARE = REPO / "levels" / "square.json"
 #: A valid level in which the guard fits nowhere: every episode raises when it draws its start.

@@ -26,8 +26,16 @@ from guardsim.planners import PLANNERS, make_planner
 from guardsim.simulation import Scene, run_batch_episode, run_episode
 from guardsim.vision.rules import VisionFunction
 from guardsim.vision.table import view_table
-from tests.common import EMPTY_SQUARE, L_ROOM, LEVELS, SQUARE_WITH_HOLE, scene_from, shipped_levels, write_level
-from tests.test_cli import guardsim_command
+from tests.common import (
+    EMPTY_SQUARE,
+    L_ROOM,
+    LEVELS,
+    SQUARE_WITH_HOLE,
+    guardsim_command,
+    scene_from,
+    shipped_levels,
+    write_level,
+)
 
 #: A 1 x N corridor: a guard with view range 1 sees its own cell and the next one ahead.
 CORRIDOR_CELLS = 7

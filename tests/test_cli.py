@@ -8,36 +8,27 @@ from __future__ import annotations
 import json
 import re
 import subprocess
-import sys
 from pathlib import Path
 
 import imageio.v3 as iio
 import pytest
-from click.testing import CliRunner, Result
 
-from guardsim.cli import main
-from tests.common import EMPTY_SQUARE, LEVELS, REPO, SQUARE_WITH_HOLE, TRACE_KEYS, shipped_levels, write_level
+from tests.common import (
+    EMPTY_SQUARE,
+    LEVELS,
+    REPO,
+    SQUARE_WITH_HOLE,
+    TRACE_KEYS,
+    assert_one_line_error,
+    guardsim_command,
+    run,
+    shipped_levels,
+    write_level,
+)
 from tests.test_level import BAD_LEVELS, GRID_TIME_LEVELS, PILLAR, BadLevel, bad_params, changed
 
 SQUARE = REPO / "levels" / "square.json"
 ALL_BAD_LEVELS = {**BAD_LEVELS, **GRID_TIME_LEVELS}
-
-
-def run(*args: str | Path) -> Result:
-    """Invoke ``guardsim ARGS`` in-process, keeping stdout and stderr apart."""
-    return CliRunner().invoke(main, [str(arg) for arg in args])
-
-
-def assert_one_line_error(result: Result, path: Path) -> str:
-    """Exit status 2, exactly one stderr line ``guardsim: error: ...`` naming ``path``, and no traceback."""
-    assert "Traceback" not in result.output
-    assert isinstance(result.exception, SystemExit), result.exception
-    assert result.exit_code == 2
-    lines = result.stderr.splitlines()
-    assert len(lines) == 1, result.stderr
-    assert lines[0].startswith("guardsim: error: ")
-    assert str(path) in lines[0]
-    return lines[0]
 
 
 @bad_params(ALL_BAD_LEVELS, cli=True)
@@ -226,14 +217,6 @@ def test_render_bad_level_is_one_error_line(tmp_path: Path) -> None:
     line = assert_one_line_error(run("render", path, "--png", png), path)
     assert "cell_size: must be positive" in line
     assert not png.exists()
-
-
-def guardsim_command() -> list[str]:
-    """The installed console script next to the interpreter, else its entry point through ``python -c``."""
-    script = Path(sys.executable).with_name("guardsim")
-    if script.exists():
-        return [str(script)]
-    return [sys.executable, "-c", "from guardsim.cli import main; main()"]
 
 
 def test_console_script_bad_level(tmp_path: Path) -> None:

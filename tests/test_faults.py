@@ -20,8 +20,7 @@ from pathlib import Path
 import pytest
 
 from guardsim.experiment import read_results
-from tests.common import REPO, SQUARE_WITH_HOLE, write_level
-from tests.test_cli import guardsim_command
+from tests.common import REPO, SQUARE_WITH_HOLE, guardsim_command, write_level
 
 SQUARE = REPO / "levels" / "square.json"
 

@@ -13,8 +13,7 @@ from pathlib import Path
 import pytest
 
 from guardsim.render import FRAME_CEILING
-from tests.common import SQUARE_WITH_HOLE, write_level
-from tests.test_cli import assert_one_line_error, run
+from tests.common import SQUARE_WITH_HOLE, assert_one_line_error, run, write_level
 
 #: The 6 x 6 room with a pillar at cell size 0.5: a 12 x 12 grid, 8 vertices.
 LEVEL = {**SQUARE_WITH_HOLE, "cell_size": 0.5}

@@ -27,8 +27,7 @@ from guardsim.motion.follower import Follower
 from guardsim.scene import Scene
 from guardsim.trace import Trace
 from guardsim.vision.rules import LineOfSight
-from tests.common import LEVELS, REPO, TINY_LEVELS, level_from, scene_from, tiny_levels, write_level
-from tests.test_cli import guardsim_command
+from tests.common import LEVELS, REPO, TINY_LEVELS, guardsim_command, level_from, scene_from, tiny_levels, write_level
 
 MOTION = GuardMotion(move_speed=2.0, turn_speed=180.0, tick_hz=30.0)
 #: A corridor 20 long and 1 wide, seen only a step ahead.

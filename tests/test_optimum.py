@@ -27,9 +27,8 @@ from guardsim.optimum.residual import residual_goal
 from guardsim.simulation import Scene
 from guardsim.vision.rules import VisionFunction
 from guardsim.vision.table import view_table
-from tests.common import EMPTY_SQUARE, scene_from, write_level
+from tests.common import EMPTY_SQUARE, guardsim_command, scene_from, write_level
 from tests.test_bounds import CORRIDOR, SHORT_SIGHTED, optimum_steps, short_sighted, starts
-from tests.test_cli import guardsim_command
 
 
 def assert_covering_walk(

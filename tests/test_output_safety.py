@@ -17,8 +17,7 @@ from pathlib import Path
 import imageio.v3 as iio
 import pytest
 
-from tests.common import REPO, SQUARE_WITH_HOLE, write_level
-from tests.test_cli import assert_one_line_error, guardsim_command, run
+from tests.common import REPO, SQUARE_WITH_HOLE, assert_one_line_error, guardsim_command, run, write_level
 
 #: Runs the real command line in a child that stops itself (SIGSTOP) at one audit event on the temporary
 #: file of the output, so the parent can kill it at exactly that point: nothing is replaced or mocked.
@@ -107,9 +106,16 @@ def test_sigkill_during_a_long_run_keeps_the_old_gif(tmp_path: Path) -> None:
         stdout=subprocess.DEVNULL,
         stderr=subprocess.DEVNULL,
     )
-    time.sleep(1.5)
+    # Kill it while the GIF is being written: once its temporary file exists, not after a guessed delay.
+    temporary: list[str] = []
+    for _ in range(60_000):
+        temporary = [name for name in os.listdir(tmp_path) if name.startswith(".out.gif.")]
+        if temporary or child.poll() is not None:
+            break
+        time.sleep(0.001)
     child.kill()
     child.wait(timeout=60)
+    assert temporary, "the run never started writing the GIF"
     assert child.returncode == -signal.SIGKILL, "the run ended before it could be killed"
     assert_old_output_intact(tmp_path, "out.gif", old)
 

@@ -34,8 +34,17 @@ from guardsim.simulation import (
 )
 from guardsim.trace import Trace
 from guardsim.vision.table import view_table
-from tests.common import L_ROOM, LEVELS, TINY_LEVELS, level_from, scene_from, shipped_levels, tiny_levels, write_level
-from tests.test_cli import guardsim_command
+from tests.common import (
+    L_ROOM,
+    LEVELS,
+    TINY_LEVELS,
+    guardsim_command,
+    level_from,
+    scene_from,
+    shipped_levels,
+    tiny_levels,
+    write_level,
+)
 
 #: Planners expected to cover a level within the loop's step limit (the random walk is not).
 COVERING = [name for name in PLANNERS if name != "random-walk"]

@@ -38,7 +38,7 @@ from guardsim.level import check_level_data, parse_level
 from guardsim.planners import RippleFront
 from guardsim.simulation import Scene, choose_start, default_max_steps, run_episode
 from guardsim.trace import OUTCOMES, Trace
-from tests.test_cli import guardsim_command
+from tests.common import guardsim_command
 
 SCALE = int(os.environ.get("GUARDSIM_PROPERTY_SCALE", "1"))
 #: Small enough that a valid random level rasterises in milliseconds.

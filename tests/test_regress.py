@@ -16,8 +16,7 @@ import numpy as np
 import pytest
 
 from guardsim.regress import KEY_PERCENTS, REFERENCE_FRAME_SIZE, Tolerance, compare_frames
-from tests.common import LEVELS, REPO, SQUARE_WITH_HOLE, write_level
-from tests.test_cli import assert_one_line_error, guardsim_command, run
+from tests.common import LEVELS, REPO, SQUARE_WITH_HOLE, assert_one_line_error, guardsim_command, run, write_level
 
 RENDERS = REPO / "renders"
 SQUARE = REPO / "levels" / "square.json"

@@ -19,8 +19,7 @@ import pytest
 from click.testing import Result
 
 from guardsim.reading import EXCERPT_CHARS
-from tests.common import EMPTY_SQUARE, SQUARE_WITH_HOLE, write_level
-from tests.test_cli import guardsim_command, run
+from tests.common import EMPTY_SQUARE, SQUARE_WITH_HOLE, guardsim_command, run, write_level
 
 SQUARE_ROOM = {"outer": [[0, 0], [10, 0], [10, 10], [0, 10]]}
 
