@@ -3,6 +3,7 @@
 from __future__ import annotations
 
 import copy
+import csv
 import json
 import sys
 from pathlib import Path
@@ -12,6 +13,7 @@ import pytest
 from click.testing import CliRunner, Result
 
 from guardsim.cli import main
+from guardsim.experiment import TIMED_COLUMNS
 from guardsim.level import Level, parse_level
 from guardsim.simulation import Scene
 
@@ -94,7 +96,7 @@ def run(*args: str | Path) -> Result:
     return CliRunner().invoke(main, [str(arg) for arg in args])
 
 
-def assert_one_line_error(result: Result, path: Path) -> str:
+def assert_one_line_error(result: Result, path: Path | str) -> str:
     """Exit status 2, exactly one stderr line ``guardsim: error: ...`` naming ``path``, and no traceback."""
     assert "Traceback" not in result.output
     assert isinstance(result.exception, SystemExit), result.exception
@@ -112,3 +114,24 @@ def guardsim_command() -> list[str]:
     if script.exists():
         return [str(script)]
     return [sys.executable, "-c", "from guardsim.cli import main; main()"]
+
+
+# guardsim bench: the shipped Square, a run in-process, its results table.
+
+SQUARE = REPO / "levels" / "square.json"
+
+
+def bench(*args: str | Path) -> Result:
+    """Invoke ``guardsim bench ARGS`` in-process, keeping stdout and stderr apart."""
+    return CliRunner().invoke(main, ["bench", *(str(arg) for arg in args)])
+
+
+def rows(folder: Path) -> list[dict[str, str]]:
+    """The rows of ``folder/results.csv`` as dictionaries."""
+    with (folder / "results.csv").open(encoding="utf-8", newline="") as stream:
+        return list(csv.DictReader(stream))
+
+
+def without_seconds(table: list[dict[str, str]]) -> list[dict[str, str]]:
+    """Rows minus the wall-time columns (seconds, plan_us_per_step), the columns that are not deterministic."""
+    return [{name: value for name, value in row.items() if name not in TIMED_COLUMNS} for row in table]

@@ -7,7 +7,6 @@ The Dask path is in ``tests/test_bench_cluster.py``.
 
 from __future__ import annotations
 
-import csv
 import io
 import json
 import os
@@ -21,37 +20,31 @@ import imageio.v3 as iio
 import numpy as np
 import psutil
 import pytest
-from click.testing import CliRunner, Result
+from click.testing import CliRunner
 
 from guardsim.cli import main
 from guardsim.cli.bench import ProgressLine
 from guardsim.executors import LocalPool
-from guardsim.experiment import CSV_COLUMNS, RUN_NAME, TIMED_COLUMNS, EpisodeRecord, read_results
+from guardsim.experiment import CSV_COLUMNS, RUN_NAME, EpisodeRecord, read_results
 from guardsim.level import load_level
 from guardsim.plots import StepsBox, plot_steps
 from guardsim.simulation import Scene, run_batch_episode
 from guardsim.trace import Trace
-from tests.common import EMPTY_SQUARE, L_ROOM, REPO, SQUARE_WITH_HOLE, guardsim_command, write_level
+from tests.common import (
+    EMPTY_SQUARE,
+    L_ROOM,
+    SQUARE,
+    SQUARE_WITH_HOLE,
+    assert_one_line_error,
+    bench,
+    guardsim_command,
+    rows,
+    without_seconds,
+    write_level,
+)
 
-SQUARE = REPO / "levels" / "square.json"
 #: A valid level in which the guard fits nowhere: every episode raises when it draws its start.
 NO_ROOM = {**EMPTY_SQUARE, "name": "no room", "guard": {"radius": 2.5}}
-
-
-def bench(*args: str | Path) -> Result:
-    """Invoke ``guardsim bench ARGS`` in-process, keeping stdout and stderr apart."""
-    return CliRunner().invoke(main, ["bench", *(str(arg) for arg in args)])
-
-
-def rows(folder: Path) -> list[dict[str, str]]:
-    """The rows of ``folder/results.csv`` as dictionaries."""
-    with (folder / "results.csv").open(encoding="utf-8", newline="") as stream:
-        return list(csv.DictReader(stream))
-
-
-def without_seconds(table: list[dict[str, str]]) -> list[dict[str, str]]:
-    """Rows minus the wall-time columns (seconds, plan_us_per_step), the columns that are not deterministic."""
-    return [{name: value for name, value in row.items() if name not in TIMED_COLUMNS} for row in table]
 
 
 @pytest.fixture
@@ -225,17 +218,6 @@ def test_resume_refuses_a_changed_level_file(tmp_path: Path) -> None:
     write_level(tmp_path, {**SQUARE_WITH_HOLE, "name": "renamed"})
     line = assert_one_line_error(bench(level, "--episodes", "2", "--workers", "1", "--out", out), out / RUN_NAME)
     assert "levels:" in line
-
-
-def assert_one_line_error(result: Result, named: Path | str) -> str:
-    """Exit status 2 and exactly one ``guardsim: error:`` line on stderr naming ``named``; no traceback."""
-    assert "Traceback" not in result.output
-    assert result.exit_code == 2, result.output
-    lines = result.stderr.splitlines()
-    assert len(lines) == 1, result.stderr
-    assert lines[0].startswith("guardsim: error: ")
-    assert str(named) in lines[0]
-    return lines[0]
 
 
 def test_bad_inputs_are_one_line_errors(tmp_path: Path) -> None:

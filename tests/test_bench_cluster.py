@@ -11,8 +11,7 @@ import pytest
 
 from guardsim.errors import GuardsimError
 from guardsim.executors import DaskCluster
-from tests.common import SQUARE_WITH_HOLE, write_level
-from tests.test_bench import SQUARE, assert_one_line_error, bench, rows, without_seconds
+from tests.common import SQUARE, SQUARE_WITH_HOLE, assert_one_line_error, bench, rows, without_seconds, write_level
 
 distributed = pytest.importorskip("distributed")
 

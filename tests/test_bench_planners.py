@@ -19,8 +19,16 @@ from guardsim.experiment import RUN_NAME
 from guardsim.level import HEADINGS, load_level
 from guardsim.planners import PLANNERS
 from guardsim.simulation import run_batch_episode
-from tests.common import LEVELS, SQUARE_WITH_HOLE, write_level
-from tests.test_bench import SQUARE, assert_one_line_error, bench, rows, without_seconds
+from tests.common import (
+    LEVELS,
+    SQUARE,
+    SQUARE_WITH_HOLE,
+    assert_one_line_error,
+    bench,
+    rows,
+    without_seconds,
+    write_level,
+)
 
 ALL_PLANNERS = ",".join(PLANNERS)
 BOUND_COLUMNS = ("best_bound", "eccentricity_bound", "cluster_bound")

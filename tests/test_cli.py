@@ -13,6 +13,7 @@ from pathlib import Path
 import imageio.v3 as iio
 import pytest
 
+from tests.bad_levels import BAD_LEVELS, GRID_TIME_LEVELS, PILLAR, BadLevel, bad_params, changed
 from tests.common import (
     EMPTY_SQUARE,
     LEVELS,
@@ -25,7 +26,6 @@ from tests.common import (
     shipped_levels,
     write_level,
 )
-from tests.test_level import BAD_LEVELS, GRID_TIME_LEVELS, PILLAR, BadLevel, bad_params, changed
 
 SQUARE = REPO / "levels" / "square.json"
 ALL_BAD_LEVELS = {**BAD_LEVELS, **GRID_TIME_LEVELS}

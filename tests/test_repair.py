@@ -16,8 +16,8 @@ from shapely.geometry import Polygon
 from guardsim.cli import main
 from guardsim.level import check_level_data, load_level
 from guardsim.repair import repair_level_data
+from tests.bad_levels import changed
 from tests.common import LEVELS, SQUARE_WITH_HOLE, TINY_LEVELS, shipped_levels, tiny_levels, write_level
-from tests.test_level import changed
 
 OUTER = [[0, 0], [10, 0], [10, 10], [0, 10]]
 

@@ -19,8 +19,8 @@ from click.testing import CliRunner
 from guardsim.cli import main
 from guardsim.level import check_level_data
 from guardsim.schema import level_schema
+from tests.bad_levels import BAD_LEVELS, changed, guard_changed
 from tests.common import EMPTY_SQUARE, LEVELS, TINY_LEVELS, shipped_levels, tiny_levels
-from tests.test_level import BAD_LEVELS, changed, guard_changed
 
 jsonschema = pytest.importorskip("jsonschema", reason="pip install -e '.[test]' brings jsonschema")
 
