@@ -9,6 +9,7 @@ import sys
 from pathlib import Path
 from typing import Any
 
+import numpy as np
 import pytest
 from click.testing import CliRunner, Result
 
@@ -16,6 +17,7 @@ from guardsim.cli import main
 from guardsim.experiment import TIMED_COLUMNS
 from guardsim.level import Level, parse_level
 from guardsim.simulation import Scene
+from guardsim.vision.rules import VisionFunction
 
 REPO = Path(__file__).resolve().parent.parent
 LEVELS = sorted((REPO / "levels").glob("*.json"))
@@ -135,3 +137,83 @@ def rows(folder: Path) -> list[dict[str, str]]:
 def without_seconds(table: list[dict[str, str]]) -> list[dict[str, str]]:
     """Rows minus the wall-time columns (seconds, plan_us_per_step), the columns that are not deterministic."""
     return [{name: value for name, value in row.items() if name not in TIMED_COLUMNS} for row in table]
+
+
+# Small levels several test files share.
+
+#: Two 3 x 3 rooms joined by a corridor one cell wide (patrols, sneaks, posts).
+TWO_ROOMS: dict[str, Any] = {
+    "name": "corridor",
+    "outer": [[0, 0], [3, 0], [3, 1], [8, 1], [8, 0], [11, 0], [11, 3], [8, 3], [8, 2], [3, 2], [3, 3], [0, 3]],
+    "guard": {"start": [0.5, 0.5], "heading": "right", "radius": 0.3},
+}
+
+#: A 1 x N corridor: a guard with view range 1 sees its own cell and the next one ahead.
+STRIP_CELLS = 7
+STRIP: dict[str, Any] = {
+    "name": "corridor",
+    "outer": [[0, 0], [STRIP_CELLS, 0], [STRIP_CELLS, 1], [0, 1]],
+    "guard": {"view_range": 1.0},
+}
+
+#: Tiny levels with short sight, so that seeing everything takes several steps and turns.
+SHORT_SIGHTED: dict[str, dict[str, Any]] = {
+    "corridor": STRIP,
+    "room-3x5": {"name": "room 3 x 5", "outer": [[0, 0], [5, 0], [5, 3], [0, 3]], "guard": {"view_range": 1.5}},
+    "l-room": {**L_ROOM, "guard": {"view_range": 1.5}},
+    "pillar": {**SQUARE_WITH_HOLE, "guard": {"view_range": 1.5}},
+    "pillar-range-2": {**SQUARE_WITH_HOLE, "guard": {"view_range": 2.0}},
+    "empty-square": {**EMPTY_SQUARE, "guard": {"view_range": 1.0}},
+}
+short_sighted = pytest.mark.parametrize("name", list(SHORT_SIGHTED), ids=list(SHORT_SIGHTED))
+
+#: A 24 x 24 room with a 4 x 4 pillar and a 90-degree cone of range 4 (tours and their polish).
+OPEN_ROOM = {
+    "name": "open room",
+    "outer": [[0, 0], [24, 0], [24, 24], [0, 24]],
+    "holes": [[[10, 10], [14, 10], [14, 14], [10, 14]]],
+    "guard": {"start": [1.5, 1.5], "heading": "right", "view_range": 4.0, "fov_degrees": 90.0},
+}
+
+
+def optimum_steps(scene: Scene, start: tuple[int, int], heading: int, vision: VisionFunction) -> int:
+    """The fewest steps after which a guard from ``(start, heading)`` has seen every reachable cell.
+
+    Breadth-first over (state, seen goal cells as a bitmask): the first layer holding a full mask.
+    """
+    grid = scene.grid
+    goal = np.flatnonzero(grid.component(*start).ravel()).tolist()
+    bit = {cell: 1 << number for number, cell in enumerate(goal)}
+    full = (1 << len(goal)) - 1
+    masks: dict[int, int] = {}
+
+    def mask(state: int) -> int:
+        if state not in masks:
+            col, row = grid.unflat(state // 4)
+            masks[state] = sum(bit.get(int(cell), 0) for cell in vision(col, row, state % 4))
+        return masks[state]
+
+    neighbours = grid.neighbours.tolist()
+    first = grid.flat(*start) * 4 + heading
+    layer = {(first, mask(first))}
+    visited = set(layer)
+    steps = 0
+    while not any(seen == full for _, seen in layer):
+        following = set()
+        for state, seen in layer:
+            for direction, cell in enumerate(neighbours[state // 4]):
+                if cell >= 0:
+                    pair = (cell * 4 + direction, seen | mask(cell * 4 + direction))
+                    if pair not in visited:
+                        visited.add(pair)
+                        following.add(pair)
+        layer = following
+        steps += 1
+    return steps
+
+
+def starts(scene: Scene, most: int = 8) -> list[tuple[int, int]]:
+    """Up to ``most`` traversable cells spread evenly over the level, in row order."""
+    cells = np.flatnonzero(scene.grid.traversable.ravel())
+    picked = cells[np.linspace(0, cells.size - 1, min(most, cells.size)).round().astype(int)]
+    return [scene.grid.unflat(int(cell)) for cell in np.unique(picked)]

@@ -28,78 +28,23 @@ from guardsim.vision.rules import VisionFunction
 from guardsim.vision.table import view_table
 from tests.common import (
     EMPTY_SQUARE,
-    L_ROOM,
     LEVELS,
+    SHORT_SIGHTED,
     SQUARE_WITH_HOLE,
+    STRIP,
+    STRIP_CELLS,
     guardsim_command,
+    optimum_steps,
     scene_from,
     shipped_levels,
+    short_sighted,
+    starts,
     write_level,
 )
 
-#: A 1 x N corridor: a guard with view range 1 sees its own cell and the next one ahead.
-CORRIDOR_CELLS = 7
-CORRIDOR: dict[str, Any] = {
-    "name": "corridor",
-    "outer": [[0, 0], [CORRIDOR_CELLS, 0], [CORRIDOR_CELLS, 1], [0, 1]],
-    "guard": {"view_range": 1.0},
-}
-
-#: Tiny levels with short sight, so that seeing everything takes several steps and turns.
-SHORT_SIGHTED: dict[str, dict[str, Any]] = {
-    "corridor": CORRIDOR,
-    "room-3x5": {"name": "room 3 x 5", "outer": [[0, 0], [5, 0], [5, 3], [0, 3]], "guard": {"view_range": 1.5}},
-    "l-room": {**L_ROOM, "guard": {"view_range": 1.5}},
-    "pillar": {**SQUARE_WITH_HOLE, "guard": {"view_range": 1.5}},
-    "pillar-range-2": {**SQUARE_WITH_HOLE, "guard": {"view_range": 2.0}},
-    "empty-square": {**EMPTY_SQUARE, "guard": {"view_range": 1.0}},
-}
 #: Levels where the best bound equals the optimum from at least one of the starts tried.
 EXACT_SOMEWHERE = {"corridor", "room-3x5", "l-room"}
-short_sighted = pytest.mark.parametrize("name", list(SHORT_SIGHTED), ids=list(SHORT_SIGHTED))
 
-
-def optimum_steps(scene: Scene, start: tuple[int, int], heading: int, vision: VisionFunction) -> int:
-    """The fewest steps after which a guard from ``(start, heading)`` has seen every reachable cell.
-
-    Breadth-first over (state, seen goal cells as a bitmask): the first layer holding a full mask.
-    """
-    grid = scene.grid
-    goal = np.flatnonzero(grid.component(*start).ravel()).tolist()
-    bit = {cell: 1 << number for number, cell in enumerate(goal)}
-    full = (1 << len(goal)) - 1
-    masks: dict[int, int] = {}
-
-    def mask(state: int) -> int:
-        if state not in masks:
-            col, row = grid.unflat(state // 4)
-            masks[state] = sum(bit.get(int(cell), 0) for cell in vision(col, row, state % 4))
-        return masks[state]
-
-    neighbours = grid.neighbours.tolist()
-    first = grid.flat(*start) * 4 + heading
-    layer = {(first, mask(first))}
-    visited = set(layer)
-    steps = 0
-    while not any(seen == full for _, seen in layer):
-        following = set()
-        for state, seen in layer:
-            for direction, cell in enumerate(neighbours[state // 4]):
-                if cell >= 0:
-                    pair = (cell * 4 + direction, seen | mask(cell * 4 + direction))
-                    if pair not in visited:
-                        visited.add(pair)
-                        following.add(pair)
-        layer = following
-        steps += 1
-    return steps
-
-
-def starts(scene: Scene, most: int = 8) -> list[tuple[int, int]]:
-    """Up to ``most`` traversable cells spread evenly over the level, in row order."""
-    cells = np.flatnonzero(scene.grid.traversable.ravel())
-    picked = cells[np.linspace(0, cells.size - 1, min(most, cells.size)).round().astype(int)]
-    return [scene.grid.unflat(int(cell)) for cell in np.unique(picked)]
 
 
 def own_cell_only(scene: Scene) -> VisionFunction:
@@ -140,7 +85,7 @@ ROOM_2X4: dict[str, Any] = {"name": "room 2 x 4", "outer": [[0, 0], [4, 0], [4, 
     [
         ("bresenham", SHORT_SIGHTED["l-room"]),
         ("bresenham", SHORT_SIGHTED["pillar"]),
-        ("own-cell", CORRIDOR),
+        ("own-cell", STRIP),
         ("own-cell", ROOM_2X4),
     ],
     ids=["bresenham-l-room", "bresenham-pillar", "own-cell-corridor", "own-cell-room-2x4"],
@@ -179,7 +124,7 @@ def test_own_cell_eccentricity_is_the_farthest_walk() -> None:
         assert lower_bounds(scene, (0, 0), heading, own_cell_only(scene)).eccentricity == max(moves.values())
 
 
-@pytest.mark.parametrize("middle", range(2, CORRIDOR_CELLS - 2))
+@pytest.mark.parametrize("middle", range(2, STRIP_CELLS - 2))
 def test_corridor_cluster_bound_is_exact(middle: int) -> None:
     """From cell m of an N-cell corridor, facing right (2 <= m <= N - 3), worked out by hand.
 
@@ -188,19 +133,19 @@ def test_corridor_cluster_bound_is_exact(middle: int) -> None:
     so the cluster bound is N - 3 + min(m - 1, N - 2 - m); walking to the nearer end and then to the
     other achieves it, so it is the optimum.
     """
-    scene = scene_from(CORRIDOR)
-    expected = CORRIDOR_CELLS - 3 + min(middle - 1, CORRIDOR_CELLS - 2 - middle)
+    scene = scene_from(STRIP)
+    expected = STRIP_CELLS - 3 + min(middle - 1, STRIP_CELLS - 2 - middle)
     bounds = lower_bounds(scene, (middle, 0), 0)
     assert bounds.cluster == expected == optimum_steps(scene, (middle, 0), 0, scene.vision())
-    assert bounds.eccentricity == max(middle - 1, CORRIDOR_CELLS - 2 - middle) < expected
+    assert bounds.eccentricity == max(middle - 1, STRIP_CELLS - 2 - middle) < expected
 
 
 def test_corridor_eccentricity_is_exact_from_the_end() -> None:
     """From cell 0 facing right, the far end is first seen from (N-2, right): N - 2 steps, the optimum."""
-    scene = scene_from(CORRIDOR)
+    scene = scene_from(STRIP)
     bounds = lower_bounds(scene, (0, 0), 0)
-    assert bounds.eccentricity == CORRIDOR_CELLS - 2 == optimum_steps(scene, (0, 0), 0, scene.vision())
-    assert bounds.best == CORRIDOR_CELLS - 2
+    assert bounds.eccentricity == STRIP_CELLS - 2 == optimum_steps(scene, (0, 0), 0, scene.vision())
+    assert bounds.best == STRIP_CELLS - 2
 
 
 def test_seen_from_the_start_means_zero() -> None:
@@ -306,7 +251,7 @@ def test_bounds_are_deterministic() -> None:
 
 def test_cli_prints_the_bounds(tmp_path: Path) -> None:
     """`guardsim bounds` on the corridor from its middle: the hand-worked figures and the timings."""
-    path = write_level(tmp_path, CORRIDOR)
+    path = write_level(tmp_path, STRIP)
     result = CliRunner().invoke(main, ["bounds", str(path), "--start", "3.5,0.5", "--heading", "right"])
     assert result.exit_code == 0, result.output
     assert result.stdout.startswith("corridor: from cell [3, 0] facing right (7 reachable cells): ")
@@ -335,7 +280,7 @@ def test_cli_bad_start_is_one_line(tmp_path: Path) -> None:
 
 def test_console_script_bounds(tmp_path: Path) -> None:
     """The real `guardsim bounds` process with the Bresenham rule."""
-    path = write_level(tmp_path, CORRIDOR)
+    path = write_level(tmp_path, STRIP)
     completed = subprocess.run(
         [
             *guardsim_command(),

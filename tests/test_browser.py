@@ -24,6 +24,7 @@ from guardsim.level import load_level
 from guardsim.render import COLOURS
 from guardsim.trace import Trace
 from guardsim.viewer import write_viewer
+from tests.common import TWO_ROOMS
 from tests.test_viewer import big_trace
 
 CHROMIUM = next((path for path in map(shutil.which, ("chromium", "chromium-browser")) if path), None)
@@ -564,11 +565,10 @@ def detection_page(tmp_path_factory) -> tuple[Path, dict]:
     """`sneak --html` past the corridor post with slow detection and two safe spots (one never seen,
     one in the post's view): the page and its sneak.json."""
     from tests.common import write_level
-    from tests.test_patrol import CORRIDOR
     from tests.test_viewer import CORRIDOR_POST
 
     folder = tmp_path_factory.mktemp("detection-page")
-    level = write_level(folder, CORRIDOR, "corridor.json")
+    level = write_level(folder, TWO_ROOMS, "corridor.json")
     (folder / "post.json").write_text(json.dumps(CORRIDOR_POST))
     args = ["--from", "0.5,0.5", "--to", "10.5,2.5", "--out", str(folder / "c"), "--html", *SLOW_DETECTION]
     args += ["--safe", "0.5,2.5", "--safe", "6.5,1.5"]

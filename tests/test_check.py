@@ -11,8 +11,7 @@ from click.testing import CliRunner
 
 from guardsim.checks import CheckRules, SafeRule, SneakRule, run_checks
 from guardsim.cli import main
-from tests.common import SPLIT_ROOMS, scene_from, write_level
-from tests.test_patrol import CORRIDOR
+from tests.common import SPLIT_ROOMS, TWO_ROOMS, scene_from, write_level
 
 POST = {"shape": [3, 11], "guards": [{"loop": [[5, 1]], "headings": [0]}]}
 #: A guard pacing the corridor, [3, 1] to [7, 1] and back: an 8-tick lap. Facing right from [7, 1] (lap
@@ -27,7 +26,7 @@ PACER = {"shape": [3, 11], "guards": [PACER_GUARD]}
 
 @pytest.fixture
 def corridor(tmp_path: Path) -> tuple[Path, Path]:
-    level = write_level(tmp_path, CORRIDOR)
+    level = write_level(tmp_path, TWO_ROOMS)
     post = tmp_path / "post.json"
     post.write_text(json.dumps(POST))
     return level, post
@@ -40,7 +39,7 @@ def _run(*args: str) -> tuple[int, list[str]]:
 
 def _measured() -> tuple[int, int]:
     """The corridor's cover steps (ripplefront) and its loop's worst idleness, to set limits around."""
-    scene = scene_from(CORRIDOR)
+    scene = scene_from(TWO_ROOMS)
     results = run_checks(scene, CheckRules(max_cover_steps=0, max_idleness=0))
     steps = int(results[0].message.split(" in ")[1].split()[0])
     idleness = int(results[1].message.split(" is ")[1].split()[0])
@@ -79,7 +78,7 @@ def test_no_unreachable() -> None:
     # The split rooms: the wall leaves the right room out of the guard's reach.
     results = run_checks(scene_from(SPLIT_ROOMS), CheckRules(no_unreachable=True))
     assert [result.holds for result in results] == [False]
-    assert run_checks(scene_from(CORRIDOR), CheckRules(no_unreachable=True))[0].holds
+    assert run_checks(scene_from(TWO_ROOMS), CheckRules(no_unreachable=True))[0].holds
 
 
 def test_rules_from_a_checks_file(corridor: tuple[Path, Path], tmp_path: Path) -> None:
@@ -151,7 +150,7 @@ def test_integers_past_float_range_in_a_checks_file_are_one_line(
 
 
 def test_sneak_rule_library_call() -> None:
-    scene = scene_from(CORRIDOR)
+    scene = scene_from(TWO_ROOMS)
     [result] = run_checks(scene, CheckRules(sneaks=(SneakRule((0.5, 0.5), (10.5, 2.5), "sneaks"),)))
     assert result.holds and "unseen path" in result.message
 
@@ -227,7 +226,7 @@ def test_an_undetected_safe_spot_may_be_seen_briefly(corridor: tuple[Path, Path]
         0,
         [f"{level}: all 1 rule holds"],
     )
-    [result] = run_checks(scene_from(CORRIDOR), CheckRules(patrol=pacer, safe=(SafeRule((9.5, 0.5)),), undetected=True))
+    [result] = run_checks(scene_from(TWO_ROOMS), CheckRules(patrol=pacer, safe=(SafeRule((9.5, 0.5)),), undetected=True))
     assert result == (
         "safe 9.5,0.5",
         True,

@@ -32,8 +32,7 @@ from guardsim.sneak import find_sneak, sneak_check
 from guardsim.sneak.grade import grade_path
 from guardsim.sneak.graded import undetected_search
 from guardsim.vision.table import ViewTable
-from tests.common import TINY_LEVELS, scene_from, write_level
-from tests.test_patrol import CORRIDOR
+from tests.common import TINY_LEVELS, TWO_ROOMS, scene_from, write_level
 from tests.test_sneak import _corridor_post, _random_loop
 
 # --- The meter ---
@@ -251,7 +250,7 @@ def test_seen_is_caught_reproduces_the_unseen_answers() -> None:
 def test_a_corridor_post_is_slipped_past_undetected_but_not_unseen() -> None:
     """A guard facing down the corridor's side sees the intruder pass at its side for a tick or two; its
     meter does not fill, so there is an undetected path but no unseen one."""
-    scene = scene_from(CORRIDOR)
+    scene = scene_from(TWO_ROOMS)
     setup = patrol_setup(scene)
     grid = scene.grid
     source, target = grid.flat(0, 0), grid.flat(10, 2)
@@ -320,7 +319,7 @@ def test_time_to_detection_agrees_with_standing_there(model: DetectionModel) -> 
 
 
 def test_sneak_undetected_command_prints_and_writes_the_grade(tmp_path: Path) -> None:
-    level = write_level(tmp_path, CORRIDOR)
+    level = write_level(tmp_path, TWO_ROOMS)
     patrol = tmp_path / "post.json"
     patrol.write_text(json.dumps({"shape": [3, 11], "guards": [{"loop": [[5, 1]], "headings": [1]}]}))
     out = tmp_path / "out"

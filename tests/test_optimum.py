@@ -27,8 +27,17 @@ from guardsim.optimum.residual import residual_goal
 from guardsim.simulation import Scene
 from guardsim.vision.rules import VisionFunction
 from guardsim.vision.table import view_table
-from tests.common import EMPTY_SQUARE, guardsim_command, scene_from, write_level
-from tests.test_bounds import CORRIDOR, SHORT_SIGHTED, optimum_steps, short_sighted, starts
+from tests.common import (
+    EMPTY_SQUARE,
+    SHORT_SIGHTED,
+    STRIP,
+    guardsim_command,
+    optimum_steps,
+    scene_from,
+    short_sighted,
+    starts,
+    write_level,
+)
 
 
 def assert_covering_walk(
@@ -228,7 +237,7 @@ def test_a_stopped_search_whose_walk_meets_its_bound_is_proved() -> None:
 
 def test_cli_prints_and_writes_the_optimum(tmp_path: Path) -> None:
     """`guardsim optimum` on the corridor from its middle: 6 steps, proved, and the JSON walk."""
-    path = write_level(tmp_path, CORRIDOR)
+    path = write_level(tmp_path, STRIP)
     out = tmp_path / "optimum.json"
     result = CliRunner().invoke(
         main, ["optimum", str(path), "--start", "3.5,0.5", "--heading", "right", "--out", str(out)]
@@ -241,7 +250,7 @@ def test_cli_prints_and_writes_the_optimum(tmp_path: Path) -> None:
 
 
 def test_cli_bad_start_is_one_line(tmp_path: Path) -> None:
-    path = write_level(tmp_path, CORRIDOR)
+    path = write_level(tmp_path, STRIP)
     result = CliRunner().invoke(main, ["optimum", str(path), "--start", "9,9"])
     assert result.exit_code == 2
     assert result.stderr.splitlines() == [f"guardsim: error: {path}: start (9, 9) lies outside the level"]

@@ -23,14 +23,9 @@ from guardsim.patrol.export import route_data
 from guardsim.patrol.loops import closed_tour
 from guardsim.patrol.scoring import score_timeline, seen_timeline
 from guardsim.scene import Scene
-from tests.common import LEVELS, TINY_LEVELS, scene_from, tiny_levels, write_level
+from tests.common import LEVELS, TINY_LEVELS, TWO_ROOMS, scene_from, tiny_levels, write_level
 
 #: A corridor one cell wide and five long between two 3 x 3 rooms (x 0-3 and 8-11, y 0-3; corridor y 1-2).
-CORRIDOR: dict[str, Any] = {
-    "name": "corridor",
-    "outer": [[0, 0], [3, 0], [3, 1], [8, 1], [8, 0], [11, 0], [11, 3], [8, 3], [8, 2], [3, 2], [3, 3], [0, 3]],
-    "guard": {"start": [0.5, 0.5], "heading": "right", "radius": 0.3},
-}
 
 
 def _replay_sees(scene: Scene, patrol: Patrol, start: int, ticks: int) -> np.ndarray:
@@ -155,7 +150,7 @@ def _post_file(folder: Path, cell: list[int], heading: int, **changes: Any) -> P
 
 
 def test_evaluate_a_hand_written_post(tmp_path: Path) -> None:
-    level = write_level(tmp_path, CORRIDOR)
+    level = write_level(tmp_path, TWO_ROOMS)
     post = _post_file(tmp_path, [5, 1], 0)
     result = CliRunner().invoke(main, ["patrol", str(level), "--out", str(tmp_path / "out"), "--evaluate", str(post)])
     assert result.exit_code == 0, result.output
@@ -190,7 +185,7 @@ def test_evaluate_a_hand_written_post(tmp_path: Path) -> None:
     ids=["heading", "jump", "turn-on-the-spot", "open", "wall", "off-grid", "bad-heading", "count"],
 )
 def test_bad_patrol_files_are_one_located_line(tmp_path: Path, guard: dict[str, Any], message: str) -> None:
-    level = write_level(tmp_path, CORRIDOR)
+    level = write_level(tmp_path, TWO_ROOMS)
     path = tmp_path / "bad.json"
     path.write_text(json.dumps({"shape": [3, 11], "guards": [guard]}), encoding="utf-8")
     result = CliRunner().invoke(main, ["patrol", str(level), "--out", str(tmp_path / "o"), "--evaluate", str(path)])
@@ -219,7 +214,7 @@ def test_bad_patrol_files_are_one_located_line(tmp_path: Path, guard: dict[str, 
     ids=["array", "no-shape", "shape", "guards", "period", "motion", "syntax"],
 )
 def test_bad_patrol_documents(tmp_path: Path, text: str, message: str) -> None:
-    level = write_level(tmp_path, CORRIDOR)
+    level = write_level(tmp_path, TWO_ROOMS)
     path = tmp_path / "bad.json"
     path.write_text(text, encoding="utf-8")
     result = CliRunner().invoke(main, ["patrol", str(level), "--out", str(tmp_path / "o"), "--evaluate", str(path)])
@@ -228,7 +223,7 @@ def test_bad_patrol_documents(tmp_path: Path, text: str, message: str) -> None:
 
 
 def test_continuous_motion_walks_loops_only(tmp_path: Path) -> None:
-    level = write_level(tmp_path, CORRIDOR)
+    level = write_level(tmp_path, TWO_ROOMS)
     result = CliRunner().invoke(
         main, ["patrol", str(level), "--out", str(tmp_path / "o"), "--motion", "continuous", "--strategy", "random"]
     )
@@ -285,7 +280,7 @@ def test_route_export_merges_straight_runs_and_unrolls_to_the_loop(tmp_path: Pat
 
 
 def test_patrol_command_in_a_real_process(tmp_path: Path) -> None:
-    level = write_level(tmp_path, CORRIDOR)
+    level = write_level(tmp_path, TWO_ROOMS)
     out = tmp_path / "out"
     run = subprocess.run(
         [
@@ -389,7 +384,7 @@ def test_tiled_out_of_a_plain_level_writes_a_fresh_map_that_imports_to_the_same_
     from guardsim.importers import import_map
     from guardsim.level import load_level
 
-    level = write_level(tmp_path, CORRIDOR)
+    level = write_level(tmp_path, TWO_ROOMS)
     for suffix in (".tmx", ".tmj"):
         fresh = tmp_path / f"fresh{suffix}"
         result = CliRunner().invoke(

@@ -12,9 +12,7 @@ from guardsim.planners.route_walk import walk_routes
 from guardsim.planners.tour import Tour
 from guardsim.simulation import Scene, run_batch_episode, run_episode
 from guardsim.vision.table import ViewTable, view_table
-from tests.common import LEVELS, scene_from
-from tests.test_bounds import starts
-from tests.test_tour import OPEN_ROOM
+from tests.common import LEVELS, OPEN_ROOM, scene_from, starts
 
 SQUARE = next(path for path in LEVELS if path.stem == "square")
 

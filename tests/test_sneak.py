@@ -18,8 +18,7 @@ from guardsim.patrol import Patrol, patrol_setup, plan_loop
 from guardsim.scene import Scene
 from guardsim.sneak import sneak_check
 from guardsim.sneak.search import hiding_windows
-from tests.common import TINY_LEVELS, level_from, scene_from, write_level
-from tests.test_patrol import CORRIDOR
+from tests.common import TINY_LEVELS, TWO_ROOMS, level_from, scene_from, write_level
 
 
 def _random_loop(scene: Scene, rng: np.random.Generator, length: int) -> np.ndarray:
@@ -138,7 +137,7 @@ def _corridor_post(scene: Scene, col: int, heading: int) -> Patrol:
 
 
 def test_a_post_in_a_one_cell_corridor_stops_every_sneak() -> None:
-    scene = scene_from(CORRIDOR)
+    scene = scene_from(TWO_ROOMS)
     setup = patrol_setup(scene)
     grid = scene.grid
     source, target = grid.flat(0, 0), grid.flat(10, 2)
@@ -167,7 +166,7 @@ def test_hiding_windows_are_the_longest_unseen_runs() -> None:
 
 
 def test_sneak_command_writes_the_answer_and_a_gif(tmp_path: Path) -> None:
-    level = write_level(tmp_path, CORRIDOR)
+    level = write_level(tmp_path, TWO_ROOMS)
     patrol = tmp_path / "post.json"
     patrol.write_text(json.dumps({"shape": [3, 11], "guards": [{"loop": [[5, 1]], "headings": [0]}]}))
     out = tmp_path / "out"
@@ -206,7 +205,7 @@ def test_sneak_gif_caption_counts_the_sneaks_ticks_and_the_laps(tmp_path: Path) 
     from guardsim.render.palette import palette_rgb
     from guardsim.sneak.gif import SneakFrames, write_sneak_gif
 
-    level = level_from(CORRIDOR)
+    level = level_from(TWO_ROOMS)
     scene = Scene.from_level(level)
     setup = patrol_setup(scene)
     loop = plan_loop(setup, 1, planner="cover")[0].patrol
@@ -235,7 +234,7 @@ def test_sneak_gif_caption_counts_the_sneaks_ticks_and_the_laps(tmp_path: Path) 
     ],
 )
 def test_sneak_bad_points_are_one_line(tmp_path: Path, point: str, message: str) -> None:
-    level = write_level(tmp_path, CORRIDOR)
+    level = write_level(tmp_path, TWO_ROOMS)
     patrol = tmp_path / "post.json"
     patrol.write_text(json.dumps({"shape": [3, 11], "guards": [{"loop": [[5, 1]], "headings": [0]}]}))
     result = CliRunner().invoke(
@@ -258,7 +257,7 @@ def test_sneak_gif_draws_each_guards_meter_and_colours_the_intruder_by_state(tmp
     from guardsim.sneak import sneak_data
     from guardsim.sneak.gif import SneakFrames, path_states, write_sneak_gif
 
-    level = level_from(CORRIDOR)
+    level = level_from(TWO_ROOMS)
     scene = Scene.from_level(level)
     setup = patrol_setup(scene)
     grid = scene.grid

@@ -12,8 +12,7 @@ from guardsim.planners.lawnmower import lane_routes, swath_half_width
 from guardsim.planners.tour import SEEDS, Tour
 from guardsim.simulation import Scene, run_episode
 from guardsim.vision.table import view_table
-from tests.common import TINY_LEVELS, scene_from
-from tests.test_bounds import SHORT_SIGHTED, short_sighted, starts
+from tests.common import OPEN_ROOM, SHORT_SIGHTED, TINY_LEVELS, scene_from, short_sighted, starts
 
 
 def tour_steps(scene: Scene, start: tuple[int, int], heading: int, **options: object) -> int:
@@ -71,12 +70,6 @@ def test_tour_rejects_unknown_seeds() -> None:
         Tour(seeds=("nearest",))
 
 
-OPEN_ROOM = {
-    "name": "open room",
-    "outer": [[0, 0], [24, 0], [24, 24], [0, 24]],
-    "holes": [[[10, 10], [14, 10], [14, 14], [10, 14]]],
-    "guard": {"start": [1.5, 1.5], "heading": "right", "view_range": 4.0, "fov_degrees": 90.0},
-}
 
 
 def test_lawnmower_lanes_are_one_swath_apart_and_enterable() -> None:

@@ -20,7 +20,7 @@ from guardsim.level import load_level
 from guardsim.trace import Trace
 from guardsim.viewer import build_page, page_data
 from guardsim.viewer.walls import rings_from_grid
-from tests.common import write_level
+from tests.common import TWO_ROOMS, write_level
 
 SQUARE = Path("levels/square.json")
 
@@ -206,8 +206,6 @@ CORRIDOR_POST = {"shape": [3, 11], "guards": [{"loop": [[5, 1]], "headings": [0]
 def patrol_pages(folder: Path) -> Path:
     """`patrol --html --export` and `sneak --html` on Square (an unseen path exists), and `sneak --html`
     past a post in a one-cell corridor (caught: the closest call is in view for some ticks)."""
-    from tests.test_patrol import CORRIDOR
-
     runner = CliRunner()
     p, s, c = folder / "p", folder / "s", folder / "c"
     result = runner.invoke(main, ["patrol", str(SQUARE), "--out", str(p), "--html", "--export", str(p / "route.json")])
@@ -215,7 +213,7 @@ def patrol_pages(folder: Path) -> Path:
     args = ["--from", "2.5,2.5", "--to", "57.5,57.5", "--out", str(s), "--html"]
     result = runner.invoke(main, ["sneak", str(SQUARE), "--patrol", str(p / "patrol.json"), *args])
     assert result.exit_code == 0 and "sneaks" in result.output, result.output
-    level = write_level(folder, CORRIDOR, "corridor.json")
+    level = write_level(folder, TWO_ROOMS, "corridor.json")
     (folder / "post.json").write_text(json.dumps(CORRIDOR_POST))
     args = ["--from", "0.5,0.5", "--to", "10.5,2.5", "--out", str(c), "--html"]
     result = runner.invoke(main, ["sneak", str(level), "--patrol", str(folder / "post.json"), *args])
