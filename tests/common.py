@@ -15,7 +15,9 @@ from click.testing import CliRunner, Result
 
 from guardsim.cli import main
 from guardsim.experiment import TIMED_COLUMNS
+from guardsim.grid import state_of
 from guardsim.level import Level, parse_level
+from guardsim.patrol import Patrol
 from guardsim.simulation import Scene
 from guardsim.vision.rules import VisionFunction
 
@@ -217,3 +219,35 @@ def starts(scene: Scene, most: int = 8) -> list[tuple[int, int]]:
     cells = np.flatnonzero(scene.grid.traversable.ravel())
     picked = cells[np.linspace(0, cells.size - 1, min(most, cells.size)).round().astype(int)]
     return [scene.grid.unflat(int(cell)) for cell in np.unique(picked)]
+
+
+# Patrols made by hand for the sneak and detection tests.
+
+
+def random_loop(scene: Scene, rng: np.random.Generator, length: int) -> np.ndarray:
+    """A random walk out and the same way back: a legal closed lap of ``2 * length`` ticks."""
+    grid = scene.grid
+    goal = np.flatnonzero(grid.largest_component())
+    cells = [int(goal[rng.integers(goal.size)])]
+    moves: list[int] = []
+    for _ in range(length):
+        options = [d for d in range(4) if grid.neighbours[cells[-1], d] >= 0] + [-1]
+        move = int(options[rng.integers(len(options))])
+        moves.append(move)
+        cells.append(cells[-1] if move < 0 else int(grid.neighbours[cells[-1], move]))
+    back = [(-1 if move < 0 else (move + 2) % 4) for move in reversed(moves)]
+    path_moves = moves + back
+    # The heading at the start is the one the guard has after the last move back (or any, if it stood).
+    heading = next((move for move in reversed(path_moves) if move >= 0), 0)
+    states, cell = [], cells[0]
+    for move in path_moves:
+        states.append(state_of(cell, heading))
+        if move >= 0:
+            cell, heading = int(grid.neighbours[cell, move]), move
+    assert state_of(cell, heading) == states[0]
+    return np.asarray(states, dtype=np.int64)
+
+
+def corridor_post(scene: Scene, col: int, heading: int) -> Patrol:
+    """A post at ``(col, 1)`` facing ``heading``: one guard standing still for ever."""
+    return Patrol(np.array([[state_of(scene.grid.flat(col, 1), heading)]]), 1, "post")

@@ -25,7 +25,7 @@ from guardsim.render import COLOURS
 from guardsim.trace import Trace
 from guardsim.viewer import write_viewer
 from tests.common import TWO_ROOMS
-from tests.test_viewer import big_trace
+from tests.pages import CORRIDOR_POST, big_trace, page_json, patrol_pages
 
 CHROMIUM = next((path for path in map(shutil.which, ("chromium", "chromium-browser")) if path), None)
 pytestmark = pytest.mark.skipif(
@@ -210,14 +210,12 @@ def away_from(cells: np.ndarray, *points: tuple[int, int], reach: int = 2) -> np
 
 
 def page_data_of(page: Path) -> dict:
-    from tests.test_viewer import page_json
 
     return page_json(page.read_text())
 
 
 @pytest.fixture(scope="module")
 def pages(tmp_path_factory) -> Path:
-    from tests.test_viewer import patrol_pages
 
     return patrol_pages(tmp_path_factory.mktemp("patrol-pages"))
 
@@ -565,7 +563,6 @@ def detection_page(tmp_path_factory) -> tuple[Path, dict]:
     """`sneak --html` past the corridor post with slow detection and two safe spots (one never seen,
     one in the post's view): the page and its sneak.json."""
     from tests.common import write_level
-    from tests.test_viewer import CORRIDOR_POST
 
     folder = tmp_path_factory.mktemp("detection-page")
     level = write_level(folder, TWO_ROOMS, "corridor.json")

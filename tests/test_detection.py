@@ -32,8 +32,7 @@ from guardsim.sneak import find_sneak, sneak_check
 from guardsim.sneak.grade import grade_path
 from guardsim.sneak.graded import undetected_search
 from guardsim.vision.table import ViewTable
-from tests.common import TINY_LEVELS, TWO_ROOMS, scene_from, write_level
-from tests.test_sneak import _corridor_post, _random_loop
+from tests.common import TINY_LEVELS, TWO_ROOMS, corridor_post, random_loop, scene_from, write_level
 
 # --- The meter ---
 
@@ -192,7 +191,7 @@ def test_the_undetected_search_agrees_with_brute_force(name: str) -> None:
     compared = 0
     for trial in range(6):
         guards = 1 + trial % 2
-        laps = [_random_loop(scene, rng, int(rng.integers(1, 4))) for _ in range(guards)]
+        laps = [random_loop(scene, rng, int(rng.integers(1, 4))) for _ in range(guards)]
         period = int(np.lcm.reduce([lap.size for lap in laps]))
         patrol = Patrol(np.stack([np.tile(lap, period // lap.size) for lap in laps]), period, "test")
         detection = GuardDetection(LATTICE_MODELS[trial % len(LATTICE_MODELS)], 3.5, 0.5)
@@ -237,7 +236,7 @@ def test_seen_is_caught_reproduces_the_unseen_answers() -> None:
     cells = np.flatnonzero(setup.goal)
     instant = GuardDetection(DetectionModel(detect_near=0, detect_far=0), 2.5, 0.5)
     for _ in range(8):
-        lap = _random_loop(scene, rng, int(rng.integers(1, 5)))
+        lap = random_loop(scene, rng, int(rng.integers(1, 5)))
         patrol = Patrol(lap[None, :], lap.size, "test")
         source, target = (int(cells[rng.integers(cells.size)]) for _ in range(2))
         graded = sneak_check(scene.grid, setup.table, patrol, source, target, detection=instant, undetected=True)
@@ -247,7 +246,7 @@ def test_seen_is_caught_reproduces_the_unseen_answers() -> None:
         assert graded.path.ticks == plain.path.ticks and graded.path.ticks_in_view == plain.path.ticks_in_view
 
 
-def test_a_corridor_post_is_slipped_past_undetected_but_not_unseen() -> None:
+def test_acorridor_post_is_slipped_past_undetected_but_not_unseen() -> None:
     """A guard facing down the corridor's side sees the intruder pass at its side for a tick or two; its
     meter does not fill, so there is an undetected path but no unseen one."""
     scene = scene_from(TWO_ROOMS)
@@ -255,7 +254,7 @@ def test_a_corridor_post_is_slipped_past_undetected_but_not_unseen() -> None:
     grid = scene.grid
     source, target = grid.flat(0, 0), grid.flat(10, 2)
     detection = GuardDetection(DetectionModel(detect_near=2.0, detect_far=3.0), scene.level.guard.view_range, 0.5)
-    post = _corridor_post(scene, 5, 1)
+    post = corridor_post(scene, 5, 1)
     plain = sneak_check(grid, setup.table, post, source, target, detection=detection)
     graded = sneak_check(grid, setup.table, post, source, target, detection=detection, undetected=True)
     assert not plain.found and plain.slack == 0
@@ -281,7 +280,7 @@ def test_time_to_detection_agrees_with_standing_there(model: DetectionModel) -> 
     scene = scene_from(TINY_LEVELS["l-room"] | {"guard": {"view_range": 3.0}})
     setup = patrol_setup(scene)
     rng = np.random.default_rng(5)
-    laps = [_random_loop(scene, rng, 3), _random_loop(scene, rng, 2)]
+    laps = [random_loop(scene, rng, 3), random_loop(scene, rng, 2)]
     period = int(np.lcm.reduce([lap.size for lap in laps]))
     states = np.stack([np.tile(lap, period // lap.size) for lap in laps])
     gains = patrol_gains(scene.grid, setup.table, states, model, view_range=3.0, dt=0.5)

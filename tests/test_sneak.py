@@ -13,36 +13,12 @@ from click.testing import CliRunner
 
 from guardsim.cli import main
 from guardsim.detection import GuardDetection
-from guardsim.grid import cell_of_state, heading_of_state, state_of
+from guardsim.grid import cell_of_state, heading_of_state
 from guardsim.patrol import Patrol, patrol_setup, plan_loop
 from guardsim.scene import Scene
 from guardsim.sneak import sneak_check
 from guardsim.sneak.search import hiding_windows
-from tests.common import TINY_LEVELS, TWO_ROOMS, level_from, scene_from, write_level
-
-
-def _random_loop(scene: Scene, rng: np.random.Generator, length: int) -> np.ndarray:
-    """A random walk out and the same way back: a legal closed lap of ``2 * length`` ticks."""
-    grid = scene.grid
-    goal = np.flatnonzero(grid.largest_component())
-    cells = [int(goal[rng.integers(goal.size)])]
-    moves: list[int] = []
-    for _ in range(length):
-        options = [d for d in range(4) if grid.neighbours[cells[-1], d] >= 0] + [-1]
-        move = int(options[rng.integers(len(options))])
-        moves.append(move)
-        cells.append(cells[-1] if move < 0 else int(grid.neighbours[cells[-1], move]))
-    back = [(-1 if move < 0 else (move + 2) % 4) for move in reversed(moves)]
-    path_moves = moves + back
-    # The heading at the start is the one the guard has after the last move back (or any, if it stood).
-    heading = next((move for move in reversed(path_moves) if move >= 0), 0)
-    states, cell = [], cells[0]
-    for move in path_moves:
-        states.append(state_of(cell, heading))
-        if move >= 0:
-            cell, heading = int(grid.neighbours[cell, move]), move
-    assert state_of(cell, heading) == states[0]
-    return np.asarray(states, dtype=np.int64)
+from tests.common import TINY_LEVELS, TWO_ROOMS, corridor_post, level_from, random_loop, scene_from, write_level
 
 
 def _brute_force(neighbours: np.ndarray, seen: np.ndarray, source: int, target: int) -> tuple[bool, int, int]:
@@ -107,7 +83,7 @@ def test_sneak_agrees_with_brute_force(name: str) -> None:
     found_both = set()
     for trial in range(6):
         guards = 1 + trial % 2
-        laps = [_random_loop(scene, rng, int(rng.integers(1, 5))) for _ in range(guards)]
+        laps = [random_loop(scene, rng, int(rng.integers(1, 5))) for _ in range(guards)]
         period = int(np.lcm.reduce([lap.size for lap in laps]))
         patrol = Patrol(np.stack([np.tile(lap, period // lap.size) for lap in laps]), period, "test")
         for _ in range(3):
@@ -132,10 +108,6 @@ def test_sneak_agrees_with_brute_force(name: str) -> None:
     assert found_both == {True, False}
 
 
-def _corridor_post(scene: Scene, col: int, heading: int) -> Patrol:
-    return Patrol(np.array([[state_of(scene.grid.flat(col, 1), heading)]]), 1, "post")
-
-
 def test_a_post_in_a_one_cell_corridor_stops_every_sneak() -> None:
     scene = scene_from(TWO_ROOMS)
     setup = patrol_setup(scene)
@@ -145,7 +117,7 @@ def test_a_post_in_a_one_cell_corridor_stops_every_sneak() -> None:
         result = sneak_check(
             grid,
             setup.table,
-            _corridor_post(scene, 5, heading),
+            corridor_post(scene, 5, heading),
             source,
             target,
             detection=GuardDetection.of_level(scene.level),
@@ -261,7 +233,7 @@ def test_sneak_gif_draws_each_guards_meter_and_colours_the_intruder_by_state(tmp
     scene = Scene.from_level(level)
     setup = patrol_setup(scene)
     grid = scene.grid
-    post = _corridor_post(scene, 5, 0)
+    post = corridor_post(scene, 5, 0)
     detection = GuardDetection.of_level(scene.level)
     result = sneak_check(grid, setup.table, post, grid.flat(0, 0), grid.flat(10, 2), detection=detection)
     path, grade = result.path, result.grade
