@@ -29,6 +29,10 @@ _SOURCES = {
     "LevelError": "guardsim.errors",
     "LimitError": "guardsim.errors",
     "OutputError": "guardsim.errors",
+    "CheckError": "guardsim.errors",
+    "PatrolError": "guardsim.errors",
+    "PlannerError": "guardsim.errors",
+    "RegressionError": "guardsim.errors",
     "GuardSpec": "guardsim.level",
     "Level": "guardsim.level",
     "load_level": "guardsim.level",
@@ -77,10 +81,14 @@ if TYPE_CHECKING:
     from guardsim.detection import AwarenessMeter as AwarenessMeter
     from guardsim.detection import DetectionModel as DetectionModel
     from guardsim.detection import GuardDetection as GuardDetection
+    from guardsim.errors import CheckError as CheckError
     from guardsim.errors import GuardsimError as GuardsimError
     from guardsim.errors import LevelError as LevelError
     from guardsim.errors import LimitError as LimitError
     from guardsim.errors import OutputError as OutputError
+    from guardsim.errors import PatrolError as PatrolError
+    from guardsim.errors import PlannerError as PlannerError
+    from guardsim.errors import RegressionError as RegressionError
     from guardsim.grid import CoverageGrid as CoverageGrid
     from guardsim.level import GuardSpec as GuardSpec
     from guardsim.level import Level as Level

@@ -32,7 +32,7 @@ from typing import Any, NamedTuple
 import numpy as np
 
 from guardsim.detection import NEVER_DETECTED, GuardDetection, patrol_gains, time_to_detection
-from guardsim.errors import GuardsimError
+from guardsim.errors import CheckError
 from guardsim.patrol import Patrol, patrol_setup, plan_loop, read_patrol, score_patrol
 from guardsim.planners import PLANNERS
 from guardsim.reading import NumberError, display_path, excerpt, finite_number, json_type, parse_json, read_text_file
@@ -54,10 +54,6 @@ __all__ = [
 
 #: Largest checks file read.
 MAX_CHECKS_BYTES = 1024 * 1024
-
-
-class CheckError(GuardsimError):
-    """A checks file or a rule cannot be used (bad input, not a broken rule)."""
 
 
 #: What a sneak rule may expect: ``caught`` (no unseen path may exist), ``sneaks`` (one must), ``detected``

@@ -7,7 +7,16 @@ else escaping the library is a bug.
 
 from __future__ import annotations
 
-__all__ = ["GuardsimError", "LevelError", "LimitError", "OutputError", "RegressionError"]
+__all__ = [
+    "CheckError",
+    "GuardsimError",
+    "LevelError",
+    "LimitError",
+    "OutputError",
+    "PatrolError",
+    "PlannerError",
+    "RegressionError",
+]
 
 
 class GuardsimError(Exception):
@@ -31,3 +40,18 @@ class OutputError(GuardsimError):
 
 class RegressionError(GuardsimError):
     """Stored regression references (``guardsim regress``) are missing a file or cannot be read."""
+
+
+class PatrolError(GuardsimError):
+    """A patrol file cannot be read or describes a patrol the level does not allow."""
+
+
+class CheckError(GuardsimError):
+    """A checks file or a rule cannot be used (bad input, not a broken rule)."""
+
+
+class PlannerError(GuardsimError, KeyError):
+    """An unknown planner name (also a ``KeyError``, as a lookup by name that failed)."""
+
+    # KeyError would quote the message; this is a sentence.
+    __str__ = Exception.__str__

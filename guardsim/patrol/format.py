@@ -21,7 +21,7 @@ from typing import Any
 
 import numpy as np
 
-from guardsim.errors import GuardsimError
+from guardsim.errors import PatrolError
 from guardsim.grid import CoverageGrid, state_of
 from guardsim.patrol.model import Patrol
 from guardsim.patrol.scoring import NEVER, PatrolScore
@@ -44,10 +44,6 @@ MAX_UNROLLED_TICKS = 20_000
 
 #: Most ticks times cells a patrol read from a file may be scored over (one byte each).
 MAX_TIMELINE_CELLS = 400_000_000
-
-
-class PatrolError(GuardsimError):
-    """A patrol file cannot be read or describes a patrol the level does not allow."""
 
 
 def patrol_data(

@@ -41,9 +41,12 @@ PLANNERS: dict[str, Callable[..., Planner]] = {
 
 
 def make_planner(name: str, **options: object) -> Planner:
-    """A fresh planner by name; unknown names raise ``KeyError`` listing the known ones."""
+    """A fresh planner by name; an unknown name raises :class:`~guardsim.errors.PlannerError` (a
+    ``KeyError`` too) listing the known ones."""
     try:
         factory = PLANNERS[name]
     except KeyError:
-        raise KeyError(f"unknown planner {name!r}; known: {', '.join(PLANNERS)}") from None
+        from guardsim.errors import PlannerError
+
+        raise PlannerError(f"unknown planner {name!r}; known: {', '.join(PLANNERS)}") from None
     return factory(**options)
