@@ -35,7 +35,8 @@ _SOURCES = {
     "RegressionError": "guardsim.errors",
     "GuardSpec": "guardsim.level",
     "Level": "guardsim.level",
-    "load_level": "guardsim.level",
+    # Levels and every map format the commands accept (guardsim.level.load_level reads level files only).
+    "load_level": "guardsim.importers.loading:open_level",
     "parse_level": "guardsim.level",
     "World": "guardsim.world",
     "CoverageGrid": "guardsim.grid",
@@ -64,7 +65,8 @@ def __getattr__(name: str) -> Any:
     source = _SOURCES.get(name)
     if source is None:
         raise AttributeError(f"module 'guardsim' has no attribute {name!r}")
-    value = getattr(importlib.import_module(source), name)
+    module, _, attribute = source.partition(":")
+    value = getattr(importlib.import_module(module), attribute or name)
     globals()[name] = value
     return value
 
@@ -90,9 +92,9 @@ if TYPE_CHECKING:
     from guardsim.errors import PlannerError as PlannerError
     from guardsim.errors import RegressionError as RegressionError
     from guardsim.grid import CoverageGrid as CoverageGrid
+    from guardsim.importers.loading import open_level as load_level  # noqa: F401  (re-exported by name)
     from guardsim.level import GuardSpec as GuardSpec
     from guardsim.level import Level as Level
-    from guardsim.level import load_level as load_level
     from guardsim.level import parse_level as parse_level
     from guardsim.motion import ContinuousSimulation as ContinuousSimulation
     from guardsim.motion import GuardMotion as GuardMotion

@@ -2,9 +2,11 @@
 
 from __future__ import annotations
 
+import importlib
 import json
 import subprocess
 import sys
+from pathlib import Path
 
 import numpy as np
 import pymunk
@@ -272,3 +274,21 @@ def test_the_view_table_estimate_is_close_on_shipped_levels(name: str) -> None:
     scene = Scene.from_level(load_level(REPO / "levels" / f"{name}.json"))
     exact = table.view_table(scene.grid, scene.vision()).sight.size
     assert table.estimate_entries(scene.grid, scene.vision()) == pytest.approx(exact, rel=0.05)
+
+
+def test_load_level_and_the_environment_take_every_map_the_commands_take(tmp_path: Path) -> None:
+    """guardsim.load_level and gymnasium's guardsim/Coverage-v0 import a map as the commands do (a Moving
+    AI map here); a file that is neither a level nor a map is one GuardsimError naming it."""
+    grid_map = tmp_path / "room.map"
+    grid_map.write_text("type octile\nheight 3\nwidth 4\nmap\n....\n.@..\n....\n")
+    level = guardsim.load_level(grid_map)
+    assert level.name == "room" and level.grid_shape() == (3, 4) and len(level.holes) == 1
+    gymnasium = pytest.importorskip("gymnasium")
+    importlib.import_module("guardsim.envs")  # registers the environment
+
+    observation, _ = gymnasium.make("guardsim/Coverage-v0", level=str(grid_map)).reset(seed=0)
+    assert observation["grid"].shape[-2:] == (3, 4)
+    notes = tmp_path / "notes.md"
+    notes.write_text("# not a level\n")
+    with pytest.raises(guardsim.GuardsimError, match=r"notes\.md: unknown map type '\.md'"):
+        guardsim.load_level(notes)

@@ -21,7 +21,8 @@ import numpy as np
 
 from guardsim.envs.actions import AgentPlanner, action_mask
 from guardsim.envs.observations import observe
-from guardsim.level import Level, load_level
+from guardsim.importers import open_level
+from guardsim.level import Level
 from guardsim.scene import Scene
 from guardsim.simulation import Simulation
 from guardsim.vision.rules import LineOfSight
@@ -40,7 +41,7 @@ def scene_of(level: LevelSource, line_of_sight: LineOfSight | str = LineOfSight.
     if isinstance(level, Scene):
         return level
     if not isinstance(level, Level):
-        level = load_level(level)
+        level = open_level(level)
     return Scene.from_level(level, line_of_sight=line_of_sight)
 
 

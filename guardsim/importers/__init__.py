@@ -16,7 +16,7 @@ from pathlib import Path
 from guardsim.errors import LevelError
 from guardsim.importers.image import DEFAULT_THRESHOLD, import_image
 from guardsim.importers.imported import ImportedLevel
-from guardsim.importers.loading import ImportOptions, ImportSummary, load_any
+from guardsim.importers.loading import ImportOptions, ImportSummary, load_any, open_level
 from guardsim.importers.movingai import import_movingai
 from guardsim.importers.source import display_name
 from guardsim.importers.tiled import import_tiled
@@ -32,6 +32,7 @@ __all__ = [
     "import_movingai",
     "import_tiled",
     "load_any",
+    "open_level",
 ]
 
 #: File suffix -> the kind of map read from it.

@@ -21,7 +21,7 @@ from guardsim.importers.source import MAX_JSON_DEPTH, display_name, quiet, read_
 from guardsim.level import DEFAULT_MAX_CELLS, DEFAULT_MAX_FILE_BYTES, DEFAULT_MAX_VERTICES, Level, parse_level
 from guardsim.reading import parse_json
 
-__all__ = ["ImportOptions", "ImportSummary", "is_tiled_json", "load_any"]
+__all__ = ["ImportOptions", "ImportSummary", "is_tiled_json", "load_any", "open_level"]
 
 #: What an import reports besides its level (the summary line, the changes and the warnings).
 ImportSummary = ImportedLevel
@@ -113,3 +113,21 @@ def load_any(
     if notes:
         imported = dataclasses.replace(imported, changes=(*imported.changes, *notes))
     return imported.level, imported
+
+
+def open_level(
+    path: str | os.PathLike[str],
+    *,
+    max_cells: int = DEFAULT_MAX_CELLS,
+    max_vertices: int = DEFAULT_MAX_VERTICES,
+    max_file_bytes: int = DEFAULT_MAX_FILE_BYTES,
+) -> Level:
+    """The level in ``path``: a guardsim level file, or any map the commands accept (imported in memory
+    with the defaults of ``guardsim import``). This is ``guardsim.load_level``.
+
+    Examples
+    --------
+    >>> open_level("levels/square.json").name
+    'Square'
+    """
+    return load_any(path, max_cells=max_cells, max_vertices=max_vertices, max_file_bytes=max_file_bytes)[0]
