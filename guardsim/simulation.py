@@ -366,12 +366,40 @@ class Simulation:
         total = int(self._goal_view.sum())
         return 1.0 if total == 0 else 1.0 - self.unseen / total
 
-    def visible_cells(self, guard: int = 0) -> list[tuple[int, int]]:
-        """``(col, row)`` of the cells guard ``guard`` sees from where it stands now."""
+    def visible_cells(self, guard: int | None = None) -> list[tuple[int, int]]:
+        """``(col, row)`` of the cells guard ``guard`` sees from where it stands now.
+
+        A lone guard needs no number; a team must say which guard (a ``ValueError`` otherwise), since
+        "what is visible" differs per guard: :meth:`seen_by` answers for the whole team.
+        """
         episode = self._require()
+        guards = episode.cells.shape[0]
+        if guard is None:
+            if guards > 1:
+                raise ValueError(f"a team of {guards} guards: say which guard (visible_cells(guard=k)), or use seen_by")
+            guard = 0
+        if not 0 <= guard < guards:
+            raise ValueError(f"guard {guard} is not one of the team's {guards} guards")
         grid = self.scene.grid
         col, row = grid.unflat(int(episode.cells[guard, self.tick]))
         return [grid.unflat(int(cell)) for cell in self.vision(col, row, int(episode.headings[guard, self.tick]))]
+
+    def seen_by(self, point: tuple[float, float]) -> list[int]:
+        """The guards that see the world point ``point`` now (its cell is in their view), in order; an
+        empty list when none does or the point is off the grid. ``bool(seen_by(p))``: is ``p`` seen now.
+        """
+        episode = self._require()
+        grid = self.scene.grid
+        cell = grid.cell_of(point)
+        if cell is None:
+            return []
+        flat = grid.flat(*cell)
+        seeing = []
+        for guard in range(episode.cells.shape[0]):
+            col, row = grid.unflat(int(episode.cells[guard, self.tick]))
+            if flat in self.vision(col, row, int(episode.headings[guard, self.tick])):
+                seeing.append(guard)
+        return seeing
 
     def newly_seen(self) -> list[tuple[int, int]]:
         """``(col, row)`` of the cells first seen at this tick, by any guard."""

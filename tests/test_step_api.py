@@ -292,3 +292,25 @@ def test_load_level_and_the_environment_take_every_map_the_commands_take(tmp_pat
     notes.write_text("# not a level\n")
     with pytest.raises(guardsim.GuardsimError, match=r"notes\.md: unknown map type '\.md'"):
         guardsim.load_level(notes)
+
+
+def test_a_team_says_which_guard_sees_and_seen_by_answers_for_every_cell() -> None:
+    """visible_cells of a team needs a guard; seen_by(point) lists exactly the guards whose view holds the
+    point's cell, checked on every cell at several ticks."""
+    scene = scene_from(SQUARE_WITH_HOLE)
+    simulation = Simulation(scene, guards=2)
+    simulation.reset(seed=3)
+    with pytest.raises(ValueError, match="say which guard"):
+        simulation.visible_cells()
+    with pytest.raises(ValueError, match="guard 2 is not one"):
+        simulation.visible_cells(guard=2)
+    grid = scene.grid
+    for _ in range(4):
+        views = [set(simulation.visible_cells(guard=guard)) for guard in range(2)]
+        for row in range(grid.shape[0]):
+            for col in range(grid.shape[1]):
+                expected = [guard for guard in range(2) if (col, row) in views[guard]]
+                assert simulation.seen_by(grid.centre(col, row)) == expected
+        simulation.step()
+    assert simulation.seen_by((-100.0, -100.0)) == []
+    assert any(simulation.seen_by(grid.centre(*cell)) for cell in simulation.visible_cells(guard=0))
