@@ -113,7 +113,7 @@ class CheckRules:
         >>> CheckRules(min_slack=3).validate()
         Traceback (most recent call last):
         ...
-        guardsim.checks.CheckError: slack limits apply to the sneak rules' slack, and there is no sneak rule
+        guardsim.errors.CheckError: slack limits apply to the sneak rules' slack, and there is no sneak rule
         """
         if (self.min_slack is not None or self.max_slack is not None) and not self.sneaks:
             raise CheckError("slack limits apply to the sneak rules' slack, and there is no sneak rule")
@@ -193,7 +193,7 @@ def parse_checks(data: Any, *, source: str = "<checks>", base: Path | None = Non
     >>> parse_checks({"max_idle": 600})
     Traceback (most recent call last):
     ...
-    guardsim.checks.CheckError: <checks>: unknown rule 'max_idle' (known: guards, max_cover_steps, max_idleness, max_slack, min_slack, no_unreachable, patrol, planner, safe, sneak, undetected)
+    guardsim.errors.CheckError: <checks>: unknown rule 'max_idle' (known: guards, max_cover_steps, max_idleness, max_slack, min_slack, no_unreachable, patrol, planner, safe, sneak, undetected)
     """
     if not isinstance(data, dict):
         raise CheckError(f"{source}: expected a table of rules, got {json_type(data)}")

@@ -148,7 +148,7 @@ def patrol(
 
     tiled_source = tiled_source_of(level_path, tiled_source_path)
     if tiled_out:
-        from guardsim.patrol.export import check_tiled_formats
+        from guardsim.patrol.tiled_export import check_tiled_formats
 
         # A level drawn by hand has no source map: a fresh map is written (any Tiled format).
         check_tiled_formats(tiled_source or tiled_out, tiled_out)
@@ -291,7 +291,8 @@ def patrol(
         written.append(export_path)
     if tiled_out:
         from guardsim.output import atomic_path
-        from guardsim.patrol.export import tiled_from_level, tiled_with_routes
+        from guardsim.patrol.tiled_export import tiled_with_routes
+        from guardsim.patrol.tiled_fresh import tiled_from_level
         from guardsim.reading import read_limited_bytes
 
         if tiled_source is None:

@@ -6,7 +6,8 @@
 - :mod:`~guardsim.patrol.strategies`: the walked baselines (staleness, RippleFront for ever, random goals).
 - :mod:`~guardsim.patrol.plan`: a patrol of a level by strategy name.
 - :mod:`~guardsim.patrol.format`: patrol.json, written and read strictly.
-- :mod:`~guardsim.patrol.export`: route.json waypoints and the Tiled object layer.
+- :mod:`~guardsim.patrol.export`: route.json waypoints; :mod:`~guardsim.patrol.tiled_export`: the Tiled
+  object layer and a fresh map for a level drawn by hand.
 
 See ``docs/patrols.md``.
 """

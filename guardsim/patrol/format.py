@@ -133,7 +133,7 @@ def parse_patrol(data: Any, grid: CoverageGrid, *, source: str = "<patrol>") -> 
     >>> parse_patrol({"shape": [1, 2], "guards": [{"loop": [[0, 0], [1, 0]], "headings": [0, 2]}]}, grid)
     Traceback (most recent call last):
     ...
-    guardsim.patrol.format.PatrolError: <patrol>: guards[0]: headings[1]: a step right must face right (0), not 2
+    guardsim.errors.PatrolError: <patrol>: guards[0]: headings[1]: a step right must face right (0), not 2
     """
     if not isinstance(data, dict):
         raise _fail(source, "", f"expected a JSON object, got {json_type(data)}")
