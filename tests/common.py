@@ -71,6 +71,12 @@ TINY_LEVELS = {
 tiny_levels = pytest.mark.parametrize("level_data", list(TINY_LEVELS.values()), ids=list(TINY_LEVELS))
 #: ``pytest.mark.parametrize`` over the shipped levels.
 shipped_levels = pytest.mark.parametrize("level_path", LEVELS, ids=[path.stem for path in LEVELS])
+#: The same, with every level but Square in the slow tier (for checks that take seconds a level).
+shipped_levels_square_fast = pytest.mark.parametrize(
+    "level_path",
+    [path if path.stem == "square" else pytest.param(path, marks=pytest.mark.slow) for path in LEVELS],
+    ids=[path.stem for path in LEVELS],
+)
 
 
 def level_from(data: dict[str, Any], **changes: Any) -> Level:

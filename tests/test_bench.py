@@ -399,6 +399,7 @@ def test_interrupted_run_resumes(tmp_path: Path) -> None:
     assert set(kept) <= set(final)  # the interrupted run's rows, wall time included, were not redone
 
 
+@pytest.mark.slow
 def test_killed_worker_run_resumes(tmp_path: Path) -> None:
     """SIGKILL to one pool worker: status 1, a line saying how many did not run; the same command finishes."""
     out = tmp_path / "out"

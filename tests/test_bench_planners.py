@@ -33,6 +33,9 @@ from tests.common import (
 ALL_PLANNERS = ",".join(PLANNERS)
 BOUND_COLUMNS = ("best_bound", "eccentricity_bound", "cluster_bound")
 
+#: The bench comparison of every planner on every shipped level: the slow tier (`pytest -m slow`).
+pytestmark = pytest.mark.slow
+
 
 @pytest.fixture(scope="module")
 def shipped_comparison(tmp_path_factory: pytest.TempPathFactory) -> tuple[Path, str]:

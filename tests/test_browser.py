@@ -220,6 +220,7 @@ def pages(tmp_path_factory) -> Path:
     return patrol_pages(tmp_path_factory.mktemp("patrol-pages"))
 
 
+@pytest.mark.slow
 def test_patrol_timeline_plays_several_laps_and_tick_period_plus_k_is_lap_tick_k(pages: Path, tmp_path: Path) -> None:
     """The timeline spans three laps, marked where each begins; #tick=period+k reads 'lap 2 / 3 · lap
     tick k' and draws exactly what tick k draws, and not what tick k+7 draws (the guard has moved)."""
@@ -580,6 +581,7 @@ def meter_colour(level: float, suspicious: float, colours: dict) -> tuple[int, i
     return tuple(colours[name])  # type: ignore[return-value]
 
 
+@pytest.mark.slow
 def test_sneak_page_shows_each_guards_meter_and_the_intruders_state(detection_page, tmp_path: Path) -> None:
     """At ticks unseen, in view, suspicious, detected and draining: a bar over the post, framed in the
     outline colour, is filled from the left by sneak.json's ``awareness`` at that tick (in the colour of

@@ -11,7 +11,7 @@ from guardsim.level import load_level
 from guardsim.planners import RippleFront
 from guardsim.simulation import Scene, choose_start, episode_generator, run_batch_episode, run_episode
 from guardsim.vision import visible_cells
-from tests.common import TINY_LEVELS, scene_from, shipped_levels, tiny_levels
+from tests.common import TINY_LEVELS, scene_from, shipped_levels, shipped_levels_square_fast, tiny_levels
 
 
 def assert_every_state_matches(scene: Scene) -> int:
@@ -27,7 +27,7 @@ def assert_every_state_matches(scene: Scene) -> int:
     return checked
 
 
-@shipped_levels
+@shipped_levels_square_fast
 def test_vision_cache_equals_reference_on_every_state(level_path: Path) -> None:
     """All (cell, heading) states of each shipped level see the same cells on both paths."""
     scene = Scene.from_level(load_level(level_path))

@@ -247,7 +247,10 @@ print(json.dumps(unplanned))
 """
 
 
-@pytest.mark.parametrize("command", ["play:tour", "patrol", "sneak", "alert", "bounds", "optimum", "bench"])
+@pytest.mark.parametrize(
+    "command",
+    ["play:tour", "patrol", *(pytest.param(name, marks=pytest.mark.slow) for name in ("sneak", "alert", "bounds", "optimum", "bench"))],
+)
 def test_compiling_ahead_covers_what_the_command_compiles(command: str, tmp_path: Path) -> None:
     # After compile_ahead(command), running the command compiles nothing more: the plan is current.
     # (When this fails, run `python benchmarks/compile_plan.py --commands COMMAND`.)

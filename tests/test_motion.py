@@ -188,6 +188,7 @@ def test_same_seed_same_poses_byte_for_byte() -> None:
     assert other.poses is not None and other.poses.tobytes() != first.poses.tobytes()
 
 
+@pytest.mark.slow
 @pytest.mark.parametrize("level", ["mgs_docks", "passages"])
 def test_fast_and_reference_vision_agree_tick_for_tick(level: str) -> None:
     scene = shipped(level)
@@ -379,6 +380,7 @@ def bresenham_scene(name: str) -> Scene:
     return _BRESENHAM.setdefault(name, Scene.from_level(load_level(path), line_of_sight=LineOfSight.BRESENHAM))
 
 
+@pytest.mark.slow
 def test_bresenham_fast_and_reference_vision_agree_tick_for_tick() -> None:
     """Under --los bresenham the cone comes from the pose and the line from the eye's cell: the compiled
     lines and the Python reference give the same cells on every tick of a whole episode."""

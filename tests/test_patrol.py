@@ -76,6 +76,7 @@ def shipped_loops() -> dict[str, tuple[Scene, Any]]:
     return loops
 
 
+@pytest.mark.slow
 @pytest.mark.parametrize("name", [path.stem for path in LEVELS])
 def test_shipped_loops_see_every_reachable_cell_each_lap(shipped_loops: dict[str, Any], name: str) -> None:
     scene, setup, plan = shipped_loops[name]
@@ -92,6 +93,7 @@ def test_shipped_loops_see_every_reachable_cell_each_lap(shipped_loops: dict[str
     _legal(scene, patrol)
 
 
+@pytest.mark.slow
 def test_loop_beats_the_walked_strategies_on_a_shipped_level(shipped_loops: dict[str, Any]) -> None:
     _, setup, plan = shipped_loops["square"]
     for strategy in ("staleness", "ripplefront", "random"):

@@ -193,6 +193,7 @@ def assert_cover_is_complete(scene: Scene) -> int:
     return int(viewpoints.size)
 
 
+@pytest.mark.slow
 @shipped_levels
 def test_tour_beats_ripplefront_on_median_steps(level_path: Path) -> None:
     """Five seeded random starts per shipped level: tour's median steps are below RippleFront's."""
@@ -215,6 +216,7 @@ def test_tour_walks_exactly_the_walk_it_planned() -> None:
     assert [scene.grid.unflat(int(c)) for c in planner.walk.cells[0]] == list(trace.path)
 
 
+@pytest.mark.slow
 @shipped_levels
 @pytest.mark.parametrize("planner", ["ripplefront", "tour"])
 def test_more_guards_shorter_makespan(level_path: Path, planner: str) -> None:

@@ -409,6 +409,7 @@ def assert_episode_invariants(scene: Scene, trace: Trace, data: dict[str, Any], 
         assert move.distance(free_area.boundary) >= radius - NEAR, (a, b)
 
 
+@pytest.mark.slow
 @bounded(400)
 @given(small_levels(), st.integers(0, 2**32 - 1), st.sampled_from([None, None, 0, 5, 40]))
 def test_episodes_on_random_levels_keep_their_invariants(

@@ -138,6 +138,7 @@ def test_fifo_and_device_inputs_are_refused_without_blocking(tmp_path: Path, com
 # ---------------------------------------------------------------- hangs and memory inside the limits
 
 
+@pytest.mark.slow
 def test_million_cell_level_validates(tmp_path: Path) -> None:
     """A 10 x 10 level at cell_size 0.01 (exactly the default 1,000,000 cells) did not finish in 900 s;
     the hidden-area check now stops at --max-rays and says so."""
@@ -148,6 +149,7 @@ def test_million_cell_level_validates(tmp_path: Path) -> None:
     assert "not checked for hidden areas" in result.stdout
 
 
+@pytest.mark.slow
 def test_long_outer_ring_validates_and_plays(tmp_path: Path) -> None:
     """An outer ring of 99,997 points (validate 96 s, bounds 102 s before) is a valid level."""
     angles = np.linspace(0, 2 * math.pi, 99_997, endpoint=False)
@@ -157,7 +159,7 @@ def test_long_outer_ring_validates_and_plays(tmp_path: Path) -> None:
     assert run("play", path, "--max-steps", "5", "--trace", tmp_path / "t.json").exit_code == 0
 
 
-@pytest.mark.parametrize("count", [2000, 33_000])
+@pytest.mark.parametrize("count", [2000, pytest.param(33_000, marks=pytest.mark.slow)])
 def test_identical_holes_are_refused_in_bounded_output(tmp_path: Path, count: int) -> None:
     """33,000 identical holes passed 8 GB in validate and render; 2,000 took 25 s. The overlap check
     catches repeats first and lists at most 20 pairs."""

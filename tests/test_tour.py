@@ -93,6 +93,7 @@ def test_lawnmower_lanes_are_one_swath_apart_and_enterable() -> None:
         assert all(np.abs(lanes - span).min() <= half for span in spans)
 
 
+@pytest.mark.slow
 def test_tour_lawnmower_seed_never_hurts() -> None:
     """The lawnmower routes are more candidates: with them the walk is never longer (unpolished, as above)."""
     scene = scene_from(OPEN_ROOM)

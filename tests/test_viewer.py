@@ -72,6 +72,7 @@ def test_readout_text_rounds_ties_as_python_does() -> None:
     assert text == [f"{v:.1f}" for v in (12.25, 0.05, 99.95, 100.0)]
 
 
+@pytest.mark.slow
 def test_page_for_a_512_by_512_episode_is_under_5_mb() -> None:
     """A 512 x 512 grid and a 30,000-tick walk by two guards fit in well under 5 MB."""
     page = build_page(None, big_trace(guards=2))
