@@ -20,6 +20,8 @@ MAPS = sorted((SHARED / "movingai").glob("*.map")) + sorted((SHARED / "tiled").g
 SMALL_MAPS = [path for path in MAPS if path.suffix == ".map" and path.stat().st_size < 5_000]
 
 needs_maps = pytest.mark.skipif(not MAPS, reason=f"the shared maps are not at {SHARED}")
+#: Whole real maps, every state: the slow tier (`pytest -m slow`); tests/test_fast_path.py keeps Square fast.
+pytestmark = pytest.mark.slow
 
 
 @needs_maps

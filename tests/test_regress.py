@@ -298,6 +298,7 @@ def test_bad_level_and_missing_renders_folder_are_bad_input(tmp_path: Path) -> N
     assert "--update" in line
 
 
+@pytest.mark.slow
 def test_real_process_regress_and_byte_identical_play(tmp_path: Path) -> None:
     """Real processes: `guardsim regress` passes on one shipped level, and two `guardsim play` runs with the
     same level, seed and options write the same trace and the same GIF, byte for byte."""
