@@ -13,6 +13,7 @@ without it these tests are skipped.
 
 from __future__ import annotations
 
+import re
 from dataclasses import dataclass
 from pathlib import Path
 
@@ -215,7 +216,10 @@ def test_the_summary_names_what_was_guessed(name: str) -> None:
 def test_spawns_are_found(name: str) -> None:
     _, summary, starts = reachable_cells(CORPUS / name)
     assert f"from {AUTHOR[name].spawns} objects in" in summary or f"{AUTHOR[name].spawns} objects" in summary
-    assert starts >= 0
+    # The count the summary reports is the count of starts the level keeps (each dropped one is named).
+    kept = re.search(r"(\d+) guard spawns? from", summary)
+    assert kept is not None and int(kept.group(1)) == starts, summary
+    assert starts + summary.count("dropped spawn") >= 1
 
 
 @needs_corpus
