@@ -1,8 +1,8 @@
 """The import options every command that reads a level shares, so a map can stand wherever a level can.
 
 ``@map_options`` adds ``--cell-size``, ``--threshold``, ``--spawn-tile``, ``--wall-tile``,
-``--wall-layer``, ``--floor-layer`` and ``--strict`` to a command and hands it one ``map_import``
-argument (a :class:`MapImport`) to pass to :func:`guardsim.cli.common.load`.
+``--wall-property``, ``--wall-class``, ``--wall-layer``, ``--floor-layer`` and ``--strict`` to a command
+and hands it one ``map_import`` argument (a :class:`MapImport`) to pass to :func:`guardsim.cli.common.load`.
 """
 
 from __future__ import annotations
@@ -79,6 +79,8 @@ def map_options(command: F) -> F:
             threshold=kwargs.pop("threshold"),
             spawn_tiles=tuple(kwargs.pop("spawn_tiles")),
             wall_tiles=tuple(kwargs.pop("wall_tiles")),
+            wall_properties=tuple(kwargs.pop("wall_properties")),
+            wall_classes=tuple(kwargs.pop("wall_classes")),
             wall_layers=tuple(kwargs.pop("wall_layers")),
             floor_layers=tuple(kwargs.pop("floor_layers")),
         )
@@ -88,6 +90,25 @@ def map_options(command: F) -> F:
     for option in reversed(_OPTIONS):
         decorated = option(decorated)
     return cast(F, decorated)
+
+
+def _check_wall_properties(ctx: click.Context, param: click.Parameter, values: tuple[str, ...]) -> tuple[str, ...]:
+    """Click callback: each ``--wall-property`` is ``NAME`` or ``NAME=VALUE``."""
+    from guardsim.importers.tiled_roles import parse_wall_property
+
+    for value in values:
+        try:
+            parse_wall_property(value)
+        except ValueError as error:
+            raise click.BadParameter(str(error), ctx=ctx, param=param) from None
+    return values
+
+
+def _check_wall_classes(ctx: click.Context, param: click.Parameter, values: tuple[str, ...]) -> tuple[str, ...]:
+    """Click callback: each ``--wall-class`` names a class."""
+    if any(not value.strip() for value in values):
+        raise click.BadParameter("expected a class name, got an empty text", ctx=ctx, param=param)
+    return values
 
 
 _OPTIONS = [
@@ -118,6 +139,23 @@ _OPTIONS = [
         multiple=True,
         metavar="GID",
         help="Tiled: a global tile id that is a wall wherever it is drawn (repeatable).",
+    ),
+    click.option(
+        "--wall-property",
+        "wall_properties",
+        multiple=True,
+        callback=_check_wall_properties,
+        metavar="NAME[=VALUE]",
+        help="Tiled: tiles and objects whose property NAME reads true (or equals VALUE) are walls; replaces the "
+        "guess from property names (repeatable).",
+    ),
+    click.option(
+        "--wall-class",
+        "wall_classes",
+        multiple=True,
+        callback=_check_wall_classes,
+        metavar="NAME",
+        help="Tiled: tiles and objects of this class (any case) are walls (repeatable).",
     ),
     click.option(
         "--wall-layer",

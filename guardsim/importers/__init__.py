@@ -54,6 +54,8 @@ def import_map(
     wall_layers: Iterable[str] = (),
     floor_layers: Iterable[str] = (),
     wall_tiles: Iterable[int] = (),
+    wall_properties: Iterable[str] = (),
+    wall_classes: Iterable[str] = (),
     max_cells: int = DEFAULT_MAX_CELLS,
     max_vertices: int = DEFAULT_MAX_VERTICES,
     max_file_bytes: int = DEFAULT_MAX_FILE_BYTES,
@@ -70,6 +72,9 @@ def import_map(
         Tiled only: global tile ids that mark guard spawns.
     wall_layers, floor_layers, wall_tiles
         Tiled only: layers that are walls or floor and tile ids that are walls, replacing the guesses.
+    wall_properties, wall_classes
+        Tiled only: ``NAME`` or ``NAME=VALUE`` properties, and classes, that make tiles and objects walls
+        (the properties replace the guess from property names).
 
     Raises
     ------
@@ -91,6 +96,8 @@ def import_map(
             wall_layers=wall_layers,
             floor_layers=floor_layers,
             wall_tiles=wall_tiles,
+            wall_properties=wall_properties,
+            wall_classes=wall_classes,
             **limits,
         )
     if suffix == ".png":

@@ -55,6 +55,9 @@ class ImportedLevel:
     """What the import found, changed or left out, one phrase each (floor and wall layers, merged holes, ...)."""
     warnings: tuple[str, ...] = ()
     """Signs that the result is not the level the map's author drew (no walls found, ...), one phrase each."""
+    player_starts: tuple[Point, ...] = ()
+    """Where the map says the player (the intruder) starts, in world units: Tiled objects named or classed
+    ``player``, ``hero``, ``PlayerStart``...; never guard spawns. Empty when the map marks none."""
 
     @property
     def vertices(self) -> int:

@@ -37,6 +37,10 @@ class ImportOptions:
     wall_layers: tuple[str, ...] = ()
     floor_layers: tuple[str, ...] = ()
     wall_tiles: tuple[int, ...] = ()
+    wall_properties: tuple[str, ...] = ()
+    """Tiled: ``NAME`` or ``NAME=VALUE``: tiles and objects with that property are walls (``--wall-property``)."""
+    wall_classes: tuple[str, ...] = ()
+    """Tiled: tile and object classes that are walls (``--wall-class``)."""
 
 
 def _text(data: bytes, source: str) -> str:
@@ -99,6 +103,8 @@ def load_any(
                 wall_layers=options.wall_layers,
                 floor_layers=options.floor_layers,
                 wall_tiles=options.wall_tiles,
+                wall_properties=options.wall_properties,
+                wall_classes=options.wall_classes,
                 max_cells=max_cells,
                 max_vertices=max_vertices,
                 max_file_bytes=max_file_bytes,

@@ -34,8 +34,8 @@ from guardsim.importers.source import display_name
 from guardsim.importers.tiled_data import TileLayer
 from guardsim.importers.tiled_geometry import TileGeometry, blocked_mask
 from guardsim.importers.tiled_read import read_tiled
-from guardsim.importers.tiled_roles import Guesses, RoleOptions, assign_roles, names
-from guardsim.importers.tiled_spawns import keep_spawn_areas, spawn_points, usable_starts
+from guardsim.importers.tiled_roles import Guesses, RoleOptions, assign_roles, names, parse_wall_property
+from guardsim.importers.tiled_spawns import keep_spawn_areas, player_starts, spawn_points, usable_starts
 from guardsim.level import (
     DEFAULT_MAX_CELLS,
     DEFAULT_MAX_FILE_BYTES,
@@ -67,6 +67,8 @@ def import_tiled(
     wall_layers: Iterable[str] = (),
     floor_layers: Iterable[str] = (),
     wall_tiles: Iterable[int] = (),
+    wall_properties: Iterable[str] = (),
+    wall_classes: Iterable[str] = (),
     snap_step: float = DEFAULT_SNAP_STEP,
     snap_tolerance: float = DEFAULT_SNAP_TOLERANCE,
     max_cells: int = DEFAULT_MAX_CELLS,
@@ -83,31 +85,55 @@ def import_tiled(
         Layer names (or ``group/layer`` paths) that replace the guesses of which layers are walls and floor.
     wall_tiles
         Global tile ids that are walls wherever they are drawn.
+    wall_properties
+        ``NAME`` or ``NAME=VALUE``: tiles and objects whose property ``NAME`` reads true (or equals
+        ``VALUE``) are walls; replaces the guess from property names.
+    wall_classes
+        Tile and object classes (any case) that are walls.
     snap_step, snap_tolerance
         Wall and boundary vertices within ``snap_tolerance`` tiles of a multiple of ``snap_step`` tiles are
         moved onto it.
     """
     source = display_name(path)
-    options = RoleOptions(tuple(wall_layers), tuple(floor_layers), tuple(wall_tiles), tuple(spawn_tiles))
+    try:
+        parsed = tuple(parse_wall_property(text) for text in wall_properties)
+    except ValueError as error:
+        raise LevelError(f"{source}: --wall-property {error}") from None
+    classes = tuple(wall_classes)
+    if any(not kind.strip() for kind in classes):
+        raise LevelError(f"{source}: --wall-class must name a class, not an empty text")
+    options = RoleOptions(
+        tuple(wall_layers), tuple(floor_layers), tuple(wall_tiles), tuple(spawn_tiles), parsed, classes
+    )
     tiled = read_tiled(path, max_file_bytes=max_file_bytes, max_cells=max_cells, cells_per_tile=cell_size**-2)
     roles = assign_roles(tiled, options)
     geometry = TileGeometry(tiled, snap_step, snap_tolerance)
     changes: list[str] = []
-    warnings = list(roles.warnings)
+    warnings = list(roles.warnings) + list(tiled.warnings)
 
     wall_tiles_found = [
         (layer, gids) for layer in tiled.tile_layers if (gids := _wall_gids_in(layer, roles)) is None or gids.size
     ]
+    # Image-collection tiles bigger or smaller than a map tile stand on their cell at their own size.
     wall_boxes = [
-        piece
-        for layer, gids in wall_tiles_found
-        for piece in geometry.tile_boxes(layer, None if gids is None else gids)
+        piece for layer, gids in wall_tiles_found for piece in geometry.tile_boxes(layer, gids, skip=geometry.images)
     ]
+    image_walls = [piece for layer, gids in wall_tiles_found for piece in geometry.image_tiles(layer, gids)]
+    drawn_walls: set[int] = set()
+    for layer, gids in wall_tiles_found:
+        drawn_walls |= set(np.unique(layer.gids if gids is None else gids).tolist())
+    unsized = sorted(drawn_walls & geometry.unsized)
+    if unsized:
+        shown = ", ".join(map(str, unsized[:8])) + (" ..." if len(unsized) > 8 else "")
+        warnings.append(
+            f"wall tiles {shown} are images whose size the tileset does not give (no width and height): "
+            "each is taken as one map tile"
+        )
     shape_walls = [shape for layer in tiled.tile_layers for shape in geometry.tile_shapes(layer, roles.shaped_gids)]
     wall_objects = [item for _, item in roles.wall_objects]
     object_walls = [wall for item in wall_objects if item.closed and (wall := geometry.object_wall(item)) is not None]
     open_walls = sum(1 for item in wall_objects if not item.closed)
-    walls: list[BaseGeometry] = [*object_walls, *shape_walls, *wall_boxes]
+    walls: list[BaseGeometry] = [*object_walls, *shape_walls, *image_walls, *wall_boxes]
 
     free, floor_boxes = _free_area(source, roles, geometry, walls, changes)
     bounds = _tile_bounds(free.bounds if free is not None else shapely.total_bounds(floor_boxes))
@@ -128,7 +154,9 @@ def import_tiled(
         free = shapely.union_all(floor_boxes)
     if free.is_empty or not free.difference(shapely.union_all(walls) if walls else Polygon()).area > 0:
         raise LevelError(f"{source}: the walls cover the whole floor: no free area")
-    changes.append(_walls_phrase(roles, wall_tiles_found, len(object_walls), len(shape_walls), len(wall_boxes)))
+    changes.append(
+        _walls_phrase(roles, wall_tiles_found, len(object_walls), len(shape_walls), len(wall_boxes), len(image_walls))
+    )
     if not walls:
         warnings.append(
             "no walls found: no collision objects, no collision-marked tiles, no layer named like walls; "
@@ -170,12 +198,37 @@ def import_tiled(
     if left_out:
         changes.append(left_out)
     warnings += _look_warnings(level, bool(starts), tiled.size)
+    _name_missing_tilesets(warnings, tiled.missing_tilesets)
+    players, player_phrase = player_starts(level, roles, geometry)
+    if player_phrase:
+        changes.append(player_phrase)
     if starts:
         data = level_to_data(level)
         data["guard"]["start"] = list(starts[0])
         data["starts"] = [list(point) for point in starts]
         level = parse_level(data, source=source, max_cells=max_cells, max_vertices=max_vertices)
-    return ImportedLevel(level, "Tiled map", (int(width), int(height)), tuple(changes), tuple(warnings))
+    return ImportedLevel(level, "Tiled map", (int(width), int(height)), tuple(changes), tuple(warnings), tuple(players))
+
+
+#: The warnings that say walls may be missing; a missing tileset is named in the first of them.
+_MISSING_WALLS = ("no walls found", "the free area runs along more than half of every edge")
+
+
+def _name_missing_tilesets(warnings: list[str], missing: Iterable[str]) -> None:
+    """Name the tileset files that were not found in the warning that says walls may be missing (one of its
+    own if no other says so): their tiles' collision marks, classes and shapes are unknown."""
+    files = list(dict.fromkeys(missing))
+    if not files:
+        return
+    phrase = (
+        f"tileset{'s' if len(files) > 1 else ''} {listed(map(repr, files))} not found, so walls "
+        f"{'their' if len(files) > 1 else 'its'} tiles mark are missing"
+    )
+    for index, warning in enumerate(warnings):
+        if warning.startswith(_MISSING_WALLS):
+            warnings[index] = f"{warning}; {phrase}"
+            return
+    warnings.append(f"walls may be missing: {phrase}")
 
 
 def _tile_bounds(bounds: Iterable[float]) -> tuple[float, float, float, float]:
@@ -257,7 +310,12 @@ def _wall_gids_in(layer: TileLayer, roles: Guesses) -> np.ndarray | None:
 
 
 def _walls_phrase(
-    roles: Guesses, tiles: list[tuple[TileLayer, np.ndarray | None]], objects: int, shapes: int, boxes: int
+    roles: Guesses,
+    tiles: list[tuple[TileLayer, np.ndarray | None]],
+    objects: int,
+    shapes: int,
+    boxes: int,
+    images: int = 0,
 ) -> str:
     parts = []
     object_layers = {"/".join(layer.path) for layer, _ in roles.wall_objects}
@@ -273,6 +331,8 @@ def _walls_phrase(
         parts.append(f"{counted(len(marked), 'collision-marked tile')} (gids {shown})")
     if shapes:
         parts.append(f"{counted(shapes, 'tile collision shape')}")
+    if images:
+        parts.append(f"{counted(images, 'image tile')} at image size")
     return f"walls from {', '.join(parts)} ({counted(boxes, 'wall tile run')})"
 
 

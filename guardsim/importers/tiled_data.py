@@ -21,6 +21,9 @@ from guardsim.importers.source import excerpt
 from guardsim.reading import NumberError, finite_number
 
 __all__ = [
+    "FLIP_DIAGONAL",
+    "FLIP_HORIZONTAL",
+    "FLIP_VERTICAL",
     "GID_MASK",
     "MAX_COORDINATE",
     "ObjectLayer",
@@ -29,7 +32,10 @@ __all__ = [
     "TiledMap",
     "TiledObject",
     "decode_tile_data",
+    "flipped",
     "object_outline",
+    "split_gid",
+    "tile_outline",
 ]
 
 Point = tuple[float, float]
@@ -37,6 +43,8 @@ Properties = dict[str, Any]
 
 #: The flip and rotation flags in the top bits of a global tile id.
 GID_MASK = 0x0FFFFFFF
+#: Flip flags as :func:`split_gid` returns them (bits 31, 30 and 29 of a global tile id, shifted down).
+FLIP_HORIZONTAL, FLIP_VERTICAL, FLIP_DIAGONAL = 4, 2, 1
 #: Largest pixel coordinate or size read (far past any real map; keeps geometry libraries finite).
 MAX_COORDINATE = 1e9
 
@@ -54,7 +62,18 @@ class TiledObject:
     outline: tuple[Point, ...]
     """Absolute pixel vertices after rotation and layer offset (the position alone for a point)."""
     gid: int = 0
+    """The tile of a tile object, flip flags cleared (0 for other shapes)."""
     properties: Properties = field(default_factory=dict)
+    flips: int = 0
+    """A tile object's flip flags (:data:`FLIP_HORIZONTAL` | :data:`FLIP_VERTICAL` | :data:`FLIP_DIAGONAL`)."""
+    anchor: Point = (0.0, 0.0)
+    """Absolute pixel position (``x``, ``y`` plus the layer offset): the point it is rotated about."""
+    size: tuple[float, float] = (0.0, 0.0)
+    """Width and height in pixels as placed (for a tile object: its drawn size)."""
+    rotation: float = 0.0
+    """Degrees clockwise on screen about :attr:`anchor`."""
+    align: Point = (0.0, 1.0)
+    """Where in a tile object's box its anchor lies, as fractions of width and height (bottom-left)."""
 
     @property
     def closed(self) -> bool:
@@ -73,7 +92,8 @@ class TileInfo:
     """Collision shapes drawn in the tile (Tiled's tile collision editor), relative to its top-left corner."""
     tileset: str
     size: tuple[float, float] = (0.0, 0.0)
-    """The tileset's tile width and height in pixels."""
+    """The tile's width and height in pixels: its own image's in a collection of images, else the
+    tileset's tile size; ``(0, 0)`` when an old file gives neither."""
 
 
 @dataclass(frozen=True)
@@ -91,6 +111,8 @@ class TileLayer:
     rows: np.ndarray
     gids: np.ndarray
     """Column, row and global tile id (flip flags cleared) of every non-empty cell."""
+    flips: np.ndarray | None = None
+    """Each cell's flip flags (as :func:`split_gid` gives them), or ``None`` when no tile is flipped."""
 
 
 @dataclass(frozen=True)
@@ -119,6 +141,12 @@ class TiledMap:
     """Tiles the tilesets say something about, by global id."""
     notes: tuple[str, ...] = ()
     """Things the reader could not use (a missing tileset file), for the summary."""
+    image_sizes: dict[int, tuple[float, float]] = field(default_factory=dict)
+    """Tiles of collections of images, by global id: each image's size in pixels (``(0, 0)``: not given)."""
+    missing_tilesets: tuple[str, ...] = ()
+    """External tileset files that were not found (their tiles' marks are unknown)."""
+    warnings: tuple[str, ...] = ()
+    """Things the reader had to guess that may change the walls, one line each."""
 
 
 def check_number(value: Any, where: str, *, limit: float = MAX_COORDINATE) -> float:
@@ -146,15 +174,18 @@ def _rotated(points: list[Point], x: float, y: float, degrees: float, offset: Po
     return tuple((x + dx * cos - dy * sin + offset[0], y + dx * sin + dy * cos + offset[1]) for dx, dy in points)
 
 
-def _relative_outline(shape: str, width: float, height: float, points: list[Point]) -> list[Point]:
+def _relative_outline(
+    shape: str, width: float, height: float, points: list[Point], align: Point = (0.0, 1.0)
+) -> list[Point]:
     """Object-relative outline of a shape before rotation."""
     if shape in ("polygon", "polyline"):
         return points
     if shape == "point":
         return [(0.0, 0.0)]
     if shape == "tile":
-        # Tile objects hang from their bottom-left corner.
-        return [(0.0, -height), (width, -height), (width, 0.0), (0.0, 0.0)]
+        # Tile objects hang from their anchor: the bottom-left corner unless the tileset aligns them otherwise.
+        left, top = -align[0] * width, -align[1] * height
+        return [(left, top), (left + width, top), (left + width, top + height), (left, top + height)]
     if shape == "ellipse":
         steps = 32
         return [
@@ -165,14 +196,61 @@ def _relative_outline(shape: str, width: float, height: float, points: list[Poin
 
 
 def object_outline(
-    shape: str, x: float, y: float, width: float, height: float, rotation: float, points: list[Point], offset: Point
+    shape: str,
+    x: float,
+    y: float,
+    width: float,
+    height: float,
+    rotation: float,
+    points: list[Point],
+    offset: Point,
+    align: Point = (0.0, 1.0),
 ) -> tuple[Point, ...]:
     """Absolute pixel outline of an object: its shape, rotated about its origin, moved by the layer offset."""
-    return _rotated(_relative_outline(shape, width, height, points), x, y, rotation, offset)
+    return _rotated(_relative_outline(shape, width, height, points, align), x, y, rotation, offset)
+
+
+def split_gid(raw: int) -> tuple[int, int]:
+    """A stored global tile id as ``(gid, flips)``: the tile, and its flip flags shifted down to bits 2-0.
+
+    Tiled keeps the horizontal, vertical and diagonal flips in bits 31, 30 and 29 (and bit 28 for
+    hexagonal maps); they are never part of the tile's id.
+
+    >>> split_gid(2147483650), split_gid(3)
+    ((2, 4), (3, 0))
+    """
+    return raw & GID_MASK, (raw >> 29) & 7
+
+
+def flipped(points: np.ndarray, flips: int) -> np.ndarray:
+    """Points in a tile's unit square (``u, v`` in 0-1, y down) flipped as Tiled draws the tile: the
+    diagonal flip (swap x and y) first, then the horizontal and the vertical."""
+    out = np.array(points, dtype=float).reshape(-1, 2)
+    if flips & FLIP_DIAGONAL:
+        out = out[:, ::-1].copy()
+    if flips & FLIP_HORIZONTAL:
+        out[:, 0] = 1.0 - out[:, 0]
+    if flips & FLIP_VERTICAL:
+        out[:, 1] = 1.0 - out[:, 1]
+    return out
+
+
+def tile_outline(item: TiledObject, points: np.ndarray, tile_size: tuple[float, float]) -> np.ndarray:
+    """Pixel points drawn inside a tile (relative to its image's top-left corner, in a ``tile_size`` tile)
+    placed where tile object ``item`` draws that tile: flipped, scaled to the object's size, moved to its
+    anchor and rotated about it, as Tiled does."""
+    width, height = item.size
+    unit = np.asarray(points, dtype=float).reshape(-1, 2) / np.array(
+        [tile_size[0] or width or 1.0, tile_size[1] or height or 1.0]
+    )
+    local = (flipped(unit, item.flips) - np.asarray(item.align)) * np.array([width, height])
+    placed = _rotated([(float(x), float(y)) for x, y in local], *item.anchor, item.rotation, (0.0, 0.0))
+    return np.asarray(placed, dtype=float).reshape(-1, 2)
 
 
 def decode_tile_data(raw: Any, encoding: str | None, compression: str | None, count: int, where: str) -> np.ndarray:
-    """Global tile ids (flags cleared) of one layer's or chunk's data, as ``int64 (count,)``.
+    """Global tile ids as stored (flip flags kept: see :func:`split_gid`) of one layer's or chunk's data,
+    as ``int64 (count,)``.
 
     ``encoding`` is ``csv`` (text or, in JSON, a list of numbers), ``base64`` or ``None`` (a list of ids:
     TMX ``<tile gid>`` elements or a JSON array). Compressed data is inflated no further than ``count``
@@ -203,4 +281,4 @@ def decode_tile_data(raw: Any, encoding: str | None, compression: str | None, co
         raise LevelError(f"{where}: tile ids must be between 0 and 2**32 - 1")
     if values.size != count:
         raise LevelError(f"{where}: tile data has {values.size} tiles, expected {count}")
-    return np.bitwise_and(values.astype(np.int64), GID_MASK)
+    return values.astype(np.int64)

@@ -66,6 +66,12 @@ def tmx_tileset_defaults(element: ElementTree.Element) -> ElementTree.Element:
     tileset = copy.deepcopy(element)
     for key, default in (("name", ""), ("tilewidth", "1"), ("tileheight", "1"), ("tilecount", "0"), ("columns", "0")):
         tileset.attrib.setdefault(key, default)
+    # Old files write <image source> without its size; 0 stands for "not given" (a tile drawn from such an
+    # image has no known size, which only the code that needs it reports).
+    for image in [tileset.find("image"), *(tile.find("image") for tile in tileset.findall("tile"))]:
+        if image is not None:
+            image.attrib.setdefault("width", "0")
+            image.attrib.setdefault("height", "0")
     for tile in tileset.findall("tile"):
         group = tile.find("objectgroup")
         if group is not None:

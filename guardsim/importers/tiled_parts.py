@@ -35,6 +35,7 @@ from guardsim.importers.tiled_data import (
     TileLayer,
     check_number,
     object_outline,
+    split_gid,
 )
 from guardsim.importers.tiled_defaults import json_tileset_defaults, tmx_tileset_defaults
 from guardsim.importers.tiled_templates import Templates
@@ -59,6 +60,19 @@ COMPRESSIONS = (None, "", "zlib", "gzip")
 #: ``(x, y, width, gids)`` of a whole tile layer or of each of its chunks.
 Blocks = list[tuple[int, int, int, np.ndarray]]
 T = TypeVar("T")
+#: Where a tile object's anchor lies in its box for each ``objectalignment`` of its tileset (fractions of
+#: width and height); orthogonal maps' default ("unspecified") is the bottom-left corner.
+ALIGNMENTS = {
+    "topleft": (0.0, 0.0),
+    "top": (0.5, 0.0),
+    "topright": (1.0, 0.0),
+    "left": (0.0, 0.5),
+    "center": (0.5, 0.5),
+    "right": (1.0, 0.5),
+    "bottomleft": (0.0, 1.0),
+    "bottom": (0.5, 1.0),
+    "bottomright": (1.0, 1.0),
+}
 
 
 def why(error: BaseException) -> str:
@@ -92,6 +106,8 @@ class MapReader:
         self.tile_layers: list[TileLayer] = []
         self.object_layers: list[ObjectLayer] = []
         self.notes: list[str] = []
+        self.warnings: list[str] = []
+        self.missing_tilesets: list[str] = []
         self.tileset_files: dict[Path, int] = {}
         """External tileset files (resolved) -> firstgid, for tile templates."""
         self.templates = Templates(self.source, self.folder, max_file_bytes, self.tileset_files)
@@ -121,11 +137,24 @@ class MapReader:
             raise self.error(where, f"must be a whole number within 32 bits, not {excerpt(value)}")
         return int(number)
 
+    def stored_gid(self, value: Any, where: str) -> int:
+        """A global tile id as stored, flip flags (bits 31-29) included: a whole number below 2**32."""
+        number = check_number(value, f"{self.source}: {where}", limit=2.0**32)
+        if not number.is_integer() or not 0 <= number < 2**32:
+            raise self.error(where, f"must be a whole number from 0 to 2**32 - 1, not {excerpt(value)}")
+        return int(number)
+
+    def gid(self, value: Any, where: str) -> tuple[int, int]:
+        """A stored global tile id as ``(gid, flips)``: flip flags are stripped, as Tiled does."""
+        return split_gid(self.stored_gid(value, where))
+
     def read_file(self, name: str, what: str) -> tuple[Path, bytes] | None:
         """An external file's bytes (tileset, template), or ``None`` with a note if it is missing."""
         path = self.folder / name
         if not path.exists():
             self.notes.append(f"{what} {display_name(name)} not found: left out")
+            if what == "tileset":
+                self.missing_tilesets.append(display_name(name))
             return None
         return path, read_capped_bytes(path, max_file_bytes=self.max_file_bytes, kind=what)
 
@@ -156,7 +185,42 @@ class MapReader:
             tuple(self.object_layers),
             self.tile_infos(),
             tuple(self.notes + self.templates.notes),
+            self.image_sizes(),
+            tuple(self.missing_tilesets),
+            tuple(self.warnings),
         )
+
+    def tileset_of(self, gid: int) -> tuple[int, Tileset] | None:
+        """The tileset holding global tile id ``gid`` (the one with the largest firstgid not above it)."""
+        firsts = [first for first in self.tilesets if first <= gid]
+        if not firsts:
+            return None
+        first = max(firsts)
+        return first, self.tilesets[first]
+
+    def tile_size(self, gid: int) -> tuple[float, float]:
+        """A tile's size in pixels: its own image's in a collection of images, else its tileset's tile size;
+        ``(0, 0)`` if neither is known (an old file's image without width and height)."""
+        found = self.tileset_of(gid)
+        if found is None:
+            return (0.0, 0.0)
+        first, tileset = found
+        tile = (tileset.tiles or {}).get(gid - first)
+        if tile is not None and tile.image is not None:
+            width, height = (self.number(v, f"tile {gid} size", 0.0) for v in (tile.width, tile.height))
+            return (width, height) if width > 0 and height > 0 else (0.0, 0.0)
+        width = self.number(tileset.tile_width, f"tileset {text(tileset.name)!r} tilewidth", 0.0)
+        height = self.number(tileset.tile_height, f"tileset {text(tileset.name)!r} tileheight", 0.0)
+        return (width, height) if width > 0 and height > 0 else (0.0, 0.0)
+
+    def image_sizes(self) -> dict[int, tuple[float, float]]:
+        """Every tile of a collection of images (a tile with its own image) by global id, with its size."""
+        return {
+            first + int(tile_id): self.tile_size(first + int(tile_id))
+            for first, tileset in self.tilesets.items()
+            for tile_id, tile in (tileset.tiles or {}).items()
+            if tile.image is not None and isinstance(tile_id, int)
+        }
 
     def tile_infos(self) -> dict[int, TileInfo]:
         infos: dict[int, TileInfo] = {}
@@ -171,9 +235,9 @@ class MapReader:
                     )
                 properties = _properties(tile.properties)
                 if tile.class_ or properties or shapes:
-                    size = (float(tileset.tile_width or 0), float(tileset.tile_height or 0))
-                    infos[firstgid + self.integer(tile_id, f"{where} id")] = TileInfo(
-                        text(tile.class_), properties, shapes, text(tileset.name), size
+                    gid = firstgid + self.integer(tile_id, f"{where} id")
+                    infos[gid] = TileInfo(
+                        text(tile.class_), properties, shapes, text(tileset.name), self.tile_size(gid)
                     )
         return infos
 
@@ -185,7 +249,8 @@ class MapReader:
         height = self.number(item.size.height, f"{where} height", 0.0)
         rotation = self.number(item.rotation, f"{where} rotation", 0.0)
         points: list[Point] = []
-        gid = 0
+        gid = flips = 0
+        align = (0.0, 1.0)
         shape = {
             pto.Ellipse: "ellipse",
             pto.Point: "point",
@@ -200,16 +265,44 @@ class MapReader:
                 for p in item.points
             ]
         if isinstance(item, pto.Tile):
-            gid = self.integer(item.gid, f"{where} gid") & GID_MASK
+            gid, flips = self.gid(item.gid, f"{where} gid")
+            found = self.tileset_of(gid)
+            if found is not None:
+                align = ALIGNMENTS.get(text(found[1].alignment).lower(), align)
+            if width <= 0 or height <= 0:
+                # Old files leave out a tile object's size: it is drawn at its tile's size.
+                width, height = self.tile_size(gid)
+                if width <= 0 or height <= 0:
+                    width, height = self._unknown_tile_size(gid, where)
         return TiledObject(
             self.integer(item.id, f"{where} id", 0),
             text(item.name),
             text(item.class_),
             shape,
-            object_outline(shape, x, y, width, height, rotation, points, offset),
+            object_outline(shape, x, y, width, height, rotation, points, offset, align),
             gid,
             _properties(item.properties),
+            flips,
+            (x + offset[0], y + offset[1]),
+            (width, height),
+            rotation,
+            align,
         )
+
+    def _unknown_tile_size(self, gid: int, where: str) -> tuple[float, float]:
+        """The size a tile object with no size of its own is drawn at when its tile's image gives none either:
+        its tileset's tile size (the largest image, in a collection), with a warning."""
+        found = self.tileset_of(gid)
+        if found is None:
+            self.warnings.append(f"{where} has no width or height and tile {gid} is in no tileset: left out")
+            return (0.0, 0.0)
+        tileset = found[1]
+        width, height = float(tileset.tile_width or 0), float(tileset.tile_height or 0)
+        self.warnings.append(
+            f"{where} has no width or height, and tile {gid}'s image in tileset {text(tileset.name)!r} gives no "
+            f"size either: drawn at the tileset's tile size, {width:g} x {height:g} pixels"
+        )
+        return (width, height)
 
     def load_tileset(self, firstgid: int, external: str | None, embedded: Any, where: str) -> None:
         """A tileset embedded in the map (an element or a dict) or in the ``external`` file beside it."""
@@ -250,14 +343,28 @@ class MapReader:
         """``blocks`` are ``(x, y, width, gids)`` of the whole layer or of each chunk."""
         cols, rows, gids = [], [], []
         for x, y, width, values in blocks:
-            index = np.flatnonzero(values)
+            # Flip flags are never part of the tile's id; a cell with flags and no tile is empty.
+            index = np.flatnonzero(values & GID_MASK)
             cols.append(x + index % max(width, 1))
             rows.append(y + index // max(width, 1))
             gids.append(values[index])
         joined = [np.concatenate(part) if part else np.zeros(0, dtype=np.int64) for part in (cols, rows, gids)]
+        raw = joined[2]
+        flips = (raw >> 29) & 7
         properties = {**inherited, **_properties(layer.properties)}
         self.tile_layers.append(
-            TileLayer(text(layer.name), path, properties, text(layer.class_), offset, visible, *joined)
+            TileLayer(
+                text(layer.name),
+                path,
+                properties,
+                text(layer.class_),
+                offset,
+                visible,
+                joined[0],
+                joined[1],
+                raw & GID_MASK,
+                flips if flips.any() else None,
+            )
         )
 
     def add_object_layer(

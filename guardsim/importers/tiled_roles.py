@@ -5,24 +5,34 @@ this order of evidence (``docs/authoring.md``):
 
 **Walls**
 
-1. Collision marks: a boolean property ``collision`` (or ``collides``, ``collidable``, ``solid``,
-   ``blocked``, ``obstacle``, ``wall``) on an object, a tile, or a layer (``false`` opts out).
+1. Collision marks: on an object or a tile, a property of any type whose name has a word of
+   :data:`WALL_WORDS` (split at camelCase humps too: ``collision``, ``CollisionShape``, ``IsBlocking``,
+   ``collides``, ``solid``) and whose value reads true (``true``, a non-zero number, the text
+   ``true``/``yes``/``1``); ``false``, ``0``, ``"no"`` or ``""`` opts out, and a name saying ``not``/``no``
+   (``no_collision: true``) opts out too (:func:`wall_mark`). On a layer, the boolean-like property
+   ``collision`` (or ``collides``, ``collidable``, ``solid``, ``blocked``, ``obstacle``, ``wall``).
 2. Tile layers whose name says wall (the whole words :data:`WALL_WORDS`, any case: ``Walls 1``,
    ``base_wall``, ``Collision``): every tile in them is a wall.
-3. Tiles whose class, or one of whose true boolean properties, is such a word.
+3. Tiles whose class (``type`` before Tiled 1.9) is such a word (even if a property opts out).
 4. Collision shapes drawn inside tiles (Tiled's tile collision editor): the shapes, not the whole tile.
 5. Object layers whose name says wall (their objects are walls unless the layer mixes kinds: in a
    layer where some objects are named ``wall``, only those are), and objects whose class or name says
-   wall anywhere.
+   wall anywhere. A tile object is a wall when its tile is.
 
 ``--wall-layer NAME`` replaces rules 2 and 5's layer names with the named layers; ``--wall-tile GID``
-adds tiles.
+adds tiles; ``--wall-class NAME`` adds the tiles and objects of that class; ``--wall-property
+NAME[=VALUE]`` replaces rule 1's guess from property names on tiles and objects with the named
+properties.
 
 **Floor**: tile layers with the property ``floor``, else the layers passed as ``--floor-layer``, else
 the visible tile layers named with :data:`FLOOR_WORDS` (``Ground1``, ``floor``), else the lowest
 visible tile layer. Wall layers, spawn layers and layers drawn above the player (names with the words
 :data:`ABOVE_WORDS`) are never floor. A cell empty in every floor layer is outside the level; so is a
 cell of the painted void (a tile filling the whole map edge of the first floor layer).
+
+**Player starts** (the intruder's, never a guard's): objects whose name or class has a word of
+:data:`PLAYER_WORDS` (``player``, ``Hero``, ``PlayerStart``, ``Player_Start``), or whose tile's class
+does.
 
 **Spawns**: objects in layers named with :data:`SPAWN_WORDS`, objects whose class, type or name says
 guard or spawn, objects with ``guard_spawn``, tiles whose class says guard, and ``--spawn-tile`` ids.
@@ -44,11 +54,15 @@ from guardsim.importers.tiled_data import ObjectLayer, Properties, TiledMap, Til
 __all__ = [
     "ABOVE_WORDS",
     "FLOOR_WORDS",
+    "PLAYER_WORDS",
     "SPAWN_WORDS",
     "WALL_WORDS",
     "Guesses",
     "RoleOptions",
     "assign_roles",
+    "parse_wall_property",
+    "truth",
+    "wall_mark",
     "words",
 ]
 
@@ -85,6 +99,13 @@ ABOVE_WORDS = frozenset(["above", "over", "overhead", "overlay", "roof", "roofs"
 SPAWN_WORDS = frozenset(
     ["spawn", "spawns", "spawner", "spawners", "guard", "guards", "start", "starts", "patrol", "patrols"]
 )
+#: Whole words in an object's name or class (or its tile's class) that say it is the player's start.
+PLAYER_WORDS = frozenset(["player", "players", "hero", "heroes"])
+#: Whole words that turn a collision property's name around (``no_collision``, ``NotSolid``).
+NEGATION_WORDS = frozenset(["no", "not", "non", "never", "without"])
+#: Property texts that read true or false (any case, spaces stripped); other texts say neither.
+TRUE_TEXTS = frozenset(["true", "yes", "1", "on", "y"])
+FALSE_TEXTS = frozenset(["false", "no", "0", "off", "n", ""])
 #: A painted void leaves at least this share of its layer's cells as floor.
 VOID_MIN_REST = 0.05
 #: Boolean properties that mark walls.
@@ -98,6 +119,8 @@ def words(name: str) -> set[str]:
     (['base', 'wall'], ['2', 'layer', 'walls'], ['wallpaper'])
     """
     spaced = re.sub(r"([a-z])([A-Z])|([A-Za-z])([0-9])", r"\1\3 \2\4", name)
+    # An upper-case run before a capitalised word is a word of its own: "NPCWall" is "NPC Wall".
+    spaced = re.sub(r"([A-Z]+)([A-Z][a-z])", r"\1 \2", spaced)
     return {part.lower() for part in re.split(r"[^A-Za-z0-9]+", spaced) if part}
 
 
@@ -116,6 +139,94 @@ def flag(properties: Properties, *keys: str) -> bool | None:
     return None
 
 
+def truth(value: Any) -> bool | None:
+    """Whether a property's value reads true, false, or neither (``None``), whatever its type.
+
+    >>> truth(True), truth(1), truth(0.0), truth(" Yes "), truth("false"), truth(""), truth("stone")
+    (True, True, False, True, False, False, None)
+    """
+    if isinstance(value, bool):
+        return value
+    if isinstance(value, (int, float)):
+        return None if value != value else value != 0
+    if isinstance(value, str):
+        text = value.strip().lower()
+        return True if text in TRUE_TEXTS else False if text in FALSE_TEXTS else None
+    return None
+
+
+def parse_wall_property(text: str) -> tuple[str, str | None]:
+    """``NAME`` or ``NAME=VALUE`` (the ``--wall-property`` option) as ``(name, value or None)``.
+
+    Raises ``ValueError`` with a phrase saying what is wrong.
+
+    >>> parse_wall_property("blocks"), parse_wall_property("terrain = rock")
+    (('blocks', None), ('terrain', 'rock'))
+    """
+    name, equals, value = text.partition("=")
+    name, value = name.strip(), value.strip()
+    if not name:
+        raise ValueError(f"{text!r} has no property name: expected NAME or NAME=VALUE")
+    if equals and not value:
+        raise ValueError(f"{text!r} has no value after '=': expected NAME or NAME=VALUE")
+    return name, value if equals else None
+
+
+def _equals(value: Any, wanted: str) -> bool:
+    """Whether a property's value is ``wanted`` as typed on the command line (numbers and booleans by value,
+    text without regard to case)."""
+    if isinstance(value, bool) or isinstance(wanted, bool):
+        return truth(wanted) is value
+    if isinstance(value, (int, float)):
+        try:
+            return float(wanted) == value
+        except ValueError:
+            return False
+    return str(value).strip().lower() == wanted.strip().lower()
+
+
+def wall_mark(properties: Properties, wall_properties: Sequence[tuple[str, str | None]] = ()) -> bool | None:
+    """Whether a tile's or object's properties mark it a wall (``True``), opt it out (``False``), or say
+    nothing (``None``).
+
+    With ``wall_properties`` (``--wall-property``), only those are read: a property ``NAME`` that reads
+    true (or false), or a property ``NAME`` equal to ``VALUE``. Otherwise every property whose name says
+    wall (:data:`WALL_WORDS`) is read, of any type: a true one marks a wall, a false one opts out, and one
+    whose name says ``no`` or ``not`` opts out when true. A mark wins over an opt-out.
+
+    >>> wall_mark({"CollisionShape": 1}), wall_mark({"IsBlocking": "false"}), wall_mark({"no_collision": True})
+    (True, False, False)
+    >>> wall_mark({"terrain": "Rock"}, [("terrain", "rock")]), wall_mark({"solid": True}, [("terrain", "rock")])
+    (True, None)
+    """
+    result: bool | None = None
+    if wall_properties:
+        for name, wanted in wall_properties:
+            if name not in properties:
+                continue
+            value = properties[name]
+            if wanted is not None:
+                if _equals(value, wanted):
+                    return True
+            elif (said := truth(value)) is not None:
+                if said:
+                    return True
+                result = False
+        return result
+    for key, value in properties.items():
+        named = words(key)
+        if not named & WALL_WORDS:
+            continue
+        said = truth(value)
+        if named & NEGATION_WORDS:
+            said = False if said else None
+        if said:
+            return True
+        if said is False:
+            result = False
+    return result
+
+
 @dataclass(frozen=True)
 class RoleOptions:
     """The user's overrides of the guesses (the import options of every command)."""
@@ -124,6 +235,13 @@ class RoleOptions:
     floor_layers: tuple[str, ...] = ()
     wall_tiles: tuple[int, ...] = ()
     spawn_tiles: tuple[int, ...] = ()
+    wall_properties: tuple[tuple[str, str | None], ...] = ()
+    """``--wall-property``: ``(NAME, VALUE or None)``; replaces the guess from property names."""
+    wall_classes: tuple[str, ...] = ()
+    """``--wall-class``: tile and object classes that are walls (any case)."""
+
+    def wall_class(self, kind: str) -> bool:
+        return bool(kind) and kind.strip().lower() in {name.strip().lower() for name in self.wall_classes}
 
 
 @dataclass
@@ -140,6 +258,8 @@ class Guesses:
     wall_objects: list[tuple[ObjectLayer, TiledObject]] = field(default_factory=list)
     spawn_objects: list[tuple[ObjectLayer, TiledObject]] = field(default_factory=list)
     spawn_gids: set[int] = field(default_factory=set)
+    player_objects: list[tuple[ObjectLayer, TiledObject]] = field(default_factory=list)
+    """The player's (intruder's) start objects: never guard spawns or walls."""
     boundary_objects: list[tuple[ObjectLayer, TiledObject]] = field(default_factory=list)
     void_gid: int = 0
     """A tile that paints the void around the level in the first floor layer (0: none)."""
@@ -161,13 +281,19 @@ def _wall_layer(layer: TileLayer | ObjectLayer, options: RoleOptions) -> bool:
     return any(_says(part, WALL_WORDS) for part in layer.path) or _says(layer.kind, WALL_WORDS)
 
 
-def _tile_says_wall(kind: str, properties: Properties) -> bool:
-    if _says(kind, WALL_WORDS):
+def _tile_says_wall(kind: str, properties: Properties, options: RoleOptions) -> bool:
+    if options.wall_class(kind) or _says(kind, WALL_WORDS):
         return True
-    marked = flag(properties, *_WALL_FLAGS)
-    if marked is not None:
-        return marked
-    return any(value is True and _says(key, WALL_WORDS) for key, value in properties.items())
+    return bool(wall_mark(properties, options.wall_properties))
+
+
+def _object_player(item: TiledObject, tiled: TiledMap) -> bool:
+    """Whether an object is the player's start: its name or class (or its tile's class) says player."""
+    if flag(item.properties, "guard_spawn"):
+        return False
+    tile = tiled.tiles.get(item.gid) if item.gid else None
+    kinds = (item.name, item.kind, tile.kind if tile is not None else "")
+    return any(_says(kind, PLAYER_WORDS) for kind in kinds)
 
 
 def _object_spawn(layer: ObjectLayer, item: TiledObject) -> bool:
@@ -207,9 +333,9 @@ def assign_roles(tiled: TiledMap, options: RoleOptions) -> Guesses:
 
     # Walls: tiles.
     for gid, info in tiled.tiles.items():
-        if info.shapes and (flag(info.properties, *_WALL_FLAGS) is not False):
+        if info.shapes and (wall_mark(info.properties, options.wall_properties) is not False):
             found.shaped_gids.add(gid)
-        elif _tile_says_wall(info.kind, info.properties):
+        elif _tile_says_wall(info.kind, info.properties, options):
             found.wall_gids.add(gid)
     found.wall_gids |= set(options.wall_tiles)
     found.shaped_gids -= set(options.wall_tiles)
@@ -254,10 +380,13 @@ def assign_roles(tiled: TiledMap, options: RoleOptions) -> Guesses:
                 if item.closed:
                     found.boundary_objects.append((layer, item))
                 continue
+            if _object_player(item, tiled):
+                found.player_objects.append((layer, item))
+                continue
             if _object_spawn(layer, item):
                 found.spawn_objects.append((layer, item))
                 continue
-            own = flag(item.properties, *_WALL_FLAGS)
+            own = True if options.wall_class(item.kind) else wall_mark(item.properties, options.wall_properties)
             if own is None:
                 says = _says(item.name, WALL_WORDS) or _says(item.kind, WALL_WORDS)
                 nameless = not item.name and not item.kind
@@ -269,9 +398,27 @@ def assign_roles(tiled: TiledMap, options: RoleOptions) -> Guesses:
     tile_ids = set(options.spawn_tiles) | {gid for gid, info in tiled.tiles.items() if _says(info.kind, {"guard"})}
     tile_ids |= {gid for gid, info in tiled.tiles.items() if flag(info.properties, "guard_spawn")}
     found.spawn_gids = tile_ids
+    found.warnings += _unmatched_overrides(tiled, options)
     # Last: the void needs the walls found above.
     found.void_gid = _void_tile(tiled, found) if found.floor_layers and not options.floor_layers else 0
     return found
+
+
+def _unmatched_overrides(tiled: TiledMap, options: RoleOptions) -> list[str]:
+    """A warning for each ``--wall-property`` and ``--wall-class`` that no tile or object of the map has."""
+    things = [(info.kind, info.properties) for info in tiled.tiles.values()]
+    things += [(item.kind, item.properties) for layer in tiled.object_layers for item in layer.objects]
+    warnings = []
+    for name, value in options.wall_properties:
+        shown = name if value is None else f"{name}={value}"
+        if not any(name in properties for _, properties in things):
+            warnings.append(f"--wall-property {shown}: no tile or object has a property {name!r}: no walls from it")
+        elif not any(wall_mark(properties, [(name, value)]) for _, properties in things):
+            warnings.append(f"--wall-property {shown}: no tile or object's {name!r} matches: no walls from it")
+    for kind in options.wall_classes:
+        if not any(own.strip().lower() == kind.strip().lower() for own, _ in things):
+            warnings.append(f"--wall-class {kind}: no tile or object has this class: no walls from it")
+    return warnings
 
 
 def _void_tile(tiled: TiledMap, found: Guesses) -> int:

@@ -1,4 +1,5 @@
-"""Guard spawns of a Tiled map: where they are, which the guard can start from, and the areas they keep."""
+"""Guard spawns of a Tiled map: where they are, which the guard can start from, and the areas they keep;
+and the player's starts, which are never a guard's."""
 
 from __future__ import annotations
 
@@ -18,7 +19,29 @@ from guardsim.importers.tiled_roles import Guesses
 from guardsim.level import Level, level_to_data
 from guardsim.world import World
 
-__all__ = ["keep_spawn_areas", "spawn_points", "usable_starts"]
+__all__ = ["keep_spawn_areas", "player_starts", "spawn_points", "usable_starts"]
+
+
+def _centre(outline: np.ndarray, closed: bool) -> tuple[float, float]:
+    """An object's centre in tiles: a closed shape's centroid, else the mean of its points."""
+    centre = Polygon(outline).centroid if closed else ShapelyPoint(outline.mean(axis=0))
+    return round(centre.x, 6), round(centre.y, 6)
+
+
+def player_starts(level: Level, roles: Guesses, geometry: TileGeometry) -> tuple[list[tuple[float, float]], str]:
+    """The player's start points (world units: tiles) in layer order, and a summary phrase ("" for none)."""
+    points: list[tuple[float, float]] = []
+    where: list[str] = []
+    free = cast(BaseGeometry, level.free_area())
+    for object_layer, item in roles.player_objects:
+        point = _centre(np.asarray(item.outline, dtype=float) / geometry.scale, item.closed)
+        points.append(point)
+        label = item.name or item.kind or f"object {item.id}"
+        off = "" if free.contains(ShapelyPoint(point)) else ", not on the free area"
+        where.append(f"({point[0]:g}, {point[1]:g}) from {label!r} in {'/'.join(object_layer.path)!r}{off}")
+    if not points:
+        return [], ""
+    return points, f"{counted(len(points), 'player start')} {listed(where, 3)} (the intruder's, not a guard spawn)"
 
 
 def spawn_points(tiled: TiledMap, roles: Guesses, geometry: TileGeometry) -> tuple[list[tuple[float, float]], str]:
@@ -27,9 +50,7 @@ def spawn_points(tiled: TiledMap, roles: Guesses, geometry: TileGeometry) -> tup
     sources = []
     layers: dict[str, int] = {}
     for object_layer, item in roles.spawn_objects:
-        outline = np.asarray(item.outline, dtype=float) / geometry.scale
-        centre = Polygon(outline).centroid if item.closed else ShapelyPoint(outline.mean(axis=0))
-        points.append((round(centre.x, 6), round(centre.y, 6)))
+        points.append(_centre(np.asarray(item.outline, dtype=float) / geometry.scale, item.closed))
         name = "/".join(object_layer.path)
         layers[name] = layers.get(name, 0) + 1
     sources += [f"{count} objects in {name!r}" for name, count in layers.items()]

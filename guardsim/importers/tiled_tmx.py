@@ -146,7 +146,10 @@ class TmxReader(MapReader):
             if encoding:
                 raw: Any = part.text or ""
             else:
-                raw = [self.integer(tile.get("gid"), f"{where} tile gid", 0) for tile in part.findall("tile")]
+                raw = [
+                    self.stored_gid(tile.get("gid"), f"{where} tile gid") if tile.get("gid") is not None else 0
+                    for tile in part.findall("tile")
+                ]
             blocks.append((x, y, width, decode_tile_data(raw, encoding, compression, width * height, here)))
         return blocks
 
