@@ -19,7 +19,7 @@ from guardsim.cli import main
 from guardsim.grid import cell_of_state, heading_of_state
 from guardsim.level import load_level
 from guardsim.patrol import Patrol, parse_patrol, patrol_data, patrol_setup, plan_loop, plan_patrol, score_patrol
-from guardsim.patrol.export import route_data
+from guardsim.patrol.export import position_at, route_data
 from guardsim.patrol.loops import closed_tour
 from guardsim.patrol.scoring import score_timeline, seen_timeline
 from guardsim.scene import Scene
@@ -262,23 +262,23 @@ def test_route_export_merges_straight_runs_and_unrolls_to_the_loop(tmp_path: Pat
     setup = patrol_setup(scene, 1)
     patrol = plan_loop(setup, 1)[0].patrol
     route = route_data(patrol, scene.grid, level="x", speed=4.0)
-    points = route["guards"][0]["waypoints"]
+    [guard] = route["guards"]
+    points = guard["waypoints"]
     assert route["seconds_per_tick"] == 0.25 and route["period_ticks"] == patrol.period
+    assert guard["loop_mode"] == "loop" and guard["phase"] == 0.0
     assert points[0]["tick"] == 0 and points[-1]["tick"] == patrol.period
     assert (points[0]["x"], points[0]["y"]) == (points[-1]["x"], points[-1]["y"])
-    cells = [*patrol.cells(scene.grid, 0), patrol.cells(scene.grid, 0)[0]]
-    walked = []
     for a, b in itertools.pairwise(points):
         assert b["time"] == pytest.approx(b["tick"] * 0.25)
-        ticks = b["tick"] - a["tick"]
+        ticks = b["tick"] - a["tick"] - round(a["wait"] / 0.25)
         dx, dy = (b["x"] - a["x"]) / ticks, (b["y"] - a["y"]) / ticks
-        # Between two waypoints the guard goes straight at one cell per tick, or waits.
-        assert (abs(dx), abs(dy)) in ((1.0, 0.0), (0.0, 1.0), (0.0, 0.0))
-        for step in range(ticks):
-            walked.append((int(a["x"] + dx * step - 0.5), int(a["y"] + dy * step - 0.5)))
-    walked.append(cells[-1])
-    assert walked == cells
-    assert len(points) < len(cells)
+        # Between two waypoints the guard stands its wait, then goes straight at one cell per tick.
+        assert (abs(dx), abs(dy)) in ((1.0, 0.0), (0.0, 1.0))
+    # Replayed at every tick of two laps, the route is where the patrol is.
+    for tick in range(2 * patrol.ticks):
+        want = scene.grid.centre(*scene.grid.unflat(int(cell_of_state(patrol.state(0, tick)))))
+        assert position_at(guard, tick * 0.25, route["period_seconds"]) == pytest.approx(want)
+    assert len(points) < patrol.ticks
 
 
 def test_patrol_command_in_a_real_process(tmp_path: Path) -> None:
@@ -368,8 +368,11 @@ def test_tiled_copy_holds_the_route_and_reimports_to_the_same_level(tmp_path: Pa
         assert shared == {"period": str(period * 0.25), "period_ticks": str(period), "speed": "4.0"}
         assert len(properties["headings"].split()) == len(properties["times"].split())
         points = [tuple(float(v) for v in pair.split(",")) for pair in route.find("polyline").get("points").split()]
-        # Closed, in map pixels (16 per tile), on tile centres.
-        assert points[0] == points[-1] and all((x / 16 - 0.5) % 1 == 0 for x, _ in points)
+        # Closed (or walked there and back), in map pixels (16 per tile), on tile centres.
+        assert properties["loop_mode"] in ("loop", "ping-pong")
+        assert (points[0] == points[-1]) == (properties["loop_mode"] == "loop") and all(
+            (x / 16 - 0.5) % 1 == 0 for x, _ in points
+        )
     # Re-importing the copy gives the same level: the route layer is neither wall nor spawn.
     routed, plain = (level_to_data(import_map(path).level) for path in (copy, source))
     assert routed.pop("name") == "routed" and plain.pop("name") == "map"
@@ -453,7 +456,8 @@ def test_tiled_json_copy_reimports_to_the_same_level(tmp_path: Path) -> None:
     layers = json.loads(copy.read_text())["layers"]
     assert [layer["name"] for layer in layers] == ["Ground", "guardsim"]
     [route] = [item for item in layers[1]["objects"] if item["type"] == "guardsim_route"]
-    assert route["type"] == "guardsim_route" and route["polyline"][0] == route["polyline"][-1]
+    mode = {item["name"]: item["value"] for item in route["properties"]}["loop_mode"]
+    assert route["type"] == "guardsim_route" and (route["polyline"][0] == route["polyline"][-1]) == (mode == "loop")
     routed, plain = (level_to_data(import_map(path).level) for path in (copy, source))
     routed.pop("name"), plain.pop("name")
     assert routed == plain

@@ -7,7 +7,6 @@ into the same level.
 
 from __future__ import annotations
 
-import itertools
 import json
 import os
 import shutil
@@ -89,11 +88,8 @@ def _check_routes(
         headings = [float(v) for v in properties["headings"].split()][: len(points)]
         times = [float(v) for v in properties["times"].split()][: len(points)]
         assert headings == [p["heading"] for p in points] and times == pytest.approx([p["time"] for p in points])
-        waits = [
-            (here, after["time"] - here["time"])
-            for here, after in itertools.pairwise(points)
-            if (here["x"], here["y"]) == (after["x"], after["y"])
-        ]
+        assert properties["loop_mode"] == guard["loop_mode"] and properties["phase"] == guard["phase"]
+        waits = [(here, here["wait"]) for here in points if here["wait"] > 0]
         marks = [
             item for item in objects if item["type"] == "guardsim_wait" and item["properties"][0]["value"] == number + 1
         ]

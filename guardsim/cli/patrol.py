@@ -109,6 +109,28 @@ def tiled_source_of(level_path: str, tiled_source: str | None) -> str | None:
     help="Write a copy of the Tiled map with a 'guardsim' route layer (.tmx or .tmj).",
 )
 @click.option("--tiled-source", "tiled_source_path", type=str, help="The Tiled map a JSON level was imported from.")
+@click.option(
+    "--godot",
+    "godot_out",
+    type=str,
+    help="Write the routes as a Godot scene (.tscn): a Path2D and PathFollow2D per guard.",
+)
+@click.option("--godot-version", type=click.Choice(["4", "3"]), default="4", show_default=True)
+@click.option(
+    "--units",
+    type=click.Choice(["world", "pixels", "tiles"]),
+    default="world",
+    show_default=True,
+    help="route.json's units.",
+)
+@click.option(
+    "--axis", type=click.Choice(["y-down", "y-up"]), default="y-down", show_default=True, help="route.json's y axis."
+)
+@click.option(
+    "--pixels-per-unit",
+    type=FiniteFloatRange(min=0, min_open=True, max=1e6),
+    help="Pixels per world unit for --units pixels and --godot [default: the Tiled map's tile size, else 32].",
+)
 @vision_options
 @limit_options
 @reports_errors
@@ -130,6 +152,11 @@ def patrol(
     speed: float | None,
     tiled_out: str | None,
     tiled_source_path: str | None,
+    godot_out: str | None,
+    godot_version: str,
+    units: str,
+    axis: str,
+    pixels_per_unit: float | None,
     los: str,
     fov: float | None,
     view_range: float | None,
@@ -282,13 +309,23 @@ def patrol(
             )
             write_viewer(folder / "patrol.html", level, trace, overlays=overlays)
             written.append(str(folder / "patrol.html"))
+    if export_path or godot_out:
+        pixels = _pixels_per_unit(pixels_per_unit, tiled_source, max_file_bytes)
     if export_path:
-        from guardsim.patrol.export import route_data
+        from guardsim.patrol.export import RouteFrame, route_data
 
-        write_text_atomic(
-            export_path, json.dumps(route_data(chosen, scene.grid, level=level.name, speed=speed), indent=1) + "\n"
-        )
+        frame = RouteFrame(units, axis, pixels, scene.grid.cell_size)
+        route = route_data(chosen, scene.grid, level=level.name, speed=speed, frame=frame)
+        write_text_atomic(export_path, json.dumps(route, indent=1) + "\n")
         written.append(export_path)
+    if godot_out:
+        from guardsim.patrol.godot import godot_scene
+
+        text = godot_scene(
+            chosen, scene.grid, level=level.name, speed=speed, pixels_per_unit=pixels, version=int(godot_version)
+        )
+        write_text_atomic(godot_out, text)
+        written.append(godot_out)
     if tiled_out:
         from guardsim.output import atomic_path
         from guardsim.patrol.tiled_export import tiled_with_routes
@@ -299,7 +336,9 @@ def patrol(
             copy = tiled_from_level(level, tiled_out, chosen, scene.grid, speed=speed)
         else:
             source_bytes = read_limited_bytes(tiled_source, max_file_bytes=max_file_bytes, kind="Tiled map")
-            copy = tiled_with_routes(tiled_source, tiled_out, chosen, scene.grid, speed=speed, source_bytes=source_bytes)
+            copy = tiled_with_routes(
+                tiled_source, tiled_out, chosen, scene.grid, speed=speed, source_bytes=source_bytes
+            )
         with atomic_path(tiled_out) as temporary:
             temporary.write_bytes(copy)
         written.append(tiled_out)
@@ -318,6 +357,22 @@ def patrol(
     for note in chosen.notes:
         click.echo(f"  {note}")
     sys.stdout.flush()
+
+
+def _pixels_per_unit(chosen: float | None, tiled_source: str | None, max_file_bytes: int) -> tuple[float, float]:
+    """Pixels per world unit along x and y: as chosen, else the Tiled map's tile size, else 32."""
+    if chosen is not None:
+        return chosen, chosen
+    if tiled_source is not None:
+        from guardsim.patrol.tiled_export import map_tile_size
+        from guardsim.reading import read_limited_bytes
+
+        return map_tile_size(
+            tiled_source, read_limited_bytes(tiled_source, max_file_bytes=max_file_bytes, kind="Tiled map")
+        )
+    from guardsim.patrol.godot import DEFAULT_PIXELS_PER_UNIT
+
+    return DEFAULT_PIXELS_PER_UNIT, DEFAULT_PIXELS_PER_UNIT
 
 
 def _mean(value: float | None) -> str:

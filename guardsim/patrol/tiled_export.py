@@ -3,10 +3,11 @@
 The Tiled copy is the source map with one more object layer, ``guardsim``, holding each guard's route as
 a polyline object (class ``guardsim_route``, custom properties ``period`` in seconds, ``period_ticks``
 and ``speed``). Names are chosen so that guardsim's own importer reads none of it as a wall or a spawn:
-the layer and object names hold no wall, spawn, guard or patrol word. Each route keeps its headings and
-times (string properties ``headings``, degrees per polyline point, and ``times``, seconds), and each
-place the guard stands still is a point object of class ``guardsim_wait`` with ``wait`` (seconds) and
-``facing`` (degrees) properties.
+the layer and object names hold no wall, spawn, guard or patrol word. Each route is route.json's
+(:func:`guardsim.patrol.export.guard_routes`: ``loop_mode`` and ``phase`` properties) and keeps its
+headings and times (string properties ``headings``, degrees per polyline point, and ``times``,
+seconds); each place the guard stands still is a point object of class ``guardsim_wait`` with ``wait``
+(seconds), ``facing`` (degrees) and, when it turns on the spot, ``scan`` properties.
 
 A level drawn by hand has no source map: :mod:`guardsim.patrol.tiled_fresh` writes a fresh one.
 """
@@ -14,7 +15,6 @@ A level drawn by hand has no source map: :mod:`guardsim.patrol.tiled_fresh` writ
 from __future__ import annotations
 
 import copy
-import itertools
 import json
 import math
 import os
@@ -25,7 +25,7 @@ from xml.etree import ElementTree
 
 from guardsim.errors import PatrolError
 from guardsim.grid import CoverageGrid
-from guardsim.patrol.export import DEFAULT_SPEED, waypoints
+from guardsim.patrol.export import DEFAULT_SPEED, guard_routes
 from guardsim.patrol.model import Patrol
 
 __all__ = [
@@ -33,6 +33,7 @@ __all__ = [
     "OBJECT_CLASS",
     "WAIT_CLASS",
     "check_tiled_formats",
+    "map_tile_size",
     "route_properties",
     "tiled_kind",
     "tiled_with_routes",
@@ -54,15 +55,16 @@ def _polyline(points: list[dict[str, Any]], scale: tuple[float, float]) -> list[
 
 
 def _route_objects(
-    routes: list[list[dict[str, Any]]],
+    routes: list[dict[str, Any]],
     properties: list[tuple[str, str, float | int]],
     scale: tuple[float, float],
     first_id: int,
 ) -> list[dict[str, Any]]:
-    """The route layer's objects in Tiled JSON's shape: per guard a polyline (its headings and times as
-    properties), then a ``guardsim_wait`` point wherever it stands still."""
+    """The route layer's objects in Tiled JSON's shape: per guard a polyline (its loop mode, phase,
+    headings and times as properties), then a ``guardsim_wait`` point wherever it stands still."""
     objects: list[dict[str, Any]] = []
-    for number, points in enumerate(routes):
+    for number, route in enumerate(routes):
+        points = route["waypoints"]
         shared = [{"name": name, "type": kind, "value": value} for name, kind, value in properties]
         line = _polyline(points, scale)
         headings = [point["heading"] for point in points] + [points[-1]["heading"]] * (len(line) - len(points))
@@ -77,13 +79,15 @@ def _route_objects(
                 "properties": [
                     *shared,
                     {"name": "guard", "type": "int", "value": number + 1},
+                    {"name": "loop_mode", "type": "string", "value": route["loop_mode"]},
+                    {"name": "phase", "type": "float", "value": route["phase"]},
                     {"name": "headings", "type": "string", "value": " ".join(f"{h:g}" for h in headings)},
                     {"name": "times", "type": "string", "value": " ".join(f"{t:g}" for t in times)},
                 ],
             }
         )
-        for here, after in itertools.pairwise(points):
-            if (here["x"], here["y"]) == (after["x"], after["y"]) and after["time"] > here["time"]:
+        for here in points:
+            if here["wait"] > 0:
                 objects.append(
                     {
                         "name": f"route {number + 1} wait",
@@ -92,9 +96,14 @@ def _route_objects(
                         "y": here["y"] * scale[1],
                         "properties": [
                             {"name": "guard", "type": "int", "value": number + 1},
-                            {"name": "wait", "type": "float", "value": round(after["time"] - here["time"], 6)},
+                            {"name": "wait", "type": "float", "value": here["wait"]},
                             {"name": "facing", "type": "float", "value": here["heading"]},
                             {"name": "time", "type": "float", "value": here["time"]},
+                            *(
+                                [{"name": "scan", "type": "string", "value": " ".join(f"{h:g}" for h in here["scan"])}]
+                                if "scan" in here
+                                else []
+                            ),
                         ],
                     }
                 )
@@ -128,7 +137,7 @@ def tiled_with_routes(
     existing ``guardsim`` layer is replaced.
     """
     source_kind = check_tiled_formats(source, target)
-    routes = [waypoints(patrol, grid, guard, speed=speed) for guard in range(patrol.guards)]
+    routes = guard_routes(patrol, grid, speed=speed)
     properties = route_properties(patrol, grid, speed)
     moved = _rebaser(source, target)
     if source_kind == "tmx":
@@ -172,7 +181,7 @@ def tiled_kind(path: str | os.PathLike[str]) -> str:
 def tmx_with_routes(
     source: str | os.PathLike[str],
     data: bytes,
-    routes: list[list[dict[str, Any]]],
+    routes: list[dict[str, Any]],
     properties: list[tuple[str, str, float | int]],
     moved: Callable[[str], str],
 ) -> bytes:
@@ -249,10 +258,34 @@ def _number(element: ElementTree.Element, name: str, source: str | os.PathLike[s
     return value
 
 
+def _json_scale(tiled: dict[str, Any], source: str | os.PathLike[str]) -> tuple[float, float]:
+    try:
+        scale = (float(tiled.get("tilewidth") or 0), float(tiled.get("tileheight") or 0))
+    except (TypeError, ValueError):
+        scale = (math.nan, math.nan)
+    if not all(math.isfinite(v) and v > 0 for v in scale):
+        raise PatrolError(f"{source}: the map's tilewidth and tileheight must be positive numbers")
+    return scale
+
+
+def map_tile_size(source: str | os.PathLike[str], data: bytes) -> tuple[float, float]:
+    """The tile width and height in pixels of the Tiled map ``source`` (its bytes given): the pixels of
+    one world unit, as the importer reads one tile as one unit."""
+    from guardsim.reading import parse_json, read_xml_root
+
+    if tiled_kind(source) == "tmx":
+        root = read_xml_root(data, source=str(source), error=PatrolError)
+        return _number(root, "tilewidth", source), _number(root, "tileheight", source)
+    tiled = parse_json(data.decode("utf-8-sig", errors="replace"), source=str(source), error=PatrolError)
+    if not isinstance(tiled, dict):
+        raise PatrolError(f"{source}: not a Tiled JSON map")
+    return _json_scale(tiled, source)
+
+
 def _tmj(
     source: str | os.PathLike[str],
     data: bytes,
-    routes: list[list[dict[str, Any]]],
+    routes: list[dict[str, Any]],
     properties: list[tuple[str, str, float | int]],
     moved: Callable[[str], str],
 ) -> bytes:
@@ -263,9 +296,7 @@ def _tmj(
         raise PatrolError(f"{source}: not a Tiled JSON map (no layers list)")
     tiled = copy.deepcopy(tiled)
     _rebase_json(tiled, moved)
-    scale = (float(tiled.get("tilewidth") or 0), float(tiled.get("tileheight") or 0))
-    if not all(math.isfinite(v) and v > 0 for v in scale):
-        raise PatrolError(f"{source}: the map's tilewidth and tileheight must be positive numbers")
+    scale = _json_scale(tiled, source)
     layers = [
         layer
         for layer in tiled["layers"]

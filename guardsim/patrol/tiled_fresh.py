@@ -17,7 +17,7 @@ from xml.etree import ElementTree
 from guardsim.errors import PatrolError
 from guardsim.grid import CoverageGrid
 from guardsim.level import Level
-from guardsim.patrol.export import DEFAULT_SPEED, waypoints
+from guardsim.patrol.export import DEFAULT_SPEED, guard_routes
 from guardsim.patrol.model import Patrol
 from guardsim.patrol.tiled_export import route_properties, tiled_kind, tmx_with_routes
 
@@ -111,11 +111,11 @@ def tiled_from_level(
         ]
     ).encode("utf-8")
     routes = [
-        [
-            {**point, "x": point["x"] - left, "y": point["y"] - top}
-            for point in waypoints(patrol, grid, guard, speed=speed)
-        ]
-        for guard in range(patrol.guards)
+        {
+            **route,
+            "waypoints": [{**point, "x": point["x"] - left, "y": point["y"] - top} for point in route["waypoints"]],
+        }
+        for route in guard_routes(patrol, grid, speed=speed)
     ]
     properties = route_properties(patrol, grid, speed)
     data = tmx_with_routes(target, skeleton, routes, properties, lambda path: path)
