@@ -18,7 +18,7 @@ from typing import Any
 import pytest
 
 from guardsim.patrol.export import position_at
-from tests.common import STRIP, TWO_ROOMS, run, write_level
+from tests.common import SQUARE, STRIP, TWO_ROOMS, run, write_level
 
 GODOT = shutil.which("godot3-server")
 needs_godot = pytest.mark.skipif(GODOT is None, reason="Debian's godot3-server is not installed (.ci/run installs it)")
@@ -84,8 +84,9 @@ def _export(tmp_path: Path, level: dict[str, Any], *options: str) -> tuple[Path,
         (TWO_ROOMS, ["--guards", "2"], None),
         (STRIP, [], {"ping-pong"}),
         (TWO_ROOMS, ["--strategy", "staleness", "--laps", "1", "--pixels-per-unit", "16"], {"once"}),
+        pytest.param(json.loads(SQUARE.read_text()), ["--guards", "2", "--clean"], {"loop"}, marks=pytest.mark.slow),
     ],
-    ids=["two-rooms-team", "strip-ping-pong", "walked-once"],
+    ids=["two-rooms-team", "strip-ping-pong", "walked-once", "square-cleaned-team"],
 )
 def test_godot_walks_the_exported_route(
     tmp_path: Path, level: dict[str, Any], options: list[str], modes: set[str] | None
@@ -101,7 +102,7 @@ def test_godot_walks_the_exported_route(
     for number, guard in enumerate(route["guards"], start=1):
         assert len(walked[number]) == len(times)
         for seconds, got in zip(times, walked[number]):
-            want = position_at(guard, seconds, period)
+            want = position_at(guard, seconds)
             # Godot bakes the curve every pixel; a follower cuts a corner by less than one.
             assert got == pytest.approx(want, abs=1.0), (number, seconds)
 

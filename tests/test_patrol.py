@@ -277,7 +277,7 @@ def test_route_export_merges_straight_runs_and_unrolls_to_the_loop(tmp_path: Pat
     # Replayed at every tick of two laps, the route is where the patrol is.
     for tick in range(2 * patrol.ticks):
         want = scene.grid.centre(*scene.grid.unflat(int(cell_of_state(patrol.state(0, tick)))))
-        assert position_at(guard, tick * 0.25, route["period_seconds"]) == pytest.approx(want)
+        assert position_at(guard, tick * 0.25) == pytest.approx(want)
     assert len(points) < patrol.ticks
 
 

@@ -9,6 +9,7 @@ var time := 0.0
 var playing := true
 # Where each curve point is along the curve Godot baked (PathFollow2D's offset), measured once.
 var offsets := PoolRealArray()
+var baked := PoolVector2Array()
 
 
 func _process(delta: float) -> void:
@@ -23,6 +24,7 @@ func seek(seconds: float) -> void:
 	var times: PoolRealArray = path.get_meta("times")
 	var waits: PoolRealArray = path.get_meta("waits")
 	if offsets.size() != times.size():
+		baked = path.curve.get_baked_points()
 		offsets = measure(path.curve)
 	var headings: PoolRealArray = path.get_meta("headings")
 	var mode: String = path.get_meta("loop_mode")
@@ -43,7 +45,7 @@ func seek(seconds: float) -> void:
 		offset = offsets[i]
 		rotation_degrees = headings[i]
 	else:
-		offset = lerp(offsets[i], offsets[i + 1], (t - leave) / (times[i + 1] - leave))
+		offset = leg_offset(path.curve, i, (t - leave) / (times[i + 1] - leave))
 		var ahead: Vector2 = path.curve.get_point_position(i + 1) - path.curve.get_point_position(i)
 		rotation = ahead.angle()
 
@@ -53,12 +55,47 @@ func seek(seconds: float) -> void:
 # PathFollow2D takes. Between two curve points the route is straight, so the nearest baked point is
 # found by walking on while the baked points come closer.
 func measure(curve: Curve2D) -> PoolRealArray:
-	var baked: PoolVector2Array = curve.get_baked_points()
 	var found := PoolRealArray()
 	var k := 0
 	for i in range(curve.get_point_count()):
 		var point: Vector2 = curve.get_point_position(i)
 		while k + 1 < baked.size() and baked[k + 1].distance_to(point) < baked[k].distance_to(point):
 			k += 1
-		found.append(k * curve.bake_interval)
+		found.append(_along(baked, k, point) * curve.bake_interval)
 	return found
+
+
+# Where `point` falls, in baked steps, on the baked segment before or after baked point k.
+func _along(baked, k: int, point: Vector2) -> float:
+	if k + 1 < baked.size():
+		var ahead: Vector2 = baked[k + 1] - baked[k]
+		var share: float = (point - baked[k]).dot(ahead) / max(ahead.length_squared(), 1e-12)
+		if share > 0.0:
+			return k + min(share, 1.0)
+	if k > 0:
+		var behind: Vector2 = baked[k] - baked[k - 1]
+		var share: float = (point - baked[k - 1]).dot(behind) / max(behind.length_squared(), 1e-12)
+		return k - 1 + clamp(share, 0.0, 1.0)
+	return float(k)
+
+
+
+# The offset `share` of the way along the straight leg from curve point i to i + 1. Godot spaces its
+# baked points only roughly evenly, so the offset is found where the baked points reach that far along
+# the leg (a binary search between the leg's ends), not in proportion.
+func leg_offset(curve: Curve2D, i: int, share: float) -> float:
+	var a: Vector2 = curve.get_point_position(i)
+	var leg: Vector2 = curve.get_point_position(i + 1) - a
+	var length2: float = max(leg.length_squared(), 1e-12)
+	var lo := int(floor(offsets[i] / curve.bake_interval))
+	var hi := int(min(ceil(offsets[i + 1] / curve.bake_interval), baked.size() - 1))
+	while hi - lo > 1:
+		var middle := (lo + hi) / 2
+		if (baked[middle] - a).dot(leg) / length2 < share:
+			lo = middle
+		else:
+			hi = middle
+	var low: float = (baked[lo] - a).dot(leg) / length2
+	var high: float = (baked[hi] - a).dot(leg) / length2
+	var part: float = 0.0 if high <= low else clamp((share - low) / (high - low), 0.0, 1.0)
+	return (lo + part) * curve.bake_interval

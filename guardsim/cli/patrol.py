@@ -115,6 +115,18 @@ def tiled_source_of(level_path: str, tiled_source: str | None) -> str | None:
     type=str,
     help="Write the routes as a Godot scene (.tscn): a Path2D and PathFollow2D per guard.",
 )
+@click.option(
+    "--clean",
+    is_flag=True,
+    help="Take one-tile jogs and A-B-A spurs out of the exported routes where the guard still watches as well.",
+)
+@click.option(
+    "--clean-tolerance",
+    type=FiniteFloatRange(min=0, max=10),
+    default=0.1,
+    show_default=True,
+    help="--clean: how much worse (a share) the worst idleness of a cleaned route may be.",
+)
 @click.option("--godot-version", type=click.Choice(["4", "3"]), default="4", show_default=True)
 @click.option(
     "--units",
@@ -154,6 +166,8 @@ def patrol(
     tiled_source_path: str | None,
     godot_out: str | None,
     godot_version: str,
+    clean: bool,
+    clean_tolerance: float,
     units: str,
     axis: str,
     pixels_per_unit: float | None,
@@ -309,20 +323,41 @@ def patrol(
             )
             write_viewer(folder / "patrol.html", level, trace, overlays=overlays)
             written.append(str(folder / "patrol.html"))
+    routes = None
+    if clean and (export_path or godot_out or tiled_out):
+        from guardsim.patrol.cleaning import clean_routes
+        from guardsim.patrol.export import guard_routes
+
+        routes, reports = clean_routes(
+            scene, guard_routes(chosen, scene.grid, speed=speed), setup.goal, speed=speed, tolerance=clean_tolerance
+        )
+        for number, report in enumerate(reports, start=1):
+            if report is not None:
+                click.echo(
+                    f"  route {number} cleaned: {report.waypoints_before} -> {report.waypoints_after} waypoints "
+                    f"({report.jogs} jogs, {report.spurs} spurs taken out), worst idleness "
+                    f"{_mean(report.worst_before)} -> {_mean(report.worst_after)} s replayed"
+                )
     if export_path or godot_out:
         pixels = _pixels_per_unit(pixels_per_unit, tiled_source, max_file_bytes)
     if export_path:
         from guardsim.patrol.export import RouteFrame, route_data
 
         frame = RouteFrame(units, axis, pixels, scene.grid.cell_size)
-        route = route_data(chosen, scene.grid, level=level.name, speed=speed, frame=frame)
+        route = route_data(chosen, scene.grid, level=level.name, speed=speed, frame=frame, routes=routes)
         write_text_atomic(export_path, json.dumps(route, indent=1) + "\n")
         written.append(export_path)
     if godot_out:
         from guardsim.patrol.godot import godot_scene
 
         text = godot_scene(
-            chosen, scene.grid, level=level.name, speed=speed, pixels_per_unit=pixels, version=int(godot_version)
+            chosen,
+            scene.grid,
+            level=level.name,
+            speed=speed,
+            pixels_per_unit=pixels,
+            version=int(godot_version),
+            routes=routes,
         )
         write_text_atomic(godot_out, text)
         written.append(godot_out)
@@ -333,11 +368,11 @@ def patrol(
         from guardsim.reading import read_limited_bytes
 
         if tiled_source is None:
-            copy = tiled_from_level(level, tiled_out, chosen, scene.grid, speed=speed)
+            copy = tiled_from_level(level, tiled_out, chosen, scene.grid, speed=speed, routes=routes)
         else:
             source_bytes = read_limited_bytes(tiled_source, max_file_bytes=max_file_bytes, kind="Tiled map")
             copy = tiled_with_routes(
-                tiled_source, tiled_out, chosen, scene.grid, speed=speed, source_bytes=source_bytes
+                tiled_source, tiled_out, chosen, scene.grid, speed=speed, source_bytes=source_bytes, routes=routes
             )
         with atomic_path(tiled_out) as temporary:
             temporary.write_bytes(copy)

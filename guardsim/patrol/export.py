@@ -146,7 +146,8 @@ def _as_ping_pong(
 
 
 def guard_routes(patrol: Patrol, grid: CoverageGrid, *, speed: float = DEFAULT_SPEED) -> list[dict[str, Any]]:
-    """Each guard's route: ``loop_mode``, ``phase`` (seconds) and ``waypoints`` (world units, y down).
+    """Each guard's route: ``loop_mode``, ``period`` and ``phase`` (seconds), and ``waypoints`` (world
+    units, y down).
 
     A guard whose lap is the first guard's lap started later shares its waypoints, with a phase; a
     closed route that walks back the way it came is written once, as ``ping-pong``.
@@ -155,7 +156,8 @@ def guard_routes(patrol: Patrol, grid: CoverageGrid, *, speed: float = DEFAULT_S
     routes: list[dict[str, Any]] = []
     for guard in range(patrol.guards):
         if patrol.period is None:
-            routes.append({"loop_mode": "once", "phase": 0.0, "waypoints": waypoints(patrol, grid, guard, speed=speed)})
+            points = waypoints(patrol, grid, guard, speed=speed)
+            routes.append({"loop_mode": "once", "phase": 0.0, "waypoints": points})
             continue
         shift = None if guard == 0 else _shift(patrol.states[guard], patrol.states[0])
         start = 0
@@ -174,16 +176,21 @@ def guard_routes(patrol: Patrol, grid: CoverageGrid, *, speed: float = DEFAULT_S
         route["start"] = start
         route["phase"] = round((-start % patrol.period) * seconds_per_tick, 6)
         routes.append(route)
-    return [{key: route[key] for key in ("loop_mode", "phase", "waypoints")} for route in routes]
+    period = None if patrol.period is None else round(patrol.period * seconds_per_tick, 6)
+    return [
+        {"loop_mode": route["loop_mode"], "period": period, "phase": route["phase"], "waypoints": route["waypoints"]}
+        for route in routes
+    ]
 
 
-def position_at(route: dict[str, Any], seconds: float, period: float | None) -> tuple[float, float]:
+def position_at(route: dict[str, Any], seconds: float) -> tuple[float, float]:
     """Where a guard following ``route`` (one of :func:`guard_routes`) is ``seconds`` after time 0.
 
-    ``period`` is the patrol's period in seconds (``None`` for a ``once`` route). Between waypoints
-    the guard walks straight at a constant pace; it stands ``wait`` seconds at each.
+    Between waypoints the guard walks straight at a constant pace; it stands ``wait`` seconds at each;
+    a ``loop`` or ``ping-pong`` route repeats every ``period`` seconds.
     """
     points = route["waypoints"]
+    period = route["period"]
     time = seconds + route["phase"]
     mode = route["loop_mode"]
     if mode != "once":
@@ -275,8 +282,12 @@ def route_data(
     level: str,
     speed: float = DEFAULT_SPEED,
     frame: RouteFrame | None = None,
+    routes: list[dict[str, Any]] | None = None,
 ) -> dict[str, Any]:
-    """The JSON-ready route.json of a patrol, its points in ``frame`` (world units, y down by default)."""
+    """The JSON-ready route.json of a patrol, its points in ``frame`` (world units, y down by default);
+    ``routes`` are :func:`guard_routes` (or cleaned ones, :mod:`guardsim.patrol.cleaning`) when given."""
+    if routes is None:
+        routes = guard_routes(patrol, grid, speed=speed)
     frame = frame or RouteFrame(cell_size=grid.cell_size)
     seconds_per_tick = grid.cell_size / speed
     data: dict[str, Any] = {
@@ -294,7 +305,7 @@ def route_data(
             "period_ticks": patrol.period,
             "period_seconds": None if patrol.period is None else round(patrol.period * seconds_per_tick, 6),
             "repeats": patrol.period is not None,
-            "guards": [_framed(route, frame) for route in guard_routes(patrol, grid, speed=speed)],
+            "guards": [_framed(route, frame) for route in routes],
         }
     )
     return data

@@ -79,8 +79,10 @@ def godot_scene(
     speed: float = DEFAULT_SPEED,
     pixels_per_unit: tuple[float, float] = (DEFAULT_PIXELS_PER_UNIT, DEFAULT_PIXELS_PER_UNIT),
     version: int = 4,
+    routes: list[dict[str, Any]] | None = None,
 ) -> str:
-    """The text of a ``.tscn`` scene holding the patrol (see the module docstring).
+    """The text of a ``.tscn`` scene holding the patrol (see the module docstring); ``routes`` are
+    :func:`~guardsim.patrol.export.guard_routes` (or cleaned ones) when given.
 
     Examples
     --------
@@ -95,8 +97,8 @@ def godot_scene(
         raise ValueError(f"Godot version must be 3 or 4, not {version}")
     frame = RouteFrame("pixels", "y-down", pixels_per_unit, grid.cell_size)
     seconds_per_tick = grid.cell_size / speed
-    period = None if patrol.period is None else round(patrol.period * seconds_per_tick, 6)
-    routes = guard_routes(patrol, grid, speed=speed)
+    if routes is None:
+        routes = guard_routes(patrol, grid, speed=speed)
     resources: list[str] = []
     nodes: list[str] = []
     root = _node_name(level)
@@ -125,7 +127,7 @@ def godot_scene(
             "guard": number,
             "loop_mode": route["loop_mode"],
             "phase": route["phase"],
-            "period": -1.0 if period is None else period,
+            "period": -1.0 if route["period"] is None else route["period"],
             "speed": frame.speed(speed) or speed * pixels_per_unit[0],
             "times": [point["time"] for point in route["waypoints"]],
             "waits": [point["wait"] for point in route["waypoints"]],

@@ -65,7 +65,10 @@ def _route_objects(
     objects: list[dict[str, Any]] = []
     for number, route in enumerate(routes):
         points = route["waypoints"]
-        shared = [{"name": name, "type": kind, "value": value} for name, kind, value in properties]
+        shared = [
+            {"name": name, "type": kind, "value": route["period"] if name == "period" and route["period"] else value}
+            for name, kind, value in properties
+        ]
         line = _polyline(points, scale)
         headings = [point["heading"] for point in points] + [points[-1]["heading"]] * (len(line) - len(points))
         times = [point["time"] for point in points] + [points[-1]["time"]] * (len(line) - len(points))
@@ -129,6 +132,7 @@ def tiled_with_routes(
     *,
     speed: float = DEFAULT_SPEED,
     source_bytes: bytes,
+    routes: list[dict[str, Any]] | None = None,
 ) -> bytes:
     """The Tiled map ``source`` (its bytes given) with the ``guardsim`` route layer, in ``target``'s format.
 
@@ -137,7 +141,8 @@ def tiled_with_routes(
     existing ``guardsim`` layer is replaced.
     """
     source_kind = check_tiled_formats(source, target)
-    routes = guard_routes(patrol, grid, speed=speed)
+    if routes is None:
+        routes = guard_routes(patrol, grid, speed=speed)
     properties = route_properties(patrol, grid, speed)
     moved = _rebaser(source, target)
     if source_kind == "tmx":

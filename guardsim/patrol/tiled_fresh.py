@@ -35,6 +35,7 @@ def tiled_from_level(
     *,
     speed: float = DEFAULT_SPEED,
     tile_pixels: int = DEFAULT_TILE_PIXELS,
+    routes: list[dict[str, Any]] | None = None,
 ) -> bytes:
     """A fresh Tiled map (``.tmx``, or JSON for ``.tmj``/``.json``) of a level drawn without one.
 
@@ -115,7 +116,7 @@ def tiled_from_level(
             **route,
             "waypoints": [{**point, "x": point["x"] - left, "y": point["y"] - top} for point in route["waypoints"]],
         }
-        for route in guard_routes(patrol, grid, speed=speed)
+        for route in (guard_routes(patrol, grid, speed=speed) if routes is None else routes)
     ]
     properties = route_properties(patrol, grid, speed)
     data = tmx_with_routes(target, skeleton, routes, properties, lambda path: path)
