@@ -135,6 +135,7 @@ def test_every_known_key_is_in_the_schema() -> None:
         TINY_LEVELS["square-with-hole"],
         cell_size=1,
         starts=[[0.5, 0.5]],
+        player_starts=[[5.5, 5.5]],
         guard={
             "view_range": 5,
             "fov_degrees": 90,

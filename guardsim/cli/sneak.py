@@ -49,10 +49,9 @@ def sneak_cell(scene_grid: CoverageGrid, point: tuple[float, float], option: str
 @click.option(
     "--from",
     "source",
-    required=True,
     callback=parse_point,
     metavar="X,Y",
-    help="Where the player enters (world units).",
+    help="Where the player enters (world units) [default: the level's first player start].",
 )
 @click.option(
     "--to", "target", required=True, callback=parse_point, metavar="X,Y", help="Where the player must get to."
@@ -82,7 +81,7 @@ def sneak_cell(scene_grid: CoverageGrid, point: tuple[float, float], option: str
 def sneak(
     level_path: str,
     patrol_path: str,
-    source: tuple[float, float],
+    source: tuple[float, float] | None,
     target: tuple[float, float],
     out_dir: str | None,
     gif: bool,
@@ -140,6 +139,11 @@ def sneak(
         )
     if patrol.period is None:
         raise GuardsimError(f"{patrol_path}: period is null: the sneak check needs a repeating patrol")
+    if source is None:
+        if not level.player_starts:
+            raise GuardsimError(f"{level_path}: the level marks no player start: give --from X,Y")
+        source = level.player_starts[0]
+        click.echo(f"from the level's player start ({source[0]:g}, {source[1]:g})")
     start, goal = sneak_cell(grid, source, "--from"), sneak_cell(grid, target, "--to")
     if grid.component_labels[start] != grid.component_labels[goal]:
         raise GuardsimError(

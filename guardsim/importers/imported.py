@@ -72,8 +72,12 @@ class ImportedLevel:
         """One line: source, grid, holes, vertices and changes."""
         rows, cols = self.level.grid_shape()
         width, height = self.map_size
+        left, top = self.level.bounds[:2]
+        # A grid cropped to the level says where it sits: cells in patrol.json and sneak.json count from
+        # there, while world units (route.json, Tiled exports) are the map's own.
+        at = f" at ({left:g}, {top:g})" if (left, top) != (0, 0) else ""
         text = (
-            f"{self.level.source}: {self.kind} {width} x {height} -> {cols} x {rows} grid "
+            f"{self.level.source}: {self.kind} {width} x {height} -> {cols} x {rows} grid{at} "
             f"(cell size {self.level.cell_size:g}), {len(self.level.holes)} holes, {self.vertices} vertices"
         )
         return f"{text}; {'; '.join(self.changes)}" if self.changes else text

@@ -202,12 +202,22 @@ def import_tiled(
     players, player_phrase = player_starts(level, roles, geometry)
     if player_phrase:
         changes.append(player_phrase)
-    if starts:
+    # The level keeps the player starts a player can stand on: sneak's and alert's default --from.
+    area = level.free_area()
+    standing = [point for point in players if shapely.contains_xy(area, *point)]
+    if starts or standing:
         data = level_to_data(level)
-        data["guard"]["start"] = list(starts[0])
-        data["starts"] = [list(point) for point in starts]
+        if starts:
+            data["guard"]["start"] = list(starts[0])
+            data["starts"] = [list(point) for point in starts]
+        if standing:
+            data["player_starts"] = [list(point) for point in standing]
         level = parse_level(data, source=source, max_cells=max_cells, max_vertices=max_vertices)
-    return ImportedLevel(level, "Tiled map", (int(width), int(height)), tuple(changes), tuple(warnings), tuple(players))
+    # The map's own size, as Tiled shows it; the grid cropped to the level says where it sits (summary).
+    declared = tiled.size
+    inside = bounds[0] >= 0 and bounds[1] >= 0 and bounds[2] <= declared[0] and bounds[3] <= declared[1]
+    size = declared if inside else (int(width), int(height))
+    return ImportedLevel(level, "Tiled map", size, tuple(changes), tuple(warnings), tuple(players))
 
 
 #: The warnings that say walls may be missing; a missing tileset is named in the first of them.

@@ -86,6 +86,8 @@ class Level:
     guard: GuardSpec = field(default_factory=GuardSpec)
     starts: tuple[Point, ...] = ()
     """Designer-marked spawn points (optional)."""
+    player_starts: tuple[Point, ...] = ()
+    """Where the player (the intruder of ``sneak`` and ``alert``) starts, when the designer marks it."""
     source: str = "<level>"
     """Where the level was read from, for messages."""
 

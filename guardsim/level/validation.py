@@ -33,7 +33,7 @@ MAX_OVERLAPS_LISTED = 20
 #: level is refused instead of checked pair by pair.
 PAIRS_PER_VERTEX = 2
 
-_TOP_KEYS = {"name", "cell_size", "outer", "holes", "guard", "starts"}
+_TOP_KEYS = {"name", "cell_size", "outer", "holes", "guard", "starts", "player_starts"}
 _MOTION_KEYS = ("move_speed", "turn_speed", "tick_hz")
 _DETECTION_KEYS = ("detect_near", "detect_far", "forget", "suspicious")
 _ALERT_KEYS = ("capture_radius", "search_seconds", "radio_delay")
@@ -123,6 +123,7 @@ def _check(data: Any, source: str, max_cells: int, max_vertices: int) -> tuple[L
 
     guard = _guard(data.get("guard", {}), problems)
     starts = _points(data.get("starts", []), "starts", problems)
+    players = _points(data.get("player_starts", []), "player_starts", problems)
 
     if outer is not None and cell_size is not None:
         xs = [p[0] for p in outer]
@@ -138,8 +139,8 @@ def _check(data: Any, source: str, max_cells: int, max_vertices: int) -> tuple[L
             )
             return None, problems
     if outer is not None:
-        _check_geometry(outer, holes, guard, starts, problems, max_pairs=PAIRS_PER_VERTEX * max_vertices)
-    if problems or outer is None or cell_size is None or guard is None or starts is None:
+        _check_geometry(outer, holes, guard, starts, problems, max_pairs=PAIRS_PER_VERTEX * max_vertices, players=players)
+    if problems or outer is None or cell_size is None or guard is None or starts is None or players is None:
         return None, problems
     level = Level(
         name=name,
@@ -148,6 +149,7 @@ def _check(data: Any, source: str, max_cells: int, max_vertices: int) -> tuple[L
         holes=tuple(hole for hole in holes if hole is not None),
         guard=guard,
         starts=tuple(starts),
+        player_starts=tuple(players),
         source=source,
     )
     return level, problems
@@ -349,6 +351,7 @@ def _check_geometry(
     problems: list[Problem],
     *,
     max_pairs: int,
+    players: list[Point] | None = None,
 ) -> None:
     outer_problem = _ring_problem(outer, "outer")
     if outer_problem:
@@ -396,6 +399,7 @@ def _check_geometry(
     if guard is not None and guard.start is not None:
         candidates.append(("guard.start", guard.start))
     candidates += [(f"starts point {i}", p) for i, p in enumerate(starts or [])]
+    candidates += [(f"player_starts point {i}", p) for i, p in enumerate(players or [])]
     for where, point in candidates:
         if not outer_polygon.covers(shapely.Point(point)):
             problems.append(Problem(f"{where} {_fmt(point)}", "start lies outside the level"))

@@ -41,6 +41,8 @@ def level_to_data(level: Level) -> dict[str, Any]:
     }
     if level.starts:
         data["starts"] = [list(p) for p in level.starts]
+    if level.player_starts:
+        data["player_starts"] = [list(p) for p in level.player_starts]
     return data
 
 

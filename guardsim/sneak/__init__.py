@@ -197,6 +197,10 @@ def sneak_data(result: SneakResult, grid: CoverageGrid, **header: Any) -> dict[s
     traversable = grid.traversable
     return {
         **header,
+        # Cells are [col, row] of the grid whose top-left corner is ``origin`` (world units: a Tiled
+        # map's tile coordinates), as in patrol.json and traces.
+        "cell_size": grid.cell_size,
+        "origin": list(grid.origin),
         "period": result.period,
         "rule": "undetected" if result.undetected else "unseen",
         "found": result.found,
