@@ -410,43 +410,18 @@ class Simulation:
     def trace(self) -> Trace:
         """The record of the episode so far (complete once :attr:`done`)."""
         episode = self._require()
-        scene, grid = self.scene, self.scene.grid
         ticks = self.tick + 1
-        cols = grid.shape[1]
-        paths = [
-            tuple(zip((row_cells % cols).tolist(), (row_cells // cols).tolist()))
-            for row_cells in episode.cells[:, :ticks]
-        ]
-        headings = [tuple(row.tolist()) for row in episode.headings[:, :ticks]]
-        goal = episode.goal
-        goal_count = int(goal.sum())
-        traversable = grid.traversable
-        single = len(self.planners) == 1
         planner = self.planners[0]
-        return Trace(
-            level=scene.level.name,
+        return Trace.of_episode(
+            self.scene,
             planner=planner.name,
             seed=self.seed,
-            cell_size=grid.cell_size,
-            origin=grid.origin,
-            shape=grid.shape,
-            path=paths[0],
-            headings=headings[0],
-            unseen_percent=tuple(
-                round(100.0 * count / goal_count, 4) for count in episode.unseen_counts[:ticks].tolist()
-            ),
+            cells=episode.cells[:, :ticks],
+            headings=episode.headings[:, :ticks],
+            unseen=episode.unseen_counts[:ticks],
             outcome=self.outcome or "running",
-            reachable=goal_count,
-            unreachable=int(traversable.sum()) - goal_count,
-            first_seen=episode.first_seen.reshape(grid.shape).copy(),
-            goal=goal.reshape(grid.shape).copy(),
-            traversable=traversable.copy(),
-            guard_paths=() if single else tuple(paths),
-            guard_headings=() if single else tuple(headings),
-            guard_radius=scene.level.guard.radius,
-            view_range=scene.cone.view_range,
-            fov_degrees=scene.cone.fov_degrees,
-            line_of_sight=scene.line_of_sight.value,
+            first_seen=episode.first_seen,
+            goal=episode.goal,
             planner_options=dict(getattr(planner, "options", {})),
             field=self._recorded_field(ticks),
         )

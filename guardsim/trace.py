@@ -6,9 +6,12 @@ import itertools
 import json
 from collections.abc import Mapping
 from dataclasses import dataclass, field
-from typing import Any
+from typing import TYPE_CHECKING, Any
 
 import numpy as np
+
+if TYPE_CHECKING:
+    from guardsim.scene import Scene
 
 __all__ = ["OUTCOMES", "Trace"]
 
@@ -85,6 +88,62 @@ class Trace:
     """Recorded only when asked (``Simulation(record_field=True)``, ``play --record-field``): ``int32
     (ticks + 1, rows, cols)``, guard 0's planner field D (RippleFront's distance to unseen) as the guard
     decided at each tick (the last tick, with no decision, repeats the one before); -1 where D has no value."""
+
+    @classmethod
+    def of_episode(
+        cls,
+        scene: Scene,
+        *,
+        planner: str,
+        seed: int | None,
+        cells: np.ndarray,
+        headings: np.ndarray,
+        unseen: np.ndarray,
+        outcome: str,
+        first_seen: np.ndarray,
+        goal: np.ndarray,
+        **more: Any,
+    ) -> Trace:
+        """The one way an episode becomes a trace: what every episode shares, from its scene and arrays.
+
+        ``cells`` and ``headings`` are ``int (guards, ticks + 1)`` (flat cell index and heading number per
+        guard and tick), ``unseen`` the count of goal cells still unseen at each tick, ``first_seen`` and
+        ``goal`` flat over the grid; ``more`` sets the optional fields (planner options, continuous motion,
+        the recorded field).
+        """
+        grid = scene.grid
+        cols = grid.shape[1]
+        cells = np.asarray(cells)
+        paths = [tuple(zip((row % cols).tolist(), (row // cols).tolist())) for row in cells]
+        turns = [tuple(row.tolist()) for row in np.asarray(headings)]
+        goal_count = int(np.count_nonzero(goal))
+        single = len(paths) == 1
+        return cls(
+            level=scene.level.name,
+            planner=planner,
+            seed=seed,
+            cell_size=grid.cell_size,
+            origin=grid.origin,
+            shape=grid.shape,
+            path=paths[0],
+            headings=turns[0],
+            unseen_percent=tuple(
+                round(100.0 * count / goal_count, 4) if goal_count else 0.0 for count in np.asarray(unseen).tolist()
+            ),
+            outcome=outcome,
+            reachable=goal_count,
+            unreachable=int(grid.traversable.sum()) - goal_count,
+            first_seen=np.asarray(first_seen).reshape(grid.shape).copy(),
+            goal=np.asarray(goal, dtype=bool).reshape(grid.shape).copy(),
+            traversable=grid.traversable.copy(),
+            guard_paths=() if single else tuple(paths),
+            guard_headings=() if single else tuple(turns),
+            guard_radius=scene.level.guard.radius,
+            view_range=scene.cone.view_range,
+            fov_degrees=scene.cone.fov_degrees,
+            line_of_sight=scene.line_of_sight.value,
+            **more,
+        )
 
     @property
     def guards(self) -> int:

@@ -339,36 +339,19 @@ class ContinuousSimulation:
     def trace(self) -> Trace:
         """The record of the episode so far; its ticks are physics ticks."""
         self._require()
-        scene, grid = self.scene, self.scene.grid
         log = self._log
         ticks = log.size
-        cols = grid.shape[1]
-        cells = log.cells[:ticks]
-        path = tuple(zip((cells % cols).tolist(), (cells // cols).tolist()))
         poses = log.poses[:ticks].copy()
-        goal_count = self._goal_count
-        trace = Trace(
-            level=scene.level.name,
+        trace = Trace.of_episode(
+            self.scene,
             planner=self.planner,
             seed=self.seed,
-            cell_size=grid.cell_size,
-            origin=grid.origin,
-            shape=grid.shape,
-            path=path,
-            headings=tuple(log.headings[:ticks].tolist()),
-            unseen_percent=tuple(
-                round(100.0 * count / goal_count, 4) if goal_count else 0.0 for count in log.unseen[:ticks].tolist()
-            ),
+            cells=log.cells[None, :ticks],
+            headings=log.headings[None, :ticks],
+            unseen=log.unseen[:ticks],
             outcome=self._outcome or "running",
-            reachable=goal_count,
-            unreachable=int(grid.traversable.sum()) - goal_count,
-            first_seen=self._first_seen.reshape(grid.shape).copy(),
-            goal=self._goal.reshape(grid.shape).copy(),
-            traversable=grid.traversable.copy(),
-            guard_radius=scene.level.guard.radius,
-            view_range=scene.cone.view_range,
-            fov_degrees=scene.cone.fov_degrees,
-            line_of_sight=scene.line_of_sight.value,
+            first_seen=self._first_seen,
+            goal=self._goal,
             planner_options=dict(self.planner_options),
             motion="continuous",
             move_speed=self.motion.move_speed,

@@ -39,33 +39,15 @@ def patrol_trace(
     first_seen[seen_any] = np.argmax(timeline[:, seen_any], axis=0)
     goal_count = int(goal.sum())
     seen_so_far = np.logical_or.accumulate(timeline & goal[None, :], axis=0).sum(axis=1)
-    unseen_percent = tuple(round(100.0 * (goal_count - int(count)) / max(goal_count, 1), 4) for count in seen_so_far)
-    cols = grid.shape[1]
-    paths = [tuple(zip((cell_of_state(row) % cols).tolist(), (cell_of_state(row) // cols).tolist())) for row in states]
-    headings = [tuple(heading_of_state(row).tolist()) for row in states]
-    single = patrol.guards == 1
-    level = scene.level
     covered = bool(np.all(np.asarray(seen_any)[goal]))
-    return Trace(
-        level=level.name,
+    return Trace.of_episode(
+        scene,
         planner=label or f"patrol: {patrol.strategy}",
         seed=None,
-        cell_size=grid.cell_size,
-        origin=grid.origin,
-        shape=grid.shape,
-        path=paths[0],
-        headings=headings[0],
-        unseen_percent=unseen_percent,
+        cells=cell_of_state(states),
+        headings=heading_of_state(states),
+        unseen=goal_count - seen_so_far,
         outcome="covered" if covered else "step_limit",
-        reachable=goal_count,
-        unreachable=int(grid.traversable.sum()) - goal_count,
-        first_seen=np.where(goal, first_seen, -1).reshape(grid.shape),
-        goal=goal.reshape(grid.shape).copy(),
-        traversable=grid.traversable.copy(),
-        guard_paths=() if single else tuple(paths),
-        guard_headings=() if single else tuple(headings),
-        guard_radius=level.guard.radius,
-        view_range=scene.cone.view_range,
-        fov_degrees=scene.cone.fov_degrees,
-        line_of_sight=scene.line_of_sight.value,
+        first_seen=np.where(goal, first_seen, -1),
+        goal=goal,
     )
