@@ -1,0 +1,375 @@
+"""``guardsim patrol`` as a library call: plan or read a patrol, score it, and write what is asked.
+
+:func:`run_patrol` does everything the command does after the level is loaded: patrol.json and
+idleness.png in the output folder, the GIF and the viewer page, route.json, the Godot scene and the
+Tiled map (cleaned routes with ``clean``), and returns the lines the command prints. The command only
+parses options into a :class:`PatrolJob` and prints.
+"""
+
+from __future__ import annotations
+
+import json
+import math
+from dataclasses import dataclass, field
+from pathlib import Path
+from typing import Any, NamedTuple
+
+import numpy as np
+
+from guardsim.errors import GuardsimError
+from guardsim.level import DEFAULT_MAX_FILE_BYTES
+from guardsim.output import write_text_atomic
+from guardsim.patrol.model import STRATEGIES
+from guardsim.patrol.scoring import NEVER, PatrolScore
+from guardsim.scene import Scene
+
+__all__ = ["PatrolJob", "PatrolRun", "check_job", "run_patrol", "tiled_source_of"]
+
+
+@dataclass(frozen=True)
+class PatrolJob:
+    """What ``guardsim patrol`` is asked for, beside the level (the command's options; docs/patrols.md)."""
+
+    guards: int = 1
+    strategy: str = "loop"
+    planner: str = "auto"
+    motion: str = "grid"
+    seed: int = 0
+    laps: int = 10
+    warmup_laps: int = 2
+    compare: bool = False
+    evaluate_path: str | None = None
+    gif: bool = False
+    html: bool = False
+    export_path: str | None = None
+    speed: float | None = None
+    tiled_out: str | None = None
+    tiled_source: str | None = None
+    """The Tiled map the level came from (:func:`tiled_source_of`), for ``tiled_out`` and pixel sizes."""
+    godot_out: str | None = None
+    godot_version: int = 4
+    clean: bool = False
+    clean_tolerance: float = 0.1
+    units: str = "world"
+    axis: str = "y-down"
+    pixels_per_unit: float | None = None
+    max_file_bytes: int = DEFAULT_MAX_FILE_BYTES
+
+
+@dataclass
+class PatrolRun:
+    """What :func:`run_patrol` did."""
+
+    lines: list[str]
+    """What the command prints, in order: the comparison table, cleaned routes, the summary, notes."""
+    warnings: list[str] = field(default_factory=list)
+    written: list[str] = field(default_factory=list)
+    data: dict[str, Any] = field(default_factory=dict)
+    """patrol.json's contents."""
+
+
+def check_job(job: PatrolJob) -> None:
+    """Refuse what cannot be done before any work: continuous motion walks loops only (made or read)."""
+    if job.motion == "continuous" and job.evaluate_path is None:
+        if job.strategy != "loop":
+            raise GuardsimError(
+                f"--motion continuous is not yet supported for patrol strategy {job.strategy} (only loop and --evaluate)"
+            )
+        if job.compare:
+            raise GuardsimError(
+                "--compare is not yet supported with --motion continuous (the walked strategies are grid-only)"
+            )
+    if job.tiled_out:
+        from guardsim.patrol.tiled_export import check_tiled_formats
+
+        # A level drawn by hand has no source map: a fresh map is written (any Tiled format).
+        check_tiled_formats(job.tiled_source or job.tiled_out, job.tiled_out)
+
+
+def tiled_source_of(level_path: str, tiled_source: str | None) -> str | None:
+    """The Tiled map a level came from: ``tiled_source``, else ``level_path`` itself when it is a Tiled map."""
+    if tiled_source is not None:
+        return tiled_source
+    suffix = Path(level_path).suffix.lower()
+    if suffix in (".tmx", ".tmj"):
+        return level_path
+    if suffix == ".json":
+        try:
+            head = Path(level_path).read_bytes()[:65536]
+        except OSError:
+            return None
+        if b'"orientation"' in head and b'"outer"' not in head:
+            return level_path
+    return None
+
+
+def run_patrol(scene: Scene, folder: Path, job: PatrolJob) -> PatrolRun:
+    """Make (or read and score) the patrol of ``scene`` and write what ``job`` asks into ``folder``."""
+    from guardsim.patrol import patrol_data, patrol_setup, plan_loop, plan_patrol, read_patrol, score_patrol
+
+    level = scene.level
+    guards, strategy, planner, motion, seed = job.guards, job.strategy, job.planner, job.motion, job.seed
+    laps, warmup_laps, compare, evaluate_path = job.laps, job.warmup_laps, job.compare, job.evaluate_path
+    gif, html, export_path, speed = job.gif, job.html, job.export_path, job.speed
+    tiled_out, tiled_source, godot_out, godot_version = (
+        job.tiled_out,
+        job.tiled_source,
+        job.godot_out,
+        job.godot_version,
+    )
+    clean, clean_tolerance, units, axis = job.clean, job.clean_tolerance, job.units, job.axis
+    pixels_per_unit, max_file_bytes = job.pixels_per_unit, job.max_file_bytes
+    lines: list[str] = []
+    warnings: list[str] = []
+    setup = patrol_setup(scene, guards, seed=seed)
+    extra: dict[str, object] = {}
+    if evaluate_path is not None:
+        chosen = read_patrol(evaluate_path, scene.grid, level=scene.level.name)
+        if chosen.motion == "continuous":
+            motion = "continuous"
+        score = score_patrol(setup.table, chosen, setup.goal, warmup=0)
+        warmup = 0
+        what = f"{Path(evaluate_path).name} evaluated"
+    else:
+        loop_plan, team_scores = plan_loop(setup, guards, planner=planner)
+        lap = loop_plan.patrol.ticks
+        if strategy == "loop":
+            plan = loop_plan
+        else:
+            plan = plan_patrol(setup, strategy, laps=laps, warmup_laps=warmup_laps, lap=lap)
+        chosen, score, warmup = plan
+        what = f"{strategy} patrol"
+        if strategy != "loop":
+            extra["warmup_ticks"] = warmup
+        if compare:
+            rows = [("loop", loop_plan.score, loop_plan.patrol.period)]
+            for other in STRATEGIES[1:]:
+                result = (
+                    plan
+                    if other == strategy
+                    else plan_patrol(setup, other, laps=laps, warmup_laps=warmup_laps, lap=lap)
+                )
+                rows.append((other, result.score, None))
+            lines.append(f"{'strategy':<12} {'worst':>8} {'mean':>9} {'period':>7}")
+            for name, row_score, period in rows:
+                worst = "never" if row_score.worst_idleness is None else str(row_score.worst_idleness)
+                mean = "-" if row_score.mean_idleness is None else f"{row_score.mean_idleness:.1f}"
+                lines.append(f"{name:<12} {worst:>8} {mean:>9} {period if period is not None else '-':>7}")
+            extra["compare"] = {
+                name: {"worst_idleness": row_score.worst_idleness, "mean_idleness": row_score.mean_idleness}
+                for name, row_score, _ in rows
+            }
+        if guards > 1 and strategy == "loop":
+            extra["team_compare"] = {
+                name: {"worst_idleness": team_score.worst_idleness, "mean_idleness": team_score.mean_idleness}
+                for name, team_score in team_scores.items()
+            }
+    from guardsim.motion import GuardMotion
+
+    walk = GuardMotion.of_guard(level.guard, move_speed=speed)
+    speed = walk.move_speed
+    shown = _Shown.ticks(score)
+    if motion == "continuous":
+        if chosen.period is None:
+            raise GuardsimError("--motion continuous walks repeating patrols; this one has period null")
+        from guardsim.patrol.continuous import continuous_patrol
+
+        walked = continuous_patrol(scene, chosen, setup.goal, walk)
+        shown = _Shown.seconds(walked.score, walk.tick_hz)
+        extra.update(
+            {
+                "period_seconds": round(walked.period_seconds, 4),
+                "physics_ticks_per_lap": walked.period,
+                "tick_hz": walk.tick_hz,
+                "move_speed": walk.move_speed,
+                "turn_speed": walk.turn_speed,
+                "grid_worst_idleness": score.worst_idleness,
+                "ticks_scored": walked.period,
+            }
+        )
+    data = patrol_data(chosen, score, scene.grid, level=level.name, motion=motion, extra=extra)
+    data.update(
+        worst_idleness=shown.worst,
+        mean_idleness=None if shown.mean is None else round(shown.mean, 3),
+        idleness=[
+            [None if math.isnan(v) else (round(v, 3) if shown.unit == "seconds" else int(v)) for v in row]
+            for row in shown.gaps.reshape(scene.grid.shape).tolist()
+        ],
+        idleness_unit=shown.unit,
+        never_seen=shown.never_seen,
+    )
+    written = [str(folder / "patrol.json")]
+    write_text_atomic(folder / "patrol.json", json.dumps(data, separators=(",", ":")) + "\n")
+    try:
+        from guardsim.patrol.heatmap import write_heat_map
+
+        gaps = shown.gaps.reshape(scene.grid.shape)
+        title = f"{level.name}: {what}, worst gap per cell (worst {_mean(shown.worst)}, mean {_mean(shown.mean)} {shown.unit})"
+        write_heat_map(
+            folder / "idleness.png",
+            level,
+            scene.grid,
+            gaps,
+            title=title,
+            unit=f"{shown.unit} unseen in a row",
+            never=shown.never.reshape(scene.grid.shape),
+        )
+        written.append(str(folder / "idleness.png"))
+    except GuardsimError as error:
+        warnings.append(f"idleness.png not written: {error}")
+    if gif or html:
+        from guardsim.patrol.replay import patrol_trace
+
+        ticks = (
+            chosen.ticks if chosen.period is not None else min(chosen.ticks - warmup - 1, max(1, chosen.ticks // 12))
+        )
+        trace = patrol_trace(
+            scene, setup.table, chosen, setup.goal, start=warmup, ticks=ticks, label=f"patrol {chosen.strategy}"
+        )
+        if gif:
+            from guardsim.render.gif import write_gif
+
+            write_gif(folder / "patrol.gif", level, trace)
+            written.append(str(folder / "patrol.gif"))
+        if html:
+            from guardsim.viewer import write_viewer
+            from guardsim.viewer.patrols import patrol_overlays
+
+            overlays = patrol_overlays(
+                chosen,
+                scene.grid,
+                setup.table,
+                idleness=shown.gaps.reshape(scene.grid.shape),
+                never=shown.never.reshape(scene.grid.shape),
+                unit=shown.unit,
+            )
+            write_viewer(folder / "patrol.html", level, trace, overlays=overlays)
+            written.append(str(folder / "patrol.html"))
+    routes = None
+    if clean and (export_path or godot_out or tiled_out):
+        from guardsim.patrol.cleaning import clean_routes
+        from guardsim.patrol.export import guard_routes
+
+        routes, reports = clean_routes(
+            scene, guard_routes(chosen, scene.grid, speed=speed), setup.goal, speed=speed, tolerance=clean_tolerance
+        )
+        for number, report in enumerate(reports, start=1):
+            if report is not None:
+                lines.append(
+                    f"  route {number} cleaned: {report.waypoints_before} -> {report.waypoints_after} waypoints "
+                    f"({report.jogs} jogs, {report.spurs} spurs taken out), worst idleness "
+                    f"{_mean(report.worst_before)} -> {_mean(report.worst_after)} s replayed"
+                )
+    if export_path or godot_out:
+        pixels = _pixels_per_unit(pixels_per_unit, tiled_source, max_file_bytes)
+    if export_path:
+        from guardsim.patrol.export import RouteFrame, route_data
+
+        frame = RouteFrame(units, axis, pixels, scene.grid.cell_size)
+        route = route_data(chosen, scene.grid, level=level.name, speed=speed, frame=frame, routes=routes)
+        write_text_atomic(export_path, json.dumps(route, indent=1) + "\n")
+        written.append(export_path)
+    if godot_out:
+        from guardsim.patrol.godot import godot_scene
+
+        text = godot_scene(
+            chosen,
+            scene.grid,
+            level=level.name,
+            speed=speed,
+            pixels_per_unit=pixels,
+            version=godot_version,
+            routes=routes,
+        )
+        write_text_atomic(godot_out, text)
+        written.append(godot_out)
+    if tiled_out:
+        from guardsim.output import atomic_path
+        from guardsim.patrol.tiled_export import tiled_with_routes
+        from guardsim.patrol.tiled_fresh import tiled_from_level
+        from guardsim.reading import read_limited_bytes
+
+        if tiled_source is None:
+            copy = tiled_from_level(level, tiled_out, chosen, scene.grid, speed=speed, routes=routes)
+        else:
+            source_bytes = read_limited_bytes(tiled_source, max_file_bytes=max_file_bytes, kind="Tiled map")
+            copy = tiled_with_routes(
+                tiled_source, tiled_out, chosen, scene.grid, speed=speed, source_bytes=source_bytes, routes=routes
+            )
+        with atomic_path(tiled_out) as temporary:
+            temporary.write_bytes(copy)
+        written.append(tiled_out)
+    team = f", {chosen.guards} guards" if chosen.guards > 1 else ""
+    if chosen.team:
+        team += f" ({chosen.team})"
+    period_text = f", period {chosen.period} ticks" if chosen.period is not None else ""
+    if motion == "continuous":
+        period_text = f", continuous lap {data['period_seconds']:.1f} s"
+    worst = (
+        f"never seen: {shown.never_seen} cells"
+        if shown.worst is None
+        else f"worst idleness {_mean(shown.worst)} {shown.unit}"
+    )
+    lines.append(f"{level.name}: {what}{team}{period_text}, {worst}, mean {_mean(shown.mean)} -> {', '.join(written)}")
+    for note in chosen.notes:
+        lines.append(f"  {note}")
+    return PatrolRun(lines, warnings, written, data)
+
+
+def _pixels_per_unit(chosen: float | None, tiled_source: str | None, max_file_bytes: int) -> tuple[float, float]:
+    """Pixels per world unit along x and y: as chosen, else the Tiled map's tile size, else 32."""
+    if chosen is not None:
+        return chosen, chosen
+    if tiled_source is not None:
+        from guardsim.patrol.tiled_export import map_tile_size
+        from guardsim.reading import read_limited_bytes
+
+        return map_tile_size(
+            tiled_source, read_limited_bytes(tiled_source, max_file_bytes=max_file_bytes, kind="Tiled map")
+        )
+    from guardsim.patrol.godot import DEFAULT_PIXELS_PER_UNIT
+
+    return DEFAULT_PIXELS_PER_UNIT, DEFAULT_PIXELS_PER_UNIT
+
+
+def _mean(value: float | None) -> str:
+    if value is None:
+        return "-"
+    return str(value) if isinstance(value, int) else f"{value:.1f}"
+
+
+class _Shown(NamedTuple):
+    """A score as reported: in ticks (grid motion) or seconds (continuous)."""
+
+    unit: str
+    worst: float | None
+    mean: float | None
+    gaps: np.ndarray
+    """``float (cells,)``: worst gap per cell, NaN outside the goal and where never seen."""
+    never: np.ndarray
+    """``bool (cells,)``: goal cells never seen."""
+    never_seen: int
+
+    @classmethod
+    def ticks(cls, score: PatrolScore) -> _Shown:
+        return cls._of(score, "ticks", 1.0)
+
+    @classmethod
+    def seconds(cls, score: PatrolScore, tick_hz: float) -> _Shown:
+        return cls._of(score, "seconds", tick_hz)
+
+    @classmethod
+    def _of(cls, score: PatrolScore, unit: str, per_second: float) -> _Shown:
+        never = score.worst_gap == NEVER
+        gaps = score.worst_gap.astype(float)
+        gaps[score.worst_gap < 0] = math.nan
+        scale = 1.0 / per_second
+        worst = score.worst_idleness
+        return cls(
+            unit,
+            None if worst is None else (worst if unit == "ticks" else round(worst * scale, 3)),
+            None if score.mean_idleness is None else score.mean_idleness * scale,
+            gaps * scale,
+            never,
+            score.never_seen,
+        )
