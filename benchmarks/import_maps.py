@@ -223,7 +223,9 @@ def main() -> None:
                 f"{reachable:>9} {len(level.holes):>5} {imported.vertices:>8} {import_seconds:>8.2f}"
             )
             if args.play:
-                trace = run_episode(scene, RippleFront(), cell, heading, max_steps=args.max_steps, seed=args.seed)
+                trace = run_episode(
+                    scene, RippleFront(), starts=[cell], headings=[heading], max_steps=args.max_steps, seed=args.seed
+                )
                 play_seconds = time.perf_counter() - began
                 row += f" {trace.steps:>7} {'yes' if trace.covered else trace.outcome:>7} {play_seconds:>7.1f}"
             print(row, flush=True)

@@ -6,7 +6,7 @@ Usage::
     python benchmarks/motion_speed.py --planners ripplefront,tour --maps ../shared/maps/movingai/den520d.map
 
 For each level, in a fresh process (so that nothing is warm but numba's on-disk cache, as after an
-install): the scene is built (not timed), then guardsim.motion.run_continuous runs
+install): the scene is built (not timed), then guardsim.motion.run_episode runs
 
 - ``patrol``: the first ``--patrol`` game seconds (300) from the level's start (seed 0), timed cold (the
   first episode in the process: the kernels load and the vision cache fills) and warm (the same again);
@@ -36,7 +36,7 @@ MAPS = [REPO.parent / "shared" / "maps" / "movingai" / "AR0603SR.map"]
 
 
 def measure(path: Path, planners: list[str], patrol: float, episodes: int, seed: int) -> dict:
-    from guardsim.motion import run_continuous
+    from guardsim.simulation import run_episode
 
     began = time.perf_counter()
     scene = load_scene(path)
@@ -46,13 +46,13 @@ def measure(path: Path, planners: list[str], patrol: float, episodes: int, seed:
         row: dict = {}
         for label in ("cold", "warm"):
             began = time.perf_counter()
-            trace = run_continuous(scene, planner, seed=0, max_seconds=patrol)
+            trace = run_episode(scene, planner, motion="continuous", seed=0, max_seconds=patrol)
             row[f"patrol_{label}_s"] = time.perf_counter() - began
             row["patrol_game_s"] = trace.seconds
         walls, games, plans, ticks = [], [], [], []
         for episode in range(episodes):
             began = time.perf_counter()
-            trace = run_continuous(scene, planner, seed=seed, episode=episode)
+            trace = run_episode(scene, planner, motion="continuous", seed=seed, episode=episode)
             walls.append(time.perf_counter() - began)
             games.append(trace.seconds)
             plans.append(trace.measures["plans"])

@@ -88,7 +88,7 @@ def planner_rows(cases: list[tuple[str, object, tuple[int, int], int, int]]) -> 
     for name, scene, start, heading, optimum in cases:
         cells = []
         for planner in names:
-            trace = run_episode(scene, make_planner(planner), start, heading, seed=0)  # type: ignore[arg-type]
+            trace = run_episode(scene, make_planner(planner), starts=[start], headings=[heading], seed=0)  # type: ignore[arg-type]
             steps = len(trace.path) - 1
             mark = "" if trace.outcome == "covered" else " (not covered)"
             cells.append(f"{steps} ({steps / max(optimum, 1):.2f}){mark}")

@@ -7,7 +7,7 @@ Usage::
     python benchmarks/planners.py --planners tour --tour-parts --guards 1   # what each part of tour buys
 
 Episode k of a level draws its starts and headings as ``guardsim bench`` and ``guardsim play --episode
-k --guards K`` do (``run_batch_episode``), so any row can be re-played. Prints one Markdown table per
+k --guards K`` do (``run_episode``), so any row can be re-played. Prints one Markdown table per
 team size, with per level and planner:
 
 - ``covered``: episodes that saw every reachable cell within the loop's step limit (10 per cell);
@@ -47,7 +47,7 @@ from guardsim.level import load_level
 from guardsim.planners import PLANNERS, EpisodeSetup, GuardState, Planner, Tour
 from guardsim.planners.tour import SEEDS
 from guardsim.planners.viewpoint_cover import greedy_cover
-from guardsim.simulation import Scene, choose_start, episode_generator, run_team_episode, team_starts
+from guardsim.simulation import Scene, choose_start, episode_generator, run_episode, team_starts
 from guardsim.trace import Trace
 from guardsim.vision.table import view_table
 
@@ -97,11 +97,11 @@ TOUR_PARTS: dict[str, Callable[[], Planner]] = {
 def timed_episode(
     scene: Scene, planner: Callable[[], Planner], guards: int, seed: int, episode: int
 ) -> tuple[Trace, float, float]:
-    """Episode ``episode`` as ``run_batch_episode`` plays it; also seconds per decision and the first one's."""
+    """Episode ``episode`` as ``run_episode`` plays it; also seconds per decision and the first one's."""
     rng = episode_generator(seed, episode)
     cells, headings = team_starts(scene, choose_start(scene, rng=rng), guards, rng=rng)
     planners = [TimedPlanner(planner()) for _ in range(guards)]
-    trace = run_team_episode(scene, planners, cells, headings, rng=rng, seed=seed)
+    trace = run_episode(scene, planners, starts=cells, headings=headings, rng=rng, seed=seed)
     calls = max(1, sum(timed.calls for timed in planners))
     return trace, sum(timed.seconds for timed in planners) / calls, max(timed.first for timed in planners)
 

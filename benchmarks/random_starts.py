@@ -36,7 +36,9 @@ def main() -> None:
         covered = 0
         for episode in range(args.episodes):
             cell, heading = choose_start(scene, rng=episode_generator(args.seed, episode))
-            trace = run_episode(scene, RippleFront(), cell, heading, seed=args.seed, reference=args.reference)
+            trace = run_episode(
+                scene, RippleFront(), starts=[cell], headings=[heading], seed=args.seed, reference=args.reference
+            )
             steps.append(trace.steps)
             covered += trace.covered
         seconds = time.perf_counter() - began

@@ -251,7 +251,14 @@ def optimum_table(maps: Path, seed: int) -> list[str]:
         bounds = lower_bounds(scene, cell, heading)
         runs = []
         for planner in PLANNER_NAMES:
-            trace = run_episode(scene, make_planner(planner), cell, heading, rng=episode_generator(seed, 0), seed=seed)
+            trace = run_episode(
+                scene,
+                make_planner(planner),
+                starts=[cell],
+                headings=[heading],
+                rng=episode_generator(seed, 0),
+                seed=seed,
+            )
             if trace.covered and trace.steps < optimum:
                 raise SystemExit(
                     f"{stem} from {cell}: {planner} took {trace.steps} < optimum {optimum}: not the same rules"

@@ -86,7 +86,9 @@ def measure(path: Path, episodes: int, reference_ticks: int) -> dict:
 
         t0 = time.perf_counter()
         limit = reference_ticks if large else None
-        trace = run_episode(scene, TimedRippleFront(), cell, heading, vision=timed_vision, max_steps=limit)
+        trace = run_episode(
+            scene, TimedRippleFront(), starts=[cell], headings=[heading], vision=timed_vision, max_steps=limit
+        )
         reference_episode_ms.append((time.perf_counter() - t0) * 1e3)
         reference_steps = trace.steps
 
@@ -106,17 +108,21 @@ def measure(path: Path, episodes: int, reference_ticks: int) -> dict:
     fast_cold_ms = []
     for cell, heading in starts[:reference_runs]:
         t0 = time.perf_counter()
-        run_episode(fresh, RippleFront(), cell, heading, max_steps=reference_ticks if large else None)
+        run_episode(
+            fresh, RippleFront(), starts=[cell], headings=[heading], max_steps=reference_ticks if large else None
+        )
         fast_cold_ms.append((time.perf_counter() - t0) * 1e3)
     fast_warm_ms = []
     for cell, heading in starts[:reference_runs]:
         t0 = time.perf_counter()
-        run_episode(fresh, RippleFront(), cell, heading, max_steps=reference_ticks if large else None)
+        run_episode(
+            fresh, RippleFront(), starts=[cell], headings=[heading], max_steps=reference_ticks if large else None
+        )
         fast_warm_ms.append((time.perf_counter() - t0) * 1e3)
     batch_began = time.perf_counter()
     steps = []
     for cell, heading in starts:
-        steps.append(run_episode(fresh, RippleFront(), cell, heading).steps)
+        steps.append(run_episode(fresh, RippleFront(), starts=[cell], headings=[heading]).steps)
     batch_seconds = time.perf_counter() - batch_began
 
     return {

@@ -49,13 +49,11 @@ _SOURCES = {
     "make_planner": "guardsim.planners",
     "Simulation": "guardsim.simulation",
     "run_episode": "guardsim.simulation",
-    "run_team_episode": "guardsim.simulation",
-    "run_batch_episode": "guardsim.simulation",
     "Trace": "guardsim.trace",
     **dict.fromkeys(("AwarenessMeter", "DetectionModel", "GuardDetection"), "guardsim.detection"),
     "sneak_check": "guardsim.sneak",
     **dict.fromkeys(("AlertEpisode", "AlertRules", "alert_episode", "run_alerts"), "guardsim.alert"),
-    **dict.fromkeys(("ContinuousSimulation", "GuardMotion", "run_continuous"), "guardsim.motion"),
+    **dict.fromkeys(("ContinuousSimulation", "GuardMotion"), "guardsim.motion"),
 }
 
 __all__ = ["__version__", *_SOURCES]
@@ -92,21 +90,18 @@ if TYPE_CHECKING:
     from guardsim.errors import PlannerError as PlannerError
     from guardsim.errors import RegressionError as RegressionError
     from guardsim.grid import CoverageGrid as CoverageGrid
-    from guardsim.importers.loading import open_level as load_level  # noqa: F401  (re-exported by name)
+    from guardsim.importers.loading import open_level as load_level  # noqa: F401  re-exported by name
     from guardsim.level import GuardSpec as GuardSpec
     from guardsim.level import Level as Level
     from guardsim.level import parse_level as parse_level
     from guardsim.motion import ContinuousSimulation as ContinuousSimulation
     from guardsim.motion import GuardMotion as GuardMotion
-    from guardsim.motion import run_continuous as run_continuous
     from guardsim.planners import PLANNERS as PLANNERS
     from guardsim.planners import Planner as Planner
     from guardsim.planners import make_planner as make_planner
     from guardsim.scene import Scene as Scene
     from guardsim.simulation import Simulation as Simulation
-    from guardsim.simulation import run_batch_episode as run_batch_episode
     from guardsim.simulation import run_episode as run_episode
-    from guardsim.simulation import run_team_episode as run_team_episode
     from guardsim.sneak import sneak_check as sneak_check
     from guardsim.starts import episode_generator as episode_generator
     from guardsim.trace import Trace as Trace

@@ -24,7 +24,7 @@ Step a guard tick by tick from a game loop, reading its position in world coordi
 from __future__ import annotations
 
 from collections.abc import Sequence
-from typing import Any
+from typing import TYPE_CHECKING, Any, cast
 
 import numpy as np
 
@@ -48,15 +48,16 @@ from guardsim.starts import choose_start, episode_generator, episode_start, team
 from guardsim.trace import OUTCOMES, Trace
 from guardsim.vision.rules import VisionFunction
 
+if TYPE_CHECKING:
+    from guardsim.motion import GuardMotion
+
 __all__ = [
     "Scene",
     "Simulation",
     "choose_start",
     "default_max_steps",
     "episode_generator",
-    "run_batch_episode",
     "run_episode",
-    "run_team_episode",
     "team_starts",
 ]
 
@@ -77,7 +78,7 @@ class Simulation:
         The level, world, grid and vision.
     planner
         A planner name from :data:`guardsim.planners.PLANNERS` (one fresh planner per guard, made with
-        ``planner_options``), or planner objects, one per guard.
+        ``planner_options``), or planner objects, one per guard (a single object for one guard).
     guards
         Team size, with a planner name; with planner objects, their number.
     max_steps
@@ -96,7 +97,7 @@ class Simulation:
     def __init__(
         self,
         scene: Scene,
-        planner: str | Sequence[Planner] = "ripplefront",
+        planner: str | Planner | Sequence[Planner] = "ripplefront",
         *,
         guards: int = 1,
         max_steps: int | None = None,
@@ -110,7 +111,7 @@ class Simulation:
                 raise ValueError("a team needs at least one guard")
             self.planners: list[Planner] = [make_planner(planner, **planner_options) for _ in range(guards)]
         else:
-            self.planners = list(planner)
+            self.planners = list(cast("Sequence[Planner]", planner)) if isinstance(planner, Sequence) else [planner]
             if not self.planners:
                 raise ValueError("a team needs at least one guard")
         self.scene = scene
@@ -435,73 +436,65 @@ class Simulation:
         return np.stack(fields)
 
 
-def run_team_episode(
-    scene: Scene,
-    planners: Sequence[Planner],
-    starts: Sequence[tuple[int, int]],
-    headings: Sequence[int],
-    *,
-    vision: VisionFunction | None = None,
-    reference: bool = False,
-    max_steps: int | None = None,
-    seed: int | None = None,
-    rng: np.random.Generator | None = None,
-) -> Trace:
-    """Walk a team of guards, one planner each, from ``starts`` facing ``headings``, to the end.
-
-    A :class:`Simulation` run to its end; ``rng`` (a fresh one from ``seed``, or 0, by default) feeds
-    the planners and ``seed`` is recorded in the trace.
-    """
-    simulation = Simulation(scene, planners, max_steps=max_steps, vision=vision, reference=reference)
-    simulation.reset(seed=seed, starts=starts, headings=headings, rng=rng)
-    return simulation.run()
-
-
 def run_episode(
     scene: Scene,
-    planner: Planner,
-    start: tuple[int, int],
-    heading: int,
+    planner: str | Planner | Sequence[Planner] = "ripplefront",
     *,
+    guards: int = 1,
+    starts: Sequence[tuple[int, int]] | None = None,
+    headings: Sequence[int] | None = None,
+    seed: int | None = None,
+    episode: int | None = None,
+    rng: np.random.Generator | None = None,
+    motion: str | GuardMotion | None = None,
+    max_steps: int | None = None,
+    max_seconds: float | None = None,
     vision: VisionFunction | None = None,
     reference: bool = False,
-    max_steps: int | None = None,
-    seed: int | None = None,
-    rng: np.random.Generator | None = None,
-) -> Trace:
-    """One guard walks from ``start`` until every reachable cell is seen or a limit stops it.
-
-    See :func:`run_team_episode`; this is the team of one.
-    """
-    return run_team_episode(
-        scene,
-        [planner],
-        [start],
-        [heading],
-        vision=vision,
-        reference=reference,
-        max_steps=max_steps,
-        seed=seed,
-        rng=rng,
-    )
-
-
-def run_batch_episode(
-    scene: Scene,
-    *,
-    seed: int,
-    episode: int,
-    planner: str = "ripplefront",
-    guards: int = 1,
-    reference: bool = False,
-    max_steps: int | None = None,
     **planner_options: Any,
 ) -> Trace:
-    """Episode ``episode`` of a batch seeded with ``seed``: starts and headings drawn from its generator.
+    """One episode run to its end: the one convenience beside :class:`Simulation`.
 
-    This is what ``guardsim bench`` runs for each episode and ``guardsim play --seed S --episode K``
-    re-runs alone; the trace is the same either way. The same generator then feeds the planners.
+    The arguments are those of :class:`Simulation` and its :meth:`~Simulation.reset`: a planner name
+    (``guards`` fresh planners, made with ``planner_options``) or planner objects, one per guard; the
+    starts as ``guardsim play --seed SEED --episode K`` draws them (``guardsim bench``'s episode ``K``),
+    or ``starts`` (``(col, row)`` cells) facing ``headings``; ``rng`` (else one from ``seed``) feeds the
+    planners. ``motion="continuous"`` (the level guard's speeds) or a
+    :class:`~guardsim.motion.GuardMotion` walks one guard in continuous motion
+    (:class:`~guardsim.motion.ContinuousSimulation`, limited by ``max_seconds``) instead of a grid step
+    per tick.
+
+    Examples
+    --------
+    >>> from guardsim.level import parse_level
+    >>> scene = Scene.from_level(parse_level({"outer": [[0, 0], [12, 0], [12, 3], [0, 3]]}))
+    >>> run_episode(scene, starts=[(0, 1)], headings=[0]).steps
+    16
+    >>> run_episode(scene, "sweep", guards=2, seed=1, episode=0).guards
+    2
     """
-    simulation = Simulation(scene, planner, guards=guards, max_steps=max_steps, reference=reference, **planner_options)
-    simulation.reset(seed=seed, episode=episode)
-    return simulation.run()
+    if motion is None or motion == "grid":
+        if max_seconds is not None:
+            raise ValueError("max_seconds limits continuous motion; grid episodes take max_steps")
+        simulation = Simulation(
+            scene, planner, guards=guards, max_steps=max_steps, vision=vision, reference=reference, **planner_options
+        )
+        simulation.reset(seed=seed, episode=episode, starts=starts, headings=headings, rng=rng)
+        return simulation.run()
+    from guardsim.motion import ContinuousSimulation, GuardMotion
+
+    if not isinstance(planner, str) or guards != 1 or vision is not None:
+        raise ValueError("continuous motion walks one guard with a planner name and the scene's own vision")
+    if isinstance(motion, str) and motion != "continuous":
+        raise ValueError(f"motion is 'grid', 'continuous' or a GuardMotion, not {motion!r}")
+    continuous = ContinuousSimulation(
+        scene,
+        planner,
+        motion=motion if isinstance(motion, GuardMotion) else None,
+        max_seconds=max_seconds,
+        max_steps=max_steps,
+        reference=reference,
+        **planner_options,
+    )
+    continuous.reset(seed=seed, episode=episode, starts=starts, headings=headings, rng=rng)
+    return continuous.run()

@@ -28,7 +28,7 @@ from guardsim.executors import LocalPool
 from guardsim.experiment import CSV_COLUMNS, RUN_NAME, EpisodeRecord, read_results
 from guardsim.level import load_level
 from guardsim.plots import StepsBox, plot_steps
-from guardsim.simulation import Scene, run_batch_episode
+from guardsim.simulation import Scene, run_episode
 from guardsim.trace import Trace
 from tests.common import (
     EMPTY_SQUARE,
@@ -80,7 +80,7 @@ def test_results_csv_and_summary_json(tmp_path: Path, tiny_levels: list[Path]) -
     ]
     scenes = {os.path.normpath(path): Scene.from_level(load_level(path)) for path in tiny_levels}
     for row in table:
-        trace = run_batch_episode(scenes[row["level_file"]], seed=7, episode=int(row["episode"]))
+        trace = run_episode(scenes[row["level_file"]], seed=7, episode=int(row["episode"]))
         assert row["planner"] == "ripplefront"
         assert row["seed"] == "7"
         assert row["level"] == trace.level
@@ -259,7 +259,7 @@ def test_play_episode_reproduces_a_bench_row(tmp_path: Path) -> None:
     )
     assert played.exit_code == 0, played.output
     text = trace_path.read_text(encoding="utf-8")
-    assert text == run_batch_episode(Scene.from_level(load_level(SQUARE)), seed=11, episode=2).to_json()
+    assert text == run_episode(Scene.from_level(load_level(SQUARE)), seed=11, episode=2).to_json()
     trace = Trace.from_data(json.loads(text))
     assert (str(trace.start[0]), str(trace.start[1])) == (row["start_col"], row["start_row"])
     assert (str(trace.steps), trace.outcome, str(trace.reachable)) == (row["steps"], row["outcome"], row["reachable"])

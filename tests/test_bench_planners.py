@@ -18,7 +18,7 @@ from guardsim.cli.common import build_scene
 from guardsim.experiment import RUN_NAME
 from guardsim.level import HEADINGS, load_level
 from guardsim.planners import PLANNERS
-from guardsim.simulation import run_batch_episode
+from guardsim.simulation import run_episode
 from tests.common import (
     LEVELS,
     SQUARE,
@@ -128,7 +128,7 @@ def test_two_planners_write_both_groups(tmp_path: Path) -> None:
 
 
 def test_team_rows_have_makespan_and_moves_but_no_bounds(tmp_path: Path) -> None:
-    """--guards 2: each row is run_batch_episode(guards=2): steps are the makespan, total_moves the sum over
+    """--guards 2: each row is run_episode(guards=2): steps are the makespan, total_moves the sum over
     both guards; bound columns are empty (they bound one guard, not a team); resume with another team
     size is refused."""
     level = write_level(tmp_path, SQUARE_WITH_HOLE)
@@ -138,7 +138,7 @@ def test_team_rows_have_makespan_and_moves_but_no_bounds(tmp_path: Path) -> None
     assert result.exit_code == 0, result.output
     scene = build_scene(load_level(level))
     for row in rows(out):
-        trace = run_batch_episode(scene, seed=0, episode=int(row["episode"]), planner=row["planner"], guards=2)
+        trace = run_episode(scene, seed=0, episode=int(row["episode"]), planner=row["planner"], guards=2)
         assert trace.guards == 2
         assert row["guards"] == "2"
         assert (int(row["steps"]), int(row["total_moves"]), row["outcome"]) == (
@@ -189,7 +189,7 @@ def test_bresenham_360_rows_use_that_vision(tmp_path: Path) -> None:
         assert result.exit_code == 0, result.output
         scene = build_scene(load_level(level), **vision)  # type: ignore[arg-type]
         for row in rows(tmp_path / name):
-            trace = run_batch_episode(scene, seed=0, episode=int(row["episode"]), planner=row["planner"])
+            trace = run_episode(scene, seed=0, episode=int(row["episode"]), planner=row["planner"])
             bounds = lower_bounds(scene, trace.start, trace.headings[0])
             assert (int(row["steps"]), row["outcome"]) == (trace.steps, "covered"), (name, row)
             assert int(row["t90"]) == trace.steps_to_fraction(0.9)

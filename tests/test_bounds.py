@@ -23,7 +23,7 @@ from guardsim.cli import main
 from guardsim.kernels.trees import cluster_distances, spanning_tree_weight, subset_tree_weight
 from guardsim.level import load_level
 from guardsim.planners import PLANNERS, make_planner
-from guardsim.simulation import Scene, run_batch_episode, run_episode
+from guardsim.simulation import Scene, run_episode
 from guardsim.vision.rules import VisionFunction
 from guardsim.vision.table import view_table
 from tests.common import (
@@ -44,7 +44,6 @@ from tests.common import (
 
 #: Levels where the best bound equals the optimum from at least one of the starts tried.
 EXACT_SOMEWHERE = {"corridor", "room-3x5", "l-room"}
-
 
 
 def own_cell_only(scene: Scene) -> VisionFunction:
@@ -209,7 +208,7 @@ def test_every_planner_needs_at_least_the_optimum(name: str) -> None:
     optimum = optimum_steps(scene, start, 1, scene.vision())
     bound = lower_bounds(scene, start, 1).best
     for planner in PLANNERS:
-        trace = run_episode(scene, make_planner(planner), start, 1, seed=3)
+        trace = run_episode(scene, make_planner(planner), starts=[start], headings=[1], seed=3)
         assert trace.outcome == "covered", planner
         assert bound <= optimum <= trace.steps, planner
 
@@ -234,7 +233,7 @@ def test_bounds_never_exceed_planner_steps(level_path: Path, planner: str) -> No
     """
     scene = shipped_scene(level_path)
     for seed in SEEDS.get(planner, (0, 1, 2)):
-        trace = run_batch_episode(scene, seed=seed, episode=seed, planner=planner)
+        trace = run_episode(scene, seed=seed, episode=seed, planner=planner)
         bounds = lower_bounds(scene, trace.path[0], trace.headings[0])
         assert bounds.best > 0
         if trace.outcome == "covered":
@@ -263,7 +262,7 @@ def test_cli_episode_start_matches_bench(tmp_path: Path) -> None:
     """--seed S --episode K bounds the start that bench's episode K starts from."""
     path = write_level(tmp_path, SHORT_SIGHTED["pillar"])
     result = CliRunner().invoke(main, ["bounds", str(path), "--seed", "4", "--episode", "2"])
-    trace = run_batch_episode(scene_from(SHORT_SIGHTED["pillar"]), seed=4, episode=2)
+    trace = run_episode(scene_from(SHORT_SIGHTED["pillar"]), seed=4, episode=2)
     (col, row), heading = trace.path[0], trace.headings[0]
     assert f"from cell [{col}, {row}] facing {['right', 'down', 'left', 'up'][heading]} " in result.stdout
 

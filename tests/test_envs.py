@@ -25,7 +25,7 @@ from guardsim.grid import DIRECTIONS  # noqa: E402
 from guardsim.planners import make_planner  # noqa: E402
 from guardsim.planners.base import STAY, EpisodeSetup, GuardState  # noqa: E402
 from guardsim.render.palette import GUARD_COLOURS  # noqa: E402
-from guardsim.simulation import Simulation, run_batch_episode  # noqa: E402
+from guardsim.simulation import Simulation, run_episode  # noqa: E402
 from tests.common import REPO, SQUARE_WITH_HOLE, level_from  # noqa: E402
 
 SQUARE = str(REPO / "levels" / "square.json")
@@ -167,7 +167,7 @@ def action_of(move: int | None) -> int:
 def test_agent_following_ripplefront_covers_in_the_planners_steps(seed: int) -> None:
     env = make(step_cost=0.5)
     scene = env.task.scene
-    expected = run_batch_episode(scene, seed=seed, episode=0, planner="ripplefront")
+    expected = run_episode(scene, seed=seed, episode=0, planner="ripplefront")
     assert expected.outcome == "covered"
 
     observation, info = env.reset(seed=seed)
@@ -192,7 +192,7 @@ def test_agent_following_ripplefront_covers_in_the_planners_steps(seed: int) -> 
 
 def test_team_following_ripplefront_matches_the_team_episode() -> None:
     env = coverage_parallel_env(level=SQUARE, guards=2)
-    expected = run_batch_episode(env.task.scene, seed=4, episode=0, planner="ripplefront", guards=2)
+    expected = run_episode(env.task.scene, seed=4, episode=0, planner="ripplefront", guards=2)
     observations, infos = env.reset(seed=4)
     grid = env.task.scene.grid
     planners = [make_planner("ripplefront") for _ in range(2)]

@@ -9,7 +9,7 @@ import pytest
 
 from guardsim.level import load_level
 from guardsim.planners import RippleFront
-from guardsim.simulation import Scene, choose_start, episode_generator, run_batch_episode, run_episode
+from guardsim.simulation import Scene, choose_start, episode_generator, run_episode
 from guardsim.vision import visible_cells
 from tests.common import TINY_LEVELS, scene_from, shipped_levels, shipped_levels_square_fast, tiny_levels
 
@@ -46,8 +46,8 @@ def test_fast_trace_equals_reference_trace(level_path: Path, sweeps: int) -> Non
     """Random episodes give byte-identical traces on the compiled path and the reference loop."""
     scene = Scene.from_level(load_level(level_path))
     for episode in range(2):
-        fast = run_batch_episode(scene, seed=11, episode=episode, sweeps_per_tick=sweeps)
-        reference = run_batch_episode(scene, seed=11, episode=episode, sweeps_per_tick=sweeps, reference=True)
+        fast = run_episode(scene, seed=11, episode=episode, sweeps_per_tick=sweeps)
+        reference = run_episode(scene, seed=11, episode=episode, sweeps_per_tick=sweeps, reference=True)
         assert fast.to_json() == reference.to_json()
 
 
@@ -56,8 +56,10 @@ def test_fast_path_honours_the_step_limit(max_steps: int) -> None:
     """The compiled loop stops at the same tick with the same outcome as the reference."""
     scene = Scene.from_level(load_level(Path("levels/passages.json")))
     cell, heading = choose_start(scene, rng=episode_generator(0, 0))
-    fast = run_episode(scene, RippleFront(), cell, heading, max_steps=max_steps)
-    reference = run_episode(scene, RippleFront(), cell, heading, max_steps=max_steps, reference=True)
+    fast = run_episode(scene, RippleFront(), starts=[cell], headings=[heading], max_steps=max_steps)
+    reference = run_episode(
+        scene, RippleFront(), starts=[cell], headings=[heading], max_steps=max_steps, reference=True
+    )
     assert fast.outcome == "step_limit" and fast.steps == max_steps
     assert fast.to_json() == reference.to_json()
 
@@ -65,8 +67,8 @@ def test_fast_path_honours_the_step_limit(max_steps: int) -> None:
 def test_unreachable_cells_on_the_fast_path() -> None:
     """A sealed room stays out of the goal on the fast path too."""
     scene = scene_from(TINY_LEVELS["split-rooms"], guard={"view_range": 2.0})
-    fast = run_episode(scene, RippleFront(), (0, 0), 0)
-    reference = run_episode(scene, RippleFront(), (0, 0), 0, reference=True)
+    fast = run_episode(scene, RippleFront(), starts=[(0, 0)], headings=[0])
+    reference = run_episode(scene, RippleFront(), starts=[(0, 0)], headings=[0], reference=True)
     assert fast.to_json() == reference.to_json()
     assert fast.unreachable == 9
 
@@ -74,8 +76,8 @@ def test_unreachable_cells_on_the_fast_path() -> None:
 def test_cache_is_shared_between_episodes() -> None:
     """A second episode from the same start computes no new vision state."""
     scene = Scene.from_level(load_level(Path("levels/square.json")))
-    run_batch_episode(scene, seed=0, episode=0)
+    run_episode(scene, seed=0, episode=0)
     computed = scene.vision_cache.computed
     assert computed > 0
-    run_batch_episode(scene, seed=0, episode=0)
+    run_episode(scene, seed=0, episode=0)
     assert scene.vision_cache.computed == computed

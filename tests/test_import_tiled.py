@@ -104,7 +104,7 @@ def test_sample_plays_to_full_coverage_from_every_spawn(path: Path) -> None:
     for point in level.starts:
         choose_start(scene, rng=np.random.default_rng(0), point=point, heading="right")
     cell, heading = choose_start(scene, rng=np.random.default_rng(0), point=level.starts[0])
-    trace = run_episode(scene, RippleFront(), cell, heading)
+    trace = run_episode(scene, RippleFront(), starts=[cell], headings=[heading])
     assert trace.outcome == "covered"
     assert trace.unreachable == 0
 

@@ -15,16 +15,10 @@ from click.testing import CliRunner, Result
 
 from guardsim.cli import main
 from guardsim.level import load_level
-from guardsim.motion import (
-    ContinuousSimulation,
-    GuardMotion,
-    PoseVision,
-    pose_visible_cells,
-    pull_route,
-    run_continuous,
-)
+from guardsim.motion import ContinuousSimulation, GuardMotion, PoseVision, pose_visible_cells, pull_route
 from guardsim.motion.follower import Follower
 from guardsim.scene import Scene
+from guardsim.simulation import run_episode
 from guardsim.trace import Trace
 from guardsim.vision.rules import LineOfSight
 from tests.common import LEVELS, REPO, TINY_LEVELS, guardsim_command, level_from, scene_from, tiny_levels, write_level
@@ -67,7 +61,7 @@ def pose_steps(trace: Trace) -> tuple[np.ndarray, np.ndarray]:
 @pytest.mark.parametrize("planner", PLANNERS)
 @pytest.mark.parametrize("level", ["mgs_docks", "king_snurre"])
 def test_never_faster_than_move_speed_nor_turn_speed(level: str, planner: str) -> None:
-    trace = run_continuous(shipped(level), planner, seed=0, episode=3, motion=MOTION)
+    trace = run_episode(shipped(level), planner, seed=0, episode=3, motion=MOTION)
     moved, turned = pose_steps(trace)
     assert trace.covered
     assert moved.max() <= MOTION.move_speed / MOTION.tick_hz + 1e-9
@@ -92,7 +86,7 @@ def test_u_turn_takes_at_least_180_over_turn_speed(turn_speed: float) -> None:
 
 
 def test_every_u_turn_of_an_episode_lasts_its_angle_over_turn_speed() -> None:
-    trace = run_continuous(shipped("mgs_docks"), "tour", seed=0, motion=MOTION)
+    trace = run_episode(shipped("mgs_docks"), "tour", seed=0, motion=MOTION)
     assert trace.poses is not None and trace.measures["u_turns"] > 0
     turned = (np.diff(trace.poses[:, 3]) + 180.0) % 360.0 - 180.0
     sign = np.sign(np.where(np.abs(turned) > 1e-7, turned, 0.0))
@@ -125,7 +119,7 @@ def test_straight_corridor_walked_in_length_over_move_speed(move_speed: float) -
 
 def test_corridor_episode_walks_at_move_speed() -> None:
     scene = scene_from(CORRIDOR, guard={"view_range": 1.0, "start": [0.5, 0.5], "heading": "right"})
-    trace = run_continuous(scene, "ripplefront", motion=MOTION)
+    trace = run_episode(scene, "ripplefront", motion=MOTION)
     assert trace.covered and trace.poses is not None
     walked = trace.poses[-1, 1] - trace.poses[0, 1]
     # The last cell is seen from the one before it; every tick but the last is a full step.
@@ -158,19 +152,19 @@ def test_body_never_overlaps_a_wall(case: str, planner: str) -> None:
 def test_never_passes_a_gap_narrower_than_its_diameter() -> None:
     scene = scene_from(NARROW_GAP)
     for planner in PLANNERS:
-        trace = run_continuous(scene, planner, motion=MOTION)
+        trace = run_episode(scene, planner, motion=MOTION)
         assert trace.covered and trace.poses is not None
         assert trace.poses[:, 1].max() <= 4.0 - 0.3 + 1e-9
         assert not trace.goal[:, 5:].any()
     wide = scene_from(NARROW_GAP, holes=[[[4, 0], [5, 0], [5, 2], [4, 2]], [[4, 3], [5, 3], [5, 5], [4, 5]]])
-    trace = run_continuous(wide, "ripplefront", motion=MOTION)
+    trace = run_episode(wide, "ripplefront", motion=MOTION)
     assert trace.covered and trace.poses is not None and trace.poses[:, 1].max() > 5.3
 
 
 @tiny_levels
 @pytest.mark.parametrize("planner", PLANNERS)
 def test_every_reachable_cell_seen_when_covered(level_data: dict, planner: str) -> None:
-    trace = run_continuous(scene_from(level_data), planner, motion=MOTION)
+    trace = run_episode(scene_from(level_data), planner, motion=MOTION)
     assert trace.covered
     assert (trace.first_seen[trace.goal] >= 0).all()
     assert trace.unseen_percent[-1] == 0
@@ -179,12 +173,12 @@ def test_every_reachable_cell_seen_when_covered(level_data: dict, planner: str) 
 
 def test_same_seed_same_poses_byte_for_byte() -> None:
     scene = shipped("king_snurre")
-    first = run_continuous(scene, "tour", seed=4, episode=2, motion=MOTION)
-    again = run_continuous(Scene.from_level(scene.level), "tour", seed=4, episode=2, motion=MOTION)
+    first = run_episode(scene, "tour", seed=4, episode=2, motion=MOTION)
+    again = run_episode(Scene.from_level(scene.level), "tour", seed=4, episode=2, motion=MOTION)
     assert first.poses is not None and again.poses is not None
     assert first.poses.tobytes() == again.poses.tobytes()
     assert first.to_json() == again.to_json()
-    other = run_continuous(scene, "tour", seed=4, episode=3, motion=MOTION)
+    other = run_episode(scene, "tour", seed=4, episode=3, motion=MOTION)
     assert other.poses is not None and other.poses.tobytes() != first.poses.tobytes()
 
 
@@ -192,7 +186,7 @@ def test_same_seed_same_poses_byte_for_byte() -> None:
 @pytest.mark.parametrize("level", ["mgs_docks", "passages"])
 def test_fast_and_reference_vision_agree_tick_for_tick(level: str) -> None:
     scene = shipped(level)
-    trace = run_continuous(scene, "tour", seed=0, motion=MOTION)
+    trace = run_episode(scene, "tour", seed=0, motion=MOTION)
     assert trace.poses is not None
     fast = PoseVision(scene.world, scene.grid, scene.cone, scene.vision_cache.fill_arrays.walls)
     for _, x, y, heading in trace.poses.tolist():
@@ -205,8 +199,8 @@ def test_fast_and_reference_vision_agree_tick_for_tick(level: str) -> None:
 @pytest.mark.parametrize("case", ["square-with-hole", "split-rooms", "square"])
 def test_reference_episode_equals_fast_episode(case: str) -> None:
     scene = shipped(case) if case == "square" else scene_from(TINY_LEVELS[case])
-    fast = run_continuous(scene, "ripplefront", seed=1, episode=0, motion=MOTION)
-    reference = run_continuous(scene, "ripplefront", seed=1, episode=0, motion=MOTION, reference=True)
+    fast = run_episode(scene, "ripplefront", seed=1, episode=0, motion=MOTION)
+    reference = run_episode(scene, "ripplefront", seed=1, episode=0, motion=MOTION, reference=True)
     assert fast.poses is not None and reference.poses is not None
     assert fast.poses.tobytes() == reference.poses.tobytes()
     assert (fast.first_seen == reference.first_seen).all()
@@ -247,7 +241,7 @@ def test_grid_route_around_a_pillar_is_pulled_into_clear_diagonals() -> None:
 
 
 def test_continuous_trace_round_trips_through_json() -> None:
-    trace = run_continuous(scene_from(TINY_LEVELS["l-room"]), "tour", motion=MOTION)
+    trace = run_episode(scene_from(TINY_LEVELS["l-room"]), "tour", motion=MOTION)
     data = json.loads(trace.to_json())
     assert data["motion"] == "continuous" and data["tick_hz"] == 30.0
     assert len(data["poses"]) == trace.steps + 1 and data["poses"][0][0] == 0.0
@@ -267,7 +261,7 @@ def test_grid_trace_json_has_no_motion_keys() -> None:
 
 
 def test_time_limit_ends_the_episode() -> None:
-    trace = run_continuous(shipped("square"), "ripplefront", seed=0, motion=MOTION, max_seconds=10.0)
+    trace = run_episode(shipped("square"), "ripplefront", seed=0, motion=MOTION, max_seconds=10.0)
     assert trace.outcome == "step_limit"
     assert trace.seconds == pytest.approx(10.0)
     assert trace.steps == 300
@@ -333,8 +327,7 @@ def test_bench_continuous_rows_and_summary(tmp_path: Path) -> None:
         rows = list(csv.DictReader(stream))
     assert len(rows) == 4 and {row["motion"] for row in rows} == {"continuous"}
     for row in rows:
-        trace = run_continuous(scene_from(TINY_LEVELS["square-with-hole"]), row["planner"], seed=0,
-                               episode=int(row["episode"]))  # fmt: skip
+        trace = run_episode(scene_from(TINY_LEVELS["square-with-hole"]), row["planner"], motion="continuous", seed=0, episode=int(row["episode"]))  # fmt: skip
         assert float(row["game_seconds"]) == trace.seconds and int(row["steps"]) == trace.steps
         assert int(row["u_turns"]) == trace.measures["u_turns"] and row["best_bound"] == ""
     summary = json.loads((out / "summary.json").read_text(encoding="utf-8"))
@@ -359,7 +352,7 @@ def test_continuous_starts_where_the_grid_episode_starts(seed: int, episode: int
     grid_run = Simulation(scene, "tour")
     grid_run.reset(seed=seed, episode=episode)
     grid_trace = grid_run.run()
-    trace = run_continuous(scene, "tour", seed=seed, episode=episode, motion=MOTION, max_seconds=5)
+    trace = run_episode(scene, "tour", seed=seed, episode=episode, motion=MOTION, max_seconds=5)
     assert trace.poses is not None
     assert trace.start == grid_trace.start and trace.headings[0] == grid_trace.headings[0]
     x, y = scene.grid.centre(*grid_trace.start)
@@ -385,7 +378,7 @@ def test_bresenham_fast_and_reference_vision_agree_tick_for_tick() -> None:
     """Under --los bresenham the cone comes from the pose and the line from the eye's cell: the compiled
     lines and the Python reference give the same cells on every tick of a whole episode."""
     scene = bresenham_scene("passages")
-    trace = run_continuous(scene, "ripplefront", seed=0, motion=MOTION)
+    trace = run_episode(scene, "ripplefront", seed=0, motion=MOTION)
     assert trace.poses is not None and trace.outcome == "covered" and trace.line_of_sight == "bresenham"
     fast = PoseVision(
         scene.world, scene.grid, scene.cone, scene.vision_cache.fill_arrays.walls, rule=LineOfSight.BRESENHAM
@@ -412,8 +405,8 @@ def test_bresenham_pose_vision_at_a_cell_centre_is_the_grid_bresenham_vision() -
 def test_bresenham_continuous_episode_covers_and_equals_its_reference(level_data: dict) -> None:
     """Every reachable cell is seen when covered, and the reference loop walks the same poses."""
     scene = Scene.from_level(level_from(level_data), line_of_sight=LineOfSight.BRESENHAM)
-    fast = run_continuous(scene, "ripplefront", seed=2, episode=1, motion=MOTION)
-    reference = run_continuous(scene, "ripplefront", seed=2, episode=1, motion=MOTION, reference=True)
+    fast = run_episode(scene, "ripplefront", seed=2, episode=1, motion=MOTION)
+    reference = run_episode(scene, "ripplefront", seed=2, episode=1, motion=MOTION, reference=True)
     assert fast.poses is not None and reference.poses is not None
     assert fast.poses.tobytes() == reference.poses.tobytes()
     if fast.outcome == "covered":

@@ -24,14 +24,7 @@ from guardsim.planners import PLANNERS, EpisodeSetup, GuardState, RandomWalk, Ri
 from guardsim.planners.ripplefront import FAR, ripple_sweep
 from guardsim.planners.team_share import guard_share
 from guardsim.planners.viewpoint_cover import greedy_cover
-from guardsim.simulation import (
-    Scene,
-    choose_start,
-    default_max_steps,
-    run_batch_episode,
-    run_episode,
-    run_team_episode,
-)
+from guardsim.simulation import Scene, choose_start, default_max_steps, run_episode
 from guardsim.trace import Trace
 from guardsim.vision.table import view_table
 from tests.common import (
@@ -80,7 +73,7 @@ def test_every_planner_covers_tiny_levels(level_data: dict, planner: str) -> Non
     """From three seeded random starts, with a short-sighted guard so that walking matters."""
     scene = scene_from(level_data, guard={"view_range": 2.0})
     for episode in range(3):
-        assert_covered(scene, run_batch_episode(scene, seed=3, episode=episode, planner=planner))
+        assert_covered(scene, run_episode(scene, seed=3, episode=episode, planner=planner))
 
 
 @shipped_levels
@@ -89,13 +82,13 @@ def test_planners_cover_shipped_levels(level_path: Path, planner: str) -> None:
     """Two seeded random starts per shipped level, covered within the default step limit."""
     scene = shipped_scene(level_path)
     for episode in range(2):
-        assert_covered(scene, run_batch_episode(scene, seed=0, episode=episode, planner=planner))
+        assert_covered(scene, run_episode(scene, seed=0, episode=episode, planner=planner))
 
 
 def test_random_walk_moves_legally_and_sees_more_on_a_shipped_level() -> None:
     """The random walk is not expected to cover 60 x 60 within the limit; its moves are legal all the same."""
     scene = shipped_scene(LEVELS[0])
-    trace = run_batch_episode(scene, seed=0, episode=0, planner="random-walk", max_steps=2000)
+    trace = run_episode(scene, seed=0, episode=0, planner="random-walk", max_steps=2000)
     assert_legal(scene, trace)
     assert trace.steps == 2000 and trace.unseen_percent[-1] < trace.unseen_percent[0]
 
@@ -105,7 +98,9 @@ def test_random_walk_is_deterministic_per_seed_and_differs_across_seeds() -> Non
     scene = scene_from(TINY_LEVELS["square-with-hole"], guard={"view_range": 1.0})
 
     def walk(seed: int) -> str:
-        return run_episode(scene, RandomWalk(), (0, 0), 0, max_steps=60, rng=np.random.default_rng(seed)).to_json()
+        return run_episode(
+            scene, RandomWalk(), starts=[(0, 0)], headings=[0], max_steps=60, rng=np.random.default_rng(seed)
+        ).to_json()
 
     assert walk(1) == walk(1)
     assert len({walk(seed) for seed in range(4)}) == 4
@@ -147,7 +142,7 @@ def test_ripplefront_exact_field_is_the_breadth_first_distance() -> None:
 def test_sweep_stands_on_every_reachable_cell_when_it_sees_only_its_own(level_data: dict) -> None:
     """With view range 0.5 a guard sees only its cell: covering means visiting, and sweep does."""
     scene = scene_from(level_data, guard={"view_range": 0.5})
-    trace = run_batch_episode(scene, seed=0, episode=0, planner="sweep")
+    trace = run_episode(scene, seed=0, episode=0, planner="sweep")
     assert_covered(scene, trace)
     visited = np.zeros(scene.grid.shape, dtype=bool)
     for col, row in trace.path:
@@ -159,7 +154,8 @@ def test_sweep_visits_every_cell_of_a_shipped_level_blind() -> None:
     """The same on the square level (3500 cells), boustrophedon lanes and jumps."""
     data = json.loads(SQUARE.read_text(encoding="utf-8"))
     scene = scene_from(data, guard={**data["guard"], "view_range": 0.5})
-    trace = run_episode(scene, Sweep(), *choose_start(scene, rng=np.random.default_rng(0)))
+    cell, heading = choose_start(scene, rng=np.random.default_rng(0))
+    trace = run_episode(scene, [Sweep()], starts=[cell], headings=[heading])
     assert trace.covered
     assert len(set(trace.path)) == trace.reachable
     assert trace.steps < 1.3 * trace.reachable
@@ -200,7 +196,7 @@ def test_tour_beats_ripplefront_on_median_steps(level_path: Path) -> None:
     scene = shipped_scene(level_path)
 
     def median(planner: str) -> float:
-        return statistics.median(run_batch_episode(scene, seed=1, episode=e, planner=planner).steps for e in range(5))
+        return statistics.median(run_episode(scene, seed=1, episode=e, planner=planner).steps for e in range(5))
 
     assert median("tour") < median("ripplefront")
 
@@ -210,7 +206,7 @@ def test_tour_walks_exactly_the_walk_it_planned() -> None:
     scene = shipped_scene(LEVELS[0])
     cell, heading = choose_start(scene, rng=np.random.default_rng(4))
     planner = Tour()
-    trace = run_episode(scene, planner, cell, heading)
+    trace = run_episode(scene, planner, starts=[cell], headings=[heading])
     assert planner.walk is not None
     assert planner.walk.steps == trace.steps
     assert [scene.grid.unflat(int(c)) for c in planner.walk.cells[0]] == list(trace.path)
@@ -225,7 +221,7 @@ def test_more_guards_shorter_makespan(level_path: Path, planner: str) -> None:
     for episode in range(2):
         steps = []
         for guards in (1, 2, 4):
-            trace = run_batch_episode(scene, seed=2, episode=episode, planner=planner, guards=guards)
+            trace = run_episode(scene, seed=2, episode=episode, planner=planner, guards=guards)
             assert_covered(scene, trace)
             assert trace.guards == guards
             steps.append(trace.steps)
@@ -236,7 +232,7 @@ def test_more_guards_shorter_makespan(level_path: Path, planner: str) -> None:
 def test_every_planner_covers_with_a_team(planner: str) -> None:
     """Three guards on the L room, each with its own planner object, cover it with legal moves."""
     scene = scene_from(L_ROOM, guard={"view_range": 2.0})
-    trace = run_batch_episode(scene, seed=0, episode=0, planner=planner, guards=3)
+    trace = run_episode(scene, seed=0, episode=0, planner=planner, guards=3)
     assert_covered(scene, trace)
     assert len(trace.guard_paths) == 3
 
@@ -267,7 +263,7 @@ def test_ripplefront_team_spreads_out() -> None:
     scene = shipped_scene(SQUARE)
     planners = [PLANNERS["ripplefront"]() for _ in range(2)]
     cell, _ = choose_start(scene, rng=np.random.default_rng(0))
-    trace = run_team_episode(scene, planners, [cell, cell], [0, 2], max_steps=60)
+    trace = run_episode(scene, planners, starts=[cell, cell], headings=[0, 2], max_steps=60)
     first, second = trace.guard_paths
     (a_col, a_row), (b_col, b_row) = first[-1], second[-1]
     assert abs(a_col - b_col) + abs(a_row - b_row) > 20
@@ -329,7 +325,7 @@ def test_play_team_in_a_real_process(tmp_path: Path) -> None:
     assert "covered" in completed.stdout and "4 guards" in completed.stdout
     trace = Trace.from_data(json.loads(trace_path.read_text(encoding="utf-8")))
     assert len(trace.guard_paths) == 4
-    expected = run_batch_episode(shipped_scene(SQUARE), seed=0, episode=3, planner="tour", guards=4)
+    expected = run_episode(shipped_scene(SQUARE), seed=0, episode=3, planner="tour", guards=4)
     assert trace.to_json() == expected.to_json()
 
 
@@ -342,8 +338,8 @@ def test_tour_parts_cover_alone(options: dict) -> None:
     """Each part of tour that benchmarks/planners.py measures covers on its own, alone and in a team."""
     scene = scene_from(TINY_LEVELS["square-with-hole"], guard={"view_range": 2.0})
     for guards in (1, 2):
-        trace = run_team_episode(
-            scene, [Tour(**options) for _ in range(guards)], [(0, 0), (5, 5)][:guards], [0, 2][:guards]
+        trace = run_episode(
+            scene, [Tour(**options) for _ in range(guards)], starts=[(0, 0), (5, 5)][:guards], headings=[0, 2][:guards]
         )
         assert_covered(scene, trace)
 
@@ -358,4 +354,4 @@ def test_planners_work_with_the_bresenham_sight_rule(planner: str) -> None:
     """The planners only use the episode's vision function, so Bresenham 360-degree sight just works."""
     scene = build_scene(level_from(TINY_LEVELS["square-with-hole"]), "bresenham", 360.0)
     for guards in (1, 2):
-        assert_covered(scene, run_batch_episode(scene, seed=0, episode=1, planner=planner, guards=guards))
+        assert_covered(scene, run_episode(scene, seed=0, episode=1, planner=planner, guards=guards))

@@ -11,7 +11,7 @@ from tests.common import TWO_ROOMS, assert_one_line_error, run, write_level
 
 # 10 x 8 tiles of 16 px; ground on rows 1..6 and columns 2..9 only (the level is cropped to it), a
 # wall object, and a player start at tile (3.5, 2.5).
-GROUND = ",\n".join(",".join("1" if 2 <= col and 1 <= row <= 6 else "0" for col in range(10)) for row in range(8))
+GROUND = ",\n".join(",".join("1" if col >= 2 and 1 <= row <= 6 else "0" for col in range(10)) for row in range(8))
 TMX = f"""<?xml version="1.0" encoding="UTF-8"?>
 <map version="1.10" orientation="orthogonal" renderorder="right-down" width="10" height="8" tilewidth="16"
      tileheight="16" infinite="0" nextlayerid="3" nextobjectid="3">

@@ -10,7 +10,7 @@ from guardsim.planners.lawnmower import spiral_rings, spiral_routes, swath_half_
 from guardsim.planners.polish import polish_route
 from guardsim.planners.route_walk import walk_routes
 from guardsim.planners.tour import Tour
-from guardsim.simulation import Scene, run_batch_episode, run_episode
+from guardsim.simulation import Scene, run_episode
 from guardsim.vision.table import ViewTable, view_table
 from tests.common import LEVELS, OPEN_ROOM, scene_from, starts
 
@@ -112,14 +112,14 @@ def test_tour_polish_never_hurts_and_is_what_the_loop_walks() -> None:
     scene = Scene.from_level(load_level(SQUARE))
     shorter = 0
     for episode in range(3):
-        polished = run_batch_episode(scene, seed=0, episode=episode, planner="tour")
-        plain = run_batch_episode(scene, seed=0, episode=episode, planner="tour", polish_trials=0)
+        polished = run_episode(scene, seed=0, episode=episode, planner="tour")
+        plain = run_episode(scene, seed=0, episode=episode, planner="tour", polish_trials=0)
         assert polished.covered and polished.steps <= plain.steps
         shorter += polished.steps < plain.steps
     assert shorter >= 1
     start, heading = (27, 48), 3
     planner = Tour()
-    trace = run_episode(scene, planner, start, heading)
+    trace = run_episode(scene, planner, starts=[start], headings=[heading])
     assert planner.walk is not None and planner.walk.steps == trace.steps
 
 

@@ -274,7 +274,7 @@ def test_random_polygons_load_or_fail_with_a_message(data: dict[str, Any]) -> No
         assert str(error).startswith("prop.json: ")
         event("valid level, no start")
         return
-    trace = run_episode(scene, RippleFront(), cell, heading, max_steps=200)
+    trace = run_episode(scene, RippleFront(), starts=[cell], headings=[heading], max_steps=200)
     event(f"episode {trace.outcome}")
     assert trace.outcome in OUTCOMES
 
@@ -429,12 +429,14 @@ def test_episodes_on_random_levels_keep_their_invariants(
         event("no episode: " + ("start refused" if "start" in str(error) else "no room for the guard"))
         return
     limit = default_max_steps(scene.grid) if max_steps is None else max_steps
-    trace = run_episode(scene, RippleFront(), cell, heading, max_steps=max_steps, seed=seed)
+    trace = run_episode(scene, RippleFront(), starts=[cell], headings=[heading], max_steps=max_steps, seed=seed)
     assert_episode_invariants(scene, trace, data, limit)
     event(f"episode {trace.outcome}, {'over' if trace.steps > 20 else 'at most'} 20 steps")
     if max_steps is None:
         assert trace.covered, "RippleFront did not cover a small level within 10 steps per cell"
-    reference = run_episode(scene, RippleFront(), cell, heading, max_steps=max_steps, seed=seed, reference=True)
+    reference = run_episode(
+        scene, RippleFront(), starts=[cell], headings=[heading], max_steps=max_steps, seed=seed, reference=True
+    )
     assert reference.to_json() == trace.to_json()
 
 

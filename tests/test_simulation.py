@@ -29,7 +29,7 @@ def play(scene: Scene, seed: int = 0, **options: object) -> Trace:
     rng = np.random.default_rng(seed)
     level = scene.level
     cell, heading = choose_start(scene, rng=rng, point=level.guard.start, heading=level.guard.heading)
-    return run_episode(scene, RippleFront(), cell, heading, seed=seed, **options)
+    return run_episode(scene, RippleFront(), starts=[cell], headings=[heading], seed=seed, **options)
 
 
 @tiny_levels
@@ -113,7 +113,7 @@ class _StandStill:
 def test_no_move_possible_ends_stuck() -> None:
     """A planner with no move gives outcome stuck after zero steps."""
     scene = scene_from(TINY_LEVELS["empty-square"])
-    trace = run_episode(scene, _StandStill(), (0, 0), 0)
+    trace = run_episode(scene, _StandStill(), starts=[(0, 0)], headings=[0])
     assert (trace.outcome, trace.steps) == ("stuck", 0)
 
 
@@ -138,7 +138,7 @@ def test_more_sweeps_per_tick_changes_behaviour() -> None:
     """sweeps_per_tick is passed through: a converged field gives a different walk on the square."""
     scene = Scene.from_level(load_level(Path("levels/square.json")))
     cell, heading = choose_start(scene, rng=np.random.default_rng(0), point=scene.level.guard.start, heading="right")
-    ripple = run_episode(scene, RippleFront(1), cell, heading)
-    converged = run_episode(scene, RippleFront(50), cell, heading)
+    ripple = run_episode(scene, RippleFront(1), starts=[cell], headings=[heading])
+    converged = run_episode(scene, RippleFront(50), starts=[cell], headings=[heading])
     assert converged.covered and ripple.covered
     assert converged.path != ripple.path

@@ -13,7 +13,7 @@ import pymunk
 import pytest
 
 import guardsim
-from guardsim import Scene, Simulation, load_level, run_batch_episode
+from guardsim import Scene, Simulation, load_level, run_episode
 from guardsim.planners import RippleFront
 from guardsim.planners.base import GuardState
 from tests.common import LEVELS, REPO, SQUARE_WITH_HOLE, level_from, scene_from, shipped_levels
@@ -34,7 +34,7 @@ def test_stepping_gives_the_trace_of_run_and_of_the_reference(level_path) -> Non
         simulation.reset(seed=3, episode=5)
         runs.append((_stepped(simulation) if step else simulation.run()).to_json())
     assert runs[0] == runs[1] == runs[2]
-    assert runs[0] == run_batch_episode(scene, seed=3, episode=5).to_json()
+    assert runs[0] == run_episode(scene, seed=3, episode=5).to_json()
 
 
 def test_what_a_game_reads_each_tick_agrees_with_the_trace() -> None:

@@ -16,7 +16,7 @@ from tests.common import OPEN_ROOM, SHORT_SIGHTED, TINY_LEVELS, scene_from, shor
 
 
 def tour_steps(scene: Scene, start: tuple[int, int], heading: int, **options: object) -> int:
-    trace = run_episode(scene, Tour(**options), start, heading, seed=0)  # type: ignore[arg-type]
+    trace = run_episode(scene, Tour(**options), starts=[start], headings=[heading], seed=0)  # type: ignore[arg-type]
     assert trace.outcome == "covered"
     return len(trace.path) - 1
 
@@ -58,7 +58,7 @@ def test_tour_beam_seed_never_hurts(name: str) -> None:
 def test_tour_is_deterministic() -> None:
     """Two separately built scenes give the same walk, move for move."""
     level = scene_from(SHORT_SIGHTED["pillar-range-2"]).level
-    walks = [run_episode(Scene.from_level(level), Tour(), (0, 0), 0, seed=0).path for _ in range(2)]
+    walks = [run_episode(Scene.from_level(level), Tour(), starts=[(0, 0)], headings=[0], seed=0).path for _ in range(2)]
     assert walks[0] == walks[1]
 
 
@@ -68,8 +68,6 @@ def test_tour_rejects_unknown_seeds() -> None:
         match=r"seeds must be some of exact, cover, frontier, beam, descent, descent-view, lawnmower, spiral$",
     ):
         Tour(seeds=("nearest",))
-
-
 
 
 def test_lawnmower_lanes_are_one_swath_apart_and_enterable() -> None:

@@ -20,12 +20,12 @@ from guardsim.cli.common import (
 from guardsim.cli.map_options import MapImport, map_options
 from guardsim.cli.motion import check_motion, check_speed_up, motion_of, motion_options, speed_up_option
 from guardsim.level import HEADINGS
-from guardsim.motion import run_continuous, summary_text
+from guardsim.motion import summary_text
 from guardsim.output import write_text_atomic
 from guardsim.planners import PLANNERS
 from guardsim.planners.ripplefront_compiled import compiling_pays
 from guardsim.render.timeline import DEFAULT_MAX_FRAMES, GifOptions
-from guardsim.simulation import Simulation, team_starts
+from guardsim.simulation import Simulation, run_episode, team_starts
 
 __all__ = ["play"]
 
@@ -139,9 +139,7 @@ def play(
     # fast path on a fresh install; both give the same trace, so take whichever is quicker now.
     plain = reference or (planner == "ripplefront" and guards == 1 and not compiling_pays(scene.grid))
     if motion == "continuous":
-        trace = run_continuous(scene, planner, seed=seed, start=cell, heading=first_heading, rng=rng, max_steps=max_steps,
-                               motion=motion_of(scene, move_speed, turn_speed, tick_hz), max_seconds=max_seconds,
-                               reference=reference, **options)  # fmt: skip
+        trace = run_episode(scene, planner, seed=seed, starts=None if cell is None else [cell], headings=None if first_heading is None else [first_heading], rng=rng, max_steps=max_steps, motion=motion_of(scene, move_speed, turn_speed, tick_hz) or "continuous", max_seconds=max_seconds, reference=reference, **options)  # fmt: skip
     else:
         simulation = Simulation(
             scene, planner, guards=guards, max_steps=max_steps, reference=plain, record_field=record_field, **options

@@ -15,9 +15,9 @@ from typing import NamedTuple
 
 from guardsim.bounds import Bounds, lower_bounds
 from guardsim.level import HEADINGS, Level
-from guardsim.motion import GuardMotion, run_continuous
+from guardsim.motion import GuardMotion
 from guardsim.motion.measures import RECORD_COLUMNS, record_columns
-from guardsim.simulation import Scene, run_batch_episode
+from guardsim.simulation import Scene, run_episode
 from guardsim.vision.table import view_table
 
 __all__ = [
@@ -307,10 +307,9 @@ def run_spec_logged(spec: EpisodeSpec) -> tuple[EpisodeRecord, str]:
         if spec.motion == "continuous":
             walk = GuardMotion.of_guard(spec.level.guard, move_speed=spec.move_speed, turn_speed=spec.turn_speed,
                                         tick_hz=spec.tick_hz)  # fmt: skip
-            trace = run_continuous(scene, spec.planner, seed=spec.seed, episode=spec.episode, motion=walk,
-                                   max_seconds=spec.max_seconds, max_steps=spec.max_steps, reference=spec.reference)  # fmt: skip
+            trace = run_episode(scene, spec.planner, seed=spec.seed, episode=spec.episode, motion=walk or "continuous", max_seconds=spec.max_seconds, max_steps=spec.max_steps, reference=spec.reference)  # fmt: skip
         else:
-            trace = run_batch_episode(
+            trace = run_episode(
                 scene,
                 seed=spec.seed,
                 episode=spec.episode,

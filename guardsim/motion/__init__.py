@@ -12,7 +12,7 @@ See ``docs/motion.md``.
 
 from __future__ import annotations
 
-from guardsim.motion.episode import ContinuousSimulation, default_max_seconds, run_continuous
+from guardsim.motion.episode import ContinuousSimulation, default_max_seconds
 from guardsim.motion.measures import U_TURN_DEGREES, continuous_measures, grid_measures, measures_of, summary_text
 from guardsim.motion.parameters import (
     DEFAULT_MOVE_SPEED,
@@ -42,6 +42,5 @@ __all__ = [
     "measures_of",
     "pose_visible_cells",
     "pull_route",
-    "run_continuous",
     "summary_text",
 ]

@@ -14,6 +14,7 @@ faces the planner's last heading if cells planned from there are still unseen, t
 from __future__ import annotations
 
 import math
+from collections.abc import Sequence
 from typing import Any
 
 import numpy as np
@@ -29,7 +30,7 @@ from guardsim.simulation import Simulation, default_max_steps
 from guardsim.starts import episode_start
 from guardsim.trace import Trace
 
-__all__ = ["ContinuousSimulation", "default_max_seconds", "run_continuous"]
+__all__ = ["ContinuousSimulation", "default_max_seconds"]
 
 _RUNNING = None
 # Plans in a row that let the guard see nothing new before the episode counts as stuck.
@@ -66,7 +67,7 @@ class ContinuousSimulation:
     >>> from guardsim.level import parse_level
     >>> scene = Scene.from_level(parse_level({"outer": [[0, 0], [12, 0], [12, 3], [0, 3]]}))
     >>> sim = ContinuousSimulation(scene, "ripplefront", motion=GuardMotion(move_speed=2, turn_speed=180))
-    >>> sim.reset(start=(0, 1), heading=0)
+    >>> sim.reset(starts=[(0, 1)], headings=[0])
     >>> trace = sim.run()
     >>> trace.outcome, trace.seconds, sim.position
     ('covered', 7.9, (8.233333, 2.5))
@@ -105,17 +106,23 @@ class ContinuousSimulation:
         *,
         seed: int | None = None,
         episode: int | None = None,
-        start: tuple[int, int] | None = None,
-        heading: int | None = None,
+        starts: Sequence[tuple[int, int]] | None = None,
+        headings: Sequence[int] | None = None,
         rng: np.random.Generator | None = None,
     ) -> None:
-        """Start at a cell centre facing a heading number and look (tick 0).
+        """Start at a cell centre facing a heading number and look (tick 0); the arguments are
+        :meth:`guardsim.Simulation.reset`'s, for one guard.
 
-        Without ``start``, as ``guardsim play --seed SEED [--episode K]`` starts (the level's start, or one
-        drawn); ``rng`` (or the start's generator) feeds the planners.
+        Without ``starts``, as ``guardsim play --seed SEED [--episode K]`` starts (the level's start, or one
+        drawn); with ``starts`` (one ``(col, row)`` cell) and ``headings`` (one heading number), there;
+        ``rng`` (or the start's generator) feeds the planners.
         """
         scene, grid = self.scene, self.scene.grid
         self.seed = seed
+        if (starts is not None and len(starts) != 1) or (headings is not None and len(headings) != 1):
+            raise ValueError("continuous motion walks one guard: give one start and one heading")
+        start = None if starts is None else starts[0]
+        heading = None if headings is None else headings[0]
         if start is None:
             generator, start, drawn = episode_start(scene, seed=seed or 0, episode=episode)
             heading = drawn if heading is None else heading
@@ -395,36 +402,3 @@ class _Log:
 
 def _angle_between(a: float, b: float) -> float:
     return abs((a - b + 180.0) % 360.0 - 180.0)
-
-
-def run_continuous(
-    scene: Scene,
-    planner: str = "ripplefront",
-    *,
-    seed: int | None = None,
-    episode: int | None = None,
-    start: tuple[int, int] | None = None,
-    heading: int | None = None,
-    motion: GuardMotion | None = None,
-    max_seconds: float | None = None,
-    max_steps: int | None = None,
-    reference: bool = False,
-    rng: np.random.Generator | None = None,
-    **planner_options: Any,
-) -> Trace:
-    """One continuous episode run to its end; see :class:`ContinuousSimulation`.
-
-    With ``seed`` and ``episode`` (and no ``start``), the episode starts where ``guardsim bench``'s
-    episode ``episode`` does.
-    """
-    simulation = ContinuousSimulation(
-        scene,
-        planner,
-        motion=motion,
-        max_seconds=max_seconds,
-        max_steps=max_steps,
-        reference=reference,
-        **planner_options,
-    )
-    simulation.reset(seed=seed, episode=episode, start=start, heading=heading, rng=rng)
-    return simulation.run()

@@ -14,7 +14,7 @@ import numpy as np
 
 from guardsim.errors import RegressionError
 from guardsim.level import DEFAULT_MAX_CELLS, DEFAULT_MAX_FILE_BYTES, Level, level_to_data, parse_level
-from guardsim.motion import GuardMotion, run_continuous
+from guardsim.motion import GuardMotion
 from guardsim.reading import display_path, excerpt, parse_json
 from guardsim.regress.frames import DiffRow, Tolerance, compare_frames, diff_image
 from guardsim.regress.references import (
@@ -40,7 +40,7 @@ from guardsim.regress.references import (
 from guardsim.regress.stored_trace import trace_from_stored
 from guardsim.render import render_frame
 from guardsim.scene import Scene
-from guardsim.simulation import Simulation
+from guardsim.simulation import Simulation, run_episode
 from guardsim.trace import Trace
 
 __all__ = ["EpisodeResult", "FrameDifference", "LevelResult", "regress_level", "replay_trace"]
@@ -128,8 +128,8 @@ def replay_trace(scene: Scene, spec: ReplaySpec) -> Trace:
     if spec.motion == "continuous":
         motion = GuardMotion.of_guard(scene.level.guard, **spec.speeds)
         # play passes RippleFront's sweeps per tick (default 1) on, and the trace records it.
-        return run_continuous(
-            scene, "ripplefront", seed=spec.seed, episode=spec.episode, motion=motion, sweeps_per_tick=1
+        return run_episode(
+            scene, "ripplefront", seed=spec.seed, episode=spec.episode, motion=motion or "continuous", sweeps_per_tick=1
         )
     simulation = Simulation(scene, "ripplefront")
     simulation.reset(seed=spec.seed, episode=spec.episode)
