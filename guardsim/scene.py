@@ -6,6 +6,8 @@ simulation loop, so tools that only need the grid or the vision (validation, bou
 
 from __future__ import annotations
 
+import dataclasses
+import math
 from dataclasses import dataclass
 from functools import cached_property
 from typing import TYPE_CHECKING
@@ -61,10 +63,12 @@ class Scene:
         level: Level,
         *,
         line_of_sight: LineOfSight | str = LineOfSight.PYMUNK,
+        fov_degrees: float | None = None,
+        view_range: float | None = None,
         space: pymunk.Space | None = None,
         walls_in_space: bool = False,
     ) -> Scene:
-        """Build the physics world, the grid and the cone of a level.
+        """Build the physics world, the grid and the cone of a level: the one scene factory.
 
         Parameters
         ----------
@@ -72,9 +76,30 @@ class Scene:
             The level.
         line_of_sight
             :attr:`LineOfSight.PYMUNK` (rays against the walls) or :attr:`LineOfSight.BRESENHAM` (grid lines).
+        fov_degrees, view_range
+            Overrides of the level guard's field of view and view range (world units); ``math.inf``
+            means unlimited, the grid's diagonal (what the commands use with ``--los bresenham`` and
+            no ``--view-range``, the grid solvers' rule). The scene's ``level`` carries them.
         space, walls_in_space
             A :class:`pymunk.Space` of the caller's to build the world in; see :class:`~guardsim.world.World`.
+
+        Examples
+        --------
+        >>> from guardsim.level import parse_level
+        >>> level = parse_level({"outer": [[0, 0], [30, 0], [30, 40], [0, 40]]})
+        >>> Scene.from_level(level, line_of_sight="bresenham", view_range=math.inf).cone.view_range
+        50.0
         """
+        guard = level.guard
+        if fov_degrees is not None:
+            guard = dataclasses.replace(guard, fov_degrees=fov_degrees)
+        if view_range is not None:
+            if math.isinf(view_range):
+                rows, cols = level.grid_shape()
+                view_range = math.hypot(rows, cols) * level.cell_size
+            guard = dataclasses.replace(guard, view_range=view_range)
+        if guard is not level.guard:
+            level = dataclasses.replace(level, guard=guard)
         world = World(level, space=space, walls_in_space=walls_in_space)
         grid = build_grid(level, world)
         cone = VisionCone.from_guard(level.guard, level.cell_size, grid_shape=grid.shape)

@@ -236,19 +236,11 @@ def with_detection(level: Level, **overrides: float | None) -> Level:
 
 
 def build_scene(level: Level, los: str = "pymunk", fov: float | None = None, view_range: float | None = None) -> Scene:
-    """The scene of a level with the vision options applied.
-
-    With ``los="bresenham"`` and no ``view_range``, the range is unlimited (the grid's extent).
-    """
-    guard = level.guard
-    if fov is not None:
-        guard = dataclasses.replace(guard, fov_degrees=fov)
+    """The scene of a level with the vision options applied (:meth:`Scene.from_level`): with
+    ``--los bresenham`` and no ``--view-range``, the range is unlimited."""
     if view_range is None and los == "bresenham":
-        rows, cols = level.grid_shape()
-        view_range = math.hypot(rows, cols) * level.cell_size
-    if view_range is not None:
-        guard = dataclasses.replace(guard, view_range=view_range)
-    return Scene.from_level(dataclasses.replace(level, guard=guard), line_of_sight=los)
+        view_range = math.inf
+    return Scene.from_level(level, line_of_sight=los, fov_degrees=fov, view_range=view_range)
 
 
 def cli_start(

@@ -64,8 +64,8 @@ class Batch:
     """What a ``guardsim bench`` run computes: every (level, planner, episode) with the same options.
 
     ``fov`` and ``view_range`` are recorded in ``run.json`` as given on the command line; the levels'
-    guards must already carry them (``guardsim bench`` applies them as ``guardsim play`` does, with
-    :func:`guardsim.cli.common.build_scene`). ``None`` means the level's own.
+    guards must already carry them (``Scene.from_level(level, fov_degrees=..., view_range=...).level``, as
+    ``guardsim bench`` and ``guardsim play`` do). ``None`` means the level's own.
     """
 
     levels: tuple[BatchLevel, ...]
