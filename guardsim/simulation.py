@@ -44,7 +44,7 @@ from guardsim.planners.base import (
     Planner,
 )
 from guardsim.scene import Scene
-from guardsim.starts import choose_start, episode_generator, episode_start, team_starts
+from guardsim.starts import check_headings, checked_starts, choose_start, episode_generator, episode_start, team_starts
 from guardsim.trace import OUTCOMES, Trace
 from guardsim.vision.rules import VisionFunction
 
@@ -151,21 +151,10 @@ class Simulation:
         if starts is None:
             generator, cell, heading = episode_start(self.scene, seed=seed or 0, episode=episode)
             cells, facing = team_starts(self.scene, (cell, heading), guards, rng=generator)
-            if headings is not None:
-                facing = list(headings)
+            facing = check_headings(headings, guards) or facing
         else:
-            if len(starts) != guards:
-                raise ValueError(f"{len(starts)} starts for {guards} guards")
-            cells = [(int(col), int(row)) for col, row in starts]
-            if headings is None:
-                raise ValueError("starts need headings")
-            facing = [int(heading) for heading in headings]
+            cells, facing = checked_starts(self.scene.grid, starts, headings, guards)
             generator = rng if rng is not None else np.random.default_rng(seed or 0)
-            for col, row in cells:
-                if not (0 <= row < self.scene.grid.shape[0] and 0 <= col < self.scene.grid.shape[1]):
-                    raise ValueError(f"start cell ({col}, {row}) is off the grid")
-                if not self.scene.grid.traversable[row, col]:
-                    raise ValueError(f"start cell ({col}, {row}) is not traversable")
         if rng is not None:
             generator = rng
         grid = self.scene.grid

@@ -7,14 +7,16 @@ same with or without teammates, and an episode of a batch is the same whichever 
 
 from __future__ import annotations
 
+from collections.abc import Sequence
+
 import numpy as np
 
 from guardsim.errors import LevelError
-from guardsim.grid import start_cell
+from guardsim.grid import CoverageGrid, start_cell
 from guardsim.level import HEADINGS
 from guardsim.scene import Scene
 
-__all__ = ["choose_start", "episode_generator", "episode_start", "team_starts"]
+__all__ = ["check_headings", "checked_starts", "choose_start", "episode_generator", "episode_start", "team_starts"]
 
 
 def episode_generator(seed: int, episode: int) -> np.random.Generator:
@@ -101,3 +103,47 @@ def team_starts(
         cells.append(scene.grid.unflat(int(area[rng.integers(area.size)])))
         headings.append(int(rng.integers(4)))
     return cells, headings
+
+
+def check_headings(headings: Sequence[int] | None, guards: int) -> list[int] | None:
+    """Headings a caller gives, checked: one heading number per guard, 0 (right), 1 (down), 2 (left) or 3 (up)."""
+    if headings is None:
+        return None
+    facing = [int(heading) for heading in headings]
+    if len(facing) != guards:
+        raise ValueError(f"{len(facing)} headings for {guards} guards")
+    if not all(0 <= heading < 4 for heading in facing):
+        raise ValueError(f"headings {facing} must be heading numbers 0 (right), 1 (down), 2 (left) or 3 (up)")
+    return facing
+
+
+def checked_starts(
+    grid: CoverageGrid, starts: Sequence[tuple[int, int]], headings: Sequence[int] | None, guards: int
+) -> tuple[list[tuple[int, int]], list[int]]:
+    """Starts a caller gives, checked: one traversable ``(col, row)`` cell and one heading per guard.
+
+    The one start validation of :class:`~guardsim.simulation.Simulation`,
+    :class:`~guardsim.motion.ContinuousSimulation` and the environments.
+
+    >>> from guardsim.level import parse_level
+    >>> from guardsim.scene import Scene
+    >>> grid = Scene.from_level(parse_level({"outer": [[0, 0], [3, 0], [3, 2], [0, 2]]})).grid
+    >>> checked_starts(grid, [(2, 1)], [3], 1)
+    ([(2, 1)], [3])
+    >>> checked_starts(grid, [(3, 1)], [0], 1)
+    Traceback (most recent call last):
+    ValueError: start cell (3, 1) is off the grid
+    """
+    if len(starts) != guards:
+        raise ValueError(f"{len(starts)} starts for {guards} guards")
+    facing = check_headings(headings, guards)
+    if facing is None:
+        raise ValueError("starts need headings")
+    cells = [(int(col), int(row)) for col, row in starts]
+    rows, cols = grid.shape
+    for col, row in cells:
+        if not (0 <= row < rows and 0 <= col < cols):
+            raise ValueError(f"start cell ({col}, {row}) is off the grid")
+        if not grid.traversable[row, col]:
+            raise ValueError(f"start cell ({col}, {row}) is not traversable")
+    return cells, facing

@@ -25,6 +25,7 @@ from guardsim.importers import open_level
 from guardsim.level import Level
 from guardsim.scene import Scene
 from guardsim.simulation import Simulation
+from guardsim.starts import check_headings
 from guardsim.vision.rules import LineOfSight
 
 __all__ = ["RESET_OPTIONS", "CoverageTask", "LevelSource", "scene_of"]
@@ -107,11 +108,7 @@ class CoverageTask:
             if self.episode < 0:
                 raise ValueError(f"episode must be 0 or more, not {self.episode}")
         starts, headings = options.get("starts"), options.get("headings")
-        facing = None if headings is None else [int(heading) for heading in headings]
-        if facing is not None and len(facing) != self.guards:
-            raise ValueError(f"{len(facing)} headings for {self.guards} guards")
-        if facing is not None and not all(0 <= heading < 4 for heading in facing):
-            raise ValueError(f"headings {facing} must be heading numbers 0 (right), 1 (down), 2 (left) or 3 (up)")
+        facing = check_headings(headings, self.guards)
         if starts is not None:
             cells = [(int(col), int(row)) for col, row in starts]
             self.simulation.reset(seed=self.batch_seed, starts=cells, headings=facing or [0] * len(cells))

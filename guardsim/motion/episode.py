@@ -27,7 +27,7 @@ from guardsim.motion.smoothing import Waypoints, pull_route
 from guardsim.planners import make_planner
 from guardsim.scene import Scene
 from guardsim.simulation import Simulation, default_max_steps
-from guardsim.starts import episode_start
+from guardsim.starts import check_headings, checked_starts, episode_start
 from guardsim.trace import Trace
 
 __all__ = ["ContinuousSimulation", "default_max_seconds"]
@@ -119,20 +119,13 @@ class ContinuousSimulation:
         """
         scene, grid = self.scene, self.scene.grid
         self.seed = seed
-        if (starts is not None and len(starts) != 1) or (headings is not None and len(headings) != 1):
-            raise ValueError("continuous motion walks one guard: give one start and one heading")
-        start = None if starts is None else starts[0]
-        heading = None if headings is None else headings[0]
-        if start is None:
+        if starts is None:
             generator, start, drawn = episode_start(scene, seed=seed or 0, episode=episode)
-            heading = drawn if heading is None else heading
+            facing = check_headings(headings, 1)
+            heading = drawn if facing is None else facing[0]
         else:
             generator = np.random.default_rng(seed or 0)
-            col, row = start
-            if not (0 <= row < grid.shape[0] and 0 <= col < grid.shape[1]) or not grid.traversable[row, col]:
-                raise ValueError(f"start cell ({col}, {row}) is not a traversable cell of the grid")
-            if heading is None:
-                raise ValueError("a start needs a heading")
+            [start], [heading] = checked_starts(grid, starts, headings, 1)
         self._rng = rng if rng is not None else generator
         self.start = (int(start[0]), int(start[1]))
         self.start_heading = int(heading) % 4
