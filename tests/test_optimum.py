@@ -22,8 +22,8 @@ from guardsim.bounds import lower_bounds
 from guardsim.cli import main
 from guardsim.kernels.frontier import frontier, frontier_work
 from guardsim.optimum import OptimumResult, SearchProgress, solve
-from guardsim.optimum.graph import build_search_graph
-from guardsim.optimum.residual import residual_goal
+from guardsim.search.graph import build_search_graph
+from guardsim.search.residual import residual_goal
 from guardsim.simulation import Scene
 from guardsim.vision.rules import VisionFunction
 from guardsim.vision.table import view_table

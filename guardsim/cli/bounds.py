@@ -12,7 +12,7 @@ from guardsim.bounds import lower_bounds
 from guardsim.cli.common import build_scene, cli_start, limit_options, load, parse_point, reports_errors, vision_options
 from guardsim.level import HEADINGS
 from guardsim.optimum import MAX_POSITIONS, solve
-from guardsim.optimum.graph import build_search_graph
+from guardsim.search.graph import build_search_graph
 from guardsim.vision.rules import VisionFunction
 from guardsim.vision.table import view_table
 

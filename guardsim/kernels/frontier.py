@@ -40,7 +40,7 @@ def frontier(
     The moves are those of the decomposition "walk until the first position that sees something new":
     every walk is a sequence of them, so the search over them is complete. Each is costed at its
     *shortest* distance, which may pass other frontier positions: a walk rebuilt along a shortest path
-    (:func:`guardsim.optimum.graph.route_steps`) has exactly the steps counted and sees at least what the
+    (:func:`guardsim.search.graph.route_steps`) has exactly the steps counted and sees at least what the
     search assumed. Costing a move at the length of the avoiding path instead made the rebuilt walk
     shorter than the count (arena, range 8: "the walk has 272 steps, the search counted 276").
     """

@@ -1,8 +1,8 @@
 """The fewest steps a guard needs to see every reachable cell, proved by heuristic search.
 
-:func:`solve` builds the search graph of a start (:mod:`~guardsim.optimum.graph`), the admissible
-estimate (:mod:`~guardsim.optimum.heuristic`, the bounds of :mod:`guardsim.bounds` per node) and runs A*
-over (position, seen cells) with macro moves (:mod:`~guardsim.optimum.search`) until it proves the
+:func:`solve` builds the search graph of a start (:mod:`~guardsim.search.graph`), the admissible
+estimate (:mod:`~guardsim.search.heuristic`, the bounds of :mod:`guardsim.bounds` per node) and runs A*
+over (position, seen cells) with macro moves (:mod:`~guardsim.search.astar`) until it proves the
 optimum or a limit stops it. The limits are a number of expansions (deterministic) and, optionally,
 wall time; a stopped search still returns its best walk and the proved lower bound. ``docs/optimum.md``
 explains the search and gives the measured times.
@@ -29,11 +29,8 @@ from typing import TYPE_CHECKING, NamedTuple
 import numpy as np
 
 from guardsim.errors import LevelError, LimitError
-from guardsim.optimum.beam import beam_route
-from guardsim.optimum.graph import SearchGraph, build_search_graph, route_steps
-from guardsim.optimum.heuristic import Heuristic, build_heuristic
-from guardsim.optimum.residual import residual_goal
-from guardsim.optimum.search import (
+from guardsim.search import DOMINANCE_CHECKS, route_to
+from guardsim.search.astar import (
     EXPANSIONS,
     FLOOR,
     FULL,
@@ -43,19 +40,22 @@ from guardsim.optimum.search import (
     NODES,
     PROVED,
     STATUS,
-    SearchState,
     greedy_walk,
     new_search_state,
     run_search,
     start_search,
 )
+from guardsim.search.beam import beam_route
+from guardsim.search.graph import build_search_graph, route_steps
+from guardsim.search.heuristic import build_heuristic
+from guardsim.search.residual import residual_goal
 from guardsim.vision.rules import VisionFunction
 from guardsim.vision.table import view_table
 
 if TYPE_CHECKING:
     from guardsim.scene import Scene
 
-__all__ = ["DEFAULT_MEMORY_BYTES", "MAX_POSITIONS", "OptimumResult", "SearchProgress", "search_route", "solve"]
+__all__ = ["DEFAULT_MEMORY_BYTES", "MAX_POSITIONS", "OptimumResult", "SearchProgress", "solve"]
 
 #: Memory the node arrays may take by default.
 DEFAULT_MEMORY_BYTES = 3 * 2**30
@@ -63,8 +63,6 @@ DEFAULT_MEMORY_BYTES = 3 * 2**30
 MAX_POSITIONS = 20_000
 #: Width of the beam search that gives the first incumbent.
 INCUMBENT_BEAM = 8
-#: Earlier nodes at the same position a new node is checked against for dominance.
-DOMINANCE_CHECKS = 16
 #: Expansions per compiled chunk between two looks at the clock.
 _CHUNK = 2_000
 
@@ -211,7 +209,7 @@ def solve(
             )
     incumbent = int(counters[INCUMBENT])
     if int(counters[INCUMBENT_NODE]) >= 0:
-        route = _route(state, int(counters[INCUMBENT_NODE]))
+        route = route_to(state, int(counters[INCUMBENT_NODE]))
     else:
         route, incumbent = greedy, int(greedy_steps)
     proved = stopped_by == "proved"
@@ -244,30 +242,3 @@ def solve(
 def _weighted_floor(incumbent: int, weight: float) -> int:
     """The bound a finished weighted search proves: the incumbent is at most ``weight`` times the optimum."""
     return int(np.ceil(incumbent / weight - 1e-9))
-
-
-def search_route(
-    graph: SearchGraph, heuristic: Heuristic, incumbent: int, *, max_expansions: int, max_nodes: int
-) -> tuple[np.ndarray, int, bool]:
-    """The exact search over a built graph (the tour planner's "exact" seed), bounded in work only.
-
-    Looks for a covering walk shorter than ``incumbent`` steps (one already in hand). Returns its
-    macro-move positions (the start first; empty when none was found), its steps (``incumbent`` when
-    none) and whether no walk shorter than those steps exists.
-    """
-    state = new_search_state(max_nodes, graph.full.size, graph.positions)
-    start_search(state, heuristic, graph.views, graph.full, graph.start, incumbent)
-    run_search(state, heuristic, graph.successors, graph.views, graph.full, max_expansions, DOMINANCE_CHECKS)
-    counters = state.counters
-    node = int(counters[INCUMBENT_NODE])
-    route = _route(state, node) if node >= 0 else np.zeros(0, dtype=np.int64)
-    return route, int(counters[INCUMBENT]), bool(counters[STATUS] == PROVED)
-
-
-def _route(state: SearchState, node: int) -> np.ndarray:
-    """The macro-move positions from the root to ``node``."""
-    route = []
-    while node >= 0:
-        route.append(int(state.position[node]))
-        node = int(state.parent[node])
-    return np.array(route[::-1], dtype=np.int64)

@@ -18,8 +18,8 @@ Per episode, at the first decision, for the whole team at once:
    used); two descent walks (:func:`~guardsim.planners.route_walk.descent_states`); eight lawnmower
    routes, lanes one cone swath apart (:mod:`guardsim.planners.lawnmower`); and, for one guard on a
    level of at most :data:`BEAM_POSITIONS` positions, two from the exact search's graph over the
-   residual goal (:mod:`guardsim.optimum.residual`): the arrivals of a widening beam search over its
-   macro moves (:mod:`guardsim.optimum.beam`), which weighs each viewpoint's cost against what it
+   residual goal (:mod:`guardsim.search.residual`): the arrivals of a widening beam search over its
+   macro moves (:mod:`guardsim.search.beam`), which weighs each viewpoint's cost against what it
    adds, and, when at most :data:`EXACT_GOAL` goal cells are left, the exact search itself for
    :data:`EXACT_EXPANSIONS` expansions from the beam's walk: when it proves its walk optimal, that
    walk is the plan and the other seeds are not tried.
@@ -39,11 +39,6 @@ import numpy as np
 from guardsim.grid import state_of
 from guardsim.kernels.distances import distance_fields, distances_between
 from guardsim.kernels.states import cell_of_state
-from guardsim.optimum import search_route
-from guardsim.optimum.beam import widening_beam_route
-from guardsim.optimum.graph import SearchGraph, build_search_graph, goal_bits, route_steps
-from guardsim.optimum.heuristic import Heuristic, build_heuristic
-from guardsim.optimum.residual import residual_goal
 from guardsim.planners.base import STAY, EpisodeSetup, GuardState
 from guardsim.planners.frontier import Frontier
 from guardsim.planners.lawnmower import lane_routes, spiral_rings, spiral_routes, swath_half_width
@@ -51,13 +46,18 @@ from guardsim.planners.polish import polish_route
 from guardsim.planners.route_walk import RouteWalk, descent_states, walk_routes
 from guardsim.planners.team_routes import plan_routes
 from guardsim.planners.viewpoint_cover import greedy_cover
+from guardsim.search import search_route
+from guardsim.search.beam import widening_beam_route
+from guardsim.search.graph import SearchGraph, build_search_graph, goal_bits, route_steps
+from guardsim.search.heuristic import Heuristic, build_heuristic
+from guardsim.search.residual import residual_goal
 from guardsim.vision.table import UnseenTally, level_memo, view_table
 
 __all__ = ["LevelCover", "Tour", "route_costs"]
 
 #: Rounds of routing again through the states a simulated walk arrived in.
 REFINE_ROUNDS = 8
-#: Widths of the "beam" seed's widening beam (:func:`guardsim.optimum.beam.widening_beam_route`).
+#: Widths of the "beam" seed's widening beam (:func:`guardsim.search.beam.widening_beam_route`).
 BEAM_WIDTHS = (8, 512)
 #: The widening beam's budget: estimates of the exact search's heuristic, summed over its runs.
 BEAM_ESTIMATES = 50000

@@ -1,6 +1,6 @@
 """Beam search over the exact search's macro moves: a short covering walk in bounded, deterministic work.
 
-The search space is that of :mod:`guardsim.optimum.search` (a node is a position and the cells seen;
+The search space is that of :mod:`guardsim.search.astar` (a node is a position and the cells seen;
 a move goes to a position that sees something new, along a shortest path through positions that do
 not). Layer ``k`` holds nodes ``k`` macro moves from the start; each layer keeps the ``width`` nodes of
 least ``g + h`` (ties: fewer steps, then the order found), ``h`` being the exact search's estimate, and
@@ -23,7 +23,7 @@ from guardsim.kernels.compiler import jit
 from guardsim.kernels.estimate import Heuristic, estimate, estimate_work
 from guardsim.kernels.frontier import frontier, frontier_work, node_hash
 from guardsim.kernels.heap import stable_order
-from guardsim.optimum.graph import SearchGraph
+from guardsim.search.graph import SearchGraph
 
 __all__ = ["WIDENING", "beam_route", "widening_beam_route"]
 
@@ -210,7 +210,7 @@ def beam_route(
     """The macro-move positions (the start first) and steps of the best covering walk a beam of
     ``width`` finds; an empty route and -1 if it finds none (some goal cell no position sees).
 
-    ``known`` (a goal bitset, :func:`~guardsim.optimum.graph.goal_bits`) marks cells seen before the start.
+    ``known`` (a goal bitset, :func:`~guardsim.search.graph.goal_bits`) marks cells seen before the start.
     """
     if known is None:
         known = np.zeros_like(graph.full)

@@ -22,7 +22,7 @@ from __future__ import annotations
 import numpy as np
 
 from guardsim.kernels.compiler import jit
-from guardsim.optimum.graph import SearchGraph
+from guardsim.search.graph import SearchGraph
 
 __all__ = ["residual_goal"]
 
@@ -140,7 +140,7 @@ def residual_goal(graph: SearchGraph) -> SearchGraph:
 
     >>> from guardsim.level import parse_level
     >>> from guardsim.scene import Scene
-    >>> from guardsim.optimum.graph import build_search_graph
+    >>> from guardsim.search.graph import build_search_graph
     >>> from guardsim.vision.table import view_table
     >>> scene = Scene.from_level(parse_level({"outer": [[0, 0], [7, 0], [7, 1], [0, 1]], "guard": {"view_range": 1.0}}))
     >>> graph = build_search_graph(scene.grid, view_table(scene.grid, scene.vision()), (3, 0), 0)

@@ -17,7 +17,7 @@ import numpy as np
 
 from guardsim.kernels.compiler import jit
 from guardsim.kernels.estimate import Heuristic
-from guardsim.optimum.graph import FAR, SearchGraph, watcher_distances
+from guardsim.search.graph import FAR, SearchGraph, watcher_distances
 
 __all__ = ["PIVOTS", "POOL", "Heuristic", "build_heuristic"]
 
