@@ -15,7 +15,7 @@ from click.testing import CliRunner
 from guardsim.cli import main
 from guardsim.level import parse_level
 from guardsim.render import COLOURS, GUARD_COLOURS, PALETTE, FrameDrawer, Index
-from guardsim.render.frames import PLAY_PAD, wrap_caption
+from guardsim.render.layout import PLAY_PAD, wrap_caption
 from guardsim.render.palette import HEAT_RAMP
 from guardsim.render.preview import with_legend
 from guardsim.render.text import Typesetter

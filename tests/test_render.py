@@ -31,7 +31,7 @@ from guardsim.render import (
     render_preview,
     write_gif,
 )
-from guardsim.render.frames import PLAY_PAD
+from guardsim.render.layout import PLAY_PAD
 from guardsim.render.palette import guard_index, trail_index
 from guardsim.trace import Trace
 from guardsim.world import World

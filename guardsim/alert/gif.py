@@ -11,7 +11,7 @@ from PIL import ImageDraw
 from guardsim.alert.episode import AlertEpisode
 from guardsim.alert.trace import guard_trace
 from guardsim.detection import intruder_state
-from guardsim.render.frames import MIN_GUARD_RADIUS
+from guardsim.render.layout import MIN_GUARD_RADIUS
 from guardsim.render.palette import Index, guard_index
 from guardsim.scene import Scene
 from guardsim.sneak.gif import SneakFrames, write_sneak_gif

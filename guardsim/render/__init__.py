@@ -4,6 +4,7 @@
 - :mod:`~guardsim.render.sight`: what a guard sees, as a visibility polygon from pymunk ray casts.
 - :mod:`~guardsim.render.text` and :mod:`~guardsim.render.legend`: caption text and the legend bar.
 - :mod:`~guardsim.render.frames`: one episode frame as palette indices.
+- :mod:`~guardsim.render.layout`: a frame's layout and the pieces every picture shares (caption wrapping, the guard's body).
 - :mod:`~guardsim.render.timeline`: which ticks become frames (no drawing library needed).
 - :mod:`~guardsim.render.gif`: frames streamed into an animated GIF.
 - :mod:`~guardsim.render.preview`: the level designer's preview (``guardsim render``).
@@ -18,8 +19,9 @@ import importlib
 from typing import TYPE_CHECKING, Any
 
 if TYPE_CHECKING:
-    from guardsim.render.frames import FrameDrawer, pixels_per_cell, render_frame
+    from guardsim.render.frames import FrameDrawer, render_frame
     from guardsim.render.gif import GifStream, encode_gif, write_gif
+    from guardsim.render.layout import pixels_per_cell
     from guardsim.render.palette import COLOURS, GUARD_COLOURS, PALETTE, Index, palette_rgb
     from guardsim.render.preview import draw_cone_overlay, render_preview
     from guardsim.render.sight import SightCaster
@@ -34,7 +36,7 @@ _HOMES = {
     "palette_rgb": "palette",
     "SightCaster": "sight",
     "FrameDrawer": "frames",
-    "pixels_per_cell": "frames",
+    "pixels_per_cell": "layout",
     "render_frame": "frames",
     "DEFAULT_FRAME_SIZE": "timeline",
     "DEFAULT_MAX_FRAMES": "timeline",

@@ -16,14 +16,26 @@ rather than the band between the centres of the cells the body passed through.
 from __future__ import annotations
 
 import math
-from dataclasses import dataclass
 from typing import Any
 
 import numpy as np
 from PIL import Image, ImageDraw
 
-from guardsim.level import GuardSpec, Level
+from guardsim.level import Level
 from guardsim.render.cells import tight_cells
+from guardsim.render.layout import (
+    CAPTION_LINE,
+    CAPTION_SIZE,
+    MIN_FRAME_WIDTH,
+    MIN_GUARD_RADIUS,
+    PLAY_PAD,
+    Layout,
+    VisionSettings,
+    draw_guard,
+    grow_mask,
+    grown_box,
+    wrap_caption,
+)
 from guardsim.render.legend import draw_legend
 from guardsim.render.palette import Index, guard_index, palette_rgb, text_index, trail_index
 from guardsim.render.sight import SightCaster
@@ -32,81 +44,12 @@ from guardsim.render.timeline import DEFAULT_FRAME_SIZE, cell_pixels
 from guardsim.trace import Trace
 from guardsim.world import World
 
-__all__ = [
-    "DEFAULT_FRAME_SIZE",
-    "FrameDrawer",
-    "Layout",
-    "VisionSettings",
-    "cell_pixels",
-    "grow_mask",
-    "pixels_per_cell",
-    "render_frame",
-    "wrap_caption",
-]
+__all__ = ["DEFAULT_FRAME_SIZE", "FrameDrawer", "cell_pixels", "render_frame"]
 
-#: Narrowest frame: the caption and legend need this much room even for a small level.
-MIN_FRAME_WIDTH = 400
-#: The guard's disc is never smaller than this radius in pixels, whatever the cell size.
-MIN_GUARD_RADIUS = 7
-#: Wall-coloured margin round the grid, so the level's outer boundary is drawn on every side.
-PLAY_PAD = 4
 #: The trail fades over about this many blocks of ticks per episode.
 TRAIL_BLOCKS = 24
 #: Age in blocks at which the trail steps down to each fainter level.
 _TRAIL_AGES = np.asarray([1, 2, 4, 8])
-_CAPTION_SIZE = 13
-_CAPTION_LINE = 17
-#: Where a caption line may be broken first: between its ``|``-separated parts.
-_CAPTION_SEPARATOR = "  |  "
-
-
-def pixels_per_cell(shape: tuple[int, int], size: int) -> int:
-    """Whole pixels per cell so that the longer side is about ``size`` pixels (at least 1)."""
-    return max(1, size // max(shape))
-
-
-@dataclass(frozen=True)
-class VisionSettings:
-    """The guard's vision as simulated: from the trace, or the level's guard for traces that lack it."""
-
-    view_range: float
-    fov_degrees: float
-
-    @classmethod
-    def of(cls, level: Level, trace: Trace) -> VisionSettings:
-        """The trace's vision, else the level's guard's."""
-        return cls.of_guard(level.guard, trace)
-
-    @classmethod
-    def of_guard(cls, guard: GuardSpec, trace: Trace) -> VisionSettings:
-        """The trace's vision, else ``guard``'s."""
-        return cls(
-            view_range=guard.view_range if trace.view_range is None else trace.view_range,
-            fov_degrees=guard.fov_degrees if trace.fov_degrees is None else trace.fov_degrees,
-        )
-
-
-@dataclass(frozen=True)
-class Layout:
-    """Where things go in a frame, in pixels."""
-
-    scale: int
-    """Pixels per cell."""
-    play: tuple[int, int]
-    """``(width, height)`` of the play area."""
-    left: int
-    """Left edge of the play area."""
-    top: int
-    """Height of the caption bar above the play area (also the play area's top edge)."""
-    legend: int
-    """Height of the legend bar below it."""
-    width: int
-    """Width of the whole frame."""
-
-    @property
-    def height(self) -> int:
-        """Height of the whole frame."""
-        return self.top + self.play[1] + self.legend
 
 
 class FrameDrawer:
@@ -140,7 +83,7 @@ class FrameDrawer:
         scale = cell_pixels(trace.shape, size)
         self.pixels_per_unit = scale / trace.cell_size
         self.speed_up = speed_up
-        self.caption_setter = Typesetter(_CAPTION_SIZE)
+        self.caption_setter = Typesetter(CAPTION_SIZE)
         play = (cols * scale + 2 * PLAY_PAD, rows * scale + 2 * PLAY_PAD)
         width = max(MIN_FRAME_WIDTH, play[0])
         self.tight = tight_cells(level, trace.traversable, trace.origin)
@@ -154,7 +97,7 @@ class FrameDrawer:
                     for tick in (0, trace.steps))  # fmt: skip
         if type(self).caption is not FrameDrawer.caption:
             lines += 1
-        top = lines * _CAPTION_LINE + 8
+        top = lines * CAPTION_LINE + 8
         self.layout = Layout(scale, play, (width - play[0]) // 2, top, legend.shape[0], width)
         self.template = np.full((self.layout.height, width), Index.BAR, dtype=np.uint8)
         self.template[self.layout.height - legend.shape[0] :] = legend
@@ -283,7 +226,7 @@ class FrameDrawer:
                 code = step * self.guards + guard
                 self._walked[y0:y1, x0:x1] = code
                 self._trail[y0:y1, x0:x1] = self._trail_colour(np.asarray(code), tick)
-                box = _grown(box, (x0, y0, x1, y1))
+                box = grown_box(box, (x0, y0, x1, y1))
         return box
 
     def _walk_poses(
@@ -305,7 +248,7 @@ class FrameDrawer:
                 code = number * block * self.guards
                 self._walked[y0:y1, x0:x1][mask] = code
                 self._trail[y0:y1, x0:x1][mask] = self._trail_colour(np.asarray(code), tick)
-                box = _grown(box, (x0, y0, x1, y1))
+                box = grown_box(box, (x0, y0, x1, y1))
         self._current = self._polyline(tick // block * block, tick)
         return box
 
@@ -398,7 +341,7 @@ class FrameDrawer:
                 angle = 2 * math.pi * place / len(guards) - math.pi / 2
                 spread = 0.9 * radius if len(guards) > 1 else 0.0
                 centre = (cx + spread * math.cos(angle), cy + spread * math.sin(angle))
-                _draw_guard(draw, centre, heading, radius, guard)
+                draw_guard(draw, centre, heading, radius, guard)
         return np.asarray(image)
 
     def caption(self, tick: int) -> tuple[str, str]:
@@ -432,81 +375,11 @@ class FrameDrawer:
         canvas[layout.top : layout.top + layout.play[1], layout.left : layout.left + layout.play[0]] = play
         lines = wrap_caption(self.caption(tick), self.caption_setter, self.caption_width)
         coverage = self.caption_setter.mask(
-            (layout.width, layout.top), [((8, 4 + k * _CAPTION_LINE), line) for k, line in enumerate(lines)]
+            (layout.width, layout.top), [((8, 4 + k * CAPTION_LINE), line) for k, line in enumerate(lines)]
         )
         inked = coverage > 0
         canvas[: layout.top][inked] = text_index(coverage[inked])
         return canvas
-
-
-def grow_mask(mask: np.ndarray, reach: int) -> np.ndarray:
-    """``mask`` grown by ``reach`` pixels in every direction (a square neighbourhood)."""
-    grown = mask.copy()
-    padded = np.pad(mask, reach)
-    height, width = mask.shape
-    for dy in range(2 * reach + 1):
-        for dx in range(2 * reach + 1):
-            grown |= padded[dy : dy + height, dx : dx + width]
-    return grown
-
-
-def wrap_caption(lines: tuple[str, ...] | list[str], setter: Typesetter, width: float) -> list[str]:
-    """Caption ``lines`` wrapped to ``width`` pixels: broken between ``|``-separated parts first, then
-    between words, never cut; a word wider than ``width`` stands alone on its line.
-
-    Examples
-    --------
-    >>> setter = Typesetter(13)
-    >>> wrap_caption(["a  |  b"], setter, 400)
-    ['a  |  b']
-    >>> wrap_caption(["1.0% of 2 cells unseen  |  321 unreachable cells (not counted)"], setter, 200)
-    ['1.0% of 2 cells unseen', '321 unreachable cells (not', 'counted)']
-    """
-    wrapped: list[str] = []
-    for line in lines:
-        current = ""
-        for part in line.split(_CAPTION_SEPARATOR):
-            joined = f"{current}{_CAPTION_SEPARATOR}{part}" if current else part
-            if setter.width(joined) <= width:
-                current = joined
-                continue
-            if current:
-                wrapped.append(current)
-            current = ""
-            for word in part.split(" "):
-                joined = f"{current} {word}" if current else word
-                if current and setter.width(joined) > width:
-                    wrapped.append(current)
-                    joined = word
-                current = joined
-        wrapped.append(current)
-    return wrapped
-
-
-def _grown(box: tuple[int, int, int, int] | None, part: tuple[int, int, int, int]) -> tuple[int, int, int, int]:
-    """The smallest box ``(x0, y0, x1, y1)`` holding ``box`` (if any) and ``part``."""
-    if box is None:
-        return part
-    return min(box[0], part[0]), min(box[1], part[1]), max(box[2], part[2]), max(box[3], part[3])
-
-
-def _draw_guard(
-    draw: ImageDraw.ImageDraw, centre: tuple[float, float], heading_degrees: float, radius: float, guard: int
-) -> None:
-    """A disc in the guard's colour with a pointed nose towards its heading and a white eye."""
-    angle = math.radians(heading_degrees)
-    dx, dy = math.cos(angle), math.sin(angle)
-    x, y = centre
-    tip = (x + dx * radius * 1.9, y + dy * radius * 1.9)
-    side = radius * 0.85
-    draw.polygon(
-        [tip, (x - dy * side, y + dx * side), (x + dy * side, y - dx * side)],
-        fill=guard_index(guard),
-        outline=Index.OUTLINE,
-    )
-    draw.ellipse((x - radius, y - radius, x + radius, y + radius), fill=guard_index(guard), outline=Index.OUTLINE)
-    eye = (x + dx * radius * 0.35, y + dy * radius * 0.35)
-    draw.ellipse((eye[0] - 1.5, eye[1] - 1.5, eye[0] + 1.5, eye[1] + 1.5), fill=Index.WHITE)
 
 
 def render_frame(level: Level, trace: Trace, tick: int, *, size: int | None = None) -> np.ndarray:

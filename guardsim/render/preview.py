@@ -14,7 +14,7 @@ from PIL import Image, ImageDraw
 
 from guardsim.level import Level
 from guardsim.render.cells import tight_cells
-from guardsim.render.frames import grow_mask
+from guardsim.render.layout import grow_mask
 from guardsim.render.legend import draw_rgb_legend
 from guardsim.render.palette import COLOURS, GUARD_COLOURS
 from guardsim.render.sight import SightCaster

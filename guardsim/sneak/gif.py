@@ -14,8 +14,9 @@ from guardsim.detection.model import IntruderState, intruder_state
 from guardsim.kernels.meter import DETECTED
 from guardsim.level import Level
 from guardsim.output import atomic_path
-from guardsim.render.frames import MIN_GUARD_RADIUS, FrameDrawer
+from guardsim.render.frames import FrameDrawer
 from guardsim.render.gif import GifOptions, GifStream, frame_ticks
+from guardsim.render.layout import MIN_GUARD_RADIUS
 from guardsim.render.palette import Index, guard_index
 from guardsim.trace import Trace
 

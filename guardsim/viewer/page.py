@@ -18,7 +18,7 @@ import numpy as np
 from guardsim.errors import GuardsimError
 from guardsim.level import GuardSpec, Level
 from guardsim.output import write_text_atomic
-from guardsim.render.frames import VisionSettings
+from guardsim.render.layout import VisionSettings
 from guardsim.render.palette import COLOURS, GUARD_COLOURS, PALETTE, guard_index
 from guardsim.trace import Trace
 from guardsim.viewer.layers import Overlays, overlay_data
