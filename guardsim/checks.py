@@ -22,7 +22,6 @@ chose, not on every change as a snapshot would. Rules come from the command line
 
 from __future__ import annotations
 
-import math
 import os
 import sys
 from dataclasses import dataclass, field
@@ -34,9 +33,9 @@ import numpy as np
 from guardsim.detection import NEVER_DETECTED, GuardDetection, patrol_gains, time_to_detection
 from guardsim.errors import CheckError
 from guardsim.patrol import Patrol, patrol_setup, plan_loop, read_patrol, score_patrol
-from guardsim.planners import PLANNERS
-from guardsim.reading import NumberError, display_path, excerpt, finite_number, json_type, parse_json, read_text_file
+from guardsim.reading import display_path, parse_json, read_text_file
 from guardsim.scene import Scene
+from guardsim.schema import check
 from guardsim.simulation import Simulation
 from guardsim.sneak import sneak_check
 from guardsim.vision.table import ViewTable
@@ -144,21 +143,6 @@ class CheckResult(NamedTuple):
     """What was measured against the limit."""
 
 
-_KEYS = {
-    "max_cover_steps",
-    "max_idleness",
-    "no_unreachable",
-    "guards",
-    "planner",
-    "patrol",
-    "sneak",
-    "safe",
-    "undetected",
-    "min_slack",
-    "max_slack",
-}
-
-
 def read_checks(path: str | os.PathLike[str]) -> CheckRules:
     """The rules in a checks file (``.toml``, else JSON), every fault one :class:`CheckError` line."""
     source = display_path(path)
@@ -182,7 +166,8 @@ def _toml(text: str, source: str) -> Any:
 
 
 def parse_checks(data: Any, *, source: str = "<checks>", base: Path | None = None) -> CheckRules:
-    """:class:`CheckRules` from checks-file data; a relative ``patrol`` path is taken from ``base``.
+    """:class:`CheckRules` from checks-file data, checked against ``checks.schema.json``; a relative
+    ``patrol`` path is taken from ``base``.
 
     The file must hold the rules its ``undetected`` and slack limits apply to (safe and sneak rules).
 
@@ -195,66 +180,33 @@ def parse_checks(data: Any, *, source: str = "<checks>", base: Path | None = Non
     ...
     guardsim.errors.CheckError: <checks>: unknown rule 'max_idle' (known: guards, max_cover_steps, max_idleness, max_slack, min_slack, no_unreachable, patrol, planner, safe, sneak, undetected)
     """
-    if not isinstance(data, dict):
-        raise CheckError(f"{source}: expected a table of rules, got {json_type(data)}")
-    for key in data:
-        if key not in _KEYS:
-            raise CheckError(f"{source}: unknown rule {key!r} (known: {', '.join(sorted(_KEYS))})")
-
-    def count(key: str, minimum: int) -> int | None:
-        value = data.get(key)
-        if value is None:
-            return None
-        if not isinstance(value, int) or isinstance(value, bool) or value < minimum:
-            raise CheckError(f"{source}: {key}: expected a whole number of at least {minimum}, got {value!r}"[:160])
-        return value
-
-    def flag(key: str) -> bool:
-        value = data.get(key, False)
-        if not isinstance(value, bool):
-            raise CheckError(f"{source}: {key}: expected true or false, got {value!r}"[:160])
-        return value
-
-    unreachable = flag("no_unreachable")
-    planner = data.get("planner", "ripplefront")
-    if planner not in PLANNERS:
-        raise CheckError(f"{source}: planner: {planner!r} is not one of {', '.join(PLANNERS)}"[:200])
+    check(data, "checks", source=source, error=CheckError)
     patrol = data.get("patrol")
-    if patrol is not None and not isinstance(patrol, str):
-        raise CheckError(f"{source}: patrol: expected a file name, got {json_type(patrol)}")
     if patrol is not None and base is not None and not Path(patrol).is_absolute():
         patrol = str(base / patrol)
     if patrol is not None and not os.path.lexists(patrol):
         # Named here, or the line would name only a file the user never typed (the path joined to the folder).
         raise CheckError(f"{source}: patrol: {display_path(patrol)}: no such file")
-    sneaks_data = data.get("sneak", [])
-    if not isinstance(sneaks_data, list):
-        raise CheckError(
-            f"{source}: sneak: expected a list of {{from, to, expect}} tables, got {json_type(sneaks_data)}"
-        )
-    sneaks = tuple(_sneak_rule(item, f"{source}: sneak[{index}]") for index, item in enumerate(sneaks_data))
-    safe_data = data.get("safe", [])
-    if not isinstance(safe_data, list):
-        raise CheckError(f"{source}: safe: expected a list of [x, y] points, got {json_type(safe_data)}")
-    safe = tuple(
-        SafeRule(_point(item, f"{source}: safe[{index}]"), f"{source}: safe[{index}]")
-        for index, item in enumerate(safe_data)
+    sneaks = tuple(
+        SneakRule(_point(item["from"]), _point(item["to"]), item["expect"], f"{source}: sneak[{index}]")
+        for index, item in enumerate(data.get("sneak", []))
     )
-    undetected = flag("undetected")
+    safe = tuple(SafeRule(_point(item), f"{source}: safe[{index}]") for index, item in enumerate(data.get("safe", [])))
+    undetected = data.get("undetected", False)
     if undetected and not safe:
         raise CheckError(f"{source}: undetected: there is no safe rule in the file for it to apply to")
-    min_slack, max_slack = count("min_slack", 0), count("max_slack", 0)
+    min_slack, max_slack = data.get("min_slack"), data.get("max_slack")
     for key, limit in (("min_slack", min_slack), ("max_slack", max_slack)):
         if limit is not None and not sneaks:
             raise CheckError(f"{source}: {key}: there is no sneak rule in the file for it to limit")
     if min_slack is not None and max_slack is not None and min_slack > max_slack:
         raise CheckError(f"{source}: min_slack: {min_slack} is over max_slack {max_slack}: no slack meets both")
     return CheckRules(
-        max_cover_steps=count("max_cover_steps", 0),
-        max_idleness=count("max_idleness", 0),
-        no_unreachable=unreachable,
-        guards=count("guards", 1) or 1,
-        planner=planner,
+        max_cover_steps=data.get("max_cover_steps"),
+        max_idleness=data.get("max_idleness"),
+        no_unreachable=data.get("no_unreachable", False),
+        guards=data.get("guards") or 1,
+        planner=data.get("planner", "ripplefront"),
         patrol=patrol,
         sneaks=sneaks,
         safe=safe,
@@ -264,22 +216,9 @@ def parse_checks(data: Any, *, source: str = "<checks>", base: Path | None = Non
     )
 
 
-def _point(value: Any, where: str) -> tuple[float, float]:
-    # The one number parser: an integer no float holds (10**400) is this one-line error, not an OverflowError.
-    try:
-        if isinstance(value, list) and len(value) == 2:
-            return finite_number(value[0], magnitude=math.inf), finite_number(value[1], magnitude=math.inf)
-    except NumberError:
-        pass
-    raise CheckError(f"{where}: expected [x, y], two finite numbers, got {excerpt(value, 60)}")
-
-
-def _sneak_rule(item: Any, where: str) -> SneakRule:
-    if not isinstance(item, dict) or set(item) - {"from", "to", "expect"} or not {"from", "to", "expect"} <= set(item):
-        raise CheckError(f"{where}: expected a table with exactly from, to and expect")
-    if item["expect"] not in EXPECTATIONS:
-        raise CheckError(f"{where}: expect: {item['expect']!r} is not one of {', '.join(EXPECTATIONS)}"[:160])
-    return SneakRule(_point(item["from"], f"{where}: from"), _point(item["to"], f"{where}: to"), item["expect"], where)
+def _point(value: list[Any]) -> tuple[float, float]:
+    """A point the schema has checked: two numbers a float holds."""
+    return float(value[0]), float(value[1])
 
 
 def _cell(scene: Scene, point: tuple[float, float], where: str, what: str) -> int:

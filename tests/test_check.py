@@ -120,7 +120,7 @@ def test_bad_input_is_exit_2(corridor: tuple[Path, Path], args: list[str], messa
     [
         ("max_idle = 3\n", "unknown rule 'max_idle'"),
         ("max_idleness = -1\n", "max_idleness: expected a whole number of at least 0"),
-        ('[[sneak]]\nfrom = [0, 0]\nto = [1, 1]\nexpect = "maybe"\n', "sneak[0]: expect: 'maybe'"),
+        ('[[sneak]]\nfrom = [0, 0]\nto = [1, 1]\nexpect = "maybe"\n', "sneak[0].expect: 'maybe'"),
         ("max_idleness = [\n", "not valid TOML"),
     ],
     ids=["unknown", "negative", "expect", "syntax"],
@@ -352,7 +352,7 @@ def test_safe_and_slack_rules_from_a_checks_file(corridor: tuple[Path, Path], tm
         (f"min_slack = 5\nmax_slack = 4\n{_SNEAK}", "bad.toml: min_slack: 5 is over max_slack 4: no slack meets both"),
         (
             '[[sneak]]\nfrom = [0, 0]\nto = [1, 1]\nexpect = "unseen"\n',
-            "bad.toml: sneak[0]: expect: 'unseen' is not one of caught, sneaks, detected, undetected",
+            "bad.toml: sneak[0].expect: 'unseen' is not one of caught, sneaks, detected, undetected",
         ),
     ],
     ids=[

@@ -165,7 +165,7 @@ def test_stored_trace_integers_past_float_range_are_one_line(field: str) -> None
     stored = json.loads((Path(__file__).parent / "data" / "trace-l-room.json").read_text(encoding="utf-8"))
     huge = 10**400
     stored[field] = {"cell_size": huge, "origin": [huge, 0], "unseen_percent": [huge]}[field]
-    with pytest.raises(RegressionError, match=rf"^t\.trace\.json: not a guardsim trace: {field} must be"):
+    with pytest.raises(RegressionError, match=rf"^t\.trace\.json: not a guardsim trace: {field}: must be"):
         trace_from_stored(stored, source="t.trace.json", max_cells=10_000)
 
 

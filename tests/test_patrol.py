@@ -201,7 +201,10 @@ def test_bad_patrol_files_are_one_located_line(tmp_path: Path, guard: dict[str, 
     [
         ("[1]", "expected a JSON object, got a list"),
         ('{"guards": []}', 'missing "shape"'),
-        ('{"shape": [4, 11], "guards": []}', "shape: [4, 11] does not match the level's grid [3, 11]"),
+        (
+            '{"shape": [4, 11], "guards": [{"loop": [[5, 1]], "headings": [0]}]}',
+            "shape: [4, 11] does not match the level's grid [3, 11]",
+        ),
         ('{"shape": [3, 11], "guards": {}}', "guards: expected a non-empty list"),
         (
             '{"shape": [3, 11], "period": 5, "guards": [{"loop": [[5, 1]], "headings": [0]}]}',

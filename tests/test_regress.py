@@ -187,10 +187,10 @@ def test_update_in_continuous_motion_then_overrides_and_tampered_poses(tmp_path:
 @pytest.mark.parametrize(
     ("change", "fragment"),
     [
-        ({"motion": "teleport"}, 'episodes[0]: motion must be one of grid, continuous, not "teleport"'),
+        ({"motion": "teleport"}, 'episodes[0].motion: must be one of grid, continuous, not "teleport"'),
         ({"move_speed": 3}, 'episodes[0]: move_speed is a continuous-motion parameter; add "motion": "continuous"'),
-        ({"motion": "continuous", "tick_hz": -5}, "episodes[0]: tick_hz must be a positive number"),
-        ({"motion": "continuous", "turn_speed": "fast"}, "episodes[0]: turn_speed must be a positive number"),
+        ({"motion": "continuous", "tick_hz": -5}, "episodes[0].tick_hz: must be a positive number"),
+        ({"motion": "continuous", "turn_speed": "fast"}, "episodes[0].turn_speed: must be a positive number"),
     ],
     ids=["unknown-motion", "speed-on-grid-episode", "negative-rate", "speed-not-a-number"],
 )
@@ -207,8 +207,8 @@ def test_bad_motion_in_a_manifest_is_one_line(tmp_path: Path, change: dict, frag
 @pytest.mark.parametrize(
     ("damage", "fragment"),
     [
-        ("short", "poses must be a list of one [t, x, y, heading] per tick of the path"),
-        ("not-finite", "poses[2] must be [t, x, y, heading] of finite numbers"),
+        ("short", "poses: must be a list of one [t, x, y, heading] per tick of the path"),
+        ("not-finite", "poses[2]: must be [t, x, y, heading] of finite numbers"),
         ("no-poses", "a continuous trace needs poses"),
     ],
 )
@@ -258,7 +258,7 @@ def test_folders_expand_and_duplicate_names_are_refused(tmp_path: Path) -> None:
     ("damage", "fragment"),
     [
         ("manifest-not-json", "manifest.json: not valid JSON"),
-        ("manifest-bad-episode", "episodes[0]: name must be"),
+        ("manifest-bad-episode", "episodes[0].name: must be"),
         ("frame-missing", "level-start-050.png: missing (listed in"),
         ("frame-not-png", "level-start-050.png: not a PNG image"),
     ],

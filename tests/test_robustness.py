@@ -232,8 +232,8 @@ def _declared_png(width: int, height: int) -> bytes:
 @pytest.mark.parametrize(
     ("damage", "fragment"),
     [
-        (edit_trace(lambda d: d.update(path=[])), "path must be a non-empty list"),
-        (edit_trace(lambda d: d.update(cell_size="1")), "cell_size must be a positive number"),
+        (edit_trace(lambda d: d.update(path=[])), "path: must be a non-empty list"),
+        (edit_trace(lambda d: d.update(cell_size="1")), "cell_size: must be a positive number"),
         (
             edit_trace(lambda d: d.update(guard_paths=[d["path"], d["path"]], guard_headings=[d["headings"]] * 2)),
             None,

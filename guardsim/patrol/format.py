@@ -11,7 +11,8 @@ A repeating guard's ``loop`` lists its cell at each tick of a lap and ends where
 one-cell loop, ``[[c, r]]`` or ``[[c, r], [c, r]]``, with a fixed heading); ``headings`` gives the
 heading number (0 right, 1 down, 2 left, 3 up) at each of those ticks. Moves obey the grid: each tick a
 guard steps to a connected 4-neighbour, facing the way it stepped, or stays, keeping its heading.
-Reading checks every one of those rules and says where the first broken one is, in one line.
+Reading checks the file against ``patrol.schema.json`` (:mod:`guardsim.schema`), then every one of those
+rules, and says where the first broken one is, in one line.
 """
 
 from __future__ import annotations
@@ -25,7 +26,8 @@ from guardsim.errors import PatrolError
 from guardsim.grid import CoverageGrid, state_of
 from guardsim.patrol.model import Patrol
 from guardsim.patrol.scoring import NEVER, PatrolScore
-from guardsim.reading import excerpt, json_type, read_json_file
+from guardsim.reading import excerpt, read_json_file
+from guardsim.schema import check
 
 __all__ = [
     "DEFAULT_MAX_PATROL_BYTES",
@@ -117,12 +119,9 @@ def _fail(source: str, where: str, message: str) -> PatrolError:
     return PatrolError(f"{source}: {where}: {message}" if where else f"{source}: {message}")
 
 
-def _integer(value: Any) -> bool:
-    return isinstance(value, int) and not isinstance(value, bool)
-
-
 def parse_patrol(data: Any, grid: CoverageGrid, *, source: str = "<patrol>") -> Patrol:
-    """A :class:`Patrol` from patrol.json data, checked against the level's grid.
+    """A :class:`Patrol` from patrol.json data, checked against ``patrol.schema.json``, then against the
+    level's grid.
 
     Examples
     --------
@@ -135,40 +134,19 @@ def parse_patrol(data: Any, grid: CoverageGrid, *, source: str = "<patrol>") -> 
     ...
     guardsim.errors.PatrolError: <patrol>: guards[0]: headings[1]: a step right must face right (0), not 2
     """
-    if not isinstance(data, dict):
-        raise _fail(source, "", f"expected a JSON object, got {json_type(data)}")
+    check(data, "patrol", source=source, error=PatrolError)
     rows, cols = grid.shape
-    shape = data.get("shape")
-    if shape is None:
-        raise _fail(source, "", 'missing "shape" ([rows, cols] of the level\'s grid)')
-    if not (isinstance(shape, list) and len(shape) == 2 and all(_integer(n) for n in shape)):
-        raise _fail(source, "shape", "expected [rows, cols], two integers")
-    if shape != [rows, cols]:
-        raise _fail(source, "shape", f"{shape} does not match the level's grid [{rows}, {cols}]")
-    if "cell_size" in data:
-        size = data["cell_size"]
-        if not isinstance(size, (int, float)) or isinstance(size, bool) or not math.isclose(size, grid.cell_size):
-            raise _fail(source, "cell_size", f"{size!r} does not match the level's cell size {grid.cell_size:g}")
-    if "origin" in data:
-        origin = data["origin"]
-        if not (
-            isinstance(origin, list)
-            and len(origin) == 2
-            and all(isinstance(v, (int, float)) and not isinstance(v, bool) for v in origin)
-            and all(math.isclose(a, b, abs_tol=1e-9) for a, b in zip(origin, grid.origin))
-        ):
-            raise _fail(source, "origin", f"{origin!r} does not match the level's grid origin {list(grid.origin)}")
-    motion = data.get("motion", "grid")
-    if motion not in ("grid", "continuous"):
-        raise _fail(source, "motion", f'expected "grid" or "continuous", got {motion!r}'[:120])
-    period = data.get("period", 0)
-    if period is not None and not (_integer(period) and period >= 0):
-        raise _fail(source, "period", f"expected a whole number of ticks or null, got {period!r}")
-    guards = data.get("guards")
-    if not isinstance(guards, list) or not guards:
-        raise _fail(source, "guards", "expected a non-empty list of guard objects")
+    if data["shape"] != [rows, cols]:
+        raise _fail(source, "shape", f"{data['shape']} does not match the level's grid [{rows}, {cols}]")
+    size = data.get("cell_size", grid.cell_size)
+    if not math.isclose(size, grid.cell_size):
+        raise _fail(source, "cell_size", f"{size!r} does not match the level's cell size {grid.cell_size:g}")
+    origin = data.get("origin", list(grid.origin))
+    if not all(math.isclose(a, b, abs_tol=1e-9) for a, b in zip(origin, grid.origin)):
+        raise _fail(source, "origin", f"{origin!r} does not match the level's grid origin {list(grid.origin)}")
+    motion, period, strategy = data.get("motion", "grid"), data.get("period", 0), data.get("strategy", "evaluate")
     repeating = period is not None
-    laps = [_read_guard(guard, grid, repeating, source, f"guards[{number}]") for number, guard in enumerate(guards)]
+    laps = [_read_guard(guard, grid, repeating, source, f"guards[{n}]") for n, guard in enumerate(data["guards"])]
     if not repeating:
         ticks = max(lap.size for lap in laps)
         if ticks * grid.size > MAX_TIMELINE_CELLS:
@@ -178,7 +156,7 @@ def parse_patrol(data: Any, grid: CoverageGrid, *, source: str = "<patrol>") -> 
                 f"walked paths of {ticks} ticks on {grid.size} cells are over the limit of {MAX_TIMELINE_CELLS} cell-ticks",
             )
         states = np.stack([np.concatenate([lap, np.full(ticks - lap.size, lap[-1])]) for lap in laps])
-        return Patrol(states, None, str(data.get("strategy", "evaluate")), motion=motion)
+        return Patrol(states, None, strategy, motion=motion)
     common = math.lcm(*(lap.size for lap in laps))
     if common > MAX_UNROLLED_TICKS:
         raise _fail(
@@ -186,69 +164,35 @@ def parse_patrol(data: Any, grid: CoverageGrid, *, source: str = "<patrol>") -> 
             "guards",
             f"the laps' lengths {[lap.size for lap in laps]} repeat together only every {common} ticks, over {MAX_UNROLLED_TICKS}",
         )
-    if period not in (0, common) and "period" in data:
+    if period not in (0, common):
         raise _fail(source, "period", f"{period} does not match the loops, which repeat every {common} ticks")
     states = np.stack([np.tile(lap, common // lap.size) for lap in laps])
-    strategy = data.get("strategy", "evaluate")
-    return Patrol(states, common, strategy if isinstance(strategy, str) else "evaluate", motion=motion)
+    return Patrol(states, common, strategy, motion=motion)
 
 
-def _read_guard(guard: Any, grid: CoverageGrid, repeating: bool, source: str, where: str) -> np.ndarray:
-    """One guard's states per tick (one lap when ``repeating``), every move checked."""
-    if not isinstance(guard, dict):
-        raise _fail(source, where, f"expected an object with loop and headings, got {json_type(guard)}")
-    loop, headings = guard.get("loop"), guard.get("headings")
-    if not isinstance(loop, list) or not loop:
-        raise _fail(source, f"{where}.loop", "expected a non-empty list of [col, row] cells")
-    if not isinstance(headings, list) or len(headings) != len(loop):
-        count = len(headings) if isinstance(headings, list) else json_type(headings)
-        raise _fail(source, f"{where}.headings", f"expected one heading per loop cell ({len(loop)}), got {count}")
+_NAMES = ("right", "down", "left", "up")
+
+
+def _read_guard(guard: dict[str, Any], grid: CoverageGrid, repeating: bool, source: str, where: str) -> np.ndarray:
+    """One guard's states per tick (one lap when ``repeating``), every move checked (the schema has
+    checked the types)."""
+    loop, headings = guard["loop"], guard["headings"]
+    if len(headings) != len(loop):
+        raise _fail(
+            source, f"{where}.headings", f"expected one heading per loop cell ({len(loop)}), got {len(headings)}"
+        )
     rows, cols = grid.shape
     cells: list[int] = []
-    for index, cell in enumerate(loop):
-        if not (isinstance(cell, list) and len(cell) == 2 and all(_integer(n) for n in cell)):
-            raise _fail(source, f"{where}.loop[{index}]", f"expected [col, row], two integers, got {cell!r}"[:120])
-        col, row = cell
+    for index, (col, row) in enumerate(loop):
         if not (0 <= col < cols and 0 <= row < rows):
             raise _fail(source, f"{where}.loop[{index}]", f"[{col}, {row}] is off the grid ({cols} x {rows})")
         if not grid.traversable[row, col]:
             raise _fail(source, f"{where}.loop[{index}]", f"[{col}, {row}] is not a cell the guard can stand in")
         cells.append(grid.flat(col, row))
-    for index, heading in enumerate(headings):
-        if not (_integer(heading) and 0 <= heading <= 3):
-            raise _fail(
-                source,
-                f"{where}.headings[{index}]",
-                f"expected 0, 1, 2 or 3 (right, down, left, up), got {heading!r}"[:120],
-            )
-    names = ("right", "down", "left", "up")
     for index in range(1, len(cells)):
-        before, after = cells[index - 1], cells[index]
-        if before == after:
-            if headings[index] != headings[index - 1]:
-                raise _fail(
-                    source,
-                    where,
-                    f"headings[{index}]: a guard standing still keeps its heading ({headings[index - 1]}), not {headings[index]}",
-                )
-            continue
-        direction = next((d for d in range(4) if int(grid.neighbours[before, d]) == after), -1)
-        if direction < 0:
-            raise _fail(
-                source,
-                f"{where}.loop[{index}]",
-                f"{loop[index - 1]} -> {loop[index]} is not a step to a connected 4-neighbour",
-            )
-        if headings[index] != direction:
-            raise _fail(
-                source,
-                where,
-                f"headings[{index}]: a step {names[direction]} must face {names[direction]} ({direction}), not {headings[index]}",
-            )
+        _check_move(grid, loop, headings, cells, index, source, where)
     states = state_of(np.asarray(cells, dtype=np.int64), np.asarray(headings, dtype=np.int64))
-    if not repeating:
-        return states
-    if len(cells) == 1:
+    if not repeating or len(cells) == 1:
         return states
     if cells[0] != cells[-1] or headings[0] != headings[-1]:
         raise _fail(
@@ -257,3 +201,30 @@ def _read_guard(guard: Any, grid: CoverageGrid, repeating: bool, source: str, wh
             f"a repeating loop must end as it began: {loop[0]} heading {headings[0]}, not {loop[-1]} heading {headings[-1]}",
         )
     return states[:-1]
+
+
+def _check_move(
+    grid: CoverageGrid, loop: list[Any], headings: list[int], cells: list[int], index: int, source: str, where: str
+) -> None:
+    """Tick ``index`` is a wait keeping the heading or a step to a connected 4-neighbour facing its way."""
+    before, after = cells[index - 1], cells[index]
+    if before == after:
+        if headings[index] != headings[index - 1]:
+            raise _fail(
+                source,
+                where,
+                f"headings[{index}]: a guard standing still keeps its heading ({headings[index - 1]}), not {headings[index]}",
+            )
+        return
+    direction = next((d for d in range(4) if int(grid.neighbours[before, d]) == after), -1)
+    if direction < 0:
+        raise _fail(
+            source,
+            f"{where}.loop[{index}]",
+            f"{loop[index - 1]} -> {loop[index]} is not a step to a connected 4-neighbour",
+        )
+    if headings[index] != direction:
+        name = _NAMES[direction]
+        raise _fail(
+            source, where, f"headings[{index}]: a step {name} must face {name} ({direction}), not {headings[index]}"
+        )

@@ -16,7 +16,6 @@ from __future__ import annotations
 import io
 import json
 import math
-import re
 from dataclasses import dataclass, replace
 from pathlib import Path
 from typing import Any
@@ -25,18 +24,17 @@ import numpy as np
 
 from guardsim.errors import OutputError, RegressionError
 from guardsim.level import DEFAULT_MAX_FILE_BYTES, Level, level_json_text
-from guardsim.motion.parameters import MOTIONS
 from guardsim.output import atomic_path, write_text_atomic
 from guardsim.reading import (
     captured_warnings,
     display_path,
-    excerpt,
     parse_json,
     read_limited_bytes,
     read_text_file,
 )
 from guardsim.regress.frames import Tolerance
 from guardsim.render import render_frame
+from guardsim.schema import check
 from guardsim.trace import Trace
 
 __all__ = [
@@ -69,22 +67,12 @@ REFERENCE_FRAME_SIZE = 240
 DEFAULT_MAX_FRAME_SIZE = 1024
 #: How much larger than frame_size a stored frame may be (the renderer adds captions and margins).
 FRAME_SLACK = 4
-#: Smallest frame_size.
-MIN_FRAME_SIZE = 16
-#: Most episodes one manifest lists.
-MAX_EPISODES = 1000
-#: Largest seed or episode number (numpy seeds are unbounded, but a 5,000-digit seed is not a test).
-MAX_SEED = 2**63 - 1
 #: The continuous-motion parameters an episode may set, as in a level's ``guard`` object.
 SPEED_KEYS = ("move_speed", "turn_speed", "tick_hz")
-#: Largest speed or rate a manifest may set: past this a walk is not a guard (and 1e300 ticks per second
-#: would be a plan of 1e300 ticks).
-MAX_SPEED = 1e6
 #: Key frames, as percentages of an episode's steps.
 KEY_PERCENTS = (0, 25, 50, 75, 100)
 MANIFEST = "manifest.json"
 LEVEL_SNAPSHOT = "level.json"
-_EPISODE_NAME = re.compile(r"[A-Za-z0-9][A-Za-z0-9_-]{0,63}\Z")
 
 
 @dataclass(frozen=True)
@@ -233,78 +221,38 @@ def read_manifest(
 ) -> Manifest | None:
     """The manifest at ``path``, ``None`` if there is none, or a RegressionError saying what is wrong.
 
-    A ``frame_size`` over ``max_frame_size`` is refused here, before any frame is drawn: a frame's cost
-    grows with its area (4096 pixels a side took a minute and 5 GB).
+    The manifest is checked against ``manifest.schema.json``, then: a ``frame_size`` over
+    ``max_frame_size`` is refused here, before any frame is drawn (a frame's cost grows with its area:
+    4096 pixels a side took a minute and 5 GB); episode names are unique; speeds belong to continuous
+    episodes.
     """
     if not path.exists() and not path.is_symlink():
         return None
     data = read_json(path, max_file_bytes=max_file_bytes)
-
-    def bad(message: str) -> RegressionError:
-        return RegressionError(f"{display_path(path)}: {message}")
-
-    if not isinstance(data, dict) or data.get("format") != FORMAT:
-        raise bad(f"not a guardsim regress manifest of format {FORMAT}")
+    source = display_path(path)
+    check(data, "manifest", source=source, error=RegressionError)
     frame_size = data.get("frame_size", REFERENCE_FRAME_SIZE)
-    if not _is_count(frame_size) or frame_size < MIN_FRAME_SIZE:
-        raise bad(f"frame_size must be a whole number of pixels from {MIN_FRAME_SIZE}, not {excerpt(frame_size, 40)}")
     if frame_size > max_frame_size:
-        raise bad(f"frame_size {frame_size} is over the limit of {max_frame_size} pixels (max_frame_size)")
-    tolerance = data.get("tolerance", {})
-    default = Tolerance()
-    channel: Any = tolerance.get("channel", default.channel) if isinstance(tolerance, dict) else None
-    fraction: Any = tolerance.get("fraction", default.fraction) if isinstance(tolerance, dict) else None
-    if not (_is_count(channel) and channel <= 255 and _is_number(fraction) and 0 <= fraction <= 1):
-        raise bad('tolerance must be {"channel": 0 to 255, "fraction": 0 to 1}')
-    episodes = data.get("episodes")
-    if not isinstance(episodes, list) or not episodes:
-        raise bad("episodes must be a non-empty list")
-    if len(episodes) > MAX_EPISODES:
-        raise bad(f"{len(episodes)} episodes, more than the {MAX_EPISODES} a manifest may list")
-    specs = []
-    for index, episode in enumerate(episodes):
-        name = episode.get("name") if isinstance(episode, dict) else None
-        seed: Any = episode.get("seed", 0) if isinstance(episode, dict) else None
-        number: Any = episode.get("episode") if isinstance(episode, dict) else None
-        if not isinstance(name, str) or not _EPISODE_NAME.match(name):
-            raise bad(f"episodes[{index}]: name must be letters, digits, - and _ (at most 64), not {excerpt(name, 40)}")
-        if not _is_seed(seed) or not (number is None or _is_seed(number)):
-            raise bad(f"episodes[{index}]: seed and episode must be whole numbers from 0 to {MAX_SEED}")
-        specs.append(ReplaySpec(name, seed, number, *_motion_of(episode, f"{display_path(path)}: episodes[{index}]: ")))
+        raise RegressionError(
+            f"{source}: frame_size {frame_size} is over the limit of {max_frame_size} pixels (max_frame_size)"
+        )
+    specs = tuple(_spec(episode, f"{source}: episodes[{index}]") for index, episode in enumerate(data["episodes"]))
     if len({spec.name for spec in specs}) != len(specs):
-        raise bad("two episodes have the same name")
-    return Manifest(frame_size, Tolerance(channel, float(fraction)), tuple(specs))
+        raise RegressionError(f"{source}: two episodes have the same name")
+    tolerance = {**vars(Tolerance()), **data.get("tolerance", {})}
+    return Manifest(frame_size, Tolerance(tolerance["channel"], float(tolerance["fraction"])), specs)
 
 
-def _motion_of(episode: dict[str, Any], where: str) -> tuple[str, float | None, float | None, float | None]:
-    """An episode's ``motion`` (``grid`` when absent, as manifests written before continuous motion say)
-    and its speeds, or a RegressionError starting with ``where``."""
+def _spec(episode: dict[str, Any], where: str) -> ReplaySpec:
+    """A manifest episode the schema has checked; its speeds need ``"motion": "continuous"`` (an entry
+    without ``motion`` is a grid episode, as manifests written before continuous motion say)."""
     motion = episode.get("motion", "grid")
-    if motion not in MOTIONS:
-        raise RegressionError(f"{where}motion must be one of {', '.join(MOTIONS)}, not {excerpt(motion, 40)}")
-    speeds: list[float | None] = []
-    for key in SPEED_KEYS:
-        value = episode.get(key)
+    speeds = [episode.get(key) for key in SPEED_KEYS]
+    for key, value in zip(SPEED_KEYS, speeds):
         if value is not None and motion == "grid":
-            raise RegressionError(f'{where}{key} is a continuous-motion parameter; add "motion": "continuous"')
-        if value is not None and not (_is_number(value) and 0 < value <= MAX_SPEED):
-            raise RegressionError(
-                f"{where}{key} must be a positive number up to {MAX_SPEED:g}, not {excerpt(value, 40)}"
-            )
-        speeds.append(None if value is None else float(value))
-    return motion, speeds[0], speeds[1], speeds[2]
-
-
-def _is_count(value: Any) -> bool:
-    return isinstance(value, int) and not isinstance(value, bool) and value >= 0
-
-
-def _is_seed(value: Any) -> bool:
-    return _is_count(value) and value <= MAX_SEED
-
-
-def _is_number(value: Any) -> bool:
-    return isinstance(value, (int, float)) and not isinstance(value, bool)
+            raise RegressionError(f'{where}: {key} is a continuous-motion parameter; add "motion": "continuous"')
+    floats = [None if value is None else float(value) for value in speeds]
+    return ReplaySpec(episode["name"], episode.get("seed", 0), episode.get("episode"), motion, *floats)
 
 
 def read_text(path: Path, *, max_file_bytes: int = DEFAULT_MAX_FILE_BYTES, listed_in: Path | None = None) -> str:
