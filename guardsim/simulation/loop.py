@@ -44,24 +44,15 @@ from guardsim.planners.base import (
     Planner,
 )
 from guardsim.scene import Scene
-from guardsim.starts import check_headings, checked_starts, choose_start, episode_generator, episode_start, team_starts
+from guardsim.simulation.reads import EpisodeReads
+from guardsim.starts import check_headings, checked_starts, episode_start, team_starts
 from guardsim.trace import OUTCOMES, Trace
 from guardsim.vision.rules import VisionFunction
 
 if TYPE_CHECKING:
-    from guardsim.motion import GuardMotion
+    pass
 
-__all__ = [
-    "Scene",
-    "Simulation",
-    "choose_start",
-    "default_max_steps",
-    "episode_generator",
-    "run_episode",
-    "team_starts",
-]
-
-_HEADING_DEGREES = (0.0, 90.0, 180.0, 270.0)
+__all__ = ["Simulation", "default_max_steps"]
 
 
 def default_max_steps(grid: CoverageGrid) -> int:
@@ -69,7 +60,7 @@ def default_max_steps(grid: CoverageGrid) -> int:
     return max(100, 10 * int(grid.traversable.sum()))
 
 
-class Simulation:
+class Simulation(EpisodeReads):
     """One episode of a guard (or a team) on a scene, advanced by :meth:`step` or run by :meth:`run`.
 
     Parameters
@@ -294,109 +285,6 @@ class Simulation:
             raise RuntimeError("call reset() before stepping the simulation")
         return self._episode
 
-    # -- what a game reads ----------------------------------------------------------------------
-
-    @property
-    def tick(self) -> int:
-        """Ticks elapsed since the start."""
-        return int(self._require().counters[TICK])
-
-    @property
-    def done(self) -> bool:
-        """Whether the episode has ended."""
-        return int(self._require().counters[OUTCOME]) != RUNNING
-
-    @property
-    def outcome(self) -> str | None:
-        """``"covered"``, ``"step_limit"`` or ``"stuck"`` once done; ``None`` while running."""
-        code = int(self._require().counters[OUTCOME])
-        return None if code == RUNNING else OUTCOMES[code]
-
-    @property
-    def cells(self) -> list[tuple[int, int]]:
-        """``(col, row)`` of every guard now."""
-        episode = self._require()
-        grid = self.scene.grid
-        return [grid.unflat(int(cell)) for cell in episode.cells[:, self.tick]]
-
-    @property
-    def positions(self) -> list[tuple[float, float]]:
-        """World position of every guard now (its cell's centre)."""
-        grid = self.scene.grid
-        return [grid.centre(col, row) for col, row in self.cells]
-
-    @property
-    def headings(self) -> list[int]:
-        """Heading number of every guard now (0 right, 1 down, 2 left, 3 up; y down)."""
-        return [int(heading) for heading in self._require().headings[:, self.tick]]
-
-    @property
-    def heading_degrees(self) -> list[float]:
-        """Heading of every guard now in degrees (0 along +x, 90 along +y)."""
-        return [_HEADING_DEGREES[heading] for heading in self.headings]
-
-    @property
-    def seen(self) -> np.ndarray:
-        """``bool (rows, cols)``, read-only: cells seen so far."""
-        return self._seen_view.reshape(self.scene.grid.shape)
-
-    @property
-    def goal(self) -> np.ndarray:
-        """``bool (rows, cols)``, read-only: the cells the episode must see (reachable from the starts)."""
-        return self._goal_view.reshape(self.scene.grid.shape)
-
-    @property
-    def unseen(self) -> int:
-        """Goal cells not yet seen."""
-        return int(self._require().counters[UNSEEN])
-
-    @property
-    def coverage(self) -> float:
-        """Fraction of the goal cells seen so far (1.0 for an empty goal)."""
-        total = int(self._goal_view.sum())
-        return 1.0 if total == 0 else 1.0 - self.unseen / total
-
-    def visible_cells(self, guard: int | None = None) -> list[tuple[int, int]]:
-        """``(col, row)`` of the cells guard ``guard`` sees from where it stands now.
-
-        A lone guard needs no number; a team must say which guard (a ``ValueError`` otherwise), since
-        "what is visible" differs per guard: :meth:`seen_by` answers for the whole team.
-        """
-        episode = self._require()
-        guards = episode.cells.shape[0]
-        if guard is None:
-            if guards > 1:
-                raise ValueError(f"a team of {guards} guards: say which guard (visible_cells(guard=k)), or use seen_by")
-            guard = 0
-        if not 0 <= guard < guards:
-            raise ValueError(f"guard {guard} is not one of the team's {guards} guards")
-        grid = self.scene.grid
-        col, row = grid.unflat(int(episode.cells[guard, self.tick]))
-        return [grid.unflat(int(cell)) for cell in self.vision(col, row, int(episode.headings[guard, self.tick]))]
-
-    def seen_by(self, point: tuple[float, float]) -> list[int]:
-        """The guards that see the world point ``point`` now (its cell is in their view), in order; an
-        empty list when none does or the point is off the grid. ``bool(seen_by(p))``: is ``p`` seen now.
-        """
-        episode = self._require()
-        grid = self.scene.grid
-        cell = grid.cell_of(point)
-        if cell is None:
-            return []
-        flat = grid.flat(*cell)
-        seeing = []
-        for guard in range(episode.cells.shape[0]):
-            col, row = grid.unflat(int(episode.cells[guard, self.tick]))
-            if flat in self.vision(col, row, int(episode.headings[guard, self.tick])):
-                seeing.append(guard)
-        return seeing
-
-    def newly_seen(self) -> list[tuple[int, int]]:
-        """``(col, row)`` of the cells first seen at this tick, by any guard."""
-        episode = self._require()
-        grid = self.scene.grid
-        return [grid.unflat(int(cell)) for cell in np.flatnonzero(episode.first_seen == self.tick)]
-
     def trace(self) -> Trace:
         """The record of the episode so far (complete once :attr:`done`)."""
         episode = self._require()
@@ -423,67 +311,3 @@ class Simulation:
         fields = self._fields[:ticks] or [np.full((rows, cols), -1, dtype=np.int32)]
         fields += [fields[-1]] * (ticks - len(fields))
         return np.stack(fields)
-
-
-def run_episode(
-    scene: Scene,
-    planner: str | Planner | Sequence[Planner] = "ripplefront",
-    *,
-    guards: int = 1,
-    starts: Sequence[tuple[int, int]] | None = None,
-    headings: Sequence[int] | None = None,
-    seed: int | None = None,
-    episode: int | None = None,
-    rng: np.random.Generator | None = None,
-    motion: str | GuardMotion | None = None,
-    max_steps: int | None = None,
-    max_seconds: float | None = None,
-    vision: VisionFunction | None = None,
-    reference: bool = False,
-    **planner_options: Any,
-) -> Trace:
-    """One episode run to its end: the one convenience beside :class:`Simulation`.
-
-    The arguments are those of :class:`Simulation` and its :meth:`~Simulation.reset`: a planner name
-    (``guards`` fresh planners, made with ``planner_options``) or planner objects, one per guard; the
-    starts as ``guardsim play --seed SEED --episode K`` draws them (``guardsim bench``'s episode ``K``),
-    or ``starts`` (``(col, row)`` cells) facing ``headings``; ``rng`` (else one from ``seed``) feeds the
-    planners. ``motion="continuous"`` (the level guard's speeds) or a
-    :class:`~guardsim.motion.GuardMotion` walks one guard in continuous motion
-    (:class:`~guardsim.motion.ContinuousSimulation`, limited by ``max_seconds``) instead of a grid step
-    per tick.
-
-    Examples
-    --------
-    >>> from guardsim.level import parse_level
-    >>> scene = Scene.from_level(parse_level({"outer": [[0, 0], [12, 0], [12, 3], [0, 3]]}))
-    >>> run_episode(scene, starts=[(0, 1)], headings=[0]).steps
-    16
-    >>> run_episode(scene, "sweep", guards=2, seed=1, episode=0).guards
-    2
-    """
-    if motion is None or motion == "grid":
-        if max_seconds is not None:
-            raise ValueError("max_seconds limits continuous motion; grid episodes take max_steps")
-        simulation = Simulation(
-            scene, planner, guards=guards, max_steps=max_steps, vision=vision, reference=reference, **planner_options
-        )
-        simulation.reset(seed=seed, episode=episode, starts=starts, headings=headings, rng=rng)
-        return simulation.run()
-    from guardsim.motion import ContinuousSimulation, GuardMotion
-
-    if not isinstance(planner, str) or guards != 1 or vision is not None:
-        raise ValueError("continuous motion walks one guard with a planner name and the scene's own vision")
-    if isinstance(motion, str) and motion != "continuous":
-        raise ValueError(f"motion is 'grid', 'continuous' or a GuardMotion, not {motion!r}")
-    continuous = ContinuousSimulation(
-        scene,
-        planner,
-        motion=motion if isinstance(motion, GuardMotion) else None,
-        max_seconds=max_seconds,
-        max_steps=max_steps,
-        reference=reference,
-        **planner_options,
-    )
-    continuous.reset(seed=seed, episode=episode, starts=starts, headings=headings, rng=rng)
-    return continuous.run()
