@@ -12,8 +12,8 @@ import pytest
 from click.testing import CliRunner
 
 from guardsim.cli import main
-from guardsim.diagnostics import free_cells, level_warnings
 from guardsim.render import COLOURS, draw_cone_overlay, render_preview
+from guardsim.validate.diagnostics import free_cells, level_warnings
 from guardsim.vision import visible_cells
 from tests.common import EMPTY_SQUARE, L_ROOM, SPLIT_ROOMS, SQUARE_WITH_HOLE, scene_from, write_level
 

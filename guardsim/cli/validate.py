@@ -11,14 +11,14 @@ import numpy as np
 
 from guardsim.cli.common import limit_options, reports_errors, with_options
 from guardsim.cli.map_options import STRICT_EXIT, MapImport, level_data, map_options
-from guardsim.diagnostics import DEFAULT_MAX_RAYS, DesignerWarning, level_warnings
 from guardsim.errors import GuardsimError, LevelError
 from guardsim.level import Level, check_level_data, level_json_text
 from guardsim.output import write_text_atomic
 from guardsim.reading import captured_warnings, display_path, warning_note
-from guardsim.repair import repair_level_data
 from guardsim.scene import Scene
 from guardsim.starts import choose_start
+from guardsim.validate.diagnostics import DEFAULT_MAX_RAYS, DesignerWarning, level_warnings
+from guardsim.validate.repair import repair_level_data
 
 __all__ = ["validate"]
 
