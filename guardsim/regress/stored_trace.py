@@ -30,41 +30,53 @@ def trace_from_stored(data: Any, *, source: str, max_cells: int) -> Trace:
     guardsim.errors.RegressionError: t.json: not a guardsim trace: missing "planner"
     """
     check(data, "trace", source=source, error=RegressionError, prefix=_PREFIX)
-
-    def bad(message: str) -> RegressionError:
-        return RegressionError(f"{source}: {_PREFIX}{message}")
-
     rows, cols = data["shape"]
     if rows * cols > max_cells:
-        raise bad(f"shape: a grid of {rows} x {cols} cells is over the limit of {max_cells} (max_cells)")
-    paths = [("path", data["path"], "headings", data["headings"])]
-    team, logs = data.get("guard_paths", []), data.get("guard_headings", [])
-    if len(team) != len(logs):
-        raise bad(f"guard_headings: {len(logs)} lists of headings for {len(team)} guard_paths")
-    if team and data.get("guards", len(team)) != len(team):
-        raise bad(f"guards: {data['guards']} but guard_paths holds {len(team)} paths")
-    paths += [(f"guard_paths[{n}]", path, f"guard_headings[{n}]", log) for n, (path, log) in enumerate(zip(team, logs))]
-    for name, path, headings_name, headings in paths:
-        if len(headings) != len(path):
-            raise bad(f"{headings_name}: {len(headings)} headings for the {len(path)} ticks of {name}")
-        outside = next((index for index, (col, row) in enumerate(path) if col >= cols or row >= rows), None)
-        if outside is not None:
-            raise bad(f"{name}[{outside}]: {excerpt(path[outside], 40)} lies outside the {rows} x {cols} grid")
-    for name in ("first_seen", "goal", "traversable"):
-        if any(len(row) != cols for row in data[name]) or len(data[name]) != rows:
-            raise bad(f"{name}: must be {rows} rows of {cols} numbers (the shape)")
-    ticks = len(data["path"])
-    if data.get("poses") is not None and len(data["poses"]) != ticks:
-        raise bad(
-            f"poses: must be a list of one [t, x, y, heading] per tick of the path ({ticks}), not {len(data['poses'])}"
-        )
-    field = data.get("field")
-    if field is not None and not _is_grids(field, (ticks, rows, cols)):
-        raise bad(f"field: must be {ticks} grids of {rows} rows of {cols} whole numbers (one per tick of the path)")
+        raise _bad(source, f"shape: a grid of {rows} x {cols} cells is over the limit of {max_cells} (max_cells)")
+    _check_paths(data, rows, cols, source)
+    _check_grids(data, rows, cols, source)
     try:
         return Trace.from_data(data)
     except (ValueError, KeyError, TypeError, IndexError, OverflowError) as error:
-        raise bad(f"{type(error).__name__}: {excerpt(str(error))}") from None
+        raise _bad(source, f"{type(error).__name__}: {excerpt(str(error))}") from None
+
+
+def _bad(source: str, message: str) -> RegressionError:
+    return RegressionError(f"{source}: {_PREFIX}{message}")
+
+
+def _check_paths(data: dict[str, Any], rows: int, cols: int, source: str) -> None:
+    """The path and a team's paths: cells on the grid, one heading per tick, one heading list per path."""
+    team, logs = data.get("guard_paths", []), data.get("guard_headings", [])
+    if len(team) != len(logs):
+        raise _bad(source, f"guard_headings: {len(logs)} lists of headings for {len(team)} guard_paths")
+    if team and data.get("guards", len(team)) != len(team):
+        raise _bad(source, f"guards: {data['guards']} but guard_paths holds {len(team)} paths")
+    paths = [("path", data["path"], "headings", data["headings"])]
+    paths += [(f"guard_paths[{n}]", path, f"guard_headings[{n}]", log) for n, (path, log) in enumerate(zip(team, logs))]
+    for name, path, headings_name, headings in paths:
+        if len(headings) != len(path):
+            raise _bad(source, f"{headings_name}: {len(headings)} headings for the {len(path)} ticks of {name}")
+        outside = next((index for index, (col, row) in enumerate(path) if col >= cols or row >= rows), None)
+        if outside is not None:
+            raise _bad(source, f"{name}[{outside}]: {excerpt(path[outside], 40)} lies outside the {rows} x {cols} grid")
+
+
+def _check_grids(data: dict[str, Any], rows: int, cols: int, source: str) -> None:
+    """The per-cell grids of ``shape``; poses and the recorded field one per tick of the path."""
+    for name in ("first_seen", "goal", "traversable"):
+        if len(data[name]) != rows or any(len(row) != cols for row in data[name]):
+            raise _bad(source, f"{name}: must be {rows} rows of {cols} numbers (the shape)")
+    ticks = len(data["path"])
+    poses, field = data.get("poses"), data.get("field")
+    if poses is not None and len(poses) != ticks:
+        raise _bad(
+            source, f"poses: must be a list of one [t, x, y, heading] per tick of the path ({ticks}), not {len(poses)}"
+        )
+    if field is not None and not _is_grids(field, (ticks, rows, cols)):
+        raise _bad(
+            source, f"field: must be {ticks} grids of {rows} rows of {cols} whole numbers (one per tick of the path)"
+        )
 
 
 def _is_grids(value: list[Any], shape: tuple[int, int, int]) -> bool:
