@@ -833,7 +833,7 @@ def _level_is_acceptable(content: bytes) -> bool:
         return False
     import jsonschema
 
-    from guardsim.schema import level_schema
+    from guardsim.files.schema import level_schema
 
     def finite(value: Any, bound: float = math.inf) -> bool:
         if isinstance(value, int) and not isinstance(value, bool):

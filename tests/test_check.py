@@ -9,8 +9,8 @@ from typing import Any
 import pytest
 from click.testing import CliRunner
 
-from guardsim.checks import CheckRules, SafeRule, SneakRule, run_checks
 from guardsim.cli import main
+from guardsim.validate.checks import CheckRules, SafeRule, SneakRule, run_checks
 from tests.common import SPLIT_ROOMS, TWO_ROOMS, scene_from, write_level
 
 POST = {"shape": [3, 11], "guards": [{"loop": [[5, 1]], "headings": [0]}]}

@@ -26,8 +26,8 @@ from hypothesis import strategies as st
 
 from guardsim.cli import main
 from guardsim.errors import GuardsimError, LevelError, RegressionError
+from guardsim.files.reading import EXCERPT_CHARS, parse_json
 from guardsim.level import check_level_data
-from guardsim.reading import EXCERPT_CHARS, parse_json
 from guardsim.regress.stored_trace import trace_from_stored
 from tests import fuzz_cases
 from tests.fuzz_cases import IMPORTER_KINDS, KINDS, Templates, generate, make_templates, run_in_process

@@ -1,7 +1,7 @@
 """Output safety: every file guardsim writes appears whole or not at all.
 
 Outputs go to a hidden temporary file beside the target (``.NAME.XXXXXXXX.partSUFFIX``) that is renamed
-onto it (:mod:`guardsim.output`). A run killed with SIGKILL cannot clean up, so it may leave that hidden
+onto it (:mod:`guardsim.files.output`). A run killed with SIGKILL cannot clean up, so it may leave that hidden
 temporary file behind; it never leaves a broken target. These tests kill real ``guardsim`` processes.
 """
 

@@ -211,7 +211,7 @@ def test_rgb_array_uses_the_gif_palette() -> None:
 def test_check_names_where_the_unreachable_cells_are(tmp_path: Path) -> None:
     """`guardsim check --no-unreachable` says how many cells and where (the hatched room of the pictures):
     a cell centre inside each of the largest unreachable areas, in world units."""
-    from guardsim.checks import CheckRules, run_checks
+    from guardsim.validate.checks import CheckRules, run_checks
 
     result = run_checks(scene_from(SPLIT_ROOMS), CheckRules(no_unreachable=True))[0]
     assert not result.holds

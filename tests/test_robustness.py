@@ -18,7 +18,7 @@ import numpy as np
 import pytest
 from click.testing import Result
 
-from guardsim.reading import EXCERPT_CHARS
+from guardsim.files.reading import EXCERPT_CHARS
 from tests.common import EMPTY_SQUARE, SQUARE_WITH_HOLE, guardsim_command, run, write_level
 
 SQUARE_ROOM = {"outer": [[0, 0], [10, 0], [10, 10], [0, 10]]}

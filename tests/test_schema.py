@@ -20,9 +20,9 @@ import jsonschema
 import pytest
 from click.testing import CliRunner
 
-from guardsim.checks import EXPECTATIONS, parse_checks
 from guardsim.cli import main
 from guardsim.errors import GuardsimError
+from guardsim.files.schema import SCHEMAS, level_schema, problem, schema
 from guardsim.level import check_level_data
 from guardsim.motion.parameters import MOTIONS
 from guardsim.patrol import parse_patrol, read_patrol
@@ -30,8 +30,8 @@ from guardsim.planners import PLANNERS
 from guardsim.regress.references import FORMAT as MANIFEST_FORMAT
 from guardsim.regress.references import REFERENCE_FRAME_SIZE, read_manifest
 from guardsim.regress.stored_trace import trace_from_stored
-from guardsim.schema import SCHEMAS, level_schema, problem, schema
 from guardsim.trace import OUTCOMES
+from guardsim.validate.checks import EXPECTATIONS, parse_checks
 from guardsim.vision.rules import LineOfSight
 from tests.bad_levels import BAD_LEVELS, changed, guard_changed
 from tests.common import (

@@ -23,7 +23,7 @@ from guardsim.cli.common import (
 from guardsim.cli.patrol import output_folder
 from guardsim.cli.sneak import sneak_cell
 from guardsim.errors import GuardsimError
-from guardsim.output import write_text_atomic
+from guardsim.files.output import write_text_atomic
 
 if TYPE_CHECKING:
     from guardsim.alert import AlertSummary
@@ -35,7 +35,7 @@ _SEARCHES = ("ripple", "diffuse", "team", "last-known", "all")
 
 def _route_file(path: str, grid_cell: object) -> list[tuple[float, float]]:
     """Waypoints of ``--route``: a JSON list of ``[x, y]`` world points, or a sneak.json (its ``path``)."""
-    from guardsim.reading import read_json_file
+    from guardsim.files.reading import read_json_file
 
     data = read_json_file(path, max_file_bytes=16 * 2**20, kind="route file", error=GuardsimError)
     points = data.get("path") if isinstance(data, dict) else data

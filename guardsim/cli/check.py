@@ -146,7 +146,7 @@ def check(
     Exit status: 0 every rule holds, 1 some rule is broken, 2 bad input (a level, patrol or checks file
     that cannot be read, a safe or sneak point outside the level, no rule at all).
     """
-    from guardsim.checks import EXPECTATIONS, CheckRules, SafeRule, SneakRule, read_checks, run_checks
+    from guardsim.validate.checks import EXPECTATIONS, CheckRules, SafeRule, SneakRule, read_checks, run_checks
 
     if len(expects) != len(sneaks):
         raise GuardsimError(

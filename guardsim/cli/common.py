@@ -15,8 +15,8 @@ import click
 import numpy as np
 
 from guardsim.errors import GuardsimError, LimitError
+from guardsim.files.reading import display_path
 from guardsim.level import DEFAULT_MAX_CELLS, DEFAULT_MAX_FILE_BYTES, DEFAULT_MAX_VERTICES, Level
-from guardsim.reading import display_path
 from guardsim.scene import Scene
 from guardsim.starts import episode_start
 from guardsim.vision.rules import LineOfSight

@@ -9,8 +9,8 @@ import click
 from guardsim.cli.common import limit_options, reports_errors
 from guardsim.cli.map_options import STRICT_EXIT, MapImport, map_options
 from guardsim.errors import LevelError
+from guardsim.files.output import write_text_atomic
 from guardsim.importers import load_any
-from guardsim.output import write_text_atomic
 
 __all__ = ["import_command"]
 

@@ -20,9 +20,9 @@ from guardsim.cli.common import (
 )
 from guardsim.cli.map_options import MapImport, map_options
 from guardsim.errors import GuardsimError
+from guardsim.files.output import write_text_atomic
 from guardsim.level import HEADINGS
 from guardsim.optimum import DEFAULT_MEMORY_BYTES, SearchProgress, solve
-from guardsim.output import write_text_atomic
 
 if TYPE_CHECKING:
     from guardsim.scene import Scene

@@ -19,9 +19,9 @@ from guardsim.cli.common import (
 )
 from guardsim.cli.map_options import MapImport, map_options
 from guardsim.cli.motion import check_motion, check_speed_up, motion_of, motion_options, speed_up_option
+from guardsim.files.output import write_text_atomic
 from guardsim.level import HEADINGS
 from guardsim.motion import summary_text
-from guardsim.output import write_text_atomic
 from guardsim.planners import PLANNERS
 from guardsim.planners.ripplefront_compiled import compiling_pays
 from guardsim.render.timeline import DEFAULT_MAX_FRAMES, GifOptions

@@ -11,7 +11,7 @@ from guardsim.cli.common import limit_options, load, one_line, reports_errors, w
 from guardsim.cli.map_options import MapImport, map_options
 from guardsim.cli.motion import motion_override_options
 from guardsim.errors import GuardsimError, LevelError, OutputError
-from guardsim.reading import display_path
+from guardsim.files.reading import display_path
 from guardsim.regress import regress_level
 from guardsim.regress.references import DEFAULT_MAX_FRAME_SIZE, MotionOverride
 

@@ -8,8 +8,8 @@ import numpy as np
 from guardsim.cli.common import limit_options, load, parse_point, reports_errors
 from guardsim.cli.map_options import MapImport, map_options
 from guardsim.errors import LevelError
+from guardsim.files.output import atomic_path
 from guardsim.level import HEADINGS
-from guardsim.output import atomic_path
 from guardsim.render import draw_cone_overlay, render_preview
 from guardsim.render.preview import tight_cells, with_legend
 from guardsim.scene import Scene

@@ -5,7 +5,7 @@ from __future__ import annotations
 import click
 
 from guardsim.cli.common import reports_errors
-from guardsim.schema import SCHEMAS, schema_text
+from guardsim.files.schema import SCHEMAS, schema_text
 
 __all__ = ["schema"]
 

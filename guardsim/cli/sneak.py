@@ -19,8 +19,8 @@ from guardsim.cli.common import (
 )
 from guardsim.cli.patrol import output_folder
 from guardsim.errors import GuardsimError
+from guardsim.files.output import write_text_atomic
 from guardsim.grid import CoverageGrid
-from guardsim.output import write_text_atomic
 
 __all__ = ["sneak", "sneak_cell"]
 

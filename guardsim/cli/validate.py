@@ -12,9 +12,9 @@ import numpy as np
 from guardsim.cli.common import limit_options, reports_errors, with_options
 from guardsim.cli.map_options import STRICT_EXIT, MapImport, level_data, map_options
 from guardsim.errors import GuardsimError, LevelError
+from guardsim.files.output import write_text_atomic
+from guardsim.files.reading import captured_warnings, display_path, warning_note
 from guardsim.level import Level, check_level_data, level_json_text
-from guardsim.output import write_text_atomic
-from guardsim.reading import captured_warnings, display_path, warning_note
 from guardsim.scene import Scene
 from guardsim.starts import choose_start
 from guardsim.validate.diagnostics import DEFAULT_MAX_RAYS, DesignerWarning, level_warnings

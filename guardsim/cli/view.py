@@ -33,7 +33,7 @@ def view(
     The page works offline: open it from disk; add #tick=N to its address to open it at tick N.
     """
     from guardsim.errors import LevelError
-    from guardsim.reading import read_json_file
+    from guardsim.files.reading import read_json_file
     from guardsim.regress.stored_trace import trace_from_stored
     from guardsim.viewer import write_viewer
 

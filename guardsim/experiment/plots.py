@@ -11,7 +11,7 @@ from collections.abc import Sequence
 from typing import TYPE_CHECKING, NamedTuple
 
 from guardsim.errors import GuardsimError
-from guardsim.output import atomic_path
+from guardsim.files.output import atomic_path
 
 if TYPE_CHECKING:
     from matplotlib.figure import Figure

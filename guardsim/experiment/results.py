@@ -21,8 +21,8 @@ from typing import Any, TextIO
 
 from guardsim.errors import OutputError
 from guardsim.experiment.episodes import CSV_COLUMNS, EpisodeRecord
-from guardsim.output import write_text_atomic
-from guardsim.reading import display_path, excerpt, read_json_file, read_limited_bytes
+from guardsim.files.output import write_text_atomic
+from guardsim.files.reading import display_path, excerpt, read_json_file, read_limited_bytes
 
 __all__ = [
     "ERRORS_NAME",

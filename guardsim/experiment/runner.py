@@ -23,8 +23,8 @@ from guardsim.experiment.results import (
 )
 from guardsim.experiment.start_bounds import LevelStarts, StartBounds, level_starts_tasks, run_level_starts, with_bounds
 from guardsim.experiment.summary import GroupSummary, summarise, summary_json
+from guardsim.files.output import write_text_atomic
 from guardsim.level import Level, load_level, parse_level
-from guardsim.output import write_text_atomic
 
 __all__ = [
     "SUMMARY_NAME",

@@ -15,11 +15,11 @@ from pathlib import Path
 import shapely.errors
 
 from guardsim.errors import LevelError
+from guardsim.files.reading import parse_json
 from guardsim.importers.image import DEFAULT_THRESHOLD
 from guardsim.importers.imported import ImportedLevel
 from guardsim.importers.source import MAX_JSON_DEPTH, display_name, quiet, read_capped_bytes
 from guardsim.level import DEFAULT_MAX_CELLS, DEFAULT_MAX_FILE_BYTES, DEFAULT_MAX_VERTICES, Level, parse_level
-from guardsim.reading import parse_json
 
 __all__ = ["ImportOptions", "ImportSummary", "is_tiled_json", "load_any", "open_level"]
 

@@ -1,8 +1,8 @@
-"""How the importers read their files: :mod:`guardsim.reading`'s rules, with the limits maps need.
+"""How the importers read their files: :mod:`guardsim.files.reading`'s rules, with the limits maps need.
 
-Every map, tileset and template is read with :func:`guardsim.reading.read_limited_bytes` (regular files
-only, the byte cap counted on the bytes read), decoded with :func:`guardsim.reading.parse_json` (no
-``NaN``, no absurd integers, bounded nesting) or :func:`guardsim.reading.read_xml_root` (bounded
+Every map, tileset and template is read with :func:`guardsim.files.reading.read_limited_bytes` (regular files
+only, the byte cap counted on the bytes read), decoded with :func:`guardsim.files.reading.parse_json` (no
+``NaN``, no absurd integers, bounded nesting) or :func:`guardsim.files.reading.read_xml_root` (bounded
 nesting, no document type declarations). This module adds only what maps need on top: the nesting
 limits of Tiled's group layers, JSON from bytes, and library warnings collected as summary notes.
 """
@@ -16,7 +16,7 @@ from typing import Any
 from xml.etree import ElementTree
 
 from guardsim.errors import LevelError
-from guardsim.reading import (
+from guardsim.files.reading import (
     captured_warnings,
     display_path,
     parse_json,
@@ -25,7 +25,7 @@ from guardsim.reading import (
     read_xml_root,
     warning_note,
 )
-from guardsim.reading import excerpt as json_excerpt
+from guardsim.files.reading import excerpt as json_excerpt
 
 __all__ = [
     "MAX_JSON_DEPTH",
@@ -53,7 +53,7 @@ def excerpt(value: Any, limit: int = 40) -> str:
 
 
 def read_capped_bytes(path: str | os.PathLike[str], *, max_file_bytes: int, kind: str = "map") -> bytes:
-    """A regular file's bytes, at most ``max_file_bytes`` of them (:func:`guardsim.reading.read_limited_bytes`)."""
+    """A regular file's bytes, at most ``max_file_bytes`` of them (:func:`guardsim.files.reading.read_limited_bytes`)."""
     return read_limited_bytes(path, max_file_bytes=max_file_bytes, kind=kind)
 
 

@@ -17,8 +17,8 @@ from typing import Any
 import numpy as np
 
 from guardsim.errors import LevelError
+from guardsim.files.reading import NumberError, finite_number
 from guardsim.importers.source import excerpt
-from guardsim.reading import NumberError, finite_number
 
 __all__ = [
     "FLIP_DIAGONAL",

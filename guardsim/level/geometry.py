@@ -13,8 +13,8 @@ import shapely
 from shapely.geometry import LinearRing, Polygon
 from shapely.validation import explain_validity
 
+from guardsim.files.reading import excerpt
 from guardsim.level.model import GuardSpec, Point, Problem, Ring
-from guardsim.reading import excerpt
 
 __all__ = ["MAX_OVERLAPS_LISTED", "check_geometry"]
 

@@ -6,11 +6,11 @@ import os
 from typing import Any
 
 from guardsim.errors import LevelError
+from guardsim.files.reading import DEFAULT_MAX_DEPTH, display_path, parse_json, read_text_file
+from guardsim.files.reading import read_limited_bytes as _read_bytes
 from guardsim.level.limits import DEFAULT_MAX_CELLS, DEFAULT_MAX_FILE_BYTES, DEFAULT_MAX_VERTICES
 from guardsim.level.model import Level
 from guardsim.level.validation import parse_level
-from guardsim.reading import DEFAULT_MAX_DEPTH, display_path, parse_json, read_text_file
-from guardsim.reading import read_limited_bytes as _read_bytes
 
 __all__ = ["load_level", "read_level_json", "read_limited_bytes"]
 
@@ -36,7 +36,7 @@ def load_level(
 def read_limited_bytes(path: str | os.PathLike[str], *, max_file_bytes: int, kind: str = "level file") -> bytes:
     """A regular file's bytes, every way of failing (missing, a folder, a FIFO or device, unreadable, too
     large) a one-line :class:`LevelError` naming the file; ``kind`` names what a folder is not (``level
-    file``, ``map``). See :func:`guardsim.reading.read_limited_bytes`."""
+    file``, ``map``). See :func:`guardsim.files.reading.read_limited_bytes`."""
     return _read_bytes(path, max_file_bytes=max_file_bytes, kind=kind, error=LevelError)
 
 

@@ -14,10 +14,18 @@ from pathlib import Path
 from typing import Any
 
 from guardsim.errors import LevelError
+from guardsim.files.reading import (
+    NumberError,
+    captured_warnings,
+    excerpt,
+    finite_number,
+    json_type,
+    quoted,
+    warning_note,
+)
 from guardsim.level.geometry import MAX_OVERLAPS_LISTED, check_geometry
 from guardsim.level.limits import DEFAULT_MAX_CELLS, DEFAULT_MAX_VERTICES
 from guardsim.level.model import HEADINGS, GuardSpec, Level, Point, Problem, Ring, grid_shape_of
-from guardsim.reading import NumberError, captured_warnings, excerpt, finite_number, json_type, quoted, warning_note
 
 __all__ = ["MAX_OVERLAPS_LISTED", "check_level_data", "parse_level"]
 

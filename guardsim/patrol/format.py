@@ -11,7 +11,7 @@ A repeating guard's ``loop`` lists its cell at each tick of a lap and ends where
 one-cell loop, ``[[c, r]]`` or ``[[c, r], [c, r]]``, with a fixed heading); ``headings`` gives the
 heading number (0 right, 1 down, 2 left, 3 up) at each of those ticks. Moves obey the grid: each tick a
 guard steps to a connected 4-neighbour, facing the way it stepped, or stays, keeping its heading.
-Reading checks the file against ``patrol.schema.json`` (:mod:`guardsim.schema`), then every one of those
+Reading checks the file against ``patrol.schema.json`` (:mod:`guardsim.files.schema`), then every one of those
 rules, and says where the first broken one is, in one line.
 """
 
@@ -23,11 +23,11 @@ from typing import Any
 import numpy as np
 
 from guardsim.errors import PatrolError
+from guardsim.files.reading import excerpt, read_json_file
+from guardsim.files.schema import check
 from guardsim.grid import CoverageGrid, state_of
 from guardsim.patrol.model import Patrol
 from guardsim.patrol.scoring import NEVER, PatrolScore
-from guardsim.reading import excerpt, read_json_file
-from guardsim.schema import check
 
 __all__ = [
     "DEFAULT_MAX_PATROL_BYTES",

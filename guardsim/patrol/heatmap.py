@@ -10,9 +10,9 @@ import os
 import numpy as np
 
 from guardsim.errors import GuardsimError
+from guardsim.files.output import atomic_path
 from guardsim.grid import CoverageGrid
 from guardsim.level import Level
-from guardsim.output import atomic_path
 
 __all__ = ["write_heat_map"]
 

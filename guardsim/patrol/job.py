@@ -17,8 +17,8 @@ from typing import Any, NamedTuple
 import numpy as np
 
 from guardsim.errors import GuardsimError
+from guardsim.files.output import write_text_atomic
 from guardsim.level import DEFAULT_MAX_FILE_BYTES
-from guardsim.output import write_text_atomic
 from guardsim.patrol.model import STRATEGIES
 from guardsim.patrol.scoring import NEVER, PatrolScore
 from guardsim.scene import Scene
@@ -284,10 +284,10 @@ def run_patrol(scene: Scene, folder: Path, job: PatrolJob) -> PatrolRun:
         write_text_atomic(godot_out, text)
         written.append(godot_out)
     if tiled_out:
-        from guardsim.output import atomic_path
+        from guardsim.files.output import atomic_path
+        from guardsim.files.reading import read_limited_bytes
         from guardsim.patrol.tiled_export import tiled_with_routes
         from guardsim.patrol.tiled_fresh import tiled_from_level
-        from guardsim.reading import read_limited_bytes
 
         if tiled_source is None:
             copy = tiled_from_level(level, tiled_out, chosen, scene.grid, speed=speed, routes=routes)
@@ -321,8 +321,8 @@ def _pixels_per_unit(chosen: float | None, tiled_source: str | None, max_file_by
     if chosen is not None:
         return chosen, chosen
     if tiled_source is not None:
+        from guardsim.files.reading import read_limited_bytes
         from guardsim.patrol.tiled_export import map_tile_size
-        from guardsim.reading import read_limited_bytes
 
         return map_tile_size(
             tiled_source, read_limited_bytes(tiled_source, max_file_bytes=max_file_bytes, kind="Tiled map")

@@ -190,7 +190,7 @@ def tmx_with_routes(
     properties: list[tuple[str, str, float | int]],
     moved: Callable[[str], str],
 ) -> bytes:
-    from guardsim.reading import read_xml_root
+    from guardsim.files.reading import read_xml_root
 
     root = read_xml_root(data, source=str(source), error=PatrolError)
     if root.tag != "map":
@@ -276,7 +276,7 @@ def _json_scale(tiled: dict[str, Any], source: str | os.PathLike[str]) -> tuple[
 def map_tile_size(source: str | os.PathLike[str], data: bytes) -> tuple[float, float]:
     """The tile width and height in pixels of the Tiled map ``source`` (its bytes given): the pixels of
     one world unit, as the importer reads one tile as one unit."""
-    from guardsim.reading import parse_json, read_xml_root
+    from guardsim.files.reading import parse_json, read_xml_root
 
     if tiled_kind(source) == "tmx":
         root = read_xml_root(data, source=str(source), error=PatrolError)
@@ -294,7 +294,7 @@ def _tmj(
     properties: list[tuple[str, str, float | int]],
     moved: Callable[[str], str],
 ) -> bytes:
-    from guardsim.reading import parse_json
+    from guardsim.files.reading import parse_json
 
     tiled = parse_json(data.decode("utf-8-sig", errors="replace"), source=str(source), error=PatrolError)
     if not isinstance(tiled, dict) or not isinstance(tiled.get("layers"), list):

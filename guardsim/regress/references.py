@@ -23,18 +23,18 @@ from typing import Any
 import numpy as np
 
 from guardsim.errors import OutputError, RegressionError
-from guardsim.level import DEFAULT_MAX_FILE_BYTES, Level, level_json_text
-from guardsim.output import atomic_path, write_text_atomic
-from guardsim.reading import (
+from guardsim.files.output import atomic_path, write_text_atomic
+from guardsim.files.reading import (
     captured_warnings,
     display_path,
     parse_json,
     read_limited_bytes,
     read_text_file,
 )
+from guardsim.files.schema import check
+from guardsim.level import DEFAULT_MAX_FILE_BYTES, Level, level_json_text
 from guardsim.regress.frames import Tolerance
 from guardsim.render import render_frame
-from guardsim.schema import check
 from guardsim.trace import Trace
 
 __all__ = [

@@ -13,9 +13,9 @@ from typing import NamedTuple
 import numpy as np
 
 from guardsim.errors import RegressionError
+from guardsim.files.reading import display_path, excerpt, parse_json
 from guardsim.level import DEFAULT_MAX_CELLS, DEFAULT_MAX_FILE_BYTES, Level, level_to_data, parse_level
 from guardsim.motion import GuardMotion
-from guardsim.reading import display_path, excerpt, parse_json
 from guardsim.regress.frames import DiffRow, Tolerance, compare_frames, diff_image
 from guardsim.regress.references import (
     DEFAULT_MAX_FRAME_SIZE,

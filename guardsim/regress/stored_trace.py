@@ -10,8 +10,8 @@ from typing import Any
 import numpy as np
 
 from guardsim.errors import RegressionError
-from guardsim.reading import excerpt
-from guardsim.schema import check
+from guardsim.files.reading import excerpt
+from guardsim.files.schema import check
 from guardsim.trace import Trace
 
 __all__ = ["trace_from_stored"]

@@ -15,8 +15,8 @@ from typing import BinaryIO
 import numpy as np
 from PIL import GifImagePlugin, Image
 
+from guardsim.files.output import atomic_path
 from guardsim.level import Level
-from guardsim.output import atomic_path
 from guardsim.render.frames import FrameDrawer
 from guardsim.render.palette import PALETTE, Index
 from guardsim.render.timeline import GifOptions, frame_durations, frame_ticks

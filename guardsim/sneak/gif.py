@@ -11,9 +11,9 @@ import numpy as np
 from PIL import Image, ImageDraw
 
 from guardsim.detection.model import IntruderState, intruder_state
+from guardsim.files.output import atomic_path
 from guardsim.kernels.meter import DETECTED
 from guardsim.level import Level
-from guardsim.output import atomic_path
 from guardsim.render.frames import FrameDrawer
 from guardsim.render.gif import GifOptions, GifStream, frame_ticks
 from guardsim.render.layout import MIN_GUARD_RADIUS

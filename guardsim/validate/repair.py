@@ -24,9 +24,9 @@ from typing import Any, NamedTuple
 import shapely
 from shapely.geometry import LinearRing, Polygon
 
+from guardsim.files.reading import NumberError, finite_number
 from guardsim.importers.walls import hole_rings
 from guardsim.level import compact_numbers
-from guardsim.reading import NumberError, finite_number
 
 __all__ = ["MAX_PAIRS", "Repair", "repair_level_data"]
 

@@ -16,8 +16,8 @@ from typing import Any
 import numpy as np
 
 from guardsim.errors import GuardsimError
+from guardsim.files.output import write_text_atomic
 from guardsim.level import GuardSpec, Level
-from guardsim.output import write_text_atomic
 from guardsim.render.layout import VisionSettings
 from guardsim.render.palette import COLOURS, GUARD_COLOURS, PALETTE, guard_index
 from guardsim.trace import Trace

@@ -32,10 +32,10 @@ import numpy as np
 
 from guardsim.detection import NEVER_DETECTED, GuardDetection, patrol_gains, time_to_detection
 from guardsim.errors import CheckError
+from guardsim.files.reading import display_path, parse_json, read_text_file
+from guardsim.files.schema import check
 from guardsim.patrol import Patrol, patrol_setup, plan_loop, read_patrol, score_patrol
-from guardsim.reading import display_path, parse_json, read_text_file
 from guardsim.scene import Scene
-from guardsim.schema import check
 from guardsim.simulation import Simulation
 from guardsim.sneak import sneak_check
 from guardsim.vision.table import ViewTable

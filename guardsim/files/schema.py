@@ -38,7 +38,7 @@ from importlib import resources
 from typing import Any
 
 from guardsim.errors import GuardsimError
-from guardsim.reading import excerpt, json_type, quoted
+from guardsim.files.reading import excerpt, json_type, quoted
 
 __all__ = [
     "SCHEMAS",

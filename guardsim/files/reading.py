@@ -350,7 +350,7 @@ def finite_number(
     >>> finite_number(float("nan"))
     Traceback (most recent call last):
     ...
-    guardsim.reading.NumberError: must be a finite number, not nan
+    guardsim.files.reading.NumberError: must be a finite number, not nan
     """
     if isinstance(value, bool) or not isinstance(value, (int, float)):
         raise NumberError(f"must be a number, not {json_type(value)}")
@@ -389,7 +389,7 @@ def number_from_text(
     >>> number_from_text("nan")
     Traceback (most recent call last):
     ...
-    guardsim.reading.NumberError: must be a finite number, not nan
+    guardsim.files.reading.NumberError: must be a finite number, not nan
     """
     stripped = text.strip()
     pattern = (
