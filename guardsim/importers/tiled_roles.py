@@ -40,16 +40,28 @@ guard or spawn, objects with ``guard_spawn``, tiles whose class says guard, and 
 
 from __future__ import annotations
 
-import re
 from collections.abc import Iterable, Sequence
-from collections.abc import Set as AbstractSet
 from dataclasses import dataclass, field
-from typing import Any
 
 import numpy as np
 
 from guardsim.importers.imported import listed
 from guardsim.importers.tiled_data import ObjectLayer, Properties, TiledMap, TiledObject, TileLayer
+from guardsim.importers.tiled_marks import (
+    ABOVE_WORDS,
+    FLOOR_WORDS,
+    PLAYER_WORDS,
+    SPAWN_WORDS,
+    VOID_MIN_REST,
+    WALL_FLAGS,
+    WALL_WORDS,
+    flag,
+    parse_wall_property,
+    says,
+    truth,
+    wall_mark,
+    words,
+)
 
 __all__ = [
     "ABOVE_WORDS",
@@ -65,167 +77,6 @@ __all__ = [
     "wall_mark",
     "words",
 ]
-
-#: Whole words in a layer, class or property name that say "wall".
-WALL_WORDS = frozenset(
-    [
-        "wall",
-        "walls",
-        "collision",
-        "collisions",
-        "collide",
-        "collides",
-        "collider",
-        "colliders",
-        "collidable",
-        "solid",
-        "solids",
-        "obstacle",
-        "obstacles",
-        "blocked",
-        "blocking",
-        "blocker",
-        "blockers",
-        "impassable",
-        "barrier",
-        "barriers",
-    ]
-)
-#: Whole words in a layer name that say floor.
-FLOOR_WORDS = frozenset(["floor", "floors", "ground", "grounds"])
-#: Whole words in a layer name that say it is drawn above the player (roofs, tree tops), so not floor.
-ABOVE_WORDS = frozenset(["above", "over", "overhead", "overlay", "roof", "roofs", "fringe", "canopy"])
-#: Whole words in a layer, class or name that say guard spawn.
-SPAWN_WORDS = frozenset(
-    ["spawn", "spawns", "spawner", "spawners", "guard", "guards", "start", "starts", "patrol", "patrols"]
-)
-#: Whole words in an object's name or class (or its tile's class) that say it is the player's start.
-PLAYER_WORDS = frozenset(["player", "players", "hero", "heroes"])
-#: Whole words that turn a collision property's name around (``no_collision``, ``NotSolid``).
-NEGATION_WORDS = frozenset(["no", "not", "non", "never", "without"])
-#: Property texts that read true or false (any case, spaces stripped); other texts say neither.
-TRUE_TEXTS = frozenset(["true", "yes", "1", "on", "y"])
-FALSE_TEXTS = frozenset(["false", "no", "0", "off", "n", ""])
-#: A painted void leaves at least this share of its layer's cells as floor.
-VOID_MIN_REST = 0.05
-#: Boolean properties that mark walls.
-_WALL_FLAGS = ("collision", "collides", "collide", "collidable", "solid", "blocked", "obstacle", "wall")
-
-
-def words(name: str) -> set[str]:
-    """The lower-case words of a name: split at non-letters and camelCase humps.
-
-    >>> sorted(words("base_wall")), sorted(words("WallsLayer2")), sorted(words("Wallpaper"))
-    (['base', 'wall'], ['2', 'layer', 'walls'], ['wallpaper'])
-    """
-    spaced = re.sub(r"([a-z])([A-Z])|([A-Za-z])([0-9])", r"\1\3 \2\4", name)
-    # An upper-case run before a capitalised word is a word of its own: "NPCWall" is "NPC Wall".
-    spaced = re.sub(r"([A-Z]+)([A-Z][a-z])", r"\1 \2", spaced)
-    return {part.lower() for part in re.split(r"[^A-Za-z0-9]+", spaced) if part}
-
-
-def _says(name: str, vocabulary: AbstractSet[str]) -> bool:
-    return bool(words(name) & vocabulary)
-
-
-def flag(properties: Properties, *keys: str) -> bool | None:
-    """The first of ``keys`` present as a boolean-like property: ``True``/``False``, or ``None``."""
-    for key in keys:
-        if key in properties:
-            value: Any = properties[key]
-            if isinstance(value, str):
-                return value.strip().lower() in ("true", "1", "yes")
-            return bool(value)
-    return None
-
-
-def truth(value: Any) -> bool | None:
-    """Whether a property's value reads true, false, or neither (``None``), whatever its type.
-
-    >>> truth(True), truth(1), truth(0.0), truth(" Yes "), truth("false"), truth(""), truth("stone")
-    (True, True, False, True, False, False, None)
-    """
-    if isinstance(value, bool):
-        return value
-    if isinstance(value, (int, float)):
-        return None if value != value else value != 0
-    if isinstance(value, str):
-        text = value.strip().lower()
-        return True if text in TRUE_TEXTS else False if text in FALSE_TEXTS else None
-    return None
-
-
-def parse_wall_property(text: str) -> tuple[str, str | None]:
-    """``NAME`` or ``NAME=VALUE`` (the ``--wall-property`` option) as ``(name, value or None)``.
-
-    Raises ``ValueError`` with a phrase saying what is wrong.
-
-    >>> parse_wall_property("blocks"), parse_wall_property("terrain = rock")
-    (('blocks', None), ('terrain', 'rock'))
-    """
-    name, equals, value = text.partition("=")
-    name, value = name.strip(), value.strip()
-    if not name:
-        raise ValueError(f"{text!r} has no property name: expected NAME or NAME=VALUE")
-    if equals and not value:
-        raise ValueError(f"{text!r} has no value after '=': expected NAME or NAME=VALUE")
-    return name, value if equals else None
-
-
-def _equals(value: Any, wanted: str) -> bool:
-    """Whether a property's value is ``wanted`` as typed on the command line (numbers and booleans by value,
-    text without regard to case)."""
-    if isinstance(value, bool) or isinstance(wanted, bool):
-        return truth(wanted) is value
-    if isinstance(value, (int, float)):
-        try:
-            return float(wanted) == value
-        except ValueError:
-            return False
-    return str(value).strip().lower() == wanted.strip().lower()
-
-
-def wall_mark(properties: Properties, wall_properties: Sequence[tuple[str, str | None]] = ()) -> bool | None:
-    """Whether a tile's or object's properties mark it a wall (``True``), opt it out (``False``), or say
-    nothing (``None``).
-
-    With ``wall_properties`` (``--wall-property``), only those are read: a property ``NAME`` that reads
-    true (or false), or a property ``NAME`` equal to ``VALUE``. Otherwise every property whose name says
-    wall (:data:`WALL_WORDS`) is read, of any type: a true one marks a wall, a false one opts out, and one
-    whose name says ``no`` or ``not`` opts out when true. A mark wins over an opt-out.
-
-    >>> wall_mark({"CollisionShape": 1}), wall_mark({"IsBlocking": "false"}), wall_mark({"no_collision": True})
-    (True, False, False)
-    >>> wall_mark({"terrain": "Rock"}, [("terrain", "rock")]), wall_mark({"solid": True}, [("terrain", "rock")])
-    (True, None)
-    """
-    result: bool | None = None
-    if wall_properties:
-        for name, wanted in wall_properties:
-            if name not in properties:
-                continue
-            value = properties[name]
-            if wanted is not None:
-                if _equals(value, wanted):
-                    return True
-            elif (said := truth(value)) is not None:
-                if said:
-                    return True
-                result = False
-        return result
-    for key, value in properties.items():
-        named = words(key)
-        if not named & WALL_WORDS:
-            continue
-        said = truth(value)
-        if named & NEGATION_WORDS:
-            said = False if said else None
-        if said:
-            return True
-        if said is False:
-            result = False
-    return result
-
 
 @dataclass(frozen=True)
 class RoleOptions:
@@ -273,16 +124,16 @@ def _layer_named(layer: TileLayer | ObjectLayer, names: Sequence[str]) -> bool:
 
 
 def _wall_layer(layer: TileLayer | ObjectLayer, options: RoleOptions) -> bool:
-    marked = flag(layer.properties, *_WALL_FLAGS)
+    marked = flag(layer.properties, *WALL_FLAGS)
     if marked is not None:
         return marked
     if options.wall_layers:
         return _layer_named(layer, options.wall_layers)
-    return any(_says(part, WALL_WORDS) for part in layer.path) or _says(layer.kind, WALL_WORDS)
+    return any(says(part, WALL_WORDS) for part in layer.path) or says(layer.kind, WALL_WORDS)
 
 
 def _tile_says_wall(kind: str, properties: Properties, options: RoleOptions) -> bool:
-    if options.wall_class(kind) or _says(kind, WALL_WORDS):
+    if options.wall_class(kind) or says(kind, WALL_WORDS):
         return True
     return bool(wall_mark(properties, options.wall_properties))
 
@@ -293,7 +144,7 @@ def _object_player(item: TiledObject, tiled: TiledMap) -> bool:
         return False
     tile = tiled.tiles.get(item.gid) if item.gid else None
     kinds = (item.name, item.kind, tile.kind if tile is not None else "")
-    return any(_says(kind, PLAYER_WORDS) for kind in kinds)
+    return any(says(kind, PLAYER_WORDS) for kind in kinds)
 
 
 def _object_spawn(layer: ObjectLayer, item: TiledObject) -> bool:
@@ -301,10 +152,10 @@ def _object_spawn(layer: ObjectLayer, item: TiledObject) -> bool:
     if own is not None:
         return own
     return (
-        _says(item.kind, SPAWN_WORDS)
-        or _says(item.name, SPAWN_WORDS)
+        says(item.kind, SPAWN_WORDS)
+        or says(item.name, SPAWN_WORDS)
         or bool(flag(layer.properties, "guard_spawn", "spawner", "spawn"))
-        or any(_says(part, SPAWN_WORDS) for part in layer.path)
+        or any(says(part, SPAWN_WORDS) for part in layer.path)
     )
 
 
@@ -313,7 +164,7 @@ def _object_boundary(layer: ObjectLayer, item: TiledObject) -> bool:
     if own is not None:
         return own
     return (
-        item.kind.lower() == "boundary" or bool(flag(layer.properties, "boundary")) or _says(layer.name, {"boundary"})
+        item.kind.lower() == "boundary" or bool(flag(layer.properties, "boundary")) or says(layer.name, {"boundary"})
     )
 
 
@@ -355,10 +206,10 @@ def assign_roles(tiled: TiledMap, options: RoleOptions) -> Guesses:
             if layer.visible
             and layer not in found.wall_tile_layers
             and flag(layer.properties, "floor") is not False
-            and not any(_says(part, SPAWN_WORDS | ABOVE_WORDS) for part in layer.path)
+            and not any(says(part, SPAWN_WORDS | ABOVE_WORDS) for part in layer.path)
             and not flag(layer.properties, "spawner", "guard_spawn")
         ]
-        named = [layer for layer in candidates if any(_says(part, FLOOR_WORDS) for part in layer.path)]
+        named = [layer for layer in candidates if any(says(part, FLOOR_WORDS) for part in layer.path)]
         if named:
             found.floor_layers, found.floor_rule = named, "named floor or ground"
         else:
@@ -372,7 +223,7 @@ def assign_roles(tiled: TiledMap, options: RoleOptions) -> Guesses:
         if layer.name == ROUTE_LAYER:
             continue
         wall_layer = _wall_layer(layer, options)
-        mixed = wall_layer and any(_says(item.name, WALL_WORDS) for item in layer.objects)
+        mixed = wall_layer and any(says(item.name, WALL_WORDS) for item in layer.objects)
         for item in layer.objects:
             if item.kind == ROUTE_CLASS:
                 continue
@@ -388,14 +239,14 @@ def assign_roles(tiled: TiledMap, options: RoleOptions) -> Guesses:
                 continue
             own = True if options.wall_class(item.kind) else wall_mark(item.properties, options.wall_properties)
             if own is None:
-                says = _says(item.name, WALL_WORDS) or _says(item.kind, WALL_WORDS)
+                named = says(item.name, WALL_WORDS) or says(item.kind, WALL_WORDS)
                 nameless = not item.name and not item.kind
-                own = says or (wall_layer and (not mixed or nameless) and not (item.name and mixed))
+                own = named or (wall_layer and (not mixed or nameless) and not (item.name and mixed))
                 if item.gid and not own:
                     own = item.gid in found.wall_gids or item.gid in found.shaped_gids
             if own:
                 found.wall_objects.append((layer, item))
-    tile_ids = set(options.spawn_tiles) | {gid for gid, info in tiled.tiles.items() if _says(info.kind, {"guard"})}
+    tile_ids = set(options.spawn_tiles) | {gid for gid, info in tiled.tiles.items() if says(info.kind, {"guard"})}
     tile_ids |= {gid for gid, info in tiled.tiles.items() if flag(info.properties, "guard_spawn")}
     found.spawn_gids = tile_ids
     found.warnings += _unmatched_overrides(tiled, options)
