@@ -22,7 +22,7 @@ from guardsim.cli.map_options import MapImport, map_options
 from guardsim.errors import GuardsimError
 from guardsim.files.output import write_text_atomic
 from guardsim.level import HEADINGS
-from guardsim.optimum import DEFAULT_MEMORY_BYTES, SearchProgress, solve
+from guardsim.optimum import DEFAULT_MEMORY_BYTES, SearchProgress, optimum_data, solve
 
 if TYPE_CHECKING:
     from guardsim.scene import Scene
@@ -208,24 +208,7 @@ def optimum(
         f"{result.expansions} expansions, {result.nodes} nodes, {result.seconds:.1f} s"
     )
     if out_path is not None:
-        data = {
-            "level": level.name,
-            "start": list(cell),
-            "heading": names[first_heading],
-            "line_of_sight": scene.line_of_sight.value,
-            "fov_degrees": scene.cone.fov_degrees,
-            "view_range": scene.cone.view_range,
-            "steps": result.steps,
-            "proved": result.proved,
-            "weight": weight,
-            "lower_bound": result.lower_bound,
-            "start_bound": result.root_bound,
-            "stopped_by": result.stopped_by,
-            "expansions": result.expansions,
-            "nodes": result.nodes,
-            "seconds": round(result.seconds, 3),
-            "path": [list(step) for step in result.path],
-        }
+        data = optimum_data(result, scene, level=level.name, start=cell, heading=first_heading, weight=weight)
         write_text_atomic(out_path, json.dumps(data) + "\n")
 
 
@@ -243,7 +226,7 @@ def _guaranteed(
 ) -> None:
     """``--search-from``: the guaranteed search, printed and written."""
     from guardsim.cli.sneak import sneak_cell
-    from guardsim.optimum.guaranteed import guaranteed_search, search_region, smallest_team
+    from guardsim.optimum.guaranteed import guaranteed_data, guaranteed_search, search_region, smallest_team
     from guardsim.vision.table import view_table
 
     grid = scene.grid
@@ -285,18 +268,7 @@ def _guaranteed(
         f"{verdict}; proved: {str(result.proved).lower()}; {result.pairs} pairs, {result.seconds:.1f} s"
     )
     if out_path is not None:
-        data = {
-            "level": name,
-            "search_from": search_from if search_from == "all" else list(search_from),
-            "search_radius": radius,
-            "guards": count,
-            "starts": [[cell[0], cell[1], list(HEADINGS)[facing]] for cell, facing in teams],
-            "proved": result.proved,
-            "steps": result.steps,
-            "impossible": result.impossible,
-            "smallest_team": None if team is None else team[0],
-            "paths": [[list(step) for step in path] for path in result.paths],
-            "pairs": result.pairs,
-            "seconds": round(result.seconds, 3),
-        }
+        data = guaranteed_data(
+            result, level=name, search_from=search_from, radius=radius, teams=teams, smallest_team=team
+        )
         write_text_atomic(out_path, json.dumps(data) + "\n")

@@ -239,9 +239,9 @@ def assign_roles(tiled: TiledMap, options: RoleOptions) -> Guesses:
                 continue
             own = True if options.wall_class(item.kind) else wall_mark(item.properties, options.wall_properties)
             if own is None:
-                named = says(item.name, WALL_WORDS) or says(item.kind, WALL_WORDS)
+                walled = says(item.name, WALL_WORDS) or says(item.kind, WALL_WORDS)
                 nameless = not item.name and not item.kind
-                own = named or (wall_layer and (not mixed or nameless) and not (item.name and mixed))
+                own = walled or (wall_layer and (not mixed or nameless) and not (item.name and mixed))
                 if item.gid and not own:
                     own = item.gid in found.wall_gids or item.gid in found.shaped_gids
             if own:

@@ -24,7 +24,7 @@ from __future__ import annotations
 
 import time
 from collections.abc import Callable
-from typing import TYPE_CHECKING, NamedTuple
+from typing import TYPE_CHECKING, Any, NamedTuple
 
 import numpy as np
 
@@ -55,7 +55,7 @@ from guardsim.vision.table import view_table
 if TYPE_CHECKING:
     from guardsim.scene import Scene
 
-__all__ = ["DEFAULT_MEMORY_BYTES", "MAX_POSITIONS", "OptimumResult", "SearchProgress", "solve"]
+__all__ = ["DEFAULT_MEMORY_BYTES", "MAX_POSITIONS", "OptimumResult", "SearchProgress", "optimum_data", "solve"]
 
 #: Memory the node arrays may take by default.
 DEFAULT_MEMORY_BYTES = 3 * 2**30
@@ -242,3 +242,29 @@ def solve(
 def _weighted_floor(incumbent: int, weight: float) -> int:
     """The bound a finished weighted search proves: the incumbent is at most ``weight`` times the optimum."""
     return int(np.ceil(incumbent / weight - 1e-9))
+
+
+def optimum_data(
+    result: OptimumResult, scene: Scene, *, level: str, start: tuple[int, int], heading: int, weight: float
+) -> dict[str, Any]:
+    """The JSON-ready document of a search (``guardsim optimum --out``; docs/optimum.md)."""
+    from guardsim.level import HEADINGS
+
+    return {
+        "level": level,
+        "start": list(start),
+        "heading": list(HEADINGS)[heading],
+        "line_of_sight": scene.line_of_sight.value,
+        "fov_degrees": scene.cone.fov_degrees,
+        "view_range": scene.cone.view_range,
+        "steps": result.steps,
+        "proved": result.proved,
+        "weight": weight,
+        "lower_bound": result.lower_bound,
+        "start_bound": result.root_bound,
+        "stopped_by": result.stopped_by,
+        "expansions": result.expansions,
+        "nodes": result.nodes,
+        "seconds": round(result.seconds, 3),
+        "path": [list(step) for step in result.path],
+    }

@@ -21,7 +21,7 @@ from __future__ import annotations
 import itertools
 import time
 from collections.abc import Sequence
-from typing import NamedTuple
+from typing import Any, NamedTuple
 
 import numpy as np
 
@@ -30,7 +30,7 @@ from guardsim.grid import CoverageGrid
 from guardsim.kernels.steps import cell_of_state, heading_of_state, state_of
 from guardsim.vision.table import ViewTable
 
-__all__ = ["DEFAULT_MAX_PAIRS", "GuaranteedResult", "guaranteed_search", "search_region", "smallest_team"]
+__all__ = ["DEFAULT_MAX_PAIRS", "GuaranteedResult", "guaranteed_data", "guaranteed_search", "search_region", "smallest_team"]
 
 #: Most (guards, set) pairs the search stores before it stops unproved.
 DEFAULT_MAX_PAIRS = 500_000
@@ -250,3 +250,31 @@ def smallest_team(
         if not result.impossible:
             return guards, result
     return None
+
+
+def guaranteed_data(
+    result: GuaranteedResult,
+    *,
+    level: str,
+    search_from: str | tuple[float, float],
+    radius: int,
+    teams: Sequence[tuple[tuple[int, int], int]],
+    smallest_team: tuple[int, GuaranteedResult] | None,
+) -> dict[str, Any]:
+    """The JSON-ready document of a guaranteed search (``guardsim optimum --search-from ... --out``)."""
+    from guardsim.level import HEADINGS
+
+    return {
+        "level": level,
+        "search_from": search_from if search_from == "all" else list(search_from),
+        "search_radius": radius,
+        "guards": len(teams),
+        "starts": [[cell[0], cell[1], list(HEADINGS)[facing]] for cell, facing in teams],
+        "proved": result.proved,
+        "steps": result.steps,
+        "impossible": result.impossible,
+        "smallest_team": None if smallest_team is None else smallest_team[0],
+        "paths": [[list(step) for step in path] for path in result.paths],
+        "pairs": result.pairs,
+        "seconds": round(result.seconds, 3),
+    }
