@@ -2,10 +2,7 @@
 
 from __future__ import annotations
 
-import json
-
 import click
-import numpy as np
 
 from guardsim.cli.common import (
     build_scene,
@@ -19,7 +16,6 @@ from guardsim.cli.common import (
 )
 from guardsim.cli.patrol import output_folder
 from guardsim.errors import GuardsimError
-from guardsim.files.output import write_text_atomic
 from guardsim.grid import CoverageGrid
 
 __all__ = ["sneak", "sneak_cell"]
@@ -112,7 +108,6 @@ def sneak(
     """
     from guardsim.detection import GuardDetection
     from guardsim.patrol import read_patrol
-    from guardsim.patrol.replay import patrol_trace
     from guardsim.sneak import sneak_check, sneak_data
     from guardsim.vision.table import view_table
 
@@ -159,76 +154,25 @@ def sneak(
     data = sneak_data(result, grid, level=level.name, patrol=patrol_path, **{"from": list(source), "to": list(target)})
     written: list[str] = []
     if out_dir is not None:
-        folder = output_folder(out_dir)
-        write_text_atomic(folder / "sneak.json", json.dumps(data, separators=(",", ":")) + "\n")
-        written.append(str(folder / "sneak.json"))
-        try:
-            from guardsim.patrol.heatmap import write_heat_map
+        from guardsim.sneak.outputs import write_sneak_outputs
 
-            windows = result.hiding.reshape(grid.shape).astype(float)
-            never = windows == result.period
-            windows[windows < 0] = float("nan")
-            cells = [grid.unflat(int(cell)) for cell in path.cells]
-            label = "unseen path" if path.found else f"closest call ({path.ticks_in_view} ticks in view)"
-            title = f"{level.name}: hiding spots, longest unseen window per cell ({data['never_seen_cells']} never seen, black)"
-            write_heat_map(
-                folder / "hiding.png",
-                level,
-                grid,
-                windows,
-                title=title,
-                unit=f"ticks unseen in a row (lap {result.period})",
-                never=never,
-                marks=[(cells, "red", label)],
-            )
-            written.append(str(folder / "hiding.png"))
-        except GuardsimError as error:
-            click.echo(f"guardsim: warning: hiding.png not written: {error}", err=True)
-        if gif or html:
-            trace = patrol_trace(
-                scene,
-                table,
-                patrol,
-                np.asarray(grid.component(*grid.unflat(start)).ravel()),
-                start=path.start_tick,
-                ticks=path.ticks,
-                label="sneak",
-            )
-            cells = [grid.unflat(int(cell)) for cell in path.cells]
-            grade = result.grade
-            assert grade is not None
-            if gif:
-                from guardsim.sneak.gif import path_states, write_sneak_gif
-
-                seen_at = {
-                    tick
-                    for tick, cell in enumerate(path.cells)
-                    if result.seen[(path.start_tick + tick) % result.period, cell]
-                }
-                write_sneak_gif(
-                    folder / "sneak.gif",
-                    level,
-                    trace,
-                    cells,
-                    seen_ticks=seen_at,
-                    lap_start=path.start_tick,
-                    period=result.period,
-                    meters=grade.meters,
-                    states=path_states(grade.meters, grade.in_view, grade.detected_at, detection.model.suspicious),
-                    suspicious=detection.model.suspicious,
-                )
-                written.append(str(folder / "sneak.gif"))
-            if html:
-                from guardsim.viewer import write_viewer
-                from guardsim.viewer.patrols import sneak_overlays
-
-                # The page runs in lap ticks from lap tick 0; the intruder enters at its start tick.
-                lap = patrol_trace(scene, table, patrol, trace.goal.ravel(), start=0, ticks=patrol.ticks, label="sneak")
-                overlays = sneak_overlays(
-                    patrol, grid, result, source=source, target=target, detection=detection, safe=safe
-                )
-                write_viewer(folder / "sneak.html", level, lap, overlays=overlays)
-                written.append(str(folder / "sneak.html"))
+        written, warnings = write_sneak_outputs(
+            output_folder(out_dir),
+            scene,
+            table,
+            patrol,
+            result,
+            data,
+            start=start,
+            source=source,
+            target=target,
+            detection=detection,
+            gif=gif,
+            html=html,
+            safe=safe,
+        )
+        for warning in warnings:
+            click.echo(f"guardsim: warning: {warning}", err=True)
     rule = "undetected" if undetected else "unseen"
     if path.found:
         answer = f"sneaks: {rule} from tick {path.start_tick} of the lap, {path.ticks} ticks"
