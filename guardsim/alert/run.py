@@ -18,7 +18,15 @@ from guardsim.patrol.model import Patrol
 from guardsim.scene import Scene
 from guardsim.vision.table import ViewTable, view_table
 
-__all__ = ["DEFAULT_MAX_SECONDS", "AlertSummary", "alert_episode", "alert_trace_data", "run_alerts", "summarise"]
+__all__ = [
+    "DEFAULT_MAX_SECONDS",
+    "AlertSummary",
+    "alert_episode",
+    "alert_trace_data",
+    "plan_starts",
+    "run_alerts",
+    "summarise",
+]
 
 #: Seconds an alert episode may last when no limit is given.
 DEFAULT_MAX_SECONDS = 300.0
@@ -206,6 +214,36 @@ def _seeded_points(
     return source, int(apart[generator.integers(apart.size)])
 
 
+def plan_starts(
+    scene: Scene,
+    patrol: Patrol,
+    *,
+    episodes: int = 1,
+    seed: int = 0,
+    source: int | None = None,
+    target: int | None = None,
+    spotted: bool = False,
+    phase: int | None = None,
+    table: ViewTable | None = None,
+) -> list[tuple[int, int, int]]:
+    """``(lap tick, entry, goal)`` of episodes ``0 .. episodes - 1``: the patrol phase given or seeded,
+    and the entry and goal given or drawn (see :func:`_seeded_points`), in order from one generator of
+    ``seed``; every search strategy plays the same starts. With ``spotted``, a drawn entry lies in some
+    guard's view at the start."""
+    if spotted and table is None:
+        table = view_table(scene.grid, scene.vision())
+    generator = np.random.default_rng(seed)
+    starts = []
+    for _ in range(episodes):
+        if source is not None and target is not None and phase is not None:
+            starts.append((phase, source, target))
+            continue
+        lap = int(generator.integers(int(patrol.period or 1))) if phase is None else phase
+        drawn = _seeded_points(scene, patrol, generator, table=table if spotted else None, phase=lap)
+        starts.append((lap, drawn[0] if source is None else source, drawn[1] if target is None else target))
+    return starts
+
+
 def run_alerts(
     scene: Scene,
     patrol: Patrol,
@@ -224,20 +262,16 @@ def run_alerts(
     route: Sequence[int] | None = None,
     table: ViewTable | None = None,
 ) -> dict[str, list[AlertEpisode]]:
-    """Episodes ``0 .. episodes - 1`` of each search strategy, the same starts for every strategy: the
-    patrol phase given or seeded, and the entry and goal given or drawn (see :func:`_seeded_points`).
-    With ``spotted``, a drawn entry lies in some guard's view at the start and that guard detects the
-    intruder at tick 0 (see :class:`AlertEpisode`). ``route``: a route intruder's path (from ``source``)."""
+    """Episodes ``0 .. episodes - 1`` of each search strategy, the same starts for every strategy
+    (:func:`plan_starts`), run here one after the other. With ``spotted``, a drawn entry lies in some
+    guard's view at the start and that guard detects the intruder at tick 0 (see :class:`AlertEpisode`).
+    ``route``: a route intruder's path (from ``source``). :mod:`guardsim.alert.batch` runs the same
+    episodes on worker processes or a Dask cluster."""
     table = table if table is not None else view_table(scene.grid, scene.vision())
-    generator = np.random.default_rng(seed)
-    starts = []
-    for _ in range(episodes):
-        if source is not None and target is not None and phase is not None:
-            starts.append((phase, source, target))
-            continue
-        lap = int(generator.integers(int(patrol.period or 1))) if phase is None else phase
-        drawn = _seeded_points(scene, patrol, generator, table=table if spotted else None, phase=lap)
-        starts.append((lap, drawn[0] if source is None else source, drawn[1] if target is None else target))
+    starts = plan_starts(
+        scene, patrol, episodes=episodes, seed=seed, source=source, target=target, spotted=spotted, phase=phase,
+        table=table,
+    )  # fmt: skip
     out: dict[str, list[AlertEpisode]] = {}
     for name in searches:
         runs = []

@@ -2,9 +2,18 @@
 
 from __future__ import annotations
 
+import contextlib
+import dataclasses
+import hashlib
+import io
 import itertools
 import json
+import logging
 import math
+import os
+import sys
+from collections.abc import Iterator
+from pathlib import Path
 from typing import TYPE_CHECKING
 
 import click
@@ -26,7 +35,11 @@ from guardsim.errors import GuardsimError
 from guardsim.files.output import write_text_atomic
 
 if TYPE_CHECKING:
-    from guardsim.alert import AlertSummary
+    from guardsim.alert import AlertEpisode, AlertOutcome, AlertRules, AlertSummary
+    from guardsim.alert.batch import AlertTask
+    from guardsim.detection import GuardDetection
+    from guardsim.scene import Scene
+    from guardsim.vision.table import ViewTable
 
 __all__ = ["alert"]
 
@@ -89,6 +102,17 @@ def _route_file(path: str, grid_cell: object) -> list[tuple[float, float]]:
 @click.option("--out", "out_dir", type=click.Path(file_okay=False), help="Folder: a trace per episode and alert.json.")
 @click.option("--trace", "trace_path", help="Write the (first) episode's trace as JSON.")
 @click.option("--gif", "gif_path", help="Write the (first) episode as a GIF.")
+@click.option(
+    "--workers",
+    type=click.IntRange(min=1),
+    help="Local worker processes for --episodes [default: all cores]; 1 runs here.",
+)
+@click.option(
+    "--scheduler",
+    metavar="ADDRESS|local",
+    help="Run --episodes on a dask.distributed scheduler, e.g. tcp://host:8786; 'local' starts a local "
+    "cluster of --workers processes.",
+)
 @detection_options
 @vision_options
 @limit_options
@@ -109,6 +133,8 @@ def alert(
     out_dir: str | None,
     trace_path: str | None,
     gif_path: str | None,
+    workers: int | None,
+    scheduler: str | None,
     detect_near: float | None,
     detect_far: float | None,
     forget: float | None,
@@ -125,13 +151,23 @@ def alert(
 
     One episode prints its outcome; with --episodes N (drawn entries, goals and patrol phases from
     --seed, the same for every strategy) a table per search strategy. --from/--to fix the entry and
-    goal; a still intruder needs only --from.
+    goal; a still intruder needs only --from. Episodes run on --workers local processes or a Dask
+    --scheduler, with the same results wherever they run. With --out DIR, running the same command
+    again resumes: episodes whose trace is in DIR are not run again.
+
+    Exit status: 0 every episode ran; 1 some did not run (a worker was lost; with --out, run the same
+    command again to resume); 2 bad input or an output that cannot be written.
     """
-    from guardsim.alert import SEARCHES, AlertRules, alert_trace_data, run_alerts, summarise
+    from guardsim.alert import SEARCHES, AlertRules, summarise
+    from guardsim.alert.batch import done_outcome, remember_setup, tasks_of, trace_name
+    from guardsim.alert.run import plan_starts
     from guardsim.detection import GuardDetection
+    from guardsim.experiment.results import RUN_NAME, check_run_options
     from guardsim.patrol import read_patrol
     from guardsim.vision.table import view_table
 
+    if workers is not None and scheduler is not None and scheduler != "local":
+        raise GuardsimError("--workers and --scheduler exclude each other: the scheduler's workers run the episodes")
     level = with_detection(
         load(level_path, max_cells, max_vertices, max_file_bytes),
         detect_near=detect_near,
@@ -172,37 +208,47 @@ def alert(
     if episodes == 1 and intruder == "still" and goal is None:
         goal = -1
     # One episode starts at lap tick 0; many draw their phases (and any entry or goal not given) from --seed.
-    runs = run_alerts(
-        scene,
-        patrol,
-        intruder=intruder,
-        searches=searches,
-        episodes=episodes,
-        seed=seed,
-        source=start,
-        target=goal,
-        max_seconds=max_seconds,
-        rules=rules,
-        detection=detection,
-        spotted=spotted,
-        phase=0 if episodes == 1 else None,
-        route=route,
-        table=table,
-    )
-    rows = [summarise(name, [e.result() for e in eps]) for name, eps in runs.items()]
-    first = runs[searches[0]][0]
+    starts = plan_starts(
+        scene, patrol, episodes=episodes, seed=seed, source=start, target=goal, spotted=spotted,
+        phase=0 if episodes == 1 else None, table=table,
+    )  # fmt: skip
+    tasks = tasks_of(
+        scene.level, scene.rule.value, patrol, starts, searches=searches, intruder=intruder, route=route,
+        max_seconds=max_seconds, rules=rules, detection=detection, spotted=spotted, trace=out_dir is not None,
+    )  # fmt: skip
+    folder = output_folder(out_dir) if out_dir is not None else None
+    outcomes: dict[tuple[str, int], AlertOutcome] = {}
+    if folder is not None:
+        resuming = (folder / RUN_NAME).exists()
+        options = _run_options(level_path, patrol_path, route_path, source, target, searches, scene, rules, detection,
+                               intruder=intruder, episodes=episodes, seed=seed, max_seconds=max_seconds, spotted=spotted)  # fmt: skip
+        check_run_options(folder, options)
+        if resuming:
+            for task in tasks:
+                kept = done_outcome(folder, task)
+                if kept is not None:
+                    outcomes[task.key] = kept
     written: list[str] = []
-    if trace_path is not None:
-        data = alert_trace_data(first, scene, search=searches[0], intruder=intruder)
-        write_text_atomic(trace_path, json.dumps(data, separators=(",", ":")) + "\n")
+    first = None
+    if trace_path is not None or gif_path is not None:
+        # The first episode runs here, whole: its trace and GIF need the episode itself.
+        first = _run_first(scene, table, tasks[0])
+        if folder is not None:
+            write_text_atomic(folder / trace_name(*tasks[0].key), _trace(first, scene, tasks[0]))
+        outcomes[tasks[0].key] = first.result()
+    pending = [task for task in tasks if task.key not in outcomes]
+    if pending:
+        remember_setup(scene, table)
+        _run_pending(pending, outcomes, folder, done_before=len(tasks) - len(pending), workers=workers,
+                     scheduler=scheduler)  # fmt: skip
+    elif folder is not None and len(tasks) > 1:
+        click.echo(f"{folder}: all {len(tasks)} episodes already done", err=True)
+    runs = {name: [outcomes[(name, index)] for index in range(episodes)] for name in searches}
+    rows = [summarise(name, found) for name, found in runs.items()]
+    if first is not None and trace_path is not None:
+        write_text_atomic(trace_path, _trace(first, scene, tasks[0]))
         written.append(trace_path)
-    if out_dir is not None:
-        folder = output_folder(out_dir)
-        for name, eps in runs.items():
-            for index, episode in enumerate(eps):
-                data = alert_trace_data(episode, scene, search=name, intruder=intruder)
-                path = folder / f"{name}-{index:04d}.json"
-                write_text_atomic(path, json.dumps(data, separators=(",", ":")) + "\n")
+    if folder is not None:
         summary = {
             "level": level.name,
             "patrol": patrol_path,
@@ -210,24 +256,154 @@ def alert(
             "episodes": episodes,
             "seed": seed,
             "summary": [row._asdict() for row in rows],
-            "outcomes": {name: [e.result()._asdict() for e in eps] for name, eps in runs.items()},
+            "outcomes": {name: [o._asdict() for o in found] for name, found in runs.items()},
         }
         write_text_atomic(folder / "alert.json", json.dumps(summary, indent=1) + "\n")
         written.append(str(folder / "alert.json"))
-    if gif_path is not None:
+    if first is not None and gif_path is not None:
         from guardsim.alert.gif import write_alert_gif
 
         write_alert_gif(gif_path, scene, table, first, suspicious=detection.model.suspicious)
         written.append(gif_path)
     if episodes == 1:
-        for name, eps in runs.items():
+        for name, found in runs.items():
             prefix = f"{name}: " if len(runs) > 1 else ""
-            click.echo(f"{level.name}: {prefix}{eps[0].result().summary()}")
+            click.echo(f"{level.name}: {prefix}{found[0].summary()}")
     else:
         click.echo(f"{level.name}: {episodes} episodes, {intruder} intruder, seed {seed}")
         click.echo(_table(rows))
     for name in written:
         click.echo(f"wrote {name}")
+
+
+def _run_first(scene: Scene, table: ViewTable, task: AlertTask) -> AlertEpisode:
+    from guardsim.alert import alert_episode
+
+    episode = alert_episode(
+        scene, task.patrol, intruder=task.intruder, source=task.source, target=task.target, route=task.route,
+        search=task.search, phase=task.phase, max_seconds=task.max_seconds, table=table, rules=task.rules,
+        detection=task.detection, spotted=task.spotted,
+    )  # fmt: skip
+    episode.run()
+    return episode
+
+
+def _trace(episode: AlertEpisode, scene: Scene, task: AlertTask) -> str:
+    from guardsim.alert import alert_trace_data
+    from guardsim.alert.batch import trace_text
+
+    return trace_text(alert_trace_data(episode, scene, search=task.search, intruder=task.intruder))
+
+
+def _digest(path: str) -> str:
+    try:
+        return hashlib.sha256(Path(path).read_bytes()).hexdigest()
+    except OSError as error:
+        raise GuardsimError(f"{path}: cannot read it: {error.strerror or error}") from None
+
+
+def _run_options(
+    level_path: str,
+    patrol_path: str,
+    route_path: str | None,
+    source: tuple[float, float] | None,
+    target: tuple[float, float] | None,
+    searches: list[str],
+    scene: Scene,
+    rules: AlertRules,
+    detection: GuardDetection,
+    **given: object,
+) -> dict[str, object]:
+    """What decides the episodes' results, as recorded in the output folder's ``run.json``: a run with
+    other options is not resumed there."""
+    return {
+        "command": "guardsim alert",
+        "level": {"file": os.path.normpath(level_path), "sha256": _digest(level_path)},
+        "patrol": {"file": os.path.normpath(patrol_path), "sha256": _digest(patrol_path)},
+        "route": None if route_path is None else {"file": os.path.normpath(route_path), "sha256": _digest(route_path)},
+        "from": None if source is None else list(source),
+        "to": None if target is None else list(target),
+        "searches": searches,
+        **given,
+        "los": scene.rule.value,
+        "fov": scene.cone.fov_degrees,
+        "view_range": scene.cone.view_range,
+        "rules": dataclasses.asdict(rules),
+        "detection": {**dataclasses.asdict(detection.model), "view_range": detection.view_range, "dt": detection.dt},
+    }
+
+
+def _run_pending(
+    pending: list[AlertTask],
+    outcomes: dict[tuple[str, int], AlertOutcome],
+    folder: Path | None,
+    *,
+    done_before: int,
+    workers: int | None,
+    scheduler: str | None,
+) -> None:
+    """Run ``pending`` on the executor ``--workers``/``--scheduler`` ask for (:func:`guardsim.executors.make_executor`,
+    as ``guardsim bench``), filling ``outcomes`` and writing each trace into ``folder`` as it comes back.
+    On Ctrl-C or lost episodes, say how to resume and exit."""
+    from guardsim.alert.batch import run_alert_task, trace_name
+    from guardsim.cli.bench import NOT_RUN, ProgressLine
+    from guardsim.executors import make_executor
+
+    total = done_before + len(pending)
+    with contextlib.ExitStack() as stack:
+        if scheduler == "local":
+            scheduler = stack.enter_context(_local_cluster(workers))
+            workers = None
+        if scheduler is None:
+            # More processes than episodes would only cost start-up time.
+            workers = min(workers or os.cpu_count() or 1, len(pending))
+        executor = make_executor(workers, scheduler, preload=[run_alert_task.__module__])
+        chatty = total > 1
+        if chatty:
+            already = f" ({done_before} already done)" if done_before else ""
+            click.echo(f"running {len(pending)} of {total} episodes on {executor.description}{already}", err=True)
+        progress = ProgressLine(len(pending), sys.stderr if chatty else io.StringIO())
+        resume = f"; traces in {folder}; run the same command again to resume" if folder is not None else ""
+        lost = 0
+        failure = ""
+        try:
+            with executor:
+                for done in executor.run_unordered(run_alert_task, pending):
+                    if done.failure is not None:
+                        lost += 1
+                        failure = failure or (f"{type(done.failure).__name__}: {done.failure}".splitlines() or [""])[0]
+                        continue
+                    task, result = done.item, done.result
+                    if folder is not None and result.trace is not None:
+                        write_text_atomic(folder / trace_name(*task.key), result.trace)
+                    outcomes[task.key] = result.outcome
+                    progress.advance(None)  # type: ignore[arg-type]  # it only counts
+        except KeyboardInterrupt:
+            progress.close()
+            click.echo(f"guardsim: interrupted; {len(outcomes)} of {total} episodes done{resume}", err=True)
+            sys.exit(130)
+        finally:
+            progress.close()
+    if lost:
+        click.echo(f"guardsim: error: {lost} episodes did not run ({failure}){resume}", err=True)
+        sys.exit(NOT_RUN)
+
+
+@contextlib.contextmanager
+def _local_cluster(workers: int | None) -> Iterator[str]:
+    """A ``distributed.LocalCluster`` of ``workers`` processes (default: the cores), one thread each, for
+    ``--scheduler local``; yields its address."""
+    try:
+        from distributed import LocalCluster
+    except ImportError:
+        raise GuardsimError(
+            "--scheduler local needs dask.distributed, which is not installed: pip install 'guardsim[cluster]'"
+        ) from None
+    count = workers or os.cpu_count() or 1
+    with LocalCluster(
+        n_workers=count, processes=True, threads_per_worker=1, dashboard_address=None, silence_logs=logging.ERROR
+    ) as cluster:
+        yield cluster.scheduler_address
 
 
 def _table(rows: list[AlertSummary]) -> str:
