@@ -17,14 +17,15 @@ from guardsim.scene import Scene
 from guardsim.sneak.gif import SneakFrames, write_sneak_gif
 from guardsim.vision.table import ViewTable
 
-__all__ = ["STATE_LETTERS", "write_alert_gif"]
+__all__ = ["CONTAMINATED_INDEX", "LAST_KNOWN_INDEX", "STATE_LETTERS", "write_alert_gif"]
 
 #: The letter drawn over a guard in each state.
 STATE_LETTERS = {"patrol": "P", "suspicious": "?", "investigate": "I", "chase": "!", "search": "S", "return": "R"}
 
-#: Contaminated cells: dots in guard colour 3 (purple in the default palette).
-_CONTAMINATED = guard_index(2)
-_LAST_KNOWN = guard_index(0)
+#: Contaminated cells: dots in the third guard colour (green). The viewer page draws them alike.
+CONTAMINATED_INDEX = guard_index(2)
+#: The last known cell: a cross in the first guard colour (red).
+LAST_KNOWN_INDEX = guard_index(0)
 
 
 def write_alert_gif(
@@ -53,13 +54,13 @@ def write_alert_gif(
         for cell in record["contaminated_cells"][step].tolist():
             x, y = drawer.cell_centre(grid.unflat(cell))
             x, y = x + layout.left, y + layout.top
-            draw.rectangle([x - dot, y - dot, x + dot, y + dot], fill=_CONTAMINATED)
+            draw.rectangle([x - dot, y - dot, x + dot, y + dot], fill=CONTAMINATED_INDEX)
         known = record["last_known"][step]
         if known >= 0:
             x, y = drawer.cell_centre(grid.unflat(known))
             x, y, arm = x + layout.left, y + layout.top, max(3.0, layout.scale * 0.6)
-            draw.line([x - arm, y - arm, x + arm, y + arm], fill=_LAST_KNOWN, width=2)
-            draw.line([x - arm, y + arm, x + arm, y - arm], fill=_LAST_KNOWN, width=2)
+            draw.line([x - arm, y - arm, x + arm, y + arm], fill=LAST_KNOWN_INDEX, width=2)
+            draw.line([x - arm, y + arm, x + arm, y - arm], fill=LAST_KNOWN_INDEX, width=2)
         radius = max(MIN_GUARD_RADIUS, 0.45 * layout.scale)
         for guard, (x, y) in enumerate(drawer.guard_centres(step)):
             letter = STATE_LETTERS[record["guard_states"][step][guard]]

@@ -103,6 +103,9 @@ def _route_file(path: str, grid_cell: object) -> list[tuple[float, float]]:
 @click.option("--trace", "trace_path", help="Write the (first) episode's trace as JSON.")
 @click.option("--gif", "gif_path", help="Write the (first) episode as a GIF.")
 @click.option(
+    "--html", "html_path", help="Write the (first) episode as the interactive viewer page (states, meters, search)."
+)
+@click.option(
     "--workers",
     type=click.IntRange(min=1),
     help="Local worker processes for --episodes [default: all cores]; 1 runs here.",
@@ -133,6 +136,7 @@ def alert(
     out_dir: str | None,
     trace_path: str | None,
     gif_path: str | None,
+    html_path: str | None,
     workers: int | None,
     scheduler: str | None,
     detect_near: float | None,
@@ -230,8 +234,8 @@ def alert(
                     outcomes[task.key] = kept
     written: list[str] = []
     first = None
-    if trace_path is not None or gif_path is not None:
-        # The first episode runs here, whole: its trace and GIF need the episode itself.
+    if trace_path is not None or gif_path is not None or html_path is not None:
+        # The first episode runs here, whole: its trace, GIF and page need the episode itself.
         first = _run_first(scene, table, tasks[0])
         if folder is not None:
             write_text_atomic(folder / trace_name(*tasks[0].key), _trace(first, scene, tasks[0]))
@@ -265,6 +269,11 @@ def alert(
 
         write_alert_gif(gif_path, scene, table, first, suspicious=detection.model.suspicious)
         written.append(gif_path)
+    if first is not None and html_path is not None:
+        from guardsim.viewer.alerts import write_alert_page
+
+        write_alert_page(html_path, scene, table, first, patrol=patrol, suspicious=detection.model.suspicious)
+        written.append(html_path)
     if episodes == 1:
         for name, found in runs.items():
             prefix = f"{name}: " if len(runs) > 1 else ""

@@ -1,7 +1,7 @@
 """The interactive episode viewer: one offline HTML page per trace (see ``docs/rendering.md``).
 
 A patrol's or a sneak's page adds :class:`Overlays` (see ``docs/patrols.md``); build them from results
-with :mod:`guardsim.viewer.patrols`.
+with :mod:`guardsim.viewer.patrols`. An alert episode's page: :mod:`guardsim.viewer.alerts` (``docs/alert.md``).
 """
 
 from __future__ import annotations

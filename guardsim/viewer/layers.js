@@ -7,7 +7,9 @@
 // - route: each guard's loop, a closed dashed polyline under the animation;
 // - intruder: a player who is not a guard: its path from its start tick, no cone, marked when in view;
 // - meters: each guard's awareness meter as a bar over it while the intruder is in;
-// - safe: the safe spots given, each cell outlined (green: holds, magenta: broken).
+// - safe: the safe spots given, each cell outlined (green: holds, magenta: broken);
+// - an alert episode's (data.alert): states, each guard's state as the alert GIF's letter over it;
+//   meters at every tick; contaminated, the cells the intruder may be in as dots; last-known, a cross.
 "use strict";
 const GuardsimLayers = (function () {
   const NEVER = [0, 0, 0];
@@ -47,6 +49,19 @@ const GuardsimLayers = (function () {
         }
       : null;
     const meters = intruder && intruder.meters ? intruder.meters : null;
+    const alert = data.alert
+      ? {
+          info: data.alert,
+          guards: data.alert.guards,
+          states: decode(data.alert.states, Uint8Array),
+          meters: decode(data.alert.meters, Float32Array),
+          contaminated: decode(data.alert.contaminated, Uint8Array),
+          lastKnown: decode(data.alert.last_known, Int32Array),
+        }
+      : null;
+    const alertTicks = alert ? alert.lastKnown.length : 0;
+    // The alert row shown at page tick `tick` (the last once the episode is over).
+    const alertRow = (tick) => Math.max(0, Math.min(tick, alertTicks - 1));
     const colour = (value, top) => ramp(data.ramp, top > 0 ? value / top : 0);
 
     // The timeline: whole laps (from the address, else the page's default), and the intruder's walk.
@@ -129,6 +144,84 @@ const GuardsimLayers = (function () {
           context.setLineDash([]);
         });
       }
+      if (alert && layers.contaminated) drawContaminated(alertRow(tick));
+    }
+
+    // Whether the intruder may be in `cell` at alert row `row` (a bit per cell, rows whole bytes).
+    const contaminatedAt = (row, cell) =>
+      (alert.contaminated[row * alert.info.contaminated_stride + (cell >> 3)] >> (cell & 7)) & 1;
+
+    // A dot at each contaminated cell's centre, as the alert GIF draws them.
+    function drawContaminated(row) {
+      const dot = Math.max(1, scale / 5);
+      context.fillStyle = "rgb(" + alert.info.contaminated_colour.join(",") + ")";
+      for (let cell = 0; cell < cells; cell++) {
+        if (!contaminatedAt(row, cell)) continue;
+        const [x, y] = centre(cell);
+        context.fillRect(x - dot, y - dot, 2 * dot, 2 * dot);
+      }
+    }
+
+    // The last known cell: a cross in the alert GIF's colour.
+    function drawLastKnown(row) {
+      const cell = alert.lastKnown[row];
+      if (cell < 0) return;
+      const [x, y] = centre(cell);
+      const arm = Math.max(3, scale * 0.6);
+      context.strokeStyle = "rgb(" + alert.info.last_known_colour.join(",") + ")";
+      context.lineWidth = 2;
+      context.lineCap = "butt";
+      context.beginPath();
+      context.moveTo(x - arm, y - arm);
+      context.lineTo(x + arm, y + arm);
+      context.moveTo(x - arm, y + arm);
+      context.lineTo(x + arm, y - arm);
+      context.stroke();
+    }
+
+    // Each guard's state as the alert GIF's letter, up beside it (left of it near the canvas's right edge).
+    function drawStates(row, radius, spots) {
+      const size = Math.max(11, Math.round(radius * 1.3));
+      context.font = "bold " + size + "px sans-serif";
+      context.textBaseline = "bottom";
+      context.lineJoin = "round";
+      spots.forEach(([x, y], guard) => {
+        if (guard >= alert.guards) return;
+        const letter = alert.info.state_letters[alert.states[row * alert.guards + guard]];
+        const width = context.measureText(letter).width;
+        const left = x + radius + width + 4 > context.canvas.width ? x - radius - width - 2 : x + radius + 2;
+        // Below the guard when there is no room above it.
+        const base = y - radius + 2 - size < 0 ? y + radius + size : y - radius + 2;
+        context.strokeStyle = "#ffffff";
+        context.lineWidth = 3;
+        context.strokeText(letter, left, base);
+        context.fillStyle = data.colours.outline;
+        context.fillText(letter, left, base);
+      });
+    }
+
+    // The guards' states, the intruder's cell, the last known cell and the contaminated count at page
+    // tick `tick`, read from the arrays the layers draw (the readout, and what a test reads back).
+    function alertState(tick) {
+      if (!alert) return null;
+      const row = alertRow(tick);
+      const names = [];
+      for (let guard = 0; guard < alert.guards; guard++) names.push(alert.info.state_names[alert.states[row * alert.guards + guard]]);
+      const step = intruder ? intruderStep(tick) : -1;
+      const inside = intruder && step >= 0 && tick - intruder.start < intruder.path.length;
+      const cellText = (cell) => (cell < 0 ? "" : (cell % data.cols) + "," + Math.floor(cell / data.cols));
+      const known = alert.lastKnown[row];
+      const count = alert.info.contaminated_counts[row];
+      const parts = names.map((name, guard) => (alert.guards > 1 ? "guard " + (guard + 1) + " " : "") + name);
+      if (known >= 0) parts.push("last known [" + cellText(known).replace(",", ", ") + "]");
+      parts.push(count + " cells contaminated");
+      return {
+        text: parts.join(" \u00b7 "),
+        states: names.join(","),
+        intruder: inside ? cellText(intruder.path[step]) : "",
+        lastKnown: cellText(known),
+        contaminated: String(count),
+      };
     }
 
     // Where the intruder is at page tick `tick`: its path index, or -1 before it enters.
@@ -167,19 +260,19 @@ const GuardsimLayers = (function () {
     const walking = (tick) => (intruder && tick >= intruder.start && tick - intruder.start < intruder.path.length ? tick - intruder.start : -1);
 
     // What one meter's level says by itself (guardsim.sneak.gif.meter_state): its bar's fill colour.
-    function meterState(level) {
+    function meterState(level, suspicious) {
       if (level >= 1 - 1e-6) return "detected";
-      if (level > 0 && level >= data.intruder.suspicious) return "suspicious";
+      if (level > 0 && level >= suspicious) return "suspicious";
       return level > 0 ? "in view" : "unseen";
     }
 
     // A bar over each guard (at `spots`, where viewer.js drew it), framed in the outline colour, white
-    // inside, filled from the left by its meter: the box of guardsim.sneak.gif.meter_bar_box.
-    function drawMeters(step, radius, spots) {
-      const guards = data.intruder.guards;
+    // inside, filled from the left by its meter: the box of guardsim.sneak.gif.meter_bar_box. `levels`
+    // holds `guards` meters per step; `info` the suspicious level and the state colours.
+    function drawMeters(levels, guards, info, step, radius, spots) {
       spots.forEach(([x, y], guard) => {
         if (guard >= guards) return;
-        const level = Math.min(1, Math.max(0, meters[step * guards + guard]));
+        const level = Math.min(1, Math.max(0, levels[step * guards + guard]));
         const half = Math.round(radius) + 1;
         const height = Math.max(5, Math.round(0.6 * radius));
         const left = Math.round(x) - half, top = Math.round(y - radius) - 4 - height;
@@ -189,7 +282,7 @@ const GuardsimLayers = (function () {
         context.fillRect(left + 1, top + 1, 2 * half - 2, height - 2);
         const filled = Math.round(level * (2 * half - 2));
         if (filled > 0) {
-          context.fillStyle = "rgb(" + data.intruder.state_colours[meterState(level)].join(",") + ")";
+          context.fillStyle = "rgb(" + info.state_colours[meterState(level, info.suspicious)].join(",") + ")";
           context.fillRect(left + 1, top + 1, filled, height - 2);
         }
       });
@@ -199,7 +292,13 @@ const GuardsimLayers = (function () {
       if (data.safe && layers.safe) drawSafe();
       if (intruder && layers.intruder) drawIntruder(tick, radius);
       const step = walking(tick);
-      if (meters && layers.meters && step >= 0) drawMeters(step, radius, spots || []);
+      if (meters && layers.meters && step >= 0) drawMeters(meters, data.intruder.guards, data.intruder, step, radius, spots || []);
+      if (alert) {
+        const row = alertRow(tick);
+        if (layers["last-known"]) drawLastKnown(row);
+        if (layers.meters) drawMeters(alert.meters, alert.guards, alert.info, row, radius, spots || []);
+        if (layers.states) drawStates(row, radius, spots || []);
+      }
     }
 
     function drawIntruder(tick, radius) {
@@ -219,6 +318,8 @@ const GuardsimLayers = (function () {
         else context.lineTo(x, y);
       }
       context.stroke();
+      // An alert's intruder leaves the level at its goal: its walk stays drawn, not the intruder.
+      if (alert && tick - intruder.start >= intruder.path.length) return;
       // No cone: the intruder watches nothing. A disc, white while unseen, black and ringed red in view.
       const [x, y] = centre(intruder.path[step]);
       const seen = intruder.inView[step] === 1;
@@ -256,6 +357,11 @@ const GuardsimLayers = (function () {
         let top = 0;
         for (let guard = 0; guard < data.intruder.guards; guard++) top = Math.max(top, meters[step * data.intruder.guards + guard]);
         text += " \u00b7 awareness " + top.toFixed(2);
+      } else if (alert) {
+        let top = 0;
+        const row = alertRow(tick);
+        for (let guard = 0; guard < alert.guards; guard++) top = Math.max(top, alert.meters[row * alert.guards + guard]);
+        text += " \u00b7 awareness " + top.toFixed(2);
       }
       return { name: name, text: text, colour: data.intruder.state_colours[name] };
     }
@@ -265,6 +371,12 @@ const GuardsimLayers = (function () {
       const step = intruderStep(tick);
       const name = data.intruder.label;
       if (step < 0) return name + " enters at tick " + intruder.start;
+      if (alert) {
+        // An alert's intruder is in from tick 0 until it is captured or leaves at its goal.
+        if (tick - intruder.start >= intruder.path.length) return name + " left the level at tick " + (intruder.start + intruder.path.length);
+        const cell = intruder.path[step];
+        return name + " at [" + (cell % data.cols) + ", " + Math.floor(cell / data.cols) + "]: " + (intruder.inView[step] === 1 ? "IN VIEW" : "unseen");
+      }
       const ticks = intruder.path.length - 1;
       if (tick - intruder.start >= ticks) {
         return name + " arrived after " + ticks + " ticks, " + data.intruder.ticks_in_view + " in view";
@@ -323,15 +435,21 @@ const GuardsimLayers = (function () {
 
     // What a mark of the timeline is, when it is more than a tick: the peak awareness, the detection.
     function markLabel(tick) {
-      if (!intruder) return "";
       const found = [];
+      if (alert) {
+        for (const [at, guard, event] of alert.info.events) {
+          if (at === tick) found.push((guard >= 0 && alert.guards > 1 ? "guard " + (guard + 1) + " " : "") + event.replace(/_/g, " "));
+        }
+      }
+      if (!intruder) return [...new Set(found)].join(", ");
       if (peakShown && tick === intruder.start + data.intruder.peak.step) {
         found.push("peak awareness " + data.intruder.peak.value.toFixed(2));
       }
-      if (data.intruder.detected_at !== null && data.intruder.detected_at !== undefined && tick === intruder.start + data.intruder.detected_at) {
+      // (An alert names its detections among its events.)
+      if (!alert && data.intruder.detected_at !== null && data.intruder.detected_at !== undefined && tick === intruder.start + data.intruder.detected_at) {
         found.push("detected");
       }
-      return found.join(", ");
+      return [...new Set(found)].join(", ");
     }
 
     // Ticks marked on the timeline: where each lap begins, where the intruder enters, each stretch in
@@ -348,6 +466,8 @@ const GuardsimLayers = (function () {
         if (peakShown) found.add(intruder.start + data.intruder.peak.step);
         if (data.intruder.detected_at !== null && data.intruder.detected_at !== undefined) found.add(intruder.start + data.intruder.detected_at);
       }
+      // An alert's events: detections, losses of sight, give-ups, returns to the route, the capture.
+      if (alert) for (const [at, , event] of alert.info.events) if (event !== "noticed" && event !== "joined") found.add(at);
       return [...found].filter((t) => t >= 0 && t <= total).sort((a, b) => a - b);
     }
 
@@ -359,7 +479,8 @@ const GuardsimLayers = (function () {
     if (runs) present.push("idle-now");
     if (data.routes) present.push("route");
     if (intruder) present.push("intruder");
-    if (meters) present.push("meters");
+    if (meters || alert) present.push("meters");
+    if (alert) present.push("contaminated", "last-known", "states");
     if (data.safe) present.push("safe");
 
     const hex = (rgb) => "#" + rgb.map((v) => v.toString(16).padStart(2, "0")).join("");
@@ -379,10 +500,16 @@ const GuardsimLayers = (function () {
         items.push([data.colours.intruder, data.intruder.label + " (no cone; \u25cb from, \u25a1 to)"]);
         items.push(["#000000", "intruder in view (ringed red)"]);
       }
-      if (meters) {
-        const colours = data.intruder.state_colours;
+      if (meters || alert) {
+        const colours = (alert ? alert.info : data.intruder).state_colours;
         const bar = ["in view", "suspicious", "detected"].map((name) => hex(colours[name]));
         items.push(["linear-gradient(90deg," + bar.join(",") + ")", "awareness meter over each guard: rising, suspicious, full"]);
+      }
+      if (alert) {
+        const letters = alert.info.state_names.map((name, k) => alert.info.state_letters[k] + " " + name).join(", ");
+        items.push([data.colours.outline, "guard state: " + letters]);
+        items.push([hex(alert.info.contaminated_colour), "contaminated: where the intruder may be (dots)"]);
+        items.push([hex(alert.info.last_known_colour), "last known position (cross)"]);
       }
       if (data.safe) {
         items.push([hex(data.safe_colours.holds), "safe spot (holds)"]);
@@ -393,7 +520,7 @@ const GuardsimLayers = (function () {
 
     return {
       total, local, drawUnder, drawOver, describe, intruderText, intruderState, colourBar, paintBar, present, legend,
-      marks, markLabel, cellText, heatShown, heats,
+      marks, markLabel, cellText, heatShown, heats, alertState,
     };
   }
 

@@ -6,8 +6,10 @@ what the team sees at each of its ticks (:class:`LapViews`, from which the page 
 idleness at the current tick), each guard's loop (:attr:`Overlays.routes`) and a sneaking player who is
 not a guard (:class:`Intruder`, with the guards' awareness meters and its state at each tick). A sneak
 page adds two more heat maps of the same kind (each cell's exposure and time to detection) and the safe
-spots to outline (:class:`SafeSpot`). These are plain arrays; :mod:`guardsim.viewer.patrols` builds them
-from patrol and sneak results.
+spots to outline (:class:`SafeSpot`). An alert page (``guardsim alert --html``) adds each guard's state and
+meter at every tick, the contaminated set and the last known cell (:class:`AlertLayers`). These are plain
+arrays; :mod:`guardsim.viewer.patrols` builds them from patrol and sneak results, :mod:`guardsim.viewer.alerts`
+from an alert episode.
 """
 
 from __future__ import annotations
@@ -28,6 +30,7 @@ __all__ = [
     "IDLENESS_RAMP",
     "SAFE_COLOURS",
     "STATE_COLOURS",
+    "AlertLayers",
     "IdlenessMap",
     "Intruder",
     "LapViews",
@@ -137,6 +140,34 @@ class SafeSpot:
 
 
 @dataclass(frozen=True, eq=False)
+class AlertLayers:
+    """An alert episode's own layers (``guardsim alert --html``), a row per tick of the trace: what each
+    guard is doing, its meter, where the intruder may be and where it was last seen. The intruder
+    itself is an :class:`Intruder` (from tick 0)."""
+
+    states: np.ndarray
+    """``int (ticks, guards)``: each guard's state, an index into :attr:`state_names`."""
+    state_names: Sequence[str]
+    """:data:`guardsim.alert.GUARD_STATES`."""
+    state_letters: Sequence[str]
+    """The letter drawn over a guard in each state (the alert GIF's, :data:`guardsim.alert.gif.STATE_LETTERS`)."""
+    meters: np.ndarray
+    """``float (ticks, guards)``: each guard's awareness meter, drawn as a bar over it at every tick."""
+    contaminated: np.ndarray
+    """``bool (ticks, cells)``: the cells the intruder may be in (flat, row-major)."""
+    last_known: Sequence[int]
+    """Per tick, the flat cell the intruder was last seen in; -1 before any."""
+    contaminated_colour: tuple[int, int, int]
+    """The dots of the contaminated set (the alert GIF's)."""
+    last_known_colour: tuple[int, int, int]
+    """The cross at the last known cell (the alert GIF's)."""
+    suspicious: float = 0.5
+    """The meter level at which a guard is suspicious (its bar turns orange)."""
+    events: Sequence[tuple[int, int, str]] = ()
+    """``(tick, guard, event)``, marked on the timeline (guard -1: the intruder's own)."""
+
+
+@dataclass(frozen=True, eq=False)
 class Overlays:
     """Everything a patrol or sneak page shows beyond its trace; every part optional."""
 
@@ -151,6 +182,8 @@ class Overlays:
     detection_time: IdlenessMap | None = None
     """A sneak's time-to-detection map (ticks a player standing still lasts; ``never`` never detected)."""
     safe: Sequence[SafeSpot] = ()
+    alert: AlertLayers | None = None
+    """An alert episode's guard states, meters, contaminated set and last known cell."""
     layers: Sequence[str] = field(default=())
     """Layers shown when the page opens (empty: the page's usual ones); ``#layers=...`` overrides."""
 
@@ -292,6 +325,47 @@ def _safe_data(spots: Sequence[SafeSpot], shape: tuple[int, int]) -> list[dict[s
     return [{"cell": [int(v) for v in spot.cell], "holds": bool(spot.holds), "label": spot.label} for spot in spots]
 
 
+def _alert_data(alert: AlertLayers, trace: Trace) -> dict[str, Any]:
+    guards = len(trace.team_paths())
+    ticks = trace.steps + 1
+    cells = trace.shape[0] * trace.shape[1]
+    states = np.asarray(alert.states)
+    meters = np.asarray(alert.meters, dtype=np.float64)
+    contaminated = np.asarray(alert.contaminated, dtype=bool)
+    for name, array, shape in (
+        ("guard states", states, (ticks, guards)),
+        ("meters", meters, (ticks, guards)),
+        ("contaminated cells", contaminated, (ticks, cells)),
+    ):
+        if array.shape != shape:
+            raise GuardsimError(f"the alert's {name} have shape {array.shape}, expected {shape} (a row per tick)")
+    if len(alert.last_known) != ticks:
+        raise GuardsimError(f"the alert has {len(alert.last_known)} last known cells for {ticks} ticks")
+    if len(alert.state_letters) != len(alert.state_names):
+        raise GuardsimError("the alert needs one letter per guard state")
+    if states.size and not (states.min() >= 0 and states.max() < len(alert.state_names)):
+        raise GuardsimError("the alert's guard states index past its state names")
+    if any(not -1 <= cell < cells for cell in alert.last_known):
+        raise GuardsimError(f"a last known cell lies off the trace's grid of {cells} cells")
+    return {
+        "guards": guards,
+        "states": packed(states.ravel(), "u1"),
+        "state_names": list(alert.state_names),
+        "state_letters": list(alert.state_letters),
+        "meters": packed(meters.ravel(), "f4"),
+        # A bit per cell, little-endian within each byte; each tick's row starts on a byte.
+        "contaminated": packed(np.packbits(contaminated, axis=1, bitorder="little").ravel(), "u1"),
+        "contaminated_stride": (cells + 7) // 8,
+        "contaminated_counts": [int(count) for count in contaminated.sum(axis=1)],
+        "last_known": packed(list(alert.last_known), "i4"),
+        "contaminated_colour": list(alert.contaminated_colour),
+        "last_known_colour": list(alert.last_known_colour),
+        "suspicious": float(alert.suspicious),
+        "events": [[int(tick), int(guard), str(event)] for tick, guard, event in alert.events],
+        "state_colours": {name: list(colour) for name, colour in STATE_COLOURS.items()},
+    }
+
+
 def overlay_data(overlays: Overlays, trace: Trace) -> dict[str, Any]:
     """The page-data keys of ``overlays`` (JSON-ready), checked against ``trace``'s grid.
 
@@ -316,6 +390,8 @@ def overlay_data(overlays: Overlays, trace: Trace) -> dict[str, Any]:
     if overlays.safe:
         data["safe"] = _safe_data(overlays.safe, trace.shape)
         data["safe_colours"] = {name: list(colour) for name, colour in SAFE_COLOURS.items()}
+    if overlays.alert is not None:
+        data["alert"] = _alert_data(overlays.alert, trace)
     if overlays.layers:
         data["default_layers"] = list(overlays.layers)
     return data

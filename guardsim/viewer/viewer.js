@@ -330,7 +330,7 @@
 
     const extra =
       typeof GuardsimLayers !== "undefined" &&
-      (data.laps || data.idleness || data.routes || data.intruder || data.exposure || data.detection_time || data.safe)
+      (data.laps || data.idleness || data.routes || data.intruder || data.exposure || data.detection_time || data.safe || data.alert)
         ? GuardsimLayers.make({ data, context, scale, px, py, decode, ramp, cellImage, centre, kinds })
         : null;
     const total = extra ? extra.total(steps, hash.laps) : steps;
@@ -353,6 +353,7 @@
     const intruderReadout = document.getElementById("intruder-readout");
     const intruderState = document.getElementById("intruder-state");
     const cellReadout = document.getElementById("cell-readout");
+    const alertReadout = document.getElementById("alert-readout");
     // The cell whose idleness is read out: under the pointer, or from the address (#cell=COL,ROW).
     let inspected = null;
     if (extra && hash.cell) {
@@ -447,6 +448,16 @@
           intruderState.dataset.state = state.name;
           intruderState.style.background = "rgb(" + r + "," + g + "," + b + ")";
           intruderState.style.color = 0.299 * r + 0.587 * g + 0.114 * b > 150 ? "#000000" : "#ffffff";
+        }
+        const alert = extra.alertState(tick);
+        if (alert) {
+          // What the alert layers draw at this tick, also as attributes (a test reads them back).
+          alertReadout.hidden = false;
+          alertReadout.textContent = alert.text;
+          alertReadout.dataset.states = alert.states;
+          alertReadout.dataset.intruder = alert.intruder;
+          alertReadout.dataset.lastKnown = alert.lastKnown;
+          alertReadout.dataset.contaminated = alert.contaminated;
         }
         cellReadout.textContent = inspected
           ? "cell [" + inspected[0] + ", " + inspected[1] + "]: " + extra.cellText(inspected[1] * cols + inspected[0], tick)

@@ -1,0 +1,114 @@
+"""The viewer page of an alert episode (``guardsim alert --html``): the guards' walk as the trace, the
+intruder, and the alert layers (each guard's state and meter, the contaminated set, the last known cell).
+
+Downstream of :mod:`guardsim.alert`, which never imports the viewer. The colours and letters are the
+alert GIF's (:mod:`guardsim.alert.gif`), from the one palette.
+"""
+
+from __future__ import annotations
+
+from pathlib import Path
+
+import numpy as np
+
+from guardsim.alert.episode import AlertEpisode
+from guardsim.alert.gif import CONTAMINATED_INDEX, LAST_KNOWN_INDEX, STATE_LETTERS
+from guardsim.alert.model import GUARD_STATES
+from guardsim.alert.trace import guard_trace
+from guardsim.detection import intruder_state
+from guardsim.kernels.steps import state_of
+from guardsim.patrol.model import Patrol
+from guardsim.render.palette import PALETTE
+from guardsim.scene import Scene
+from guardsim.viewer.layers import AlertLayers, Intruder, Overlays
+from guardsim.viewer.page import write_viewer
+from guardsim.viewer.patrols import patrol_routes
+from guardsim.vision.table import ViewTable
+
+__all__ = ["ALERT_LAYERS", "alert_overlays", "write_alert_page"]
+
+#: Layers an alert page opens with: the routes, the cones, the contaminated set, the last known cell,
+#: the intruder, and each guard's meter and state.
+ALERT_LAYERS = ("route", "trail", "cone", "contaminated", "last-known", "intruder", "meters", "states")
+
+
+def alert_overlays(
+    scene: Scene, table: ViewTable, episode: AlertEpisode, *, patrol: Patrol | None = None, suspicious: float = 0.5
+) -> Overlays:
+    """The page layers of ``episode`` (the page's tick ``t`` is the episode's tick ``t``)."""
+    grid = scene.grid
+    record = episode.record
+    ticks = len(record["cells"])
+    guards = len(episode.modes)
+    meters = np.asarray(record["awareness"], dtype=np.float64).reshape(ticks, guards)
+    # The intruder while it is in the level (it leaves at its goal), and whether some guard sees it.
+    cells = []
+    for cell in record["intruder"]:
+        if cell is None:
+            break
+        cells.append(int(cell))
+    in_view = [
+        any(
+            _sees(table, record["cells"][tick][guard], record["headings"][tick][guard], cell) for guard in range(guards)
+        )
+        for tick, cell in enumerate(cells)
+    ]
+    detected_at = next((e.tick for e in episode.events if e.event == "detected"), None)
+    states = [
+        intruder_state(list(meters[tick]), in_view[tick], suspicious, detected_at is not None and tick >= detected_at)
+        for tick in range(len(cells))
+    ]
+    goal = episode.intruder.goal
+    intruder = Intruder(
+        [grid.unflat(cell) for cell in cells],
+        0,
+        in_view=in_view,
+        source=grid.centre(*grid.unflat(cells[0])) if cells else None,
+        target=grid.centre(*grid.unflat(goal)) if goal >= 0 else None,
+        label="intruder",
+        states=states,
+        suspicious=suspicious,
+        detected_at=detected_at,
+    )
+    contaminated = np.zeros((ticks, grid.size), dtype=bool)
+    for tick, found in enumerate(record["contaminated_cells"]):
+        contaminated[tick, found] = True
+    alert = AlertLayers(
+        states=np.asarray([[GUARD_STATES.index(s) for s in row] for row in record["guard_states"]], dtype=np.uint8),
+        state_names=GUARD_STATES,
+        state_letters=[STATE_LETTERS[name] for name in GUARD_STATES],
+        meters=meters,
+        contaminated=contaminated,
+        last_known=[int(cell) for cell in record["last_known"]],
+        contaminated_colour=PALETTE[CONTAMINATED_INDEX],
+        last_known_colour=PALETTE[LAST_KNOWN_INDEX],
+        suspicious=suspicious,
+        events=[(e.tick, e.guard, e.event) for e in episode.events],
+    )
+    return Overlays(
+        routes=() if patrol is None else patrol_routes(patrol, grid),
+        intruder=intruder if cells else None,
+        alert=alert,
+        layers=ALERT_LAYERS,
+    )
+
+
+def _sees(table: ViewTable, cell: int, heading: int, target: int) -> bool:
+    seen = table.sees(int(state_of(cell, heading)))
+    index = int(np.searchsorted(seen, target))
+    return index < seen.size and int(seen[index]) == target
+
+
+def write_alert_page(
+    path: str | Path,
+    scene: Scene,
+    table: ViewTable,
+    episode: AlertEpisode,
+    *,
+    patrol: Patrol | None = None,
+    suspicious: float = 0.5,
+) -> None:
+    """Write the viewer page of ``episode`` to ``path`` (atomically); ``patrol`` adds the guards' routes."""
+    trace = guard_trace(scene, table, episode)
+    overlays = alert_overlays(scene, table, episode, patrol=patrol, suspicious=suspicious)
+    write_viewer(path, scene.level, trace, overlays=overlays)
