@@ -1,8 +1,9 @@
 """The import options every command that reads a level shares, so a map can stand wherever a level can.
 
 ``@map_options`` adds ``--cell-size``, ``--threshold``, ``--spawn-tile``, ``--wall-tile``,
-``--wall-property``, ``--wall-class``, ``--wall-layer``, ``--floor-layer`` and ``--strict`` to a command
-and hands it one ``map_import`` argument (a :class:`MapImport`) to pass to :func:`guardsim.cli.common.load`.
+``--wall-property``, ``--wall-class``, ``--wall-layer``, ``--floor-layer``, ``--wall-value``, ``--level``
+and ``--strict`` to a command and hands it one ``map_import`` argument (a :class:`MapImport`) to pass to
+:func:`guardsim.cli.common.load`.
 """
 
 from __future__ import annotations
@@ -18,7 +19,7 @@ import click
 from guardsim.cli.common import FiniteFloatRange
 from guardsim.importers import FORMATS, ImportedLevel, ImportOptions, load_any
 from guardsim.importers.image import DEFAULT_THRESHOLD
-from guardsim.importers.loading import is_tiled_json
+from guardsim.importers.loading import is_map_json
 from guardsim.level import level_to_data, read_level_json
 
 __all__ = ["STRICT_EXIT", "MapImport", "level_data", "map_options", "report_import"]
@@ -59,7 +60,7 @@ def level_data(path: str, map_import: MapImport, *, max_cells: int, max_vertices
         data = None
     else:
         data = read_level_json(path, max_file_bytes=max_file_bytes)
-        if not is_tiled_json(data):
+        if not is_map_json(data):
             return data
     level, imported = load_any(
         path, options=map_import.options, max_cells=max_cells, max_vertices=max_vertices, max_file_bytes=max_file_bytes
@@ -83,6 +84,8 @@ def map_options(command: F) -> F:
             wall_classes=tuple(kwargs.pop("wall_classes")),
             wall_layers=tuple(kwargs.pop("wall_layers")),
             floor_layers=tuple(kwargs.pop("floor_layers")),
+            wall_values=tuple(kwargs.pop("wall_values")),
+            level=kwargs.pop("ldtk_level"),
         )
         return command(*args, map_import=MapImport(options, kwargs.pop("strict")), **kwargs)
 
@@ -102,6 +105,13 @@ def _check_wall_properties(ctx: click.Context, param: click.Parameter, values: t
         except ValueError as error:
             raise click.BadParameter(str(error), ctx=ctx, param=param) from None
     return values
+
+
+def _check_wall_values(ctx: click.Context, param: click.Parameter, values: tuple[str, ...]) -> tuple[str, ...]:
+    """Click callback: each ``--wall-value`` is an IntGrid value's number or name."""
+    if any(not value.strip() for value in values):
+        raise click.BadParameter("expected an IntGrid value's number or name, got an empty text", ctx=ctx, param=param)
+    return tuple(value.strip() for value in values)
 
 
 def _check_wall_classes(ctx: click.Context, param: click.Parameter, values: tuple[str, ...]) -> tuple[str, ...]:
@@ -170,6 +180,21 @@ _OPTIONS = [
         multiple=True,
         metavar="NAME",
         help="Tiled: a tile layer whose tiles are floor, replacing the guess (repeatable).",
+    ),
+    click.option(
+        "--wall-value",
+        "wall_values",
+        multiple=True,
+        callback=_check_wall_values,
+        metavar="N|NAME",
+        help="LDtk: an IntGrid value (its number, or its name in any case) that is a wall in every IntGrid layer; "
+        "replaces the guess from value names (repeatable).",
+    ),
+    click.option(
+        "--level",
+        "ldtk_level",
+        metavar="NAME",
+        help="LDtk: the level to import, by identifier. [default: the first]",
     ),
     click.option(
         "--strict",

@@ -1,9 +1,10 @@
 """Importers: maps from the tools designers use, converted to guardsim levels.
 
 :func:`import_map` picks the reader by file type: Moving AI grid maps (``.map``), Tiled maps (``.tmx``,
-``.tmj`` and Tiled JSON ``.json``) and images (``.png``). Every reader returns an
-:class:`ImportedLevel`: a level :func:`guardsim.level.parse_level` accepts, the list of what the import
-found and changed (floor and wall layers, holes merged, vertices snapped) and its warnings.
+``.tmj`` and Tiled JSON ``.json``), LDtk projects (``.ldtk``, or a ``.json`` holding one) and images
+(``.png``). Every reader returns an :class:`ImportedLevel`: a level :func:`guardsim.level.parse_level`
+accepts, the list of what the import found and changed (floor and wall layers, holes merged, vertices
+snapped) and its warnings.
 :func:`load_any` loads a guardsim level file or any of these maps, for every command.
 """
 
@@ -16,7 +17,8 @@ from pathlib import Path
 from guardsim.errors import LevelError
 from guardsim.importers.image import DEFAULT_THRESHOLD, import_image
 from guardsim.importers.imported import ImportedLevel
-from guardsim.importers.loading import ImportOptions, ImportSummary, load_any, open_level
+from guardsim.importers.ldtk import import_ldtk, is_ldtk_file
+from guardsim.importers.loading import ImportOptions, ImportSummary, load_any, open_level, unknown_type
 from guardsim.importers.movingai import import_movingai
 from guardsim.importers.source import display_name
 from guardsim.importers.tiled import import_tiled
@@ -28,6 +30,7 @@ __all__ = [
     "ImportSummary",
     "ImportedLevel",
     "import_image",
+    "import_ldtk",
     "import_map",
     "import_movingai",
     "import_tiled",
@@ -41,6 +44,7 @@ FORMATS = {
     ".tmx": "Tiled map (XML)",
     ".tmj": "Tiled map (JSON)",
     ".json": "Tiled map (JSON)",
+    ".ldtk": "LDtk project",
     ".png": "image",
 }
 
@@ -56,6 +60,8 @@ def import_map(
     wall_tiles: Iterable[int] = (),
     wall_properties: Iterable[str] = (),
     wall_classes: Iterable[str] = (),
+    wall_values: Iterable[int | str] = (),
+    level: str | None = None,
     max_cells: int = DEFAULT_MAX_CELLS,
     max_vertices: int = DEFAULT_MAX_VERTICES,
     max_file_bytes: int = DEFAULT_MAX_FILE_BYTES,
@@ -75,6 +81,9 @@ def import_map(
     wall_properties, wall_classes
         Tiled only: ``NAME`` or ``NAME=VALUE`` properties, and classes, that make tiles and objects walls
         (the properties replace the guess from property names).
+    wall_values, level
+        LDtk only: IntGrid values (numbers or names) that are walls, replacing the guess from value names,
+        and the identifier of the level to import (the first by default).
 
     Raises
     ------
@@ -88,6 +97,8 @@ def import_map(
         raise LevelError(f"{display_name(path)}: cell size must be a positive number, not {size:g}")
     if suffix == ".map":
         return import_movingai(path, cell_size=size, **limits)
+    if suffix == ".ldtk" or (suffix == ".json" and is_ldtk_file(path, max_file_bytes=max_file_bytes)):
+        return import_ldtk(path, cell_size=size, wall_values=wall_values, level=level, **limits)
     if suffix in (".tmx", ".tmj", ".json"):
         return import_tiled(
             path,
@@ -102,5 +113,4 @@ def import_map(
         )
     if suffix == ".png":
         return import_image(path, cell_size=size, threshold=threshold, **limits)
-    known = ", ".join(sorted(FORMATS))
-    raise LevelError(f"{display_name(path)}: unknown map type {suffix or '(no suffix)'!r}; guardsim imports {known}")
+    raise unknown_type(display_name(path), suffix)

@@ -1,9 +1,11 @@
 """One entry point for every command: a guardsim level file or any map, loaded in memory.
 
 :func:`load_any` is what ``guardsim play``, ``render``, ``validate``, ``bench`` and ``regress`` call on
-their LEVEL argument. A ``.json`` file is a guardsim level when it has an ``outer`` ring and a Tiled map
-when it has an ``orientation`` (or ``"type": "map"``); ``.tmx``/``.tmj``, ``.map`` and ``.png`` are
-imported with :func:`guardsim.importers.import_map` and the options of :class:`ImportOptions`.
+their LEVEL argument. A ``.json`` file is a guardsim level when it has an ``outer`` ring, a Tiled map
+when it has an ``orientation`` (or ``"type": "map"``) and an LDtk project when it has LDtk's
+``__header__`` (or ``jsonVersion`` and ``defs``); ``.tmx``/``.tmj``, ``.ldtk``, ``.map`` and ``.png`` are
+imported with :func:`guardsim.importers.import_map` and the options of :class:`ImportOptions`. Any other
+file that is not JSON gets one line saying which formats guardsim reads.
 """
 
 from __future__ import annotations
@@ -18,10 +20,11 @@ from guardsim.errors import LevelError
 from guardsim.files.reading import parse_json
 from guardsim.importers.image import DEFAULT_THRESHOLD
 from guardsim.importers.imported import ImportedLevel
+from guardsim.importers.ldtk_read import is_ldtk_json
 from guardsim.importers.source import MAX_JSON_DEPTH, display_name, quiet, read_capped_bytes
 from guardsim.level import DEFAULT_MAX_CELLS, DEFAULT_MAX_FILE_BYTES, DEFAULT_MAX_VERTICES, Level, parse_level
 
-__all__ = ["ImportOptions", "ImportSummary", "is_tiled_json", "load_any", "open_level"]
+__all__ = ["ImportOptions", "ImportSummary", "is_map_json", "is_tiled_json", "load_any", "open_level", "unknown_type"]
 
 #: What an import reports besides its level (the summary line, the changes and the warnings).
 ImportSummary = ImportedLevel
@@ -41,6 +44,43 @@ class ImportOptions:
     """Tiled: ``NAME`` or ``NAME=VALUE``: tiles and objects with that property are walls (``--wall-property``)."""
     wall_classes: tuple[str, ...] = ()
     """Tiled: tile and object classes that are walls (``--wall-class``)."""
+    wall_values: tuple[str, ...] = ()
+    """LDtk: IntGrid values, numbers or names, that are walls (``--wall-value``)."""
+    level: str | None = None
+    """LDtk: the identifier of the level to import (``--level``); the first by default."""
+
+
+#: Files guardsim is sometimes handed but does not read, and what they are.
+FOREIGN = {
+    ".tscn": "a Godot scene",
+    ".scn": "a Godot scene",
+    ".escn": "a Godot scene",
+    ".tres": "a Godot resource",
+    ".res": "a Godot resource",
+    ".godot": "a Godot project",
+    ".gd": "a Godot script",
+    ".ldtkl": "an LDtk level file: import the .ldtk project beside it, with --level NAME",
+    ".tsx": "a Tiled tileset: import a map that uses it",
+    ".tsj": "a Tiled tileset: import a map that uses it",
+    ".tx": "a Tiled template: import a map that uses it",
+    ".tj": "a Tiled template: import a map that uses it",
+    ".tiled-project": "a Tiled project: import one of its maps",
+}
+
+
+def unknown_type(source: str, suffix: str, *, is_json: bool = True) -> LevelError:
+    """The one-line error for a file of a type guardsim does not read, listing the formats it reads."""
+    from guardsim.importers import FORMATS
+
+    kinds: dict[str, list[str]] = {}
+    for known, kind in FORMATS.items():
+        kinds.setdefault(kind, []).append(known)
+    listed = ", ".join(f"{kind} {'/'.join(suffixes)}" for kind, suffixes in kinds.items())
+    what = f" ({FOREIGN[suffix]})" if suffix in FOREIGN else "" if is_json else " and not JSON"
+    return LevelError(
+        f"{source}: unknown map type {suffix or '(no suffix)'!r}{what}; guardsim reads guardsim levels (.json) and "
+        f"imports {listed}"
+    )
 
 
 def _text(data: bytes, source: str) -> str:
@@ -53,6 +93,11 @@ def _text(data: bytes, source: str) -> str:
 def is_tiled_json(data: object) -> bool:
     """Whether decoded JSON is a Tiled map (an ``orientation`` or ``"type": "map"``), not a guardsim level."""
     return isinstance(data, dict) and ("orientation" in data or data.get("type") == "map") and "outer" not in data
+
+
+def is_map_json(data: object) -> bool:
+    """Whether decoded JSON is a map to import (Tiled or LDtk), not a guardsim level."""
+    return is_tiled_json(data) or is_ldtk_json(data)
 
 
 def load_any(
@@ -78,19 +123,22 @@ def load_any(
     options = options or ImportOptions()
     source = display_name(path)
     suffix = Path(path).suffix.lower()
+    if suffix in FOREIGN:
+        raise unknown_type(source, suffix)
     if suffix in (".json", "") or suffix not in FORMATS:
         data = read_capped_bytes(path, max_file_bytes=max_file_bytes, kind="level file")
         head = data.lstrip()[:1]
         if suffix not in FORMATS and head not in (b"{", b"["):
-            known = ", ".join(sorted(FORMATS))
-            raise LevelError(
-                f"{source}: unknown map type {suffix or '(no suffix)'!r} and not JSON; guardsim reads levels (.json) "
-                f"and imports {known}"
-            )
-        # NaN and Infinity decode here so that the level check can name the field holding one; a Tiled
-        # map is read again, strictly, by its importer.
-        value = parse_json(_text(data, source), source=source, max_depth=MAX_JSON_DEPTH, allow_non_finite=True)
-        if not is_tiled_json(value):
+            raise unknown_type(source, suffix, is_json=False)
+        # NaN and Infinity decode here so that the level check can name the field holding one; a map is
+        # read again, strictly, by its importer.
+        try:
+            value = parse_json(_text(data, source), source=source, max_depth=MAX_JSON_DEPTH, allow_non_finite=True)
+        except LevelError:
+            if suffix in ("", ".json"):
+                raise
+            raise unknown_type(source, suffix, is_json=False) from None
+        if not is_map_json(value):
             return parse_level(value, source=source, max_cells=max_cells, max_vertices=max_vertices), None
     notes: list[str] = []
     try:
@@ -105,6 +153,8 @@ def load_any(
                 wall_tiles=options.wall_tiles,
                 wall_properties=options.wall_properties,
                 wall_classes=options.wall_classes,
+                wall_values=options.wall_values,
+                level=options.level,
                 max_cells=max_cells,
                 max_vertices=max_vertices,
                 max_file_bytes=max_file_bytes,
