@@ -458,3 +458,41 @@ def test_import_options_carry_wall_values_and_level(tmp_path: Path) -> None:
     path = write(tmp_path, project(values=((1, "dirt"),)))
     level, imported = load_any(path, options=ImportOptions(wall_values=("dirt",), level="level_0"))
     assert imported is not None and level.holes and not imported.warnings
+
+
+def test_walls_covering_the_level_is_one_line(tmp_path: Path) -> None:
+    path = write(tmp_path, project([1] * 12))
+    line = assert_one_line_error(run("import", path, "--out", tmp_path / "o.json"), path)
+    assert line.endswith("the walls cover the whole of level 'Level_0': no free area")
+
+
+def fine_layer(data: dict[str, Any], cells: list[tuple[int, int]], offset: tuple[int, int] = (0, 0)) -> None:
+    """Add an IntGrid layer 'Fine' of 8-pixel cells (half the level's) whose value 1 is 'solid'."""
+    csv = [0] * 48
+    for col, row in cells:
+        csv[row * 8 + col] = 1
+    data["defs"]["layers"].append(
+        {"__type": "IntGrid", "identifier": "Fine", "uid": 3, "gridSize": 8,
+         "intGridValues": [{"value": 1, "identifier": "solid"}]}
+    )  # fmt: skip
+    data["levels"][0]["layerInstances"].append(
+        {"__identifier": "Fine", "__type": "IntGrid", "__cWid": 8, "__cHei": 6, "__gridSize": 8, "layerDefUid": 3,
+         "__pxTotalOffsetX": offset[0], "__pxTotalOffsetY": offset[1], "intGridCsv": csv}
+    )  # fmt: skip
+
+
+def test_a_finer_or_offset_wall_layer_lands_at_its_own_scale(tmp_path: Path) -> None:
+    """One cell of the first wall layer is one unit; an 8-pixel layer's cells are half units, offsets in pixels."""
+    data = project()
+    fine_layer(data, [(3, 2)], offset=(4, 0))
+    level = import_ldtk(write(tmp_path, data)).level
+    free = level.free_area()
+    assert free.area == pytest.approx(2 - 0.25)
+    # The 8-pixel cell (3, 2) shifted 4 pixels right: x 1.75 to 2.25, y 1 to 1.5.
+    assert shapely.contains_xy(free, 1.7, 1.1) and not shapely.contains_xy(free, 1.8, 1.1)
+    assert not shapely.contains_xy(free, 2.2, 1.4) and shapely.contains_xy(free, 2.3, 1.1)
+    assert shapely.contains_xy(free, 2.0, 1.6)
+    covered = project([1] * 4 + [1, 0, 0, 1] + [1] * 4, cols=4, rows=3)
+    fine_layer(covered, [(2, 2), (3, 2), (4, 2), (5, 2), (2, 3), (3, 3), (4, 3), (5, 3)])
+    with pytest.raises(LevelError, match="the walls cover the whole of level 'Level_0'"):
+        import_ldtk(write(tmp_path, covered))

@@ -112,7 +112,7 @@ def import_ldtk(
         for layer, _, mask in masks
         for piece in _cell_walls(mask, layer.offset[0] / unit, layer.offset[1] / unit, layer.grid / unit)
     ]
-    if walls and not box(*bounds).difference(shapely.union_all(walls)).area > 0:
+    if walls and _covered(masks, bounds, walls, unit):
         raise LevelError(f"{source}: the walls cover the whole of level {ldtk.identifier!r}: no free area")
     changes.append(_walls_phrase(masks, bool(wanted)))
     changes += _layer_notes(ldtk)
@@ -133,10 +133,10 @@ def import_ldtk(
         changes.append(f"dropped {len(dropped) - 5} more spawns")
     if guards and not starts:
         warnings.append(f"none of the {len(guards)} spawns is a place the guard fits: the start is left to the command")
-    built, left_out = keep_spawn_areas(built, starts, source=source, max_cells=max_cells, max_vertices=max_vertices)
-    if left_out:
-        changes.append(left_out)
-    area = built.free_area()
+    if starts:
+        built, left_out = keep_spawn_areas(built, starts, source=source, max_cells=max_cells, max_vertices=max_vertices)
+        changes += [left_out] if left_out else []
+    area = built.free_area() if players else None
     standing = [point for point, _ in players if shapely.contains_xy(area, *point)]
     if players:
         where = [f"({x:g}, {y:g}) from {label!r}" + ("" if (x, y) in standing else ", not on the free area")
@@ -192,6 +192,28 @@ def _wall_values(layer: Layer, wanted: tuple[int | str, ...]) -> dict[int, str]:
 def _cell_walls(mask: np.ndarray, x: float, y: float, size: float) -> list[Polygon]:
     """The wall cells of a layer as row runs, in world units (the layer's offset and cell size applied)."""
     return blocked_cell_walls(mask, origin=(x, y), cell_size=size)
+
+
+def _covered(
+    masks: list[tuple[Layer, dict[int, str], np.ndarray]],
+    bounds: tuple[float, float, float, float],
+    walls: list[Polygon],
+    unit: int,
+) -> bool:
+    """Whether the walls cover the whole level: on the cells when every wall layer is on the level's
+    grid, else by area."""
+    cols, rows = bounds[2], bounds[3]
+    if (
+        cols.is_integer()
+        and rows.is_integer()
+        and all(layer.grid == unit and layer.offset == (0.0, 0.0) for layer, _, _ in masks)
+    ):
+        covered = np.zeros((int(rows), int(cols)), dtype=bool)
+        for _, _, mask in masks:
+            part = mask[: int(rows), : int(cols)]
+            covered[: part.shape[0], : part.shape[1]] |= part
+        return bool(covered.all())
+    return not box(*bounds).difference(shapely.union_all(walls)).area > 0
 
 
 def _walls_phrase(masks: list[tuple[Layer, dict[int, str], np.ndarray]], given: bool) -> str:
