@@ -4,6 +4,7 @@ not cut; a legend on ``guardsim render``; no line where two wall pieces touch.""
 
 from __future__ import annotations
 
+import base64
 from pathlib import Path
 from typing import Any
 
@@ -98,6 +99,22 @@ def test_tight_cells_have_their_own_colour_in_every_frame(tmp_path: Path) -> Non
         assert (legend == COLOURS["tight"]).all(axis=1).sum() > 50
     # The traversable middle is floor seen at the end, never tight.
     assert rgb(frames[-1], *cell_centre(drawer, 2, 2)) != COLOURS["tight"]
+
+
+def test_the_viewer_page_uses_the_same_heat_ramp_and_tight_colour() -> None:
+    """The page's first-seen ramp is the palette's, and its tight cells are the frames' tight cells."""
+    from guardsim.viewer.page import page_data
+
+    scene = scene_from(TIGHT_ROOM)
+    simulation = Simulation(scene)
+    simulation.reset(seed=0)
+    trace = simulation.run()
+    data = page_data(scene.level, trace)
+    assert data["heat_ramp"] == [[fraction, list(colour)] for fraction, colour in HEAT_RAMP]
+    assert data["colours"]["tight"] == "#" + "".join(f"{v:02x}" for v in COLOURS["tight"])
+    kinds = np.frombuffer(base64.b64decode(data["kinds"]), dtype=np.uint8).reshape(4, 6)
+    assert (kinds == 3).astype(int).tolist() == drawer_for(TIGHT_ROOM).tight.astype(int).tolist()
+    assert data["tight"] == 16
 
 
 def test_frame_keeps_six_pixels_a_cell_on_a_real_sized_map(tmp_path: Path) -> None:

@@ -19,7 +19,7 @@ from guardsim.errors import GuardsimError
 from guardsim.files.output import write_text_atomic
 from guardsim.level import GuardSpec, Level
 from guardsim.render.layout import VisionSettings
-from guardsim.render.palette import COLOURS, GUARD_COLOURS, PALETTE, guard_index
+from guardsim.render.palette import COLOURS, GUARD_COLOURS, HEAT_RAMP, PALETTE, guard_index
 from guardsim.trace import Trace
 from guardsim.viewer.layers import Overlays, overlay_data
 from guardsim.viewer.packing import packed
@@ -30,8 +30,9 @@ __all__ = ["FIELD_BUDGET_BYTES", "build_page", "page_data", "write_viewer"]
 #: Most bytes of D-field snapshots a page carries; longer episodes keep every k-th tick's field.
 FIELD_BUDGET_BYTES = 1_500_000
 
-#: Cell kinds in the page's ``kinds`` array.
-_OTHER, _GOAL, _UNREACHABLE = 0, 1, 2
+#: Cell kinds in the page's ``kinds`` array: walls and the rest, goal floor, floor the guard fits on but
+#: cannot reach, floor too tight to stand in (the palette's ``tight``, as in every picture).
+_OTHER, _GOAL, _UNREACHABLE, _TIGHT = 0, 1, 2, 3
 
 
 def _hex(colour: tuple[int, int, int]) -> str:
@@ -76,6 +77,10 @@ def page_data(
     """
     rows, cols = trace.shape
     kinds = np.where(trace.goal, _GOAL, np.where(trace.traversable, _UNREACHABLE, _OTHER))
+    if level is not None:
+        from guardsim.render.cells import tight_cells
+
+        kinds[tight_cells(level, trace.traversable, trace.origin) & (kinds == _OTHER)] = _TIGHT
     vision = VisionSettings.of(level, trace) if level is not None else VisionSettings.of_guard(GuardSpec(), trace)
     rings = [list(ring) for ring in (level.outer, *level.holes)] if level is not None else rings_from_grid(trace)
     paths = trace.team_paths()
@@ -101,7 +106,12 @@ def page_data(
         "headings": [packed(list(headings), "u1") for headings in trace.team_headings()],
         "rings": [[[float(x), float(y)] for x, y in ring] for ring in rings],
         "walls_from_grid": level is None,
-        "colours": {name: _hex(COLOURS[name]) for name in ("wall", "free", "unseen", "unreachable", "outline", "cone")},
+        "colours": {
+            name: _hex(COLOURS[name]) for name in ("wall", "free", "unseen", "unreachable", "tight", "outline", "cone")
+        },
+        "tight": int((kinds == _TIGHT).sum()),
+        # The palette's heat ramp (away from the cone's yellow), the same as the GIF's and PNG's.
+        "heat_ramp": [[fraction, list(colour)] for fraction, colour in HEAT_RAMP],
         "guard_colours": [_hex(GUARD_COLOURS[guard % len(GUARD_COLOURS)]) for guard in range(len(paths))],
     }
     poses = getattr(trace, "poses", None)

@@ -45,7 +45,6 @@
     }
     return stops[stops.length - 1][1];
   }
-  const HEAT = [[0, [255, 246, 170]], [0.5, [238, 122, 40]], [1, [110, 16, 90]]];
   const FIELD = [[0, [225, 238, 255]], [1, [16, 52, 150]]];
 
   function parseHash() {
@@ -226,13 +225,16 @@
       offContext.putImageData(image, 0, 0);
       return off;
     };
-    const unseen = rgb(colours.unseen), unreachable = rgb(colours.unreachable);
+    const unseen = rgb(colours.unseen), unreachable = rgb(colours.unreachable), tight = rgb(colours.tight);
+    // The palette's heat ramp, as the GIF and the PNG draw it (guardsim.render.palette.HEAT_RAMP).
+    const HEAT = data.heat_ramp;
     const coverageAt = (tick) =>
       cellImage((pixels) => {
         for (let i = 0; i < kinds.length; i++) {
           let colour = null;
           if (kinds[i] === 1 && (firstSeen[i] < 0 || firstSeen[i] > tick)) colour = unseen;
           else if (kinds[i] === 2) colour = unreachable;
+          else if (kinds[i] === 3) colour = tight;
           if (colour) {
             pixels[4 * i] = colour[0];
             pixels[4 * i + 1] = colour[1];
@@ -550,7 +552,11 @@
       [colours.wall, "wall"], [colours.unseen, "unseen"], [colours.free, "seen"],
       ...(data.unreachable ? [[colours.unreachable, data.unreachable + " unreachable cells (not counted)"]] : []),
       [colours.cone, "sees now"],
-      ["linear-gradient(90deg,#fff6aa,#ee7a28,#6e105a)", "first seen: early \u2192 late"],
+      ...(data.tight ? [[colours.tight, data.tight + " cells too tight to stand in"]] : []),
+      [
+        "linear-gradient(90deg," + data.heat_ramp.map(([f, c]) => "rgb(" + c.join(",") + ") " + Math.round(100 * f) + "%").join(",") + ")",
+        "first seen: early \u2192 late",
+      ],
       ...data.guard_colours.map((colour, guard) => [
         colour,
         (guards > 1 ? "guard " + (guard + 1) : "guard (square: start)") + (data.routes ? ", solid: its trail" : ""),
