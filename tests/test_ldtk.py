@@ -496,3 +496,22 @@ def test_a_finer_or_offset_wall_layer_lands_at_its_own_scale(tmp_path: Path) -> 
     fine_layer(covered, [(2, 2), (3, 2), (4, 2), (5, 2), (2, 3), (3, 3), (4, 3), (5, 3)])
     with pytest.raises(LevelError, match="the walls cover the whole of level 'Level_0'"):
         import_ldtk(write(tmp_path, covered))
+
+
+def test_levels_of_multi_world_projects_count(tmp_path: Path) -> None:
+    data = project()
+    data["worlds"] = [{"identifier": "Overworld", "levels": copy.deepcopy(data["levels"])}]
+    data["worlds"][0]["levels"][0]["identifier"] = "Cave"
+    data["worlds"][0]["levels"][0]["layerInstances"][1]["intGridCsv"] = [1] * 4 + [0, 0, 0, 1] + [1] * 4
+    path = write(tmp_path, data)
+    assert "(others: 'Cave'" in "; ".join(import_ldtk(path).changes)
+    cave = import_ldtk(path, level="Cave").level
+    assert cave.name == "map Cave" and shapely.area(cave.free_area()) == 3
+    data["worlds"][0]["levels"][0]["pxWid"] = "wide"
+    with pytest.raises(LevelError, match=r"map\.ldtk: worlds\[0\]\.levels\[0\]\.pxWid: expected a whole number"):
+        import_ldtk(write(tmp_path, data), level="Cave")
+
+
+def test_wall_values_painted_nowhere_warn(tmp_path: Path) -> None:
+    imported = import_ldtk(write(tmp_path, project([0] * 12)))
+    assert imported.warnings == ("no walls found: the wall values 1 'walls' are painted nowhere in level 'Level_0'",)
