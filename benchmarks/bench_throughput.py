@@ -25,9 +25,9 @@ from typing import NamedTuple
 
 import psutil
 
-from guardsim.executors import InProcess, LocalPool, default_start_method
 from guardsim.experiment import Batch, BatchLevel, EpisodeRecord, finish_batch, run_batch, run_spec, start_batch
 from guardsim.experiment.episodes import forget_scenes
+from guardsim.experiment.executors import InProcess, LocalPool, default_start_method
 
 LEVELS = sorted(Path(__file__).resolve().parent.parent.joinpath("levels").glob("*.json"))
 

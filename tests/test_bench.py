@@ -24,8 +24,8 @@ from click.testing import CliRunner
 
 from guardsim.cli import main
 from guardsim.cli.bench import ProgressLine
-from guardsim.executors import LocalPool
 from guardsim.experiment import CSV_COLUMNS, RUN_NAME, EpisodeRecord, read_results
+from guardsim.experiment.executors import LocalPool
 from guardsim.experiment.plots import StepsBox, plot_steps
 from guardsim.level import load_level
 from guardsim.simulation import Scene, run_episode

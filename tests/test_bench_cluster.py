@@ -10,7 +10,7 @@ from pathlib import Path
 import pytest
 
 from guardsim.errors import GuardsimError
-from guardsim.executors import DaskCluster
+from guardsim.experiment.executors import DaskCluster
 from tests.common import SQUARE, SQUARE_WITH_HOLE, assert_one_line_error, bench, rows, without_seconds, write_level
 
 distributed = pytest.importorskip("distributed")

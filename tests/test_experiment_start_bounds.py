@@ -6,9 +6,9 @@ from collections.abc import Callable, Iterator, Sequence
 from pathlib import Path
 from typing import Any
 
-from guardsim.executors import Completion, InProcess
 from guardsim.experiment import Batch, BatchLevel, EpisodeRecord, read_results, run_batch, run_spec, start_batch
 from guardsim.experiment.episodes import bounds_of
+from guardsim.experiment.executors import Completion, InProcess
 from guardsim.experiment.start_bounds import LevelStarts, level_starts_tasks, run_level_starts, with_bounds
 from tests.common import EMPTY_SQUARE, L_ROOM, SQUARE_WITH_HOLE, write_level
 

@@ -9,8 +9,8 @@ from pathlib import Path
 
 import pytest
 
-from guardsim.executors import InProcess, LocalPool, default_start_method
 from guardsim.experiment import Batch, BatchLevel, read_results, run_batch, start_batch
+from guardsim.experiment.executors import InProcess, LocalPool, default_start_method
 from guardsim.experiment.runner import warm_up_specs
 from tests.common import L_ROOM, REPO, SQUARE_WITH_HOLE, write_level
 
@@ -46,7 +46,7 @@ def test_every_item_comes_back_once_with_its_own_error(method: str) -> None:
 #: Run in a fresh interpreter: this one may have threads left by other tests (Dask's), and then no fork.
 FORK_CHECK = """
 import tests.test_experiment_workers as here
-from guardsim.executors import LocalPool
+from guardsim.experiment.executors import LocalPool
 
 with LocalPool(2) as forked, LocalPool(2, start_method="forkserver") as served:
     print(forked.forked_workers, served.forked_workers)

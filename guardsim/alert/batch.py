@@ -3,7 +3,7 @@
 The command plans every episode here (:func:`~guardsim.alert.run.plan_starts`: one generator of the
 seed draws all the starts in order), so that where an episode runs changes nothing: each
 :class:`AlertTask` carries everything its episode depends on, and :func:`run_alert_task` (the function
-the workers run, through :mod:`guardsim.executors`) gives the same outcome and the same trace text
+the workers run, through :mod:`guardsim.experiment.executors`) gives the same outcome and the same trace text
 wherever it runs. With an output folder, each episode's trace is written as soon as it is back and an
 episode whose trace is already there is not run again (:func:`done_outcome`): a run stopped part-way
 resumes.

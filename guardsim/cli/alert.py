@@ -351,12 +351,12 @@ def _run_pending(
     workers: int | None,
     scheduler: str | None,
 ) -> None:
-    """Run ``pending`` on the executor ``--workers``/``--scheduler`` ask for (:func:`guardsim.executors.make_executor`,
+    """Run ``pending`` on the executor ``--workers``/``--scheduler`` ask for (:func:`guardsim.experiment.executors.make_executor`,
     as ``guardsim bench``), filling ``outcomes`` and writing each trace into ``folder`` as it comes back.
     On Ctrl-C or lost episodes, say how to resume and exit."""
     from guardsim.alert.batch import run_alert_task, trace_name
     from guardsim.cli.bench import NOT_RUN, ProgressLine
-    from guardsim.executors import make_executor
+    from guardsim.experiment.executors import make_executor
 
     total = done_before + len(pending)
     with contextlib.ExitStack() as stack:

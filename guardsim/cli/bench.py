@@ -15,7 +15,6 @@ from guardsim.cli.common import build_scene, limit_options, load, reports_errors
 from guardsim.cli.map_options import MapImport, map_options
 from guardsim.cli.motion import check_motion, motion_options
 from guardsim.errors import GuardsimError
-from guardsim.executors import make_executor
 from guardsim.experiment import (
     ERRORS_NAME,
     RESULTS_NAME,
@@ -32,6 +31,7 @@ from guardsim.experiment import (
     run_spec,
     start_batch,
 )
+from guardsim.experiment.executors import make_executor
 from guardsim.planners import PLANNERS
 
 __all__ = ["bench"]

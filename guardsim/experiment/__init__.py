@@ -2,7 +2,7 @@
 
 A :class:`Batch` is every (level, planner, episode) of one set of options. :func:`start_batch` prepares
 the output folder and leaves out what an earlier run of the same batch already wrote; :func:`run_batch`
-runs the rest on an executor (see :mod:`guardsim.executors`), appending rows to ``results.csv`` as they
+runs the rest on an executor (see :mod:`guardsim.experiment.executors`), appending rows to ``results.csv`` as they
 finish; :func:`finish_batch` sorts the rows and writes ``summary.json``.
 
 Modules, in the order the data flows: :mod:`~guardsim.experiment.episodes` (one episode),

@@ -9,8 +9,8 @@ from dataclasses import dataclass
 from pathlib import Path
 from typing import Any, NamedTuple
 
-from guardsim.executors import Completion, EpisodeExecutor
 from guardsim.experiment.episodes import LOOK_AHEAD, EpisodeRecord, EpisodeSpec, run_spec_logged, wants_bounds
+from guardsim.experiment.executors import Completion, EpisodeExecutor
 from guardsim.experiment.results import (
     RESULTS_NAME,
     append_record,
