@@ -55,11 +55,12 @@ KINDS: dict[str, tuple[str, ...]] = {
     "intruder-route": ("alert",),
     "movingai": ("import",),
     "png": ("import",),
+    "ldtk": ("import", "play"),
     "tmx": ("import",),
     "tiled-json": ("import",),
 }
 #: Kinds read by the importers (counted, not fixed here: guardsim/importers/ has its own owner).
-IMPORTER_KINDS = frozenset({"movingai", "png", "tmx", "tiled-json"})
+IMPORTER_KINDS = frozenset({"movingai", "png", "tmx", "tiled-json", "ldtk"})
 
 FIFO = b"\0FIFO\0"
 """File content standing for a named pipe."""
@@ -733,6 +734,45 @@ def tiled_json_case(rng: np.random.Generator) -> Case:
                 "map.json", ["out.json"], note=note)  # fmt: skip
 
 
+def _ldtk() -> dict[str, Any]:
+    """A one-level LDtk project: an IntGrid 'Terrain' (value 1 'walls') round a 6 x 4 room, a guard and a hero."""
+    csv = [1] * 6 + [1, 0, 0, 0, 0, 1] * 2 + [1] * 6
+    return {
+        "__header__": {"fileType": "LDtk Project JSON", "app": "LDtk"}, "jsonVersion": "1.5.3",
+        "defaultGridSize": 16,
+        "defs": {"layers": [
+            {"__type": "Entities", "identifier": "Things", "uid": 2, "gridSize": 16},
+            {"__type": "IntGrid", "identifier": "Terrain", "uid": 1, "gridSize": 16,
+             "intGridValues": [{"value": 1, "identifier": "walls"}]},
+        ]},
+        "levels": [{"identifier": "Level_0", "pxWid": 96, "pxHei": 64, "layerInstances": [
+            {"__identifier": "Things", "__type": "Entities", "__gridSize": 16, "layerDefUid": 2,
+             "entityInstances": [
+                 {"__identifier": "Guard", "px": [24, 24], "__pivot": [0.5, 0.5], "width": 16, "height": 16},
+                 {"__identifier": "Hero", "px": [72, 40], "__pivot": [0.5, 0.5], "width": 16, "height": 16}]},
+            {"__identifier": "Terrain", "__type": "IntGrid", "__cWid": 6, "__cHei": 4, "__gridSize": 16,
+             "layerDefUid": 1, "intGridCsv": csv},
+        ]}],
+    }  # fmt: skip
+
+
+def ldtk_case(rng: np.random.Generator, command: str) -> Case:
+    """A damaged LDtk project, imported or played."""
+    roll = rng.random()
+    if roll < 0.05:
+        content, note = special_file(rng)
+    elif roll < 0.6:
+        mutated, note = mutate_json(_ldtk(), rng)
+        content = json.dumps(mutated, allow_nan=True).encode()
+    else:
+        content, note = mutate_text(json.dumps(_ldtk()).encode(), rng)
+    if command == "play":
+        return Case("ldtk", "play", {"map.ldtk": content}, ["play", "{dir}/map.ldtk", "--gif", "{dir}/out.gif"],
+                    "map.ldtk", ["out.gif"], note=note)  # fmt: skip
+    return Case("ldtk", "import", {"map.ldtk": content}, ["import", "{dir}/map.ldtk", "--out", "{dir}/out.json"],
+                "map.ldtk", ["out.json"], note=note)  # fmt: skip
+
+
 #: Two points of ``tiny.json`` (world units) and the rules of the check cases: all hold on the template
 #: patrol, so exit 1 comes only from a damaged patrol that breaks them.
 _TINY_FROM, _TINY_TO = "0.5,0.5", "5.5,5.5"
@@ -810,6 +850,8 @@ def generate(kind: str, command: str, rng: np.random.Generator, templates: Templ
     if kind == "intruder-route":
         assert templates is not None
         return intruder_route_case(rng, templates)
+    if kind == "ldtk":
+        return ldtk_case(rng, command)
     return {"movingai": movingai_case, "png": png_case, "tmx": tmx_case, "tiled-json": tiled_json_case}[kind](rng)
 
 

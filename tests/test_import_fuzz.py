@@ -1,4 +1,4 @@
-"""The fuzz suite's importer kinds (Moving AI, PNG, TMX, Tiled JSON), asserted: ``tests/test_fuzz.py``
+"""The fuzz suite's importer kinds (Moving AI, PNG, TMX, Tiled JSON, LDtk), asserted: ``tests/test_fuzz.py``
 counts them but leaves them to this file, since guardsim/importers/ is fixed apart.
 
 Every generated input (``tests/fuzz_cases.py``: mutations of valid maps, nasty numbers and values,

@@ -31,7 +31,7 @@ def import_command(
 ) -> None:
     """Convert SOURCE to a level file and print what the import found, guessed and changed.
 
-    SOURCE is a .map (Moving AI), .tmx/.tmj/.json (Tiled) or .png (image) file. Warnings (no walls
+    SOURCE is a .map (Moving AI), .tmx/.tmj/.json (Tiled), .ldtk (LDtk) or .png (image) file. Warnings (no walls
     found, a free area open to the map's edge, ...) go to stderr; with --strict they fail the import
     with exit status 1 and nothing is written. See docs/authoring.md for how walls, floor and spawns
     are found in Tiled maps and how to mark them.
