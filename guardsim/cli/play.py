@@ -3,7 +3,6 @@
 from __future__ import annotations
 
 import time
-from typing import Any
 
 import click
 
@@ -22,8 +21,7 @@ from guardsim.cli.motion import check_motion, check_speed_up, motion_of, motion_
 from guardsim.files.output import write_text_atomic
 from guardsim.level import HEADINGS
 from guardsim.motion import summary_text
-from guardsim.planners import PLANNERS
-from guardsim.planners.ripplefront_compiled import compiling_pays
+from guardsim.planners import FIELD_PLANNERS, PLANNERS, plain_loop_pays, planner_options
 from guardsim.render.timeline import DEFAULT_MAX_FRAMES, GifOptions
 from guardsim.simulation import Simulation, run_episode, team_starts
 
@@ -124,7 +122,7 @@ def play(
         motion, guards, los, move_speed=move_speed, turn_speed=turn_speed, tick_hz=tick_hz, max_seconds=max_seconds
     )
     check_speed_up(motion, speed_up)
-    if record_field and planner not in ("ripplefront", "ripplefront-exact"):
+    if record_field and planner not in FIELD_PLANNERS:
         raise click.BadParameter(f"planner {planner} keeps no field to record", param_hint="--record-field")
     level = load(level_path, max_cells, max_vertices, max_file_bytes, map_import)
     from guardsim.kernels.ahead import compile_ahead
@@ -133,11 +131,11 @@ def play(
     began = time.perf_counter()
     scene = build_scene(level, los, fov, view_range)
     rng, cell, first_heading = cli_start(scene, seed=seed, episode=episode, start=start, heading=heading)
-    options: dict[str, Any] = {"sweeps_per_tick": sweeps_per_tick} if planner == "ripplefront" else {}
+    options = planner_options(planner, sweeps_per_tick=sweeps_per_tick)
     cells, headings = team_starts(scene, (cell, first_heading), guards, rng=rng)
     # One small RippleFront episode runs faster on the plain loop than the compiler takes to build the
     # fast path on a fresh install; both give the same trace, so take whichever is quicker now.
-    plain = reference or (planner == "ripplefront" and guards == 1 and not compiling_pays(scene.grid))
+    plain = reference or plain_loop_pays(planner, guards, int(scene.grid.traversable.sum()))
     if motion == "continuous":
         trace = run_episode(scene, planner, seed=seed, starts=None if cell is None else [cell], headings=None if first_heading is None else [first_heading], rng=rng, max_steps=max_steps, motion=motion_of(scene, move_speed, turn_speed, tick_hz) or "continuous", max_seconds=max_seconds, reference=reference, **options)  # fmt: skip
     else:
