@@ -19,6 +19,7 @@ from guardsim.grid import state_of
 from guardsim.level import Level, parse_level
 from guardsim.patrol import Patrol
 from guardsim.simulation import Scene
+from guardsim.trace import Trace
 from guardsim.vision.rules import VisionFunction
 
 REPO = Path(__file__).resolve().parent.parent
@@ -257,3 +258,15 @@ def random_loop(scene: Scene, rng: np.random.Generator, length: int) -> np.ndarr
 def corridor_post(scene: Scene, col: int, heading: int) -> Patrol:
     """A post at ``(col, 1)`` facing ``heading``: one guard standing still for ever."""
     return Patrol(np.array([[state_of(scene.grid.flat(col, 1), heading)]]), 1, "post")
+
+
+def fast_equals_reference(scene: Scene, planner: Any = "ripplefront", **episode: Any) -> Trace:
+    """The episode run on the fast path (compiled tick, vision cache), asserted byte-identical to the same
+    episode on the reference loop and vision; the fast trace (the one fast-path check every test uses)."""
+    from guardsim.simulation import run_episode
+
+    fresh = (lambda: planner) if isinstance(planner, str) else (lambda: type(planner)())
+    fast = run_episode(scene, fresh(), **episode)
+    reference = run_episode(scene, fresh(), reference=True, **episode)
+    assert fast.to_json() == reference.to_json()
+    return fast

@@ -11,7 +11,14 @@ from guardsim.level import load_level
 from guardsim.planners import RippleFront
 from guardsim.simulation import Scene, choose_start, episode_generator, run_episode
 from guardsim.vision import visible_cells
-from tests.common import TINY_LEVELS, scene_from, shipped_levels, shipped_levels_square_fast, tiny_levels
+from tests.common import (
+    TINY_LEVELS,
+    fast_equals_reference,
+    scene_from,
+    shipped_levels,
+    shipped_levels_square_fast,
+    tiny_levels,
+)
 
 
 def assert_every_state_matches(scene: Scene) -> int:
@@ -46,9 +53,7 @@ def test_fast_trace_equals_reference_trace(level_path: Path, sweeps: int) -> Non
     """Random episodes give byte-identical traces on the compiled path and the reference loop."""
     scene = Scene.from_level(load_level(level_path))
     for episode in range(2):
-        fast = run_episode(scene, seed=11, episode=episode, sweeps_per_tick=sweeps)
-        reference = run_episode(scene, seed=11, episode=episode, sweeps_per_tick=sweeps, reference=True)
-        assert fast.to_json() == reference.to_json()
+        fast_equals_reference(scene, seed=11, episode=episode, sweeps_per_tick=sweeps)
 
 
 @pytest.mark.parametrize("max_steps", [0, 1, 37])
@@ -56,20 +61,14 @@ def test_fast_path_honours_the_step_limit(max_steps: int) -> None:
     """The compiled loop stops at the same tick with the same outcome as the reference."""
     scene = Scene.from_level(load_level(Path("levels/passages.json")))
     cell, heading = choose_start(scene, rng=episode_generator(0, 0))
-    fast = run_episode(scene, RippleFront(), starts=[cell], headings=[heading], max_steps=max_steps)
-    reference = run_episode(
-        scene, RippleFront(), starts=[cell], headings=[heading], max_steps=max_steps, reference=True
-    )
+    fast = fast_equals_reference(scene, RippleFront(), starts=[cell], headings=[heading], max_steps=max_steps)
     assert fast.outcome == "step_limit" and fast.steps == max_steps
-    assert fast.to_json() == reference.to_json()
 
 
 def test_unreachable_cells_on_the_fast_path() -> None:
     """A sealed room stays out of the goal on the fast path too."""
     scene = scene_from(TINY_LEVELS["split-rooms"], guard={"view_range": 2.0})
-    fast = run_episode(scene, RippleFront(), starts=[(0, 0)], headings=[0])
-    reference = run_episode(scene, RippleFront(), starts=[(0, 0)], headings=[0], reference=True)
-    assert fast.to_json() == reference.to_json()
+    fast = fast_equals_reference(scene, RippleFront(), starts=[(0, 0)], headings=[0])
     assert fast.unreachable == 9
 
 

@@ -12,8 +12,9 @@ import numpy as np
 import pytest
 
 from guardsim.importers import import_map
-from guardsim.simulation import Scene, run_episode
+from guardsim.simulation import Scene
 from guardsim.vision import visible_cells
+from tests.common import fast_equals_reference
 
 SHARED = Path(__file__).resolve().parents[2] / "shared" / "maps"
 MAPS = sorted((SHARED / "movingai").glob("*.map")) + sorted((SHARED / "tiled").glob("*.tmx"))
@@ -44,7 +45,4 @@ def test_vision_cache_equals_reference_on_sampled_states(map_path: Path) -> None
 def test_fast_trace_equals_reference_on_small_maps(map_path: Path) -> None:
     """A whole random episode gives the same trace on both paths."""
     scene = Scene.from_level(import_map(map_path).level)
-    fast = run_episode(scene, seed=3, episode=0)
-    reference = run_episode(scene, seed=3, episode=0, reference=True)
-    assert fast.covered
-    assert fast.to_json() == reference.to_json()
+    assert fast_equals_reference(scene, seed=3, episode=0).covered
