@@ -22,7 +22,7 @@ import numpy as np
 from guardsim.kernels.distances import FAR, distances_from
 from guardsim.kernels.steps import greedy_step
 
-__all__ = ["Intruder", "make_intruder"]
+__all__ = ["Intruder", "make_intruder", "read_route_points"]
 
 
 class Intruder:
@@ -150,3 +150,28 @@ def make_intruder(
     if kind not in INTRUDERS:
         raise ValueError(f"unknown intruder {kind!r}; choose from {', '.join(INTRUDERS)}")
     return Intruder(kind, neighbours, cell, goal=goal, route=route, speed=speed, wait_until=wait_until)
+
+
+def read_route_points(path: str) -> list[tuple[float, float]]:
+    """The waypoints of a route intruder's file: a JSON list of ``[x, y]`` world points, or a sneak.json
+    (its ``path``). Every fault is one :class:`~guardsim.errors.GuardsimError` line naming the file and
+    the point, numbers through the one number parser (finite, within float range)."""
+    from guardsim.errors import GuardsimError
+    from guardsim.files.reading import NumberError, finite_number, read_json_file
+
+    data = read_json_file(path, max_file_bytes=16 * 2**20, kind="route file", error=GuardsimError)
+    points = data.get("path") if isinstance(data, dict) else data
+    if isinstance(points, dict):
+        points = points.get("positions") or points.get("cells")
+    if not isinstance(points, list) or not points:
+        raise GuardsimError(f"{path}: a route file is a list of [x, y] points (or a sneak.json with a path)")
+    out = []
+    for index, point in enumerate(points):
+        try:
+            if not (isinstance(point, list) and len(point) == 2):
+                raise NumberError("not a pair")
+            x, y = (finite_number(value) for value in point)
+        except NumberError:
+            raise GuardsimError(f"{path}: point {index}: not an [x, y] pair of finite numbers") from None
+        out.append((x, y))
+    return out

@@ -9,7 +9,6 @@ import io
 import itertools
 import json
 import logging
-import math
 import os
 import sys
 from collections.abc import Iterator
@@ -18,6 +17,7 @@ from typing import TYPE_CHECKING
 
 import click
 
+from guardsim.alert.intruders import read_route_points
 from guardsim.cli.common import (
     FiniteFloatRange,
     build_scene,
@@ -44,28 +44,6 @@ if TYPE_CHECKING:
 __all__ = ["alert"]
 
 _SEARCHES = ("ripple", "diffuse", "team", "last-known", "all")
-
-
-def _route_file(path: str, grid_cell: object) -> list[tuple[float, float]]:
-    """Waypoints of ``--route``: a JSON list of ``[x, y]`` world points, or a sneak.json (its ``path``)."""
-    from guardsim.files.reading import read_json_file
-
-    data = read_json_file(path, max_file_bytes=16 * 2**20, kind="route file", error=GuardsimError)
-    points = data.get("path") if isinstance(data, dict) else data
-    if isinstance(points, dict):
-        points = points.get("positions") or points.get("cells")
-    if not isinstance(points, list) or not points:
-        raise GuardsimError(f"{path}: a route file is a list of [x, y] points (or a sneak.json with a path)")
-    out = []
-    for index, point in enumerate(points):
-        if not (
-            isinstance(point, list)
-            and len(point) == 2
-            and all(isinstance(v, (int, float)) and not isinstance(v, bool) and math.isfinite(v) for v in point)
-        ):
-            raise GuardsimError(f"{path}: point {index}: not an [x, y] pair of finite numbers")
-        out.append((float(point[0]), float(point[1])))
-    return out
 
 
 @click.command()
@@ -196,7 +174,7 @@ def alert(
     if route_path is not None:
         if intruder != "route":
             raise GuardsimError("--route is the path of a route intruder: give --intruder route")
-        points = _route_file(route_path, grid)
+        points = read_route_points(route_path)
         route = [sneak_cell(grid, point, f"{route_path}: point") for point in points]
         for index, (before, after) in enumerate(itertools.pairwise(route)):
             if after != before and after not in grid.neighbours[before].tolist():
