@@ -113,10 +113,6 @@ REPOSITORIES = {
     "dungeons-of-lua": Repository("https://github.com/ikeasamoahansah/dungeons-of-lua", "CC0-1.0"),
 }
 
-WALLS_LAYER = (
-    "every tile of the layer named 'Walls' is taken as a wall, though {} of them say collides=false (the game "
-    "collides only with collides=true: walls.setCollisionByProperty({{collides: true}})): {} floor cells blocked"
-)
 NO_ROOM = (
     "every floor tile carries a collision shape and what is left between them is narrower than the guard: "
     "no cell is traversable, yet the import reports success without saying so"
@@ -128,24 +124,11 @@ WRONG = {
     "physics body) is not taken as a wall: the guard walks into it (the import warns only 'no walls found')",
     "tiled/examples/forest/forest.tmx": SIDE_VIEW,
     "arcade/arcade/resources/assets/tiled_maps/map_with_ladders.json": SIDE_VIEW,
-    "phaser-dungeon-crawler-ts/public/dungeons/dungeon-01.tmx": WALLS_LAYER.format(46, 27),
-    "phaser-dungeon-crawler-ts/public/dungeons/dungeon-01.json": WALLS_LAYER.format(46, 27),
-    "tinka8-game-dev/reresources/dungeon-01.tmx": WALLS_LAYER.format(20, 3),
-    "love-top-down-shooter/art/prototype.tmx": "11 tiles whose property collidable=true (a building at "
-    "columns 12-15, rows 7-10) are walked through: the importer reads the 'ground' layer's collidable=false as "
-    "an opt-out, but the game's engine (STI's box2d plugin, game/lib/sti/plugins/box2d.lua in its repository) "
-    "makes every instance of a collidable tile a solid rectangle whatever its layer says",
-    "excalibur-tiled/example/orthogonal/orthogonal.tmx": "the collision shapes of the tiles in layer 'Above' "
-    "are taken as walls though the layer says solid=false (excalibur-tiled makes no tile of such a layer "
-    "solid): 2 floor cells blocked",
     "bevy_ecs_tiled/assets/maps/orthogonal/finite.tmx": NO_ROOM,
     "bevy_ecs_tiled/assets/maps/orthogonal/infinite.tmx": NO_ROOM,
 }
 #: Maps whose player start the importer misses: why.
-MISSED_PLAYER = {
-    "lost-in-the-dark/maps/level1.tmj": "the player start is a point in 'Spawn' with the property "
-    "player_spawn; it is taken as a guard spawn",
-}
+MISSED_PLAYER: dict[str, str] = {}
 
 PHASER = Marks(("Floors",), wall_property="collides", spawns=2, source="phaser-dungeon-crawler-ts")
 SNEAKTIME = Marks(("Tile Layer 1",), wall_objects=("Walls 1", "Walls 2"), source="sneaktime")

@@ -350,6 +350,27 @@ def test_an_object_property_of_any_type_named_like_collision_marks_it_a_wall(
 
 
 @pytest.mark.parametrize("fmt", FORMATS)
+def test_a_tile_whose_own_property_opts_out_is_no_wall_even_in_a_wall_layer(tmp_path: Path, fmt: str) -> None:
+    """As phaser-dungeon-crawler-ts draws its dungeons: a layer named 'Walls' whose decoration tiles say
+    collides=false (the game collides only with collides=true)."""
+    things = Tileset(2, "things", [Tile(0), Tile(1, props=[("collides", "bool", False)])])
+    path = write(tmp_path, fmt, [things], [TileLayer("Walls", {(1, 1): 2, (2, 1): 3, (3, 1): 2})])
+    assert wall_cells(path) == {(1, 1), (3, 1)}
+
+
+@pytest.mark.parametrize("fmt", FORMATS)
+def test_an_object_with_a_property_named_for_the_player_is_the_player_start(tmp_path: Path, fmt: str) -> None:
+    """As Lost-In-The-Dark marks its start: a point among the spawns with player_spawn = "player_spawn"."""
+    items = [
+        Obj(1, 24, 24, point=True, props=[("player_spawn", "string", "player_spawn")]),
+        Obj(2, 72, 72, point=True, props=[("player", "bool", False)]),
+    ]
+    imported = import_map(write(tmp_path, fmt, [], [ObjectLayer("Spawn", items)]))
+    assert imported.player_starts == ((1.5, 1.5),)
+    assert [tuple(point) for point in imported.level.starts] == [(4.5, 4.5)]
+
+
+@pytest.mark.parametrize("fmt", FORMATS)
 def test_a_false_collision_property_opts_an_object_out_of_a_wall_layer(tmp_path: Path, fmt: str) -> None:
     items = [Obj(1, 16, 16, 16, 16), Obj(2, 64, 64, 16, 16, props=[("CollisionShape", "int", 0)])]
     path = write(tmp_path, fmt, [], [ObjectLayer("Collision", items)])

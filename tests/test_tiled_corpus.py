@@ -68,8 +68,9 @@ AUTHOR: dict[str, Author] = {
         wall_layers=("walls",),
         wall_objects=("walls",),
         void_tile=79,
-        spawns=9,
-        guessed=("tile 79 fills the edge", "every tile of 'walls'", "9 objects in 'Spawn'"),
+        # Its tenth 'Spawn' point carries player_spawn: the player's start, not a guard's.
+        spawns=8,
+        guessed=("tile 79 fills the edge", "every tile of 'walls'", "8 objects in 'Spawn'", "1 player start"),
     ),
     "real/Tuxemon/mods/tuxemon/maps/candy_town.tmx": TUXEMON,
     "real/Tuxemon/mods/tuxemon/maps/taba_ba_passageway_1.tmx": TUXEMON,

@@ -129,7 +129,14 @@ def import_tiled(
             f"wall tiles {shown} are images whose size the tileset does not give (no width and height): "
             "each is taken as one map tile"
         )
-    shape_walls = [shape for layer in tiled.tile_layers for shape in geometry.tile_shapes(layer, roles.shaped_gids)]
+    # Collision shapes drawn in a layer that opts out are not walls (unless the tile marks itself).
+    shape_walls = [
+        shape
+        for layer in tiled.tile_layers
+        for shape in geometry.tile_shapes(
+            layer, roles.shaped_gids & roles.marked_gids if _layer_opts_out(layer) else roles.shaped_gids
+        )
+    ]
     wall_objects = [item for _, item in roles.wall_objects]
     object_walls = [wall for item in wall_objects if item.closed and (wall := geometry.object_wall(item)) is not None]
     open_walls = sum(1 for item in wall_objects if not item.closed)
@@ -310,13 +317,24 @@ def _not_void(layer: TileLayer, void_gid: int) -> np.ndarray | None:
 
 def _wall_gids_in(layer: TileLayer, roles: Guesses) -> np.ndarray | None:
     """The wall tile ids drawn in this layer; ``None`` means every tile of it."""
+
+    drawn = np.unique(layer.gids)
+    if _layer_opts_out(layer):
+        # A tile's own mark beats its layer's opt-out (as a game's physics reads it), nothing else does.
+        return np.intersect1d(drawn, np.fromiter(roles.marked_gids, dtype=np.int64))
+    if layer in roles.wall_tile_layers:
+        if not roles.unmarked_gids or not np.isin(drawn, list(roles.unmarked_gids)).any():
+            return None
+        # Every tile of a wall layer but those whose own properties opt them out.
+        return np.setdiff1d(drawn[drawn != 0], np.fromiter(roles.unmarked_gids, dtype=np.int64))
+    return np.intersect1d(drawn, np.fromiter(roles.wall_gids, dtype=np.int64))
+
+
+def _layer_opts_out(layer: TileLayer) -> bool:
+    """Whether a tile layer's own collision property says its tiles are not walls."""
     from guardsim.importers.tiled_roles import flag
 
-    if flag(layer.properties, "collision", "collides", "collidable", "solid") is False:
-        return np.zeros(0, dtype=np.int64)
-    if layer in roles.wall_tile_layers:
-        return None
-    return np.intersect1d(np.unique(layer.gids), np.fromiter(roles.wall_gids, dtype=np.int64))
+    return flag(layer.properties, "collision", "collides", "collidable", "solid") is False
 
 
 def _walls_phrase(

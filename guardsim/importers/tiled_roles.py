@@ -106,6 +106,11 @@ class Guesses:
     """Tiles that are whole-cell walls wherever they are drawn."""
     shaped_gids: set[int] = field(default_factory=set)
     """Tiles whose collision shapes are walls."""
+    marked_gids: set[int] = field(default_factory=set)
+    """Tiles whose own properties mark them walls: walls even in a layer that opts out (a game's physics
+    reads the tile's own mark first)."""
+    unmarked_gids: set[int] = field(default_factory=set)
+    """Tiles whose own properties opt them out: never walls, even in a wall layer."""
     wall_objects: list[tuple[ObjectLayer, TiledObject]] = field(default_factory=list)
     spawn_objects: list[tuple[ObjectLayer, TiledObject]] = field(default_factory=list)
     spawn_gids: set[int] = field(default_factory=set)
@@ -139,9 +144,14 @@ def _tile_says_wall(kind: str, properties: Properties, options: RoleOptions) -> 
 
 
 def _object_player(item: TiledObject, tiled: TiledMap) -> bool:
-    """Whether an object is the player's start: its name or class (or its tile's class) says player."""
+    """Whether an object is the player's start: a property named for the player that is not false, or its
+    name or class (or its tile's class) says player."""
     if flag(item.properties, "guard_spawn"):
         return False
+    # A property named for the player (player_spawn, PlayerStart) that is not false: Lost-In-The-Dark
+    # marks its start with the string property player_spawn = "player_spawn".
+    if any(says(key, PLAYER_WORDS) and truth(value) is not False for key, value in item.properties.items()):
+        return True
     tile = tiled.tiles.get(item.gid) if item.gid else None
     kinds = (item.name, item.kind, tile.kind if tile is not None else "")
     return any(says(kind, PLAYER_WORDS) for kind in kinds)
@@ -184,7 +194,12 @@ def assign_roles(tiled: TiledMap, options: RoleOptions) -> Guesses:
 
     # Walls: tiles.
     for gid, info in tiled.tiles.items():
-        if info.shapes and (wall_mark(info.properties, options.wall_properties) is not False):
+        mark = wall_mark(info.properties, options.wall_properties)
+        if mark is True:
+            found.marked_gids.add(gid)
+        elif mark is False:
+            found.unmarked_gids.add(gid)
+        if info.shapes and (mark is not False):
             found.shaped_gids.add(gid)
         elif _tile_says_wall(info.kind, info.properties, options):
             found.wall_gids.add(gid)
