@@ -201,7 +201,10 @@ def import_tiled(
         warnings.append(f"none of the {len(spawns)} spawns is a place the guard fits: the start is left to the command")
     changes += list(tiled.notes)
 
-    level, left_out = keep_spawn_areas(level, starts, source=source, max_cells=max_cells, max_vertices=max_vertices)
+    # Parts holding a guard spawn are kept, and so are parts where the player starts (found on the
+    # uncropped level: a player start is an anchor too, never dropped with its part).
+    anchors = [*starts, *player_starts(level, roles, geometry)[0]] if starts else starts
+    level, left_out = keep_spawn_areas(level, anchors, source=source, max_cells=max_cells, max_vertices=max_vertices)
     if left_out:
         changes.append(left_out)
     warnings += _look_warnings(level, bool(starts), tiled.size)
