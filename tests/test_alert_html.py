@@ -197,6 +197,7 @@ def centres(image: np.ndarray, where: tuple[int, int, int], cells: np.ndarray) -
     return image[top + cells[:, 1] * scale + scale // 2, left + cells[:, 0] * scale + scale // 2]
 
 
+@pytest.mark.slow
 @needs_chromium
 def test_contaminated_dots_and_last_known_cross_are_drawn_where_the_episode_has_them(
     alert_page: Episode, tmp_path: Path
@@ -219,6 +220,7 @@ def test_contaminated_dots_and_last_known_cross_are_drawn_where_the_episode_has_
     assert np.flatnonzero(cross).tolist() == [known[1] * cols + known[0]]
 
 
+@pytest.mark.slow
 @needs_chromium
 def test_intruder_is_drawn_at_its_cell_and_leaves(alert_page: Episode, tmp_path: Path) -> None:
     """With the intruder layer alone: at a tick of the chase its disc (white unseen, black in view) covers

@@ -138,6 +138,7 @@ def test_dask_cluster_gives_the_same_bytes(files, one_worker, scheduler: str, tm
     assert table(result) == table(reference)
 
 
+@pytest.mark.slow
 def test_scheduler_local_starts_its_own_cluster(files, one_worker, tmp_path: Path) -> None:
     """``--scheduler local --workers 2``: a local Dask cluster of two processes, the same results."""
     pytest.importorskip("distributed")
