@@ -74,3 +74,15 @@ def test_sneak_without_from_on_a_level_with_no_player_start_is_one_line(tmp_path
     result = run("sneak", level, "--patrol", tmp_path / "p" / "patrol.json", "--to", "10.5,0.5")
     assert_one_line_error(result, level)
     assert "marks no player start: give --from X,Y" in result.output
+
+
+def test_one_alert_episode_enters_at_the_player_start_unless_told(tmp_path: Path) -> None:
+    path = _map(tmp_path)
+    assert run("patrol", path, "--out", tmp_path / "p").exit_code == 0
+    args = ["alert", path, "--patrol", tmp_path / "p" / "patrol.json", "--intruder", "route", "--to", "8.5,5.5"]
+    result = run(*args, "--trace", tmp_path / "alert.json", "--max-seconds", "5")
+    assert result.exit_code == 0, result.output
+    assert result.stdout.startswith("from the level's player start (3.5, 2.5)")
+    trace = json.loads((tmp_path / "alert.json").read_text())
+    # The intruder's first cell is the start's cell, counted from the cropped grid's origin (2, 1).
+    assert trace["intruder_path"][0] == [1, 1]

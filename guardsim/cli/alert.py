@@ -56,7 +56,13 @@ _SEARCHES = ("ripple", "diffuse", "team", "last-known", "all")
     show_default=True,
     help="How the intruder plays (docs/alert.md).",
 )
-@click.option("--from", "source", callback=parse_point, metavar="X,Y", help="Where the intruder enters (world units).")
+@click.option(
+    "--from",
+    "source",
+    callback=parse_point,
+    metavar="X,Y",
+    help="Where the intruder enters (world units) [one episode: default the level's first player start].",
+)
 @click.option("--to", "target", callback=parse_point, metavar="X,Y", help="Where the intruder is going.")
 @click.option("--route", "route_path", help="A route intruder's waypoints: JSON [[x, y], ...] of cell centres.")
 @click.option(
@@ -180,6 +186,11 @@ def alert(
             if after != before and after not in grid.neighbours[before].tolist():
                 raise GuardsimError(f"{route_path}: point {index + 1} is not a 4-neighbour of point {index}")
         start, goal = route[0], route[-1]
+    if episodes == 1 and start is None and level.player_starts:
+        # One episode enters where the level says the player starts (many draw their entries from --seed).
+        source = level.player_starts[0]
+        start = sneak_cell(grid, source, "the level's player start")
+        click.echo(f"from the level's player start ({source[0]:g}, {source[1]:g})")
     if episodes == 1 and start is None:
         raise GuardsimError("one episode needs --from X,Y (and --to X,Y unless the intruder is still)")
     if start is not None and goal is not None and grid.component_labels[start] != grid.component_labels[goal]:
