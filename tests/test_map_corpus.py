@@ -115,7 +115,7 @@ REPOSITORIES = {
 
 NO_ROOM = (
     "every floor tile carries a collision shape and what is left between them is narrower than the guard: "
-    "no cell is traversable, yet the import reports success without saying so"
+    "no cell is traversable (the import now warns that the guard fits on no cell, but still writes the level)"
 )
 SIDE_VIEW = "side view: the importer takes the solid platforms as the floor, so the guard walks inside the ground and the open air is left out"
 #: Maps that import wrong: why (each is an ``xfail(strict=True)``).

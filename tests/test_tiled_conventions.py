@@ -371,6 +371,18 @@ def test_an_object_with_a_property_named_for_the_player_is_the_player_start(tmp_
 
 
 @pytest.mark.parametrize("fmt", FORMATS)
+def test_a_floor_where_the_guard_fits_on_no_cell_is_said(tmp_path: Path, fmt: str) -> None:
+    """As bevy_ecs_tiled's samples draw theirs: every tile carries a collision shape, leaving slivers."""
+    slab = Tileset(2, "slab", [Tile(0, shapes=[(0.0, 0.0, float(TILE), TILE - 2.0)])])
+    covered = {(col, row): 2 for col in range(SIZE) for row in range(SIZE)}
+    imported = import_map(write(tmp_path, fmt, [slab], [FLOOR, TileLayer("Decor", covered)]))
+    assert [w for w in imported.warnings if "fits on no cell" in w], imported.warnings
+    # A floor with room says nothing of the kind.
+    roomy = import_map(write(tmp_path, fmt, [slab], [FLOOR, TileLayer("Decor", {(0, 0): 2})]))
+    assert not [w for w in roomy.warnings if "fits on no cell" in w]
+
+
+@pytest.mark.parametrize("fmt", FORMATS)
 def test_a_false_collision_property_opts_an_object_out_of_a_wall_layer(tmp_path: Path, fmt: str) -> None:
     items = [Obj(1, 16, 16, 16, 16), Obj(2, 64, 64, 16, 16, props=[("CollisionShape", "int", 0)])]
     path = write(tmp_path, fmt, [], [ObjectLayer("Collision", items)])

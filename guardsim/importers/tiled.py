@@ -390,6 +390,21 @@ def _look_warnings(level: Level, has_starts: bool, map_size: tuple[int, int]) ->
             "the free area runs along more than half of every edge of the map: walls may be missing "
             "(mark a layer with a `collision` property or pass --wall-layer)"
         )
+    # A floor every tile of which carries a collision shape leaves only slivers: say that the guard fits
+    # on no cell centre (where the grid lets it stand) rather than report a level nobody can walk
+    # (bevy_ecs_tiled's sample maps).
+    radius = level.guard.radius
+    rows, cols = level.grid_shape()
+    left, top = level.bounds[:2]
+    size = level.cell_size
+    xs, ys = np.meshgrid(left + size * (np.arange(cols) + 0.5), top + size * (np.arange(rows) + 0.5))
+    room = shapely.buffer(free, -radius * (1 - 1e-9)) if radius > 0 else free
+    if not shapely.intersects_xy(room, xs.ravel(), ys.ravel()).any():
+        warnings.append(
+            f"the guard (radius {radius:g} tiles) fits on no cell of the free area: every floor tile may carry a "
+            "collision shape or a wall (check the wall layers and tile collision shapes, or pass --wall-layer)"
+        )
+        return warnings
     parts = sorted((part.area for part in shapely.get_parts(free)), reverse=True)
     if not has_starts and len(parts) > 1 and parts[0] < SMALL_START_SHARE * free.area:
         warnings.append(
