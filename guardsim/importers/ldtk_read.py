@@ -18,6 +18,7 @@ from typing import Any
 import numpy as np
 
 from guardsim.errors import LevelError
+from guardsim.files.reading import json_type
 from guardsim.importers.imported import listed
 from guardsim.importers.source import display_name, excerpt, parse_json_bytes, read_capped_bytes
 
@@ -111,19 +112,6 @@ class LdtkLevel:
     notes: tuple[str, ...]
 
 
-def _kind(value: Any) -> str:
-    """How JSON names the type of ``value``."""
-    if value is None:
-        return "null"
-    if isinstance(value, bool):
-        return "a boolean"
-    if isinstance(value, (int, float)):
-        return "a number"
-    if isinstance(value, str):
-        return "a string"
-    return "a list" if isinstance(value, list) else "an object" if isinstance(value, dict) else type(value).__name__
-
-
 class _Fields:
     """Typed field access on one file's JSON, every fault a one-line error at its JSON path."""
 
@@ -140,12 +128,12 @@ class _Fields:
 
     def obj(self, value: Any, where: str) -> dict[str, Any]:
         if not isinstance(value, dict):
-            raise self.error(where, f"expected an object, not {_kind(value)}")
+            raise self.error(where, f"expected an object, not {json_type(value)}")
         return value
 
     def objects(self, value: Any, where: str) -> list[dict[str, Any]]:
         if not isinstance(value, list):
-            raise self.error(where, f"expected a list, not {_kind(value)}")
+            raise self.error(where, f"expected a list, not {json_type(value)}")
         return [self.obj(item, f"{where}[{index}]") for index, item in enumerate(value)]
 
     def text(self, value: Any, where: str, *, empty: bool = False) -> str:
@@ -153,7 +141,7 @@ class _Fields:
             return ""
         if not isinstance(value, str) or not (value or empty):
             raise self.error(
-                where, f"expected a name, not {excerpt(value) if isinstance(value, str) else _kind(value)}"
+                where, f"expected a name, not {excerpt(value) if isinstance(value, str) else json_type(value)}"
             )
         return value
 
@@ -321,7 +309,7 @@ def _int_grid(fields: _Fields, raw: dict[str, Any], where: str, max_cells: int) 
         here = f"{where}.intGridCsv"
         csv = fields.required(raw, "intGridCsv", where)
         if not isinstance(csv, list):
-            raise fields.error(here, f"expected a list of whole numbers, not {_kind(csv)}")
+            raise fields.error(here, f"expected a list of whole numbers, not {json_type(csv)}")
         if len(csv) != cols * rows:
             raise fields.error(here, f"{len(csv)} values, expected {cols * rows} (__cWid {cols} x __cHei {rows})")
         bad = next((index for index, value in enumerate(csv) if type(value) is not int or value < 0), None)
@@ -349,7 +337,7 @@ def _entity(fields: _Fields, item: dict[str, Any], where: str, offset: tuple[flo
     identifier = fields.text(fields.required(item, "__identifier", where), f"{where}.__identifier")
     tags = item.get("__tags") or []
     if not isinstance(tags, list):
-        raise fields.error(f"{where}.__tags", f"expected a list of names, not {_kind(tags)}")
+        raise fields.error(f"{where}.__tags", f"expected a list of names, not {json_type(tags)}")
     px = fields.required(item, "px", where)
     if not isinstance(px, list) or len(px) != 2:
         raise fields.error(f"{where}.px", f"expected [x, y], not {excerpt(px)}")
