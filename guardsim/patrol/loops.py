@@ -85,6 +85,8 @@ class LoopBuilder:
         self.neighbours = np.ascontiguousarray(grid.neighbours, dtype=np.int64)
         self.fields: dict[int, np.ndarray] = {} if fields is None else fields
         """Breadth-first fields by target cell, shareable between builders of one level."""
+        # Pruning walks the same legs hundreds of times (a lap per dropped viewpoint): keep each leg once.
+        self._legs: dict[tuple[int, int], tuple[int, ...]] = {}
 
     # -- viewpoints --------------------------------------------------------------------------------
 
@@ -158,6 +160,12 @@ class LoopBuilder:
         A shortest walk to the cell behind ``target`` and the step into it; where several steps are
         equally short the guard keeps its heading, then prefers right, down, left, up.
         """
+        leg = self._legs.get((start, target))
+        if leg is None:
+            leg = self._legs[(start, target)] = tuple(self._path(start, target))
+        return list(leg)
+
+    def _path(self, start: int, target: int) -> list[int]:
         entry = int(self.table.entry[target])
         if entry < 0:
             raise ValueError(f"state {target} cannot be arrived in")
@@ -210,8 +218,12 @@ class LoopBuilder:
     def seen_by(self, states: np.ndarray) -> np.ndarray:
         """``bool (cells,)``: the cells any of ``states`` sees."""
         seen = np.zeros(self.goal.size, dtype=bool)
-        for state in np.unique(states).tolist():
-            seen[self.table.sees(int(state))] = True
+        states = np.unique(np.asarray(states, dtype=np.int64))
+        first = self.table.sight_start[states]
+        lengths = self.table.sight_start[states + 1] - first
+        # One gather over the table's rows: position i of the result reads row start + (i - row offset).
+        offsets = np.cumsum(lengths) - lengths
+        seen[self.table.sight[np.repeat(first - offsets, lengths) + np.arange(int(lengths.sum()))]] = True
         return seen
 
 
