@@ -113,20 +113,8 @@ REPOSITORIES = {
     "dungeons-of-lua": Repository("https://github.com/ikeasamoahansah/dungeons-of-lua", "CC0-1.0"),
 }
 
-NO_ROOM = (
-    "every floor tile carries a collision shape and what is left between them is narrower than the guard: "
-    "no cell is traversable (the import now warns that the guard fits on no cell, but still writes the level)"
-)
-SIDE_VIEW = "side view: the importer takes the solid platforms as the floor, so the guard walks inside the ground and the open air is left out"
-#: Maps that import wrong: why (each is an ``xfail(strict=True)``).
-WRONG = {
-    "tiled/examples/orthogonal-outside.tmx": "the 'unreachable' object (class Fixture, static=true: a static "
-    "physics body) is not taken as a wall: the guard walks into it (the import warns only 'no walls found')",
-    "tiled/examples/forest/forest.tmx": SIDE_VIEW,
-    "arcade/arcade/resources/assets/tiled_maps/map_with_ladders.json": SIDE_VIEW,
-    "bevy_ecs_tiled/assets/maps/orthogonal/finite.tmx": NO_ROOM,
-    "bevy_ecs_tiled/assets/maps/orthogonal/infinite.tmx": NO_ROOM,
-}
+#: Maps that import wrong: why (each is an ``xfail(strict=True)``). None today.
+WRONG: dict[str, str] = {}
 #: Maps whose player start the importer misses: why.
 MISSED_PLAYER: dict[str, str] = {}
 
@@ -135,13 +123,18 @@ SNEAKTIME = Marks(("Tile Layer 1",), wall_objects=("Walls 1", "Walls 2"), source
 CITY = Marks(("Ground", "Ground Level 2"), layer_flag="solid", shapes=True, players=1, source="excalibur-tiled")
 FANTASY = Marks(("Ground",), layer_flag="solid", shapes=True, players=1, source="excalibur-tiled")
 RPG = "community-rpg/resources/maps/"
+OBSTACLES = "every tile of the floor layer 'Tile Layer 1' is an obstacle"
 BEVY = "bevy_ecs_tiled/assets/maps/"
 MAPS: dict[str, Marks] = {
     # mapeditor/tiled's own examples.
     "tiled/examples/orthogonal-outside.tmx": Marks(
         ("Ground",), wall_objects=("Objects",), object_property="static", spawns=2, players=1, source="tiled"
     ),
-    "tiled/examples/forest/forest.tmx": Marks(wall_layers=("platforms",), source="tiled"),
+    "tiled/examples/forest/forest.tmx": Marks(
+        wall_layers=("platforms",),
+        refused="looks like a side view (a platformer), guessed from the layer 'platforms'",
+        source="tiled",
+    ),
     "tiled/examples/perspective_walls.tmx": Marks(refused="no floor layer", source="tiled"),
     "tiled/examples/hexagonal-mini.tmx": Marks(refused="orientation 'hexagonal' is not supported", source="tiled"),
     "tiled/examples/sticker-knight/map/sandbox.tmx": Marks(refused="no floor layer", source="tiled"),
@@ -228,14 +221,18 @@ MAPS: dict[str, Marks] = {
     ),
     # Side views (platformers).
     "arcade/arcade/resources/assets/tiled_maps/map_with_ladders.json": Marks(
-        wall_layers=("Platforms",), spawns=3, source="arcade"
+        wall_layers=("Platforms",),
+        spawns=3,
+        refused="looks like a side view (a platformer), guessed from the layer 'Platforms'",
+        source="arcade",
     ),
-    # Engine and loader samples: collision shapes of every kind, chunks, flips, templates.
+    # Engine and loader samples: collision shapes of every kind, chunks, flips, templates. bevy_ecs_tiled's
+    # physics samples draw obstacles (every tile a collider) on empty cells: no ground.
     BEVY + "orthogonal/finite.tmx": Marks(
-        ("Tile Layer 1",), shapes=True, wall_objects=("Collisions",), source="bevy_ecs_tiled"
+        ("Tile Layer 1",), shapes=True, wall_objects=("Collisions",), refused=OBSTACLES, source="bevy_ecs_tiled"
     ),
     BEVY + "orthogonal/infinite.tmx": Marks(
-        ("Tile Layer 1",), shapes=True, wall_objects=("Collisions",), source="bevy_ecs_tiled"
+        ("Tile Layer 1",), shapes=True, wall_objects=("Collisions",), refused=OBSTACLES, source="bevy_ecs_tiled"
     ),
     BEVY + "orthogonal/multiple_layers_with_colliders.tmx": Marks(
         ("First layer",),
@@ -692,6 +689,16 @@ def test_a_map_that_cannot_be_imported_is_refused_in_one_line_naming_it(name: st
         assert not reading(name).open, "the map leaves open floor, yet the import finds none"
 
 
+SIDE_VIEWS = [name for name in REFUSED if "side view" in MAPS[name].refused]
+
+
+@pytest.mark.parametrize("name", SIDE_VIEWS, ids=SIDE_VIEWS)
+def test_a_side_view_is_refused_saying_how_to_import_it_anyway(name: str) -> None:
+    with pytest.raises(LevelError, match="import it with --view top-down"):
+        import_map(CORPUS / name)
+    assert import_map(CORPUS / name, view="top-down").level.free_area().area > 0
+
+
 def _walls_cases() -> list[Any]:
     return [
         pytest.param(name, id=name, marks=pytest.mark.xfail(strict=True, reason=WRONG[name]))
@@ -772,7 +779,8 @@ def doc_table() -> str:
     """The table of docs/maps.md and its numbered notes (what each wrong import gets wrong)."""
     notes = [f"{number}. {note[0].upper()}{note[1:]}." for number, note in enumerate(NOTES, 1)]
     rows = [COLUMNS, "| --- | --- | --- | --- | ---: | ---: | ---: | --- |", *map(table_row, NAMES)]
-    return "\n".join([*rows, "", "What the wrong imports get wrong:", "", *notes, "", END])
+    wrong = ["", "What the wrong imports get wrong:", "", *notes] if notes else ["", "No map imports wrong."]
+    return "\n".join([*rows, *wrong, "", END])
 
 
 def test_docs_maps_md_holds_the_current_table() -> None:

@@ -1,8 +1,8 @@
 """The import options every command that reads a level shares, so a map can stand wherever a level can.
 
 ``@map_options`` adds ``--cell-size``, ``--threshold``, ``--spawn-tile``, ``--wall-tile``,
-``--wall-property``, ``--wall-class``, ``--wall-layer``, ``--floor-layer``, ``--wall-value``, ``--level``
-and ``--strict`` to a command and hands it one ``map_import`` argument (a :class:`MapImport`) to pass to
+``--wall-property``, ``--wall-class``, ``--wall-layer``, ``--floor-layer``, ``--view``, ``--wall-value``,
+``--level`` and ``--strict`` to a command and hands it one ``map_import`` argument (a :class:`MapImport`) to pass to
 :func:`guardsim.cli.common.load`.
 """
 
@@ -20,6 +20,7 @@ from guardsim.cli.common import FiniteFloatRange
 from guardsim.importers import FORMATS, ImportedLevel, ImportOptions, load_any
 from guardsim.importers.image import DEFAULT_THRESHOLD
 from guardsim.importers.loading import is_map_json
+from guardsim.importers.tiled_checks import VIEWS
 from guardsim.level import level_to_data, read_level_json
 
 __all__ = ["STRICT_EXIT", "MapImport", "level_data", "map_options", "report_import"]
@@ -84,6 +85,7 @@ def map_options(command: F) -> F:
             wall_classes=tuple(kwargs.pop("wall_classes")),
             wall_layers=tuple(kwargs.pop("wall_layers")),
             floor_layers=tuple(kwargs.pop("floor_layers")),
+            view=kwargs.pop("view"),
             wall_values=tuple(kwargs.pop("wall_values")),
             level=kwargs.pop("ldtk_level"),
         )
@@ -180,6 +182,14 @@ _OPTIONS = [
         multiple=True,
         metavar="NAME",
         help="Tiled: a tile layer whose tiles are floor, replacing the guess (repeatable).",
+    ),
+    click.option(
+        "--view",
+        type=click.Choice(VIEWS),
+        default="auto",
+        show_default=True,
+        help="Tiled: auto refuses a map that looks like a side view (a platformer: layers named platforms or "
+        "ladders, a gravity property); top-down imports it as seen from above.",
     ),
     click.option(
         "--wall-value",

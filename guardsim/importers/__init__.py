@@ -60,6 +60,7 @@ def import_map(
     wall_tiles: Iterable[int] = (),
     wall_properties: Iterable[str] = (),
     wall_classes: Iterable[str] = (),
+    view: str = "auto",
     wall_values: Iterable[int | str] = (),
     level: str | None = None,
     max_cells: int = DEFAULT_MAX_CELLS,
@@ -81,6 +82,9 @@ def import_map(
     wall_properties, wall_classes
         Tiled only: ``NAME`` or ``NAME=VALUE`` properties, and classes, that make tiles and objects walls
         (the properties replace the guess from property names).
+    view
+        Tiled only: ``"auto"`` refuses a map that looks drawn from the side (a platformer); ``"top-down"``
+        imports it as seen from above.
     wall_values, level
         LDtk only: IntGrid values (numbers or names) that are walls, replacing the guess from value names,
         and the identifier of the level to import (the first by default).
@@ -109,6 +113,7 @@ def import_map(
             wall_tiles=wall_tiles,
             wall_properties=wall_properties,
             wall_classes=wall_classes,
+            view=view,
             **limits,
         )
     if suffix == ".png":

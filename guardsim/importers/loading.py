@@ -44,6 +44,8 @@ class ImportOptions:
     """Tiled: ``NAME`` or ``NAME=VALUE``: tiles and objects with that property are walls (``--wall-property``)."""
     wall_classes: tuple[str, ...] = ()
     """Tiled: tile and object classes that are walls (``--wall-class``)."""
+    view: str = "auto"
+    """Tiled: ``auto`` refuses a map that looks like a side view; ``top-down`` imports it (``--view``)."""
     wall_values: tuple[str, ...] = ()
     """LDtk: IntGrid values, numbers or names, that are walls (``--wall-value``)."""
     level: str | None = None
@@ -153,6 +155,7 @@ def load_any(
                 wall_tiles=options.wall_tiles,
                 wall_properties=options.wall_properties,
                 wall_classes=options.wall_classes,
+                view=options.view,
                 wall_values=options.wall_values,
                 level=options.level,
                 max_cells=max_cells,

@@ -21,7 +21,6 @@ import math
 import os
 from collections.abc import Iterable
 from pathlib import Path
-from typing import cast
 
 import numpy as np
 import shapely
@@ -31,6 +30,7 @@ from shapely.geometry.base import BaseGeometry
 from guardsim.errors import LevelError
 from guardsim.importers.imported import ImportedLevel, check_raster_limits, counted, level_from_walls, listed
 from guardsim.importers.source import display_name
+from guardsim.importers.tiled_checks import check_floor_is_ground, check_view, look_warnings
 from guardsim.importers.tiled_data import TileLayer
 from guardsim.importers.tiled_geometry import TileGeometry, blocked_mask
 from guardsim.importers.tiled_read import read_tiled
@@ -40,7 +40,6 @@ from guardsim.level import (
     DEFAULT_MAX_CELLS,
     DEFAULT_MAX_FILE_BYTES,
     DEFAULT_MAX_VERTICES,
-    Level,
     level_to_data,
     parse_level,
 )
@@ -55,8 +54,6 @@ DEFAULT_SNAP_TOLERANCE = 0.04
 #: border with the other tiles.
 VOID_WALL_DISTANCE = 0.5
 VOID_WALLED_SHARE = 0.8
-#: A start area smaller than this share of the free area is a warning.
-SMALL_START_SHARE = 0.5
 
 
 def import_tiled(
@@ -69,6 +66,7 @@ def import_tiled(
     wall_tiles: Iterable[int] = (),
     wall_properties: Iterable[str] = (),
     wall_classes: Iterable[str] = (),
+    view: str = "auto",
     snap_step: float = DEFAULT_SNAP_STEP,
     snap_tolerance: float = DEFAULT_SNAP_TOLERANCE,
     max_cells: int = DEFAULT_MAX_CELLS,
@@ -90,6 +88,9 @@ def import_tiled(
         ``VALUE``) are walls; replaces the guess from property names.
     wall_classes
         Tile and object classes (any case) that are walls.
+    view
+        ``"auto"`` refuses a map that looks drawn from the side (a platformer: layers named platforms or
+        ladders, a gravity property); ``"top-down"`` imports it as seen from above.
     snap_step, snap_tolerance
         Wall and boundary vertices within ``snap_tolerance`` tiles of a multiple of ``snap_step`` tiles are
         moved onto it.
@@ -106,6 +107,7 @@ def import_tiled(
         tuple(wall_layers), tuple(floor_layers), tuple(wall_tiles), tuple(spawn_tiles), parsed, classes
     )
     tiled = read_tiled(path, max_file_bytes=max_file_bytes, max_cells=max_cells, cells_per_tile=cell_size**-2)
+    check_view(source, tiled, view)
     roles = assign_roles(tiled, options)
     geometry = TileGeometry(tiled, snap_step, snap_tolerance)
     changes: list[str] = []
@@ -207,7 +209,8 @@ def import_tiled(
     level, left_out = keep_spawn_areas(level, anchors, source=source, max_cells=max_cells, max_vertices=max_vertices)
     if left_out:
         changes.append(left_out)
-    warnings += _look_warnings(level, bool(starts), tiled.size)
+    check_floor_is_ground(source, level, roles, roles.void_gid)
+    warnings += look_warnings(level, bool(starts), tiled.size)
     _name_missing_tilesets(warnings, tiled.missing_tilesets)
     players, player_phrase = player_starts(level, roles, geometry)
     if player_phrase:
@@ -365,50 +368,3 @@ def _walls_phrase(
     if images:
         parts.append(f"{counted(images, 'image tile')} at image size")
     return f"walls from {', '.join(parts)} ({counted(boxes, 'wall tile run')})"
-
-
-def _look_warnings(level: Level, has_starts: bool, map_size: tuple[int, int]) -> list[str]:
-    """Warnings about a level that looks unlike a drawn level (``map_size`` in tiles, one world unit each)."""
-    warnings = []
-    free = cast(BaseGeometry, level.free_area())
-    if free.is_empty or free.area <= 0:
-        return ["the free area is empty"]
-    # The map's edges where the map declares them (a free area ending inside its wall border is drawn);
-    # an infinite map's nominal size says nothing, so there the level's own bounds stand in.
-    min_x, min_y, max_x, max_y = level.bounds
-    if min_x >= 0 and min_y >= 0 and max_x <= map_size[0] and max_y <= map_size[1]:
-        min_x, min_y, max_x, max_y = 0.0, 0.0, float(map_size[0]), float(map_size[1])
-    edges = [
-        shapely.LineString([(min_x, min_y), (max_x, min_y)]),
-        shapely.LineString([(max_x, min_y), (max_x, max_y)]),
-        shapely.LineString([(max_x, max_y), (min_x, max_y)]),
-        shapely.LineString([(min_x, max_y), (min_x, min_y)]),
-    ]
-    boundary = free.boundary
-    if all(boundary.intersection(edge).length > 0.5 * edge.length for edge in edges):
-        warnings.append(
-            "the free area runs along more than half of every edge of the map: walls may be missing "
-            "(mark a layer with a `collision` property or pass --wall-layer)"
-        )
-    # A floor every tile of which carries a collision shape leaves only slivers: say that the guard fits
-    # on no cell centre (where the grid lets it stand) rather than report a level nobody can walk
-    # (bevy_ecs_tiled's sample maps).
-    radius = level.guard.radius
-    rows, cols = level.grid_shape()
-    left, top = level.bounds[:2]
-    size = level.cell_size
-    xs, ys = np.meshgrid(left + size * (np.arange(cols) + 0.5), top + size * (np.arange(rows) + 0.5))
-    room = shapely.buffer(free, -radius * (1 - 1e-9)) if radius > 0 else free
-    if not shapely.intersects_xy(room, xs.ravel(), ys.ravel()).any():
-        warnings.append(
-            f"the guard (radius {radius:g} tiles) fits on no cell of the free area: every floor tile may carry a "
-            "collision shape or a wall (check the wall layers and tile collision shapes, or pass --wall-layer)"
-        )
-        return warnings
-    parts = sorted((part.area for part in shapely.get_parts(free)), reverse=True)
-    if not has_starts and len(parts) > 1 and parts[0] < SMALL_START_SHARE * free.area:
-        warnings.append(
-            f"the free area is in {len(parts)} separate parts and the largest holds only "
-            f"{100 * parts[0] / free.area:.0f}% of it: the guard starts in one part and never sees the others"
-        )
-    return warnings

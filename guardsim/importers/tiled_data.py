@@ -147,6 +147,8 @@ class TiledMap:
     """External tileset files that were not found (their tiles' marks are unknown)."""
     warnings: tuple[str, ...] = ()
     """Things the reader had to guess that may change the walls, one line each."""
+    properties: Properties = field(default_factory=dict)
+    """The map's own custom properties (``gravity``: a side view)."""
 
 
 def check_number(value: Any, where: str, *, limit: float = MAX_COORDINATE) -> float:

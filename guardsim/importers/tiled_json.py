@@ -7,6 +7,7 @@ from typing import Any, cast
 
 from pytiled_parser.layer import ObjectLayer as PtObjectLayer
 from pytiled_parser.parsers.json import layer as json_layer
+from pytiled_parser.parsers.json import properties as json_properties
 from pytiled_parser.parsers.json import tiled_object as json_object
 
 from guardsim.importers.source import excerpt
@@ -33,6 +34,9 @@ class JsonReader(MapReader):
         if not isinstance(root, dict) or ("orientation" not in root and root.get("type") != "map"):
             raise self.error("", 'not a Tiled JSON map (no "orientation" or "type": "map")')
         self.check_orientation(root.get("orientation"))
+        if root.get("properties"):
+            raw = root["properties"]
+            self.properties = self.call("properties", lambda: json_properties.parse(raw))
         for index, raw in enumerate(dicts(root.get("tilesets", []), f"{self.source}: tilesets")):
             where = f"tilesets[{index}]"
             firstgid = self.integer(raw.get("firstgid"), f"{where}.firstgid")

@@ -17,17 +17,23 @@ from guardsim.importers.tiled_data import Properties
 
 __all__ = [
     "ABOVE_WORDS",
+    "BODY_WORDS",
     "FALSE_TEXTS",
     "FLOOR_WORDS",
+    "GRAVITY_WORDS",
+    "MOVING_BODIES",
     "NEGATION_WORDS",
     "PLAYER_WORDS",
+    "SIDE_VIEW_WORDS",
     "SPAWN_WORDS",
     "TRUE_TEXTS",
     "VOID_MIN_REST",
     "WALL_FLAGS",
     "WALL_WORDS",
+    "body_mark",
     "flag",
     "parse_wall_property",
+    "pulls",
     "says",
     "truth",
     "wall_mark",
@@ -78,6 +84,15 @@ FALSE_TEXTS = frozenset(["false", "no", "0", "off", "n", ""])
 VOID_MIN_REST = 0.05
 #: Boolean properties that mark walls.
 WALL_FLAGS = ("collision", "collides", "collide", "collidable", "solid", "blocked", "obstacle", "wall")
+#: Whole words in a layer's name or class that say the map is a side view (a platformer), not drawn from above.
+SIDE_VIEW_WORDS = frozenset(["platform", "platforms", "platformer", "ladder", "ladders"])
+#: Whole words in a map property's name that say the map has gravity (a side view) when its value is true or a
+#: non-zero number: ``gravity``, ``GravityY``, ``jump_height``.
+GRAVITY_WORDS = frozenset(["gravity", "jump", "jumps"])
+#: Whole words in an object's or tile's class that say it is a physics body (``Fixture``, ``StaticBody2D``).
+BODY_WORDS = frozenset(["body", "bodies", "fixture", "fixtures", "rigidbody", "physics"])
+#: Body types (a ``bodyType`` property's value, or a word of the class) that move: never walls.
+MOVING_BODIES = frozenset(["dynamic", "kinematic", "rigid", "rigidbody"])
 
 
 def words(name: str) -> set[str]:
@@ -193,3 +208,51 @@ def wall_mark(properties: Properties, wall_properties: Sequence[tuple[str, str |
         if said is False:
             result = False
     return result
+
+
+def body_mark(kind: str, properties: Properties) -> bool | None:
+    """Whether a tile or object is a static physics body (``True``: a wall), a moving one (``False``), or not
+    a body as far as it says (``None``).
+
+    A property whose name says body (``bodyType``, ``body_type``) tells the type: ``static`` is a wall,
+    ``dynamic`` or ``kinematic`` is not. Otherwise a class that names a body (:data:`BODY_WORDS`:
+    ``Fixture``, ``StaticBody2D``, ``RigidBody``) is static when its class says so or its property
+    ``static`` (``isStatic``) reads true, and moving when its class or that property says so.
+
+    >>> body_mark("Fixture", {"static": True}), body_mark("", {"bodyType": "dynamic"}), body_mark("StaticBody2D", {})
+    (True, False, True)
+    >>> body_mark("Fixture", {}), body_mark("Sign", {"static": True}), body_mark("RigidBody2D", {})
+    (None, None, False)
+    """
+    for key, value in properties.items():
+        if "body" in words(key) and isinstance(value, str):
+            said = value.strip().lower()
+            if said == "static":
+                return True
+            if said in MOVING_BODIES:
+                return False
+    named = words(kind)
+    if not named & BODY_WORDS:
+        return None
+    if "static" in named:
+        return True
+    if named & MOVING_BODIES:
+        return False
+    for key, value in properties.items():
+        if words(key) - {"is"} == {"static"}:
+            return truth(value)
+    return None
+
+
+def pulls(value: Any) -> bool:
+    """Whether a gravity-like property's value pulls: true, or a non-zero number (as a number or as text).
+
+    >>> pulls(9.8), pulls("600"), pulls(True), pulls(0), pulls("0.0"), pulls("none")
+    (True, True, True, False, False, False)
+    """
+    if isinstance(value, str):
+        try:
+            value = float(value)
+        except ValueError:
+            return truth(value) is True
+    return bool(truth(value))

@@ -112,6 +112,8 @@ class MapReader:
         """External tileset files (resolved) -> firstgid, for tile templates."""
         self.templates = Templates(self.source, self.folder, max_file_bytes, self.tileset_files)
         self.infinite = False
+        self.properties: Any = {}
+        """The map's own custom properties, as pytiled-parser reads them."""
 
     # -- shared -------------------------------------------------------------------------------------
     def error(self, where: str, message: str) -> LevelError:
@@ -188,6 +190,7 @@ class MapReader:
             self.image_sizes(),
             tuple(self.missing_tilesets),
             tuple(self.warnings),
+            _properties(self.properties),
         )
 
     def tileset_of(self, gid: int) -> tuple[int, Tileset] | None:

@@ -11,6 +11,10 @@ this order of evidence (``docs/authoring.md``):
    ``true``/``yes``/``1``); ``false``, ``0``, ``"no"`` or ``""`` opts out, and a name saying ``not``/``no``
    (``no_collision: true``) opts out too (:func:`wall_mark`). On a layer, the boolean-like property
    ``collision`` (or ``collides``, ``collidable``, ``solid``, ``blocked``, ``obstacle``, ``wall``).
+   Without such a property, a static physics body is a wall and a moving one is not (:func:`body_mark`):
+   a ``bodyType`` of ``static`` (``dynamic``, ``kinematic``), or a class naming a body (``Fixture``,
+   ``StaticBody2D``) with ``static`` in its class or a true property ``static``, as Tiled's own
+   example ``orthogonal-outside.tmx`` marks its cliff.
 2. Tile layers whose name says wall (the whole words :data:`WALL_WORDS`, any case: ``Walls 1``,
    ``base_wall``, ``Collision``): every tile in them is a wall.
 3. Tiles whose class (``type`` before Tiled 1.9) is such a word (even if a property opts out).
@@ -36,6 +40,10 @@ does.
 
 **Spawns**: objects in layers named with :data:`SPAWN_WORDS`, objects whose class, type or name says
 guard or spawn, objects with ``guard_spawn``, tiles whose class says guard, and ``--spawn-tile`` ids.
+
+**Side views** (platformers: the guard cannot walk them): a layer whose name or class has a word of
+:data:`SIDE_VIEW_WORDS` (``platforms``, ``Ladders``), or a map property whose name says gravity or jump
+with a true or non-zero value (:func:`side_view_sign`); ``--view top-down`` imports the map anyway.
 """
 
 from __future__ import annotations
@@ -50,13 +58,17 @@ from guardsim.importers.tiled_data import ObjectLayer, Properties, TiledMap, Til
 from guardsim.importers.tiled_marks import (
     ABOVE_WORDS,
     FLOOR_WORDS,
+    GRAVITY_WORDS,
     PLAYER_WORDS,
+    SIDE_VIEW_WORDS,
     SPAWN_WORDS,
     VOID_MIN_REST,
     WALL_FLAGS,
     WALL_WORDS,
+    body_mark,
     flag,
     parse_wall_property,
+    pulls,
     says,
     truth,
     wall_mark,
@@ -73,10 +85,12 @@ __all__ = [
     "RoleOptions",
     "assign_roles",
     "parse_wall_property",
+    "side_view_sign",
     "truth",
     "wall_mark",
     "words",
 ]
+
 
 @dataclass(frozen=True)
 class RoleOptions:
@@ -137,10 +151,35 @@ def _wall_layer(layer: TileLayer | ObjectLayer, options: RoleOptions) -> bool:
     return any(says(part, WALL_WORDS) for part in layer.path) or says(layer.kind, WALL_WORDS)
 
 
+def _own_mark(kind: str, properties: Properties, options: RoleOptions) -> bool | None:
+    """A tile's or object's own say: its collision properties (or ``--wall-property``), else, when no
+    ``--wall-property`` replaces the guess, whether it is a static or a moving physics body."""
+    mark = wall_mark(properties, options.wall_properties)
+    if mark is None and not options.wall_properties:
+        mark = body_mark(kind, properties)
+    return mark
+
+
 def _tile_says_wall(kind: str, properties: Properties, options: RoleOptions) -> bool:
     if options.wall_class(kind) or says(kind, WALL_WORDS):
         return True
-    return bool(wall_mark(properties, options.wall_properties))
+    return bool(_own_mark(kind, properties, options))
+
+
+def side_view_sign(tiled: TiledMap) -> str:
+    """What says the map is drawn from the side (a platformer) rather than from above, or ``""``.
+
+    A layer whose name (or group's name) or class says platforms or ladders, or a map property named for
+    gravity or jumping whose value is true or a non-zero number.
+    """
+    layers: list[TileLayer | ObjectLayer] = [*tiled.tile_layers, *tiled.object_layers]
+    for layer in layers:
+        if any(says(part, SIDE_VIEW_WORDS) for part in (*layer.path, layer.kind)):
+            return f"the layer {'/'.join(layer.path)!r}"
+    for key, value in tiled.properties.items():
+        if says(key, GRAVITY_WORDS) and pulls(value):
+            return f"the map property {key!r} ({value!r})"
+    return ""
 
 
 def _object_player(item: TiledObject, tiled: TiledMap) -> bool:
@@ -173,9 +212,7 @@ def _object_boundary(layer: ObjectLayer, item: TiledObject) -> bool:
     own = flag(item.properties, "boundary")
     if own is not None:
         return own
-    return (
-        item.kind.lower() == "boundary" or bool(flag(layer.properties, "boundary")) or says(layer.name, {"boundary"})
-    )
+    return item.kind.lower() == "boundary" or bool(flag(layer.properties, "boundary")) or says(layer.name, {"boundary"})
 
 
 #: The object layer and object class guardsim writes patrol routes in; never walls, spawns or boundary.
@@ -194,7 +231,7 @@ def assign_roles(tiled: TiledMap, options: RoleOptions) -> Guesses:
 
     # Walls: tiles.
     for gid, info in tiled.tiles.items():
-        mark = wall_mark(info.properties, options.wall_properties)
+        mark = _own_mark(info.kind, info.properties, options)
         if mark is True:
             found.marked_gids.add(gid)
         elif mark is False:
@@ -252,7 +289,7 @@ def assign_roles(tiled: TiledMap, options: RoleOptions) -> Guesses:
             if _object_spawn(layer, item):
                 found.spawn_objects.append((layer, item))
                 continue
-            own = True if options.wall_class(item.kind) else wall_mark(item.properties, options.wall_properties)
+            own = True if options.wall_class(item.kind) else _own_mark(item.kind, item.properties, options)
             if own is None:
                 walled = says(item.name, WALL_WORDS) or says(item.kind, WALL_WORDS)
                 nameless = not item.name and not item.kind

@@ -9,6 +9,7 @@ from xml.etree import ElementTree
 
 from pytiled_parser.layer import ObjectLayer as PtObjectLayer
 from pytiled_parser.parsers.tmx import layer as tmx_layer
+from pytiled_parser.parsers.tmx import properties as tmx_properties
 from pytiled_parser.parsers.tmx import tiled_object as tmx_object
 
 from guardsim.errors import LevelError
@@ -39,6 +40,9 @@ class TmxReader(MapReader):
             raise self.error("", f"the root element is <{excerpt(root.tag, 30)}>, not <map>: not a Tiled map")
         self.check_orientation(root.get("orientation"))
         self.infinite = root.get("infinite") == "1"
+        own = root.find("properties")
+        if own is not None:
+            self.properties = self.call("map properties", lambda: tmx_properties.parse(own))
         for index, element in enumerate(root.findall("tileset")):
             firstgid = self.integer(element.get("firstgid"), f"tileset {index} firstgid")
             where = f"tileset {display_name(element.get('source') or element.get('name') or str(index))}"
