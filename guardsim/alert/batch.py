@@ -21,6 +21,7 @@ from guardsim.alert.model import AlertOutcome, AlertRules
 from guardsim.alert.run import alert_episode, alert_trace_data
 from guardsim.detection import GuardDetection
 from guardsim.level import Level
+from guardsim.motion.parameters import GuardMotion
 from guardsim.patrol.model import Patrol
 from guardsim.scene import Scene
 from guardsim.vision.table import ViewTable, view_table
@@ -64,6 +65,8 @@ class AlertTask(NamedTuple):
     spotted: bool
     trace: bool
     """Send back the episode's trace as JSON text (for ``--out``)."""
+    motion: GuardMotion | None = None
+    """Continuous motion at these speeds; ``None``: grid motion."""
 
     @property
     def key(self) -> tuple[str, int]:
@@ -81,6 +84,8 @@ class TaskResult(NamedTuple):
 
 _SETUPS: dict[tuple[Level, str], tuple[Scene, ViewTable]] = {}
 _SETUPS_LOCK = threading.Lock()
+# A continuous episode steps its scene's pymunk space, which is not safe from two threads at once.
+_SPACE_LOCK = threading.Lock()
 #: Scenes a worker keeps.
 _MOST_SETUPS = 8
 
@@ -93,8 +98,9 @@ def remember_setup(scene: Scene, table: ViewTable) -> None:
 
 
 def _setup(level: Level, line_of_sight: str) -> tuple[Scene, ViewTable]:
-    """The level's scene and view table, built once per worker process. An episode only reads them (the
-    grid and the table; it moves no body in the scene's space), so a Dask worker's threads share them."""
+    """The level's scene and view table, built once per worker process. A grid episode only reads them
+    (the grid and the table), so a Dask worker's threads share them; a continuous one steps the scene's
+    space, so those run one at a time (:data:`_SPACE_LOCK`)."""
     key = (level, line_of_sight)
     with _SETUPS_LOCK:
         found = _SETUPS.get(key)
@@ -117,6 +123,13 @@ def trace_text(data: dict[str, object]) -> str:
 def run_alert_task(task: AlertTask) -> TaskResult:
     """Run one episode (the function workers run); its outcome and, if asked, its trace's text."""
     scene, table = _setup(task.level, task.line_of_sight)
+    if task.motion is None:
+        return _run(task, scene, table)
+    with _SPACE_LOCK:
+        return _run(task, scene, table)
+
+
+def _run(task: AlertTask, scene: Scene, table: ViewTable) -> TaskResult:
     episode = alert_episode(
         scene,
         task.patrol,
@@ -131,6 +144,7 @@ def run_alert_task(task: AlertTask) -> TaskResult:
         rules=task.rules,
         detection=task.detection,
         spotted=task.spotted,
+        motion=task.motion or "grid",
     )
     episode.run()
     text = None
@@ -171,8 +185,10 @@ def tasks_of(
     detection: GuardDetection,
     spotted: bool,
     trace: bool,
+    motion: GuardMotion | None = None,
 ) -> list[AlertTask]:
-    """Every episode of every strategy, strategy by strategy, in episode order."""
+    """Every episode of every strategy, strategy by strategy, in episode order; ``motion``: continuous
+    motion at these speeds (``None``: grid)."""
     path = None if route is None else tuple(int(cell) for cell in route)
     tasks = []
     for name in searches:
@@ -194,6 +210,7 @@ def tasks_of(
                     detection=detection,
                     spotted=spotted,
                     trace=trace,
+                    motion=motion,
                 )
             )
     return tasks

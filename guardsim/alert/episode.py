@@ -8,6 +8,13 @@ and loses every cell in view; a chasing guard within ``capture_radius`` captures
 **Rejoining the route.** A guard entering ``return`` at tick ``t`` picks the smallest ``k >= 1`` such that
 it can walk to where its patrol puts it at tick ``t + k`` in at most ``k`` steps, walks there (waiting if
 early) and is exactly on its route, at the phase it would have reached had it never left, from then on.
+
+**Motion.** Where a guard is and what it sees is the movement's (:mod:`guardsim.alert.movement`): on the
+grid, or as a body in the physics world. The decisions above are the same in both, a grid tick at a
+time. Each guard keeps a *route clock*, the grid ticks on which it took a decision; its patrol and its
+rejoining run on that clock. On the grid a guard decides every tick, so its clock is the tick; in
+continuous motion a guard whose body is still catching up (turns take time) skips a decision, and its
+clock stands still.
 """
 
 from __future__ import annotations
@@ -19,12 +26,12 @@ import numpy as np
 
 from guardsim.alert.intruders import Intruder
 from guardsim.alert.model import AlertEvent, AlertOutcome, AlertRules
+from guardsim.alert.movement import ContinuousMovement, GridMovement, Movement
 from guardsim.alert.search import Contamination, make_search
 from guardsim.detection import AwarenessMeter, GuardDetection
 from guardsim.grid import CoverageGrid
 from guardsim.kernels.distances import distances_from
-from guardsim.kernels.meter import DETECTED
-from guardsim.kernels.steps import cell_of_state, greedy_step, heading_of_state, state_of
+from guardsim.kernels.steps import cell_of_state, greedy_step, heading_of_state
 from guardsim.patrol.model import Patrol
 from guardsim.vision.table import ViewTable
 
@@ -36,6 +43,9 @@ class AlertEpisode:
 
     ``spotted``: every guard that sees the intruder at tick 0 starts with a full meter (it is detected at
     once), as the experiments of docs/results.md start.
+
+    ``movement``: where the guards are and what they see (:mod:`guardsim.alert.movement`); the grid's by
+    default.
 
     The per-tick record (:attr:`record`) is what :func:`guardsim.alert.trace.alert_trace_data` writes.
     """
@@ -53,6 +63,7 @@ class AlertEpisode:
         phase: int = 0,
         max_ticks: int = 600,
         spotted: bool = False,
+        movement: Movement | None = None,
     ) -> None:
         if patrol.period is None:
             raise ValueError("an alert episode needs a repeating patrol (its period is null)")
@@ -64,7 +75,10 @@ class AlertEpisode:
         self.max_ticks = int(max_ticks)
         self.contamination = Contamination(self.neighbours)
         guards = patrol.guards
+        self.movement: Movement = movement if movement is not None else GridMovement(grid, table, detection, guards)
         self.tick = 0
+        self._clock = [0] * guards
+        """Per guard: its route clock (see the module)."""
         self.modes = ["patrol"] * guards
         self.meters = [AwarenessMeter(detection.model, detection.view_range) for _ in range(guards)]
         self.cells = [0] * guards
@@ -95,10 +109,14 @@ class AlertEpisode:
             "last_known": [],
             "contaminated_cells": [],
         }
+        if isinstance(self.movement, ContinuousMovement):
+            self.record.update({"poses": [], "awareness_peak": []})
         for guard in range(guards):
             state = patrol.state(guard, self.phase)
             self.cells[guard], self.headings[guard] = int(cell_of_state(state)), int(heading_of_state(state))
-            if spotted and _contains(table.sees(state), intruder.cell):
+        self.movement.follow(self.cells, self.headings)
+        for guard in range(guards):
+            if spotted and self.movement.sees_at_start(guard, intruder.cell):
                 meter = self.meters[guard]
                 meter.level = meter.peak = 1.0  # the experiments' "detected mid-level": the meter starts full
         self._look_and_update()
@@ -117,9 +135,12 @@ class AlertEpisode:
         if self.intruder.gone and not any(e.event == "arrived" for e in self.events):
             self.events.append(AlertEvent(self.tick, -1, "arrived"))
         self._move_guards()
+        self.movement.follow(self.cells, self.headings)
         self._look_and_update()
         self._record()
         self._finish()
+        if self.done:
+            self.movement.close()
 
     def run(self) -> AlertOutcome:
         """Step until the episode ends; its outcome."""
@@ -130,11 +151,15 @@ class AlertEpisode:
     def _move_guards(self) -> None:
         tick = self.tick
         chase_field: np.ndarray | None = None
-        searchers = {g: self.cells[g] for g, mode in enumerate(self.modes) if mode == "search"}
+        deciding = [self.movement.ready(g) for g in range(len(self.modes))]
+        searchers = {g: self.cells[g] for g, mode in enumerate(self.modes) if mode == "search" and deciding[g]}
         fields = self.search.fields(searchers) if searchers else {}
         for guard, mode in enumerate(self.modes):
+            if not deciding[guard]:
+                continue
+            self._clock[guard] += 1
             if mode == "patrol":
-                state = self.patrol.state(guard, tick + self.phase)
+                state = self.patrol.state(guard, self._clock[guard] + self.phase)
                 self.cells[guard], self.headings[guard] = int(cell_of_state(state)), int(heading_of_state(state))
             elif mode == "suspicious":
                 self.headings[guard] = self._facing(self.cells[guard], self._noticed[guard], self.headings[guard])
@@ -174,14 +199,14 @@ class AlertEpisode:
 
     def _enter_return(self, guard: int) -> None:
         self.modes[guard] = "return"
-        here = self.cells[guard]
+        here, clock = self.cells[guard], self._clock[guard]
         steps = distances_from(self.neighbours, np.array([here]))
         for k in range(1, 2 * self.patrol.ticks + self.grid.size + 1):
-            cell = int(cell_of_state(self.patrol.state(guard, self.tick + k + self.phase)))
+            cell = int(cell_of_state(self.patrol.state(guard, clock + k + self.phase)))
             if steps[cell] <= k:
                 self._rejoin[guard] = (
-                    self.tick,
-                    self.tick + k,
+                    clock,
+                    clock + k,
                     cell,
                     distances_from(self.neighbours, np.array([cell])),
                 )
@@ -193,12 +218,13 @@ class AlertEpisode:
         if plan is None:
             return
         entered, rejoin_tick, cell, field = plan
-        if self.tick <= entered:  # the first step back comes the tick after the decision
+        clock = self._clock[guard]
+        if clock <= entered:  # the first step back comes the tick after the decision
             return
         if self.cells[guard] != cell:
             self._walk(guard, field)
-        if self.tick >= rejoin_tick:
-            state = self.patrol.state(guard, self.tick + self.phase)
+        if clock >= rejoin_tick:
+            state = self.patrol.state(guard, clock + self.phase)
             self.cells[guard], self.headings[guard] = int(cell_of_state(state)), int(heading_of_state(state))
             self.modes[guard] = "patrol"
             self._rejoin[guard] = None
@@ -218,21 +244,15 @@ class AlertEpisode:
     # -- looking ----------------------------------------------------------------------------------
 
     def _look_and_update(self) -> None:
-        tick, table = self.tick, self.table
+        tick = self.tick
         intruder = -1 if self.intruder.gone else self.intruder.cell
-        sights = []
-        for guard in range(len(self.modes)):
-            sight = table.sees(state_of(self.cells[guard], self.headings[guard]))
-            sights.append(sight)
-            seen = intruder >= 0 and _contains(sight, intruder)
-            self.in_sight[guard] = seen
-            distance = self._distance(self.cells[guard], intruder) if seen else 0.0
-            self.meters[guard].update(self.detection.dt, seen, distance)
-        self.seen_now = np.concatenate(sights) if sights else np.zeros(0, dtype=np.int32)
+        look = self.movement.look(tick, intruder, self.meters)
+        self.in_sight = list(look.seen)
+        self.seen_now = look.cells
         chasing_before = "chase" in self.modes
         for guard, mode in enumerate(self.modes):
             meter, seen = self.meters[guard], self.in_sight[guard]
-            if seen and meter.level >= DETECTED:
+            if look.spotted[guard]:
                 self.last_known = intruder
                 if mode != "chase":
                     self._enter_chase(guard, chasing_before)
@@ -281,7 +301,7 @@ class AlertEpisode:
             for guard, mode in enumerate(self.modes):
                 # A guard that lost sight at arm's length (the cone turned away) still grabs.
                 alarmed = mode == "chase" or (mode == "search" and self.meters[guard].detected)
-                if alarmed and self._distance(self.cells[guard], intruder) <= self.rules.capture_radius + 1e-9:
+                if alarmed and self.movement.distance(guard, intruder) <= self.rules.capture_radius + 1e-9:
                     self.events.append(AlertEvent(tick, guard, "captured"))
                     self._stats["captured"] = tick
                     self.outcome, self.done = "captured", True
@@ -307,11 +327,6 @@ class AlertEpisode:
         speed = self.rules.intruder_speed
         return math.floor(self.tick * speed + 1e-9) - math.floor((self.tick - 1) * speed + 1e-9)
 
-    def _distance(self, cell: int, other: int) -> float:
-        cols = self.grid.shape[1]
-        (r1, c1), (r2, c2) = divmod(cell, cols), divmod(other, cols)
-        return math.hypot(c1 - c2, r1 - r2) * self.grid.cell_size
-
     # -- ending and recording ---------------------------------------------------------------------
 
     def _finish(self) -> None:
@@ -330,8 +345,13 @@ class AlertEpisode:
 
     def _record(self) -> None:
         record = self.record
-        record["cells"].append(list(self.cells))
-        record["headings"].append(list(self.headings))
+        cells, headings = self.movement.recorded()
+        record["cells"].append(cells)
+        record["headings"].append(headings)
+        if isinstance(self.movement, ContinuousMovement):
+            movement = self.movement
+            record["poses"].append([movement.pose(guard) for guard in range(len(self.modes))])
+            record["awareness_peak"].append([round(peak, 4) for peak in movement.peaks])
         record["guard_states"].append(list(self.modes))
         record["awareness"].append([round(m.level, 4) for m in self.meters])
         record["intruder"].append(None if self.intruder.gone else self.intruder.cell)
@@ -362,8 +382,3 @@ class AlertEpisode:
         dt = self.rules.dt
         keys = ("detected", "captured", "lost", "reacquired", "gave_up", "back")
         return {k: None if self._stats[k] is None else round(self._stats[k] * dt, 6) for k in keys}
-
-
-def _contains(sorted_cells: np.ndarray, cell: int) -> bool:
-    index = int(np.searchsorted(sorted_cells, cell))
-    return index < sorted_cells.size and int(sorted_cells[index]) == cell

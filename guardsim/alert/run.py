@@ -11,9 +11,11 @@ import numpy as np
 from guardsim.alert.episode import AlertEpisode
 from guardsim.alert.intruders import make_intruder
 from guardsim.alert.model import AlertOutcome, AlertRules
+from guardsim.alert.movement import ContinuousMovement, make_movement
 from guardsim.detection import GuardDetection
 from guardsim.grid import CoverageGrid
 from guardsim.kernels.distances import FAR, distances_from
+from guardsim.motion.parameters import GuardMotion
 from guardsim.patrol.model import Patrol
 from guardsim.scene import Scene
 from guardsim.vision.table import ViewTable, view_table
@@ -58,9 +60,15 @@ def alert_episode(
     rules: AlertRules | None = None,
     detection: GuardDetection | None = None,
     spotted: bool = False,
+    motion: str | GuardMotion = "grid",
 ) -> AlertEpisode:
     """An alert episode ready to :meth:`~AlertEpisode.step`: ``patrol``'s guards from lap tick ``phase``
     against an ``intruder`` entering at flat cell ``source`` and heading for ``target`` (-1: none).
+
+    ``motion``: ``"grid"`` (a cell per tick), ``"continuous"`` (each guard a body in the scene's pymunk
+    space walking at the level guard's speeds, looking from its pose every physics tick) or a
+    :class:`~guardsim.motion.GuardMotion` (continuous, at those speeds); see
+    :mod:`guardsim.alert.movement`. The decisions are made a grid tick at a time either way.
 
     A ``route`` intruder walks ``route`` (flat cells from ``source``) or else the shortest path to
     ``target``; a ``sneak`` intruder plans the fastest unseen path of the patrol's lap (the closest call
@@ -89,6 +97,7 @@ def alert_episode(
         intruder, grid.neighbours, source, goal=target, route=route, speed=rules.intruder_speed, wait_until=wait
     )
     max_ticks = max(1, int(max_seconds / rules.dt + 1e-9))
+    movement = make_movement(motion, scene, table, detection, dt=rules.dt, guards=patrol.guards)
     return AlertEpisode(
         grid,
         table,
@@ -100,12 +109,16 @@ def alert_episode(
         phase=phase,
         max_ticks=max_ticks,
         spotted=spotted,
+        movement=movement,
     )
 
 
 def alert_trace_data(episode: AlertEpisode, scene: Scene, *, search: str, intruder: str) -> dict[str, Any]:
     """The episode's trace as JSON data: per tick each guard's cell, heading, state and meter, the
-    intruder's cell and position, the contaminated count, and the events."""
+    intruder's cell and position, the contaminated count, and the events. In continuous motion the
+    cell is the one the body is in and the heading the nearest heading number, and the trace adds
+    ``motion``, the speeds, ``poses`` (per guard, ``[t, x, y, heading_degrees]`` at the end of each
+    tick) and ``awareness_peak`` (per guard, the highest meter level during each tick)."""
     grid = scene.grid
     record = episode.record
     guards = len(episode.modes)
@@ -115,7 +128,7 @@ def alert_trace_data(episode: AlertEpisode, scene: Scene, *, search: str, intrud
         return [col, row]
 
     intruder_path = [None if cell is None else cell_pair(cell) for cell in record["intruder"]]
-    return {
+    data: dict[str, Any] = {
         "format": "guardsim alert trace",
         "level": scene.level.name,
         "cell_size": grid.cell_size,
@@ -135,6 +148,23 @@ def alert_trace_data(episode: AlertEpisode, scene: Scene, *, search: str, intrud
         "last_known": [None if cell < 0 else cell_pair(cell) for cell in record["last_known"]],
         "events": [{"tick": e.tick, "guard": e.guard, "event": e.event} for e in episode.events],
     }
+    movement = episode.movement
+    if isinstance(movement, ContinuousMovement):
+        motion = movement.motion
+        data["motion"] = "continuous"
+        data.update(move_speed=motion.move_speed, turn_speed=motion.turn_speed, tick_hz=motion.tick_hz)
+        data["paths"] = [
+            [None if tick[g] < 0 else cell_pair(tick[g]) for tick in record["cells"]] for g in range(guards)
+        ]
+        data["poses"] = [
+            [
+                [round(tick * episode.rules.dt, 6), *(round(v, 6) for v in poses[g])]
+                for tick, poses in enumerate(record["poses"])
+            ]
+            for g in range(guards)
+        ]
+        data["awareness_peak"] = [[tick[g] for tick in record["awareness_peak"]] for g in range(guards)]
+    return data
 
 
 class AlertSummary(NamedTuple):
@@ -261,12 +291,13 @@ def run_alerts(
     phase: int | None = None,
     route: Sequence[int] | None = None,
     table: ViewTable | None = None,
+    motion: str | GuardMotion = "grid",
 ) -> dict[str, list[AlertEpisode]]:
     """Episodes ``0 .. episodes - 1`` of each search strategy, the same starts for every strategy
     (:func:`plan_starts`), run here one after the other. With ``spotted``, a drawn entry lies in some
     guard's view at the start and that guard detects the intruder at tick 0 (see :class:`AlertEpisode`).
-    ``route``: a route intruder's path (from ``source``). :mod:`guardsim.alert.batch` runs the same
-    episodes on worker processes or a Dask cluster."""
+    ``route``: a route intruder's path (from ``source``); ``motion``: :func:`alert_episode`'s.
+    :mod:`guardsim.alert.batch` runs the same episodes on worker processes or a Dask cluster."""
     table = table if table is not None else view_table(scene.grid, scene.vision())
     starts = plan_starts(
         scene, patrol, episodes=episodes, seed=seed, source=source, target=target, spotted=spotted, phase=phase,
@@ -290,6 +321,7 @@ def run_alerts(
                 rules=rules,
                 detection=detection,
                 spotted=spotted,
+                motion=motion,
             )
             episode.run()
             runs.append(episode)

@@ -11,9 +11,9 @@ import json
 import logging
 import os
 import sys
-from collections.abc import Iterator
+from collections.abc import Callable, Iterator
 from pathlib import Path
-from typing import TYPE_CHECKING
+from typing import TYPE_CHECKING, Any, TypeVar
 
 import click
 
@@ -29,10 +29,12 @@ from guardsim.cli.common import (
     vision_options,
     with_detection,
 )
+from guardsim.cli.motion import _SPEED_HELP, _speed_options, check_motion, motion_of
 from guardsim.cli.patrol import output_folder
 from guardsim.cli.sneak import sneak_cell
 from guardsim.errors import GuardsimError
 from guardsim.files.output import write_text_atomic
+from guardsim.motion.parameters import MOTIONS
 
 if TYPE_CHECKING:
     from guardsim.alert import AlertEpisode, AlertOutcome, AlertRules, AlertSummary
@@ -43,7 +45,23 @@ if TYPE_CHECKING:
 
 __all__ = ["alert"]
 
+F = TypeVar("F", bound=Callable[..., Any])
+
 _SEARCHES = ("ripple", "diffuse", "team", "last-known", "all")
+
+
+def _motion_options(command: F) -> F:
+    """--motion and the guard's speeds (``play``'s and ``bench``'s; alert has its own --max-seconds)."""
+    # The speeds' options and help are play's (guardsim.cli.motion), so the three commands agree.
+    command = _speed_options(command, _SPEED_HELP)
+    return click.option(
+        "--motion",
+        type=click.Choice(MOTIONS),
+        default="grid",
+        show_default=True,
+        help="grid: a cell per tick, turning free; continuous: each guard a physics body walking its decisions "
+        "at game speeds and looking from its pose every physics tick (docs/alert.md).",
+    )(command)
 
 
 @click.command()
@@ -100,6 +118,7 @@ _SEARCHES = ("ripple", "diffuse", "team", "last-known", "all")
     help="Run --episodes on a dask.distributed scheduler, e.g. tcp://host:8786; 'local' starts a local "
     "cluster of --workers processes.",
 )
+@_motion_options
 @detection_options
 @vision_options
 @limit_options
@@ -123,6 +142,10 @@ def alert(
     html_path: str | None,
     workers: int | None,
     scheduler: str | None,
+    motion: str,
+    move_speed: float | None,
+    turn_speed: float | None,
+    tick_hz: float | None,
     detect_near: float | None,
     detect_far: float | None,
     forget: float | None,
@@ -154,6 +177,10 @@ def alert(
     from guardsim.patrol import read_patrol
     from guardsim.vision.table import view_table
 
+    # Teams are fine here (each guard walks its own body): one guard is passed so that only the speeds are checked.
+    check_motion(motion, 1, los, move_speed=move_speed, turn_speed=turn_speed, tick_hz=tick_hz)
+    if motion == "continuous" and (gif_path is not None or html_path is not None):
+        raise GuardsimError("--gif and --html draw grid-motion episodes; with --motion continuous, write --trace")
     if workers is not None and scheduler is not None and scheduler != "local":
         raise GuardsimError("--workers and --scheduler exclude each other: the scheduler's workers run the episodes")
     level = with_detection(
@@ -174,6 +201,7 @@ def alert(
     searches = list(SEARCHES) if search == "all" else [search]
     rules = AlertRules.of_level(level, intruder_speed=intruder_speed)
     detection = GuardDetection(GuardDetection.of_level(level).model, scene.cone.view_range, rules.dt)
+    walking = motion_of(scene, move_speed, turn_speed, tick_hz) if motion == "continuous" else None
     start = sneak_cell(grid, source, "--from") if source is not None else None
     goal = sneak_cell(grid, target, "--to") if target is not None else None
     route = None
@@ -208,13 +236,17 @@ def alert(
     tasks = tasks_of(
         scene.level, scene.rule.value, patrol, starts, searches=searches, intruder=intruder, route=route,
         max_seconds=max_seconds, rules=rules, detection=detection, spotted=spotted, trace=out_dir is not None,
+        motion=walking,
     )  # fmt: skip
     folder = output_folder(out_dir) if out_dir is not None else None
     outcomes: dict[tuple[str, int], AlertOutcome] = {}
     if folder is not None:
         resuming = (folder / RUN_NAME).exists()
+        # Only a continuous run records its motion, so that grid runs made before it resume as they were.
+        moving = {} if walking is None else {"motion": dataclasses.asdict(walking)}
         options = _run_options(level_path, patrol_path, route_path, source, target, searches, scene, rules, detection,
-                               intruder=intruder, episodes=episodes, seed=seed, max_seconds=max_seconds, spotted=spotted)  # fmt: skip
+                               intruder=intruder, episodes=episodes, seed=seed, max_seconds=max_seconds, spotted=spotted,
+                               **moving)  # fmt: skip
         check_run_options(folder, options)
         if resuming:
             for task in tasks:
@@ -280,7 +312,7 @@ def _run_first(scene: Scene, table: ViewTable, task: AlertTask) -> AlertEpisode:
     episode = alert_episode(
         scene, task.patrol, intruder=task.intruder, source=task.source, target=task.target, route=task.route,
         search=task.search, phase=task.phase, max_seconds=task.max_seconds, table=table, rules=task.rules,
-        detection=task.detection, spotted=task.spotted,
+        detection=task.detection, spotted=task.spotted, motion=task.motion or "grid",
     )  # fmt: skip
     episode.run()
     return episode
