@@ -71,7 +71,7 @@ def _search_from(_ctx: click.Context, _param: click.Parameter, value: str | None
     multiple=True,
     callback=_points,
     metavar="X,Y",
-    help="Start position in world units; repeat once per guard for the guaranteed search.",
+    help="Start position in world units; repeat once per guard of a team.",
 )
 @click.option(
     "--heading",
@@ -102,8 +102,9 @@ def _search_from(_ctx: click.Context, _param: click.Parameter, value: str | None
 @click.option(
     "--guards",
     type=click.IntRange(min=1, max=8),
-    help="Guards of the guaranteed search [default: one per --start, else 1; starts beyond the given ones "
-    "repeat the first]. Impossible for them: the smallest team (up to 4) that can is also given.",
+    help="Guards [default: one per --start, else 1; guards beyond the starts given start at the first]. "
+    "Coverage: the fewest ticks until the team, moving at once, has seen every cell (makespan). Guaranteed "
+    "search: impossible for them, the smallest team (up to 4) that can is also given.",
 )
 @click.option(
     "--max-expansions",
@@ -166,6 +167,8 @@ def optimum(
     best walk found and the proved lower bound (proved: false). With --weight W it stops as soon as the
     walk in hand is proved within W times the optimum (proved: true then means within W). A search
     running longer than 10 s prints where it is to stderr every 10 s. The start and heading are chosen as by `guardsim play`.
+    With --guards K (and a --start per guard) it is the team's makespan: the fewest ticks until K guards
+    moving at once have together seen every cell.
     """
     level = load(level_path, max_cells, max_vertices, max_file_bytes, map_import)
     from guardsim.kernels.ahead import compile_ahead
@@ -177,8 +180,16 @@ def optimum(
     if search_from is not None:
         _guaranteed(scene, level.name, start, heading, seed, episode, search_from, search_radius, guards, out_path)
         return
+    if guards is None and len(start) > 1:
+        raise GuardsimError(
+            "several --start need --search-from (the guaranteed search) or --guards K (the team optimum)"
+        )
     if len(start) > 1 or guards not in (None, 1):
-        raise GuardsimError("the coverage optimum is for one guard: several --start or --guards need --search-from")
+        if weight != 1.0:
+            raise GuardsimError("--weight is for one guard: the team optimum (--guards, several --start) is exact")
+        teams = _team_starts(scene, start, heading, seed, episode, guards)
+        _team(scene, level.name, teams, max_expansions, time_limit, memory_mb, out_path)
+        return
     _, cell, first_heading = cli_start(
         scene, seed=seed, episode=episode, start=start[0] if start else None, heading=heading[0] if heading else None
     )
@@ -212,6 +223,64 @@ def optimum(
         write_text_atomic(out_path, json.dumps(data) + "\n")
 
 
+def _team_starts(
+    scene: Scene,
+    start: tuple[tuple[float, float], ...],
+    heading: tuple[str, ...],
+    seed: int,
+    episode: int | None,
+    guards: int | None,
+) -> list[tuple[tuple[int, int], int]]:
+    """``((col, row), heading)`` of each guard: one per --start (guards beyond them at the first)."""
+    count = guards if guards is not None else max(1, len(start))
+    if len(start) > count:
+        raise GuardsimError(f"{len(start)} --start options for --guards {count}")
+    teams = []
+    for index in range(count):
+        point = start[index] if index < len(start) else (start[0] if start else None)
+        facing = heading[index] if len(heading) > 1 and index < len(heading) else (heading[0] if heading else None)
+        _, cell, first = cli_start(scene, seed=seed, episode=episode, start=point, heading=facing)
+        teams.append((cell, first))
+    return teams
+
+
+def _team(
+    scene: Scene,
+    name: str,
+    teams: list[tuple[tuple[int, int], int]],
+    max_expansions: int,
+    time_limit: float | None,
+    memory_mb: int,
+    out_path: str | None,
+) -> None:
+    """Several guards: the team optimum (makespan), printed and written."""
+    from guardsim.optimum.team import solve_team, team_optimum_data
+
+    result = solve_team(
+        scene,
+        teams,
+        max_expansions=max_expansions or None,
+        time_limit=time_limit,
+        memory_bytes=memory_mb * 2**20,
+        progress=_Progress(),
+    )
+    names = list(HEADINGS)
+    where = ", ".join(f"[{cell[0]}, {cell[1]}] facing {names[facing]}" for cell, facing in teams)
+    if result.proved:
+        verdict = f"optimum {result.steps} ticks"
+    else:
+        verdict = f"best found {result.steps} ticks (stopped by {result.stopped_by}; optimum >= {result.lower_bound})"
+    walks = "+".join(str(len(path) - 1) for path in result.paths)
+    click.echo(
+        f"{name}: {len(teams)} guards from {where}: {verdict} (walks of {walks} steps); "
+        f"proved: {str(result.proved).lower()}; start bound {result.root_bound}; "
+        f"{result.expansions} expansions, {result.nodes} nodes, {result.seconds:.1f} s"
+    )
+    if out_path is not None:
+        data = team_optimum_data(result, scene, level=name, starts=teams)
+        write_text_atomic(out_path, json.dumps(data) + "\n")
+
+
 def _guaranteed(
     scene: Scene,
     name: str,
@@ -230,15 +299,8 @@ def _guaranteed(
     from guardsim.vision.table import view_table
 
     grid = scene.grid
-    count = guards if guards is not None else max(1, len(start))
-    if len(start) > count:
-        raise GuardsimError(f"{len(start)} --start options for --guards {count}")
-    teams = []
-    for index in range(count):
-        point = start[index] if index < len(start) else (start[0] if start else None)
-        facing = heading[index] if len(heading) > 1 and index < len(heading) else (heading[0] if heading else None)
-        _, cell, first = cli_start(scene, seed=seed, episode=episode, start=point, heading=facing)
-        teams.append((cell, first))
+    teams = _team_starts(scene, start, heading, seed, episode, guards)
+    count = len(teams)
     if search_from == "all":
         region = search_region(grid, None, 0)
         where = "anywhere"

@@ -12,6 +12,7 @@ goal cell ``i`` being bit ``i % 64`` of word ``i // 64``.
 from __future__ import annotations
 
 import itertools
+from collections.abc import Sequence
 from typing import NamedTuple
 
 import numpy as np
@@ -86,7 +87,13 @@ def _views(
     return views
 
 
-def build_search_graph(grid: CoverageGrid, table: ViewTable, start: tuple[int, int], heading: int) -> SearchGraph:
+def build_search_graph(
+    grid: CoverageGrid,
+    table: ViewTable,
+    start: tuple[int, int],
+    heading: int,
+    also: Sequence[tuple[tuple[int, int], int]] = (),
+) -> SearchGraph:
     """The positions reachable from ``(start, heading)``, their moves and their views.
 
     Parameters
@@ -99,6 +106,9 @@ def build_search_graph(grid: CoverageGrid, table: ViewTable, start: tuple[int, i
         ``(col, row)`` of the start cell.
     heading
         The first heading (ignored when headings do not change what a guard sees).
+    also
+        More ``((col, row), heading)`` starts in the same goal (a team's): positions reachable from any
+        start are kept; :attr:`SearchGraph.start` stays the first.
     """
     neighbours = np.ascontiguousarray(grid.neighbours, dtype=np.int64)
     start_cell = grid.flat(*start)
@@ -109,6 +119,8 @@ def build_search_graph(grid: CoverageGrid, table: ViewTable, start: tuple[int, i
     headings_matter = not _same_sight(table, goal_cells)
     if headings_matter:
         states = _reachable_states(neighbours, state_of(start_cell, heading))
+        for (col, row), facing in also:
+            states = np.union1d(states, _reachable_states(neighbours, state_of(grid.flat(col, row), facing)))
     else:
         states = state_of(goal_cells, np.zeros_like(goal_cells))
     position_of = np.full(grid.size * HEADINGS_PER_CELL, -1, dtype=np.int64)

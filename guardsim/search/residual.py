@@ -19,6 +19,8 @@ prunes cells by the same two kinds of dominance.)
 
 from __future__ import annotations
 
+from collections.abc import Sequence
+
 import numpy as np
 
 from guardsim.kernels.compiler import jit
@@ -126,12 +128,29 @@ def _restrict(views: np.ndarray, bits: np.ndarray) -> np.ndarray:
     return out
 
 
-def residual_goal(graph: SearchGraph) -> SearchGraph:
+def _joined_starts(successors: np.ndarray, starts: Sequence[int]) -> tuple[np.ndarray, int]:
+    """The moves with a chain of virtual positions (seeing nothing) that lead to every start, and the
+    first of them: what a walk from the first virtual position reaches is what some start reaches."""
+    positions = successors.shape[0]
+    links = [list(starts[index : index + 3]) for index in range(0, len(starts), 3)]
+    extra = np.full((len(links), 4), -1, dtype=np.int64)
+    for index, group in enumerate(links):
+        extra[index, : len(group)] = group
+        if index + 1 < len(links):
+            extra[index, 3] = positions + index + 1
+    return np.concatenate([successors, extra]), positions
+
+
+def residual_goal(graph: SearchGraph, also: Sequence[int] = ()) -> SearchGraph:
     """The same positions and moves, with the goal reduced to the cells a covering walk must aim for.
 
     Every walk from the start that sees each cell of the returned goal sees each cell of the original
     one, and conversely, so both have the same covering walks. ``goal_cells`` lists the kept cells. A
     goal cell that no position sees is always kept (the search then reports that it cannot be seen).
+
+    ``also`` gives a team's other start positions: a cell is then dropped when some start sees it, or
+    when *every* walk from *any* start to the watchers of a kept cell passes its watchers, so that walks
+    of the team that together see every kept cell see the whole goal.
 
     Examples
     --------
@@ -149,7 +168,10 @@ def residual_goal(graph: SearchGraph) -> SearchGraph:
     """
     goal = int(graph.goal_cells.size)
     every = np.arange(goal, dtype=np.int64)
-    at_start = (graph.views[graph.start][every >> 6] >> (every & 63).astype(np.uint64)) & np.uint64(1)
+    at_start_words = graph.views[graph.start].copy()
+    for position in also:
+        at_start_words |= graph.views[position]
+    at_start = (at_start_words[every >> 6] >> (every & 63).astype(np.uint64)) & np.uint64(1)
     bits = every[at_start == 0]
     if bits.size == 0:
         return graph._replace(
@@ -162,7 +184,13 @@ def residual_goal(graph: SearchGraph) -> SearchGraph:
     order = np.lexsort((np.arange(bits.size), sizes)).astype(np.int64)
     keep = _cell_dominance(sets, order)
     # Most watchers first: a cell seen from many places is the likelier to be seen on the way.
-    _path_dominance(graph.successors, graph.start, sets, keep, order[::-1].copy())
+    if also:
+        successors, source = _joined_starts(graph.successors, [graph.start, *also])
+        padded = np.zeros((sets.shape[0], (successors.shape[0] + 63) // 64), dtype=np.uint64)
+        padded[:, : sets.shape[1]] = sets
+        _path_dominance(successors, source, padded, keep, order[::-1].copy())
+    else:
+        _path_dominance(graph.successors, graph.start, sets, keep, order[::-1].copy())
     kept = bits[keep]
     full = np.zeros(max(1, (kept.size + 63) // 64), dtype=np.uint64)
     for index in range(kept.size):
