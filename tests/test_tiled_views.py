@@ -150,8 +150,10 @@ def test_a_side_view_is_refused_in_one_line_saying_what_was_guessed(
     assert "\n" not in message and path.name in message
     assert f"looks like a side view (a platformer), guessed from {sign}" in message
     assert "import it with --view top-down" in message
-    # As the message says: drawn from above after all, it imports.
-    assert import_map(path, view="top-down").level.free_area().area > 0
+    # As the message says: drawn from above after all, it imports, and the summary says what it overrode.
+    imported = import_map(path, view="top-down")
+    assert imported.level.free_area().area > 0
+    assert f"taken as drawn from above (--view top-down), though {sign} suggests a side view" in imported.summary()
 
 
 @pytest.mark.parametrize("fmt", FORMATS)

@@ -107,10 +107,10 @@ def import_tiled(
         tuple(wall_layers), tuple(floor_layers), tuple(wall_tiles), tuple(spawn_tiles), parsed, classes
     )
     tiled = read_tiled(path, max_file_bytes=max_file_bytes, max_cells=max_cells, cells_per_tile=cell_size**-2)
-    check_view(source, tiled, view)
+    view_note = check_view(source, tiled, view)
     roles = assign_roles(tiled, options)
     geometry = TileGeometry(tiled, snap_step, snap_tolerance)
-    changes: list[str] = []
+    changes: list[str] = [view_note] if view_note else []
     warnings = list(roles.warnings) + list(tiled.warnings)
 
     wall_tiles_found = [

@@ -23,6 +23,7 @@ from shapely.geometry.base import BaseGeometry
 
 from guardsim.errors import LevelError
 from guardsim.importers.imported import counted
+from guardsim.importers.source import excerpt
 from guardsim.importers.tiled_data import TiledMap
 from guardsim.importers.tiled_roles import Guesses, names, side_view_sign
 from guardsim.level import Level
@@ -35,16 +36,20 @@ SMALL_START_SHARE = 0.5
 VIEWS = ("auto", "top-down")
 
 
-def check_view(source: str, tiled: TiledMap, view: str) -> None:
-    """Refuse a map that looks drawn from the side, unless ``view`` says it is drawn from above."""
+def check_view(source: str, tiled: TiledMap, view: str) -> str:
+    """Refuse a map that looks drawn from the side, unless ``view`` says it is drawn from above.
+
+    Returns a phrase for the summary when ``--view top-down`` imports a map that looks like a side view.
+    """
     if view not in VIEWS:
-        raise LevelError(f"{source}: --view must be one of {', '.join(VIEWS)}, not {view!r}")
-    sign = side_view_sign(tiled) if view == "auto" else ""
-    if sign:
+        raise LevelError(f"{source}: --view must be one of {', '.join(VIEWS)}, not {excerpt(view)}")
+    sign = side_view_sign(tiled)
+    if sign and view == "auto":
         raise LevelError(
             f"{source}: looks like a side view (a platformer), guessed from {sign}; guardsim walks guards over "
             "maps drawn from above: if this one is, import it with --view top-down"
         )
+    return f"taken as drawn from above (--view top-down), though {sign} suggests a side view" if sign else ""
 
 
 def check_floor_is_ground(source: str, level: Level, roles: Guesses, void_gid: int) -> None:

@@ -54,6 +54,7 @@ from dataclasses import dataclass, field
 import numpy as np
 
 from guardsim.importers.imported import listed
+from guardsim.importers.source import excerpt
 from guardsim.importers.tiled_data import ObjectLayer, Properties, TiledMap, TiledObject, TileLayer
 from guardsim.importers.tiled_marks import (
     ABOVE_WORDS,
@@ -175,10 +176,10 @@ def side_view_sign(tiled: TiledMap) -> str:
     layers: list[TileLayer | ObjectLayer] = [*tiled.tile_layers, *tiled.object_layers]
     for layer in layers:
         if any(says(part, SIDE_VIEW_WORDS) for part in (*layer.path, layer.kind)):
-            return f"the layer {'/'.join(layer.path)!r}"
+            return f"the layer {excerpt('/'.join(layer.path))}"
     for key, value in tiled.properties.items():
         if says(key, GRAVITY_WORDS) and pulls(value):
-            return f"the map property {key!r} ({value!r})"
+            return f"the map property {excerpt(key)} ({excerpt(value)})"
     return ""
 
 
