@@ -174,6 +174,16 @@ def test_a_top_down_map_is_not_taken_for_a_side_view(
     assert import_map(path).level.free_area().area > 0
 
 
+def test_map_properties_that_cannot_be_read_are_left_out_with_a_note(tmp_path: Path) -> None:
+    """They are only a hint (gravity): a malformed list does not refuse the map."""
+    path = write(tmp_path, "json", [], [])
+    data = json.loads(path.read_text())
+    data["properties"] = "gravity"
+    path.write_text(json.dumps(data))
+    imported = import_map(path)
+    assert "the map's own custom properties could not be read: left out" in imported.summary()
+
+
 def test_the_view_option_on_the_command_line(tmp_path: Path) -> None:
     path = write(tmp_path, "tmx", [], [PLATFORMS])
     out = tmp_path / "level.json"

@@ -36,7 +36,7 @@ class JsonReader(MapReader):
         self.check_orientation(root.get("orientation"))
         if root.get("properties"):
             raw = root["properties"]
-            self.properties = self.call("properties", lambda: json_properties.parse(raw))
+            self.read_properties(lambda: json_properties.parse(raw))
         for index, raw in enumerate(dicts(root.get("tilesets", []), f"{self.source}: tilesets")):
             where = f"tilesets[{index}]"
             firstgid = self.integer(raw.get("firstgid"), f"{where}.firstgid")

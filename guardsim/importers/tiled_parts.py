@@ -112,8 +112,8 @@ class MapReader:
         """External tileset files (resolved) -> firstgid, for tile templates."""
         self.templates = Templates(self.source, self.folder, max_file_bytes, self.tileset_files)
         self.infinite = False
-        self.properties: Any = {}
-        """The map's own custom properties, as pytiled-parser reads them."""
+        self.properties: Properties = {}
+        """The map's own custom properties."""
 
     # -- shared -------------------------------------------------------------------------------------
     def error(self, where: str, message: str) -> LevelError:
@@ -127,6 +127,14 @@ class MapReader:
             raise
         except Exception as error:  # pytiled-parser signals bad input with whatever its code hits
             raise self.error(where, why(error)) from None
+
+    def read_properties(self, parse: Callable[[], Any]) -> None:
+        """The map's own custom properties, read by ``parse``; only a hint (a side view's gravity), so
+        properties that cannot be read are left out with a note rather than refusing the map."""
+        try:
+            self.properties = _properties(parse())
+        except Exception:  # pytiled-parser signals bad input with whatever its code hits
+            self.notes.append("the map's own custom properties could not be read: left out")
 
     def number(self, value: Any, where: str, default: float | None = None) -> float:
         if value is None and default is not None:
@@ -190,7 +198,7 @@ class MapReader:
             self.image_sizes(),
             tuple(self.missing_tilesets),
             tuple(self.warnings),
-            _properties(self.properties),
+            self.properties,
         )
 
     def tileset_of(self, gid: int) -> tuple[int, Tileset] | None:

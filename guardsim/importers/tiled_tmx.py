@@ -42,7 +42,7 @@ class TmxReader(MapReader):
         self.infinite = root.get("infinite") == "1"
         own = root.find("properties")
         if own is not None:
-            self.properties = self.call("map properties", lambda: tmx_properties.parse(own))
+            self.read_properties(lambda: tmx_properties.parse(own))
         for index, element in enumerate(root.findall("tileset")):
             firstgid = self.integer(element.get("firstgid"), f"tileset {index} firstgid")
             where = f"tileset {display_name(element.get('source') or element.get('name') or str(index))}"
