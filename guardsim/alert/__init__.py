@@ -3,6 +3,7 @@
 - :mod:`~guardsim.alert.model`: states, events, the rules' numbers, an episode's outcome.
 - :mod:`~guardsim.alert.search`: the contaminated set and the search strategies.
 - :mod:`~guardsim.alert.intruders`: route, sneak, evader and still intruders.
+- :mod:`~guardsim.alert.movement`: where the guards are and what they see: grid or continuous motion.
 - :mod:`~guardsim.alert.episode`: the tick loop.
 - :mod:`~guardsim.alert.run`: one episode from given points or many from seeded starts, traces, summaries.
 

@@ -155,8 +155,8 @@ class ContinuousMovement:
         self._release = weakref.finalize(self, _remove, world.space, self._owned)
         self.followers: list[Follower] = []
         self._queues: list[deque[tuple[str, int, int]]] = [deque() for _ in range(guards)]
-        """Per guard: what its body has still to do, in order: ``("walk", cell, heading)`` (a step to a
-        neighbouring cell, ``heading`` the step's direction) or ``("turn", cell, heading)`` in place."""
+        """Per guard: what its body has still to do, in order: ``("walk", cell, direction)`` (a step to a
+        neighbouring cell, ``direction`` the step's heading number) or ``("turn", cell, heading)`` in place."""
         self._decided: list[tuple[int, int]] = []
         self.physics_tick = 0
         self._poses: list[list[tuple[float, float, float, float]]] = [[] for _ in range(guards)]
@@ -182,7 +182,15 @@ class ContinuousMovement:
             before = self._decided[guard]
             if (cell, heading) == before:
                 continue
-            self._queues[guard].append(("walk" if cell != before[0] else "turn", int(cell), int(heading)))
+            if cell == before[0]:
+                self._queues[guard].append(("turn", int(cell), int(heading)))
+            else:
+                # A step's direction from the cells themselves (runs of steps one way are walked as one
+                # segment); a decided cell is always a 4-neighbour of the one before.
+                found = np.flatnonzero(grid.neighbours[before[0]] == cell)
+                if found.size == 0:
+                    raise RuntimeError(f"guard {guard} decided a cell that is not a neighbour of its last")
+                self._queues[guard].append(("walk", int(cell), int(found[0])))
             self._decided[guard] = (int(cell), int(heading))
 
     def _aim(self, guard: int) -> None:
