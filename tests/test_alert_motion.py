@@ -108,6 +108,22 @@ def test_invariants_by_replay(case: str) -> None:
         assert turns.max() <= motion.turn_step + 1e-9
 
 
+@pytest.mark.parametrize("case", list(CASES), ids=list(CASES))
+def test_bodies_keep_up_and_rejoin_by_their_route_clocks(case: str) -> None:
+    """At every grid tick each body is at most two cells from its decided cell (it decides only with at
+    most one cell left to reach); a patrolling guard stands where its patrol puts it at its route clock."""
+    episode = continuous_episode(case)
+    cell_size = episode.grid.cell_size
+    while not episode.done:
+        episode.step()
+        for guard, mode in enumerate(episode.modes):
+            assert episode.movement.distance(guard, episode.cells[guard]) <= 2 * cell_size + 1e-9
+            if mode == "patrol":
+                state = episode.patrol.state(guard, episode.route_clocks[guard] + episode.phase)
+                assert (episode.cells[guard], episode.headings[guard]) == (state // 4, state % 4)
+    assert all(clock <= episode.tick for clock in episode.route_clocks)
+
+
 def test_sight_is_the_pose_reference_vision() -> None:
     """What the guards see in a grid tick (what the search clears) is, cell for cell, the reference
     vision (a pymunk ray per cell) from every physics tick's pose of the tick, not a table row."""
@@ -197,3 +213,10 @@ def test_cli_subprocess_continuous_episodes(files: tuple[Path, Path]) -> None:
     )  # fmt: skip
     assert done.returncode == 0, done.stderr
     assert "| ripple | 2/2 |" in done.stdout
+
+
+def test_grid_route_clocks_are_the_tick() -> None:
+    """On the grid every guard decides every tick: the route clock is the tick (the grid's behaviour)."""
+    episode = continuous_episode("route-escaped", motion="grid")
+    episode.run()
+    assert episode.route_clocks == [episode.tick, episode.tick]

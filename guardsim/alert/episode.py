@@ -377,6 +377,12 @@ class AlertEpisode:
             int(self._stats["detections"]),
         )
 
+    @property
+    def route_clocks(self) -> list[int]:
+        """Per guard: the grid ticks on which it took a decision, the clock its patrol runs on (see the
+        module); each is :attr:`tick` in grid motion."""
+        return list(self._clock)
+
     def stats_seconds(self) -> dict[str, float | None]:
         """The episode's moments in seconds."""
         dt = self.rules.dt
