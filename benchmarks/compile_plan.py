@@ -1,8 +1,9 @@
 """Record guardsim/kernels/plan.json: what each command compiles, with what argument types, in what order.
 
 Runs each command once on a shipped level, in a fresh process with an empty cache and without compiling
-ahead, and notes every compiled function it calls from Python (a compile that no other compile is
-under), its argument types and how long it took. ``guardsim.kernels.ahead`` replays the plan on two
+ahead, and notes every compiled function it compiles (those it calls from Python, and the guardsim
+kernels they call whose argument types can be written down), its argument types, its own compile time
+and the entry it was compiled under. ``guardsim.kernels.ahead`` replays the plan on two
 processes the first time a command runs. Re-run after changing a kernel's arguments or adding one to a
 command; ``tests/test_kernels.py`` says when the plan is stale.
 
@@ -51,28 +52,44 @@ RECORDER = """
 import json, sys, time
 from numba.core import event
 from guardsim.kernels.ahead import encode_type
-records, depth, began = [], [0], [0.0]
+# Each compile a frame: [began, seconds of planned callees, frame number, caller's frame number].
+records, stack, count, skipped = [], [], [0], {}
 class Recorder(event.Listener):
     def on_start(self, e):
-        depth[0] += 1
-        if depth[0] == 1:
-            began[0] = time.perf_counter()
+        stack.append([time.perf_counter(), 0.0, count[0], stack[-1][2] if stack else -1])
+        count[0] += 1
     def on_end(self, e):
-        depth[0] -= 1
-        if depth[0] > 0:
-            return
+        began, below, frame, caller = stack.pop()
+        spent = time.perf_counter() - began
         function = e.data["dispatcher"].py_func
-        arguments = [encode_type(a) for a in e.data["args"]]
-        seconds = round(time.perf_counter() - began[0], 2)
-        records.append([function.__module__, function.__name__, arguments, seconds])
+        try:
+            arguments = [encode_type(a) for a in e.data["args"]]
+        except TypeError:
+            arguments = None
+        # numba's own helpers, and callees whose argument types cannot be written down, compile with
+        # their caller: their time stays in it.
+        if caller >= 0 and (arguments is None or not function.__module__.startswith("guardsim.")):
+            skipped[frame] = caller
+            stack[-1][1] += below
+            return
+        if stack:
+            stack[-1][1] += spent
+        records.append([function.__module__, function.__name__, arguments, round(spent - below, 2), frame, caller])
 event.register("numba:compile", Recorder())
 from guardsim.cli import main
 try:
     main(sys.argv[2:])
 except SystemExit:
     pass
+index = {record[4]: number for number, record in enumerate(records)}
+def planned(caller):
+    # A caller left out passes its callees to the nearest planned one above it (-1: Python).
+    while caller in skipped:
+        caller = skipped[caller]
+    return index.get(caller, -1)
+plan = [[m, f, a, s, planned(caller)] for m, f, a, s, _, caller in records]
 with open(sys.argv[1], "w") as out:
-    json.dump(records, out)
+    json.dump(plan, out)
 """
 
 

@@ -2,10 +2,12 @@
 
 numba compiles a function the first time it is called, one after another, on one core. A command's
 kernels are known in advance, though: ``plan.json`` beside this file lists, per command, every compiled
-function the command calls from Python and the argument types it calls it with, in the order it needs
-them (recorded by ``python benchmarks/compile_plan.py``). On a cache folder that has not yet seen the
-command, :func:`compile_ahead` splits that list in two halves of about equal compile time; a forked
-process compiles one half while this one compiles the other, both into the same cache, and then the
+function the command compiles (those it calls from Python and, where their argument types can be
+written down, the kernels those call), with the argument types, in the order compiling them ended
+(recorded by ``python benchmarks/compile_plan.py``). On a cache folder that has not yet seen the
+command, :func:`compile_ahead` deals that list out to two processes so that both finish about together
+(a callee the other process has not compiled yet is counted where it would be compiled twice); a forked
+process compiles its share while this one compiles the other, both into the same cache, and then the
 command runs on cached code. Later runs find the folder's mark and skip it.
 
 A plan that no longer matches the code (a function renamed, its argument types changed) costs only
@@ -27,13 +29,14 @@ from typing import Any
 import numba
 import numpy as np
 from numba.core import types
-from numba.core.dispatcher import Dispatcher
 
 from guardsim.kernels.compiler import cache_folder, silence_notice
 
 __all__ = ["PLAN_FILE", "compile_ahead", "decode_type", "encode_type", "plan"]
 
-#: The recorded plan: ``{command: [[module, function, [argument type, ...], seconds], ...]}``.
+#: The recorded plan: ``{command: [[module, function, [argument type, ...], seconds, caller], ...]}``, ``seconds``
+#: the function's own compile time (its planned callees excluded), ``caller`` the index of the entry it was
+#: compiled under (-1: called from Python).
 PLAN_FILE = Path(__file__).with_name("plan.json")
 
 _DONE: set[str] = set()
@@ -78,66 +81,48 @@ def _dispatcher(entry: list[Any]) -> Any:
     return getattr(importlib.import_module(entry[0]), entry[1])
 
 
-def _name(dispatcher: Any) -> str:
-    return f"{dispatcher.py_func.__module__}:{dispatcher.py_func.__qualname__}"
-
-
-def _compiled_with(dispatcher: Any) -> set[str]:
-    """The compiled functions that compiling ``dispatcher`` compiles: itself and, recursively, every
-    compiled function its code names."""
-    found: set[str] = set()
-    waiting = [dispatcher]
-    while waiting:
-        function = waiting.pop()
-        python = function.py_func
-        name = _name(function)
-        if name in found:
-            continue
-        found.add(name)
-        for word in python.__code__.co_names:
-            named = python.__globals__.get(word)
-            if isinstance(named, Dispatcher):
-                waiting.append(named)
-    return found
-
-
 def _compile(entry: list[Any]) -> None:
     _dispatcher(entry).compile(tuple(decode_type(argument) for argument in entry[2]))
 
 
 def _halves(entries: list[list[Any]]) -> tuple[list[list[Any]], list[list[Any]]]:
-    """Two lists of about equal recorded compile time, each in the plan's order.
+    """The plan split between this process and the helper, each list in the plan's order.
 
-    An entry whose code calls another entry's function stays with it, else both halves would compile
-    that function. (Smaller functions both call are compiled by both.) The heaviest groups are placed
-    first, each on the lighter side.
+    The plan lists functions in the order their compiling ended, callees before callers, each with its
+    own compile time (callees excluded) and the index of the entry it was compiled under (-1: called from
+    Python). Entries are dealt out in that order, each to the process that would be done with it first:
+    a process that reaches a caller before the other has compiled one of its callees compiles that
+    callee too (the cost counted), and one that has it loads it from the cache.
     """
-    group = list(range(len(entries)))
-
-    def root(index: int) -> int:
-        while group[index] != index:
-            group[index] = group[group[index]]
-            index = group[index]
-        return index
-
-    owner: dict[str, int] = {}
+    parents = [int(entry[4]) if len(entry) > 4 else -1 for entry in entries]
+    below: list[list[int]] = [[] for _ in entries]
+    for index, parent in enumerate(parents):
+        # Every callee ends before its caller, so each list holds whole subtrees in order.
+        while 0 <= parent < len(entries):
+            below[parent].append(index)
+            parent = parents[parent]
+    clock = [0.0, 0.0]
+    side = [0] * len(entries)
+    finish = [0.0] * len(entries)
     for index, entry in enumerate(entries):
-        owner.setdefault(_name(_dispatcher(entry)), index)
-    for index, entry in enumerate(entries):
-        for name in _compiled_with(_dispatcher(entry)):
-            if name in owner:
-                group[root(index)] = root(owner[name])
-    members: dict[int, list[int]] = {}
-    for index in range(len(entries)):
-        members.setdefault(root(index), []).append(index)
-    sides: tuple[list[int], list[int]] = ([], [])
-    load = [0.0, 0.0]
-    weight = {key: sum(float(entries[k][3]) for k in found) for key, found in members.items()}
-    for key in sorted(members, key=lambda k: (-weight[k], k)):
-        side = 0 if load[0] <= load[1] else 1
-        sides[side].extend(members[key])
-        load[side] += weight[key]
-    return [entries[k] for k in sorted(sides[0])], [entries[k] for k in sorted(sides[1])]
+        best: tuple[float, int] | None = None
+        for process in (0, 1):
+            start = clock[process]
+            extra = sum(
+                float(entries[callee][3])
+                for callee in below[index]
+                if side[callee] != process and finish[callee] > start
+            )
+            done = start + float(entry[3]) + extra
+            if best is None or done < best[0]:
+                best = (done, process)
+        assert best is not None
+        finish[index], side[index] = best
+        clock[best[1]] = best[0]
+    return (
+        [entry for index, entry in enumerate(entries) if side[index] == 0],
+        [entry for index, entry in enumerate(entries) if side[index] == 1],
+    )
 
 
 def compile_ahead(command: str) -> None:

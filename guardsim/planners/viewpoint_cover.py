@@ -93,5 +93,7 @@ def greedy_cover(table: ViewTable, goal: np.ndarray) -> np.ndarray:
         single cell, seen from the start) stays uncovered.
     """
     goal = np.ascontiguousarray(goal, dtype=np.bool_)
+    if not goal.flags.writeable:
+        goal = goal.copy()  # a read-only array is another type to numba: the kernel would compile twice
     candidate = (table.entry >= 0) & np.repeat(goal, 4)
     return _greedy_cover(table.sight_start, table.sight, table.watch_start, table.watchers, candidate, goal)

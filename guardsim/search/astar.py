@@ -296,11 +296,14 @@ def run_search(
             break
         if weight == 1.0:
             counters[FLOOR] = f  # a weighted key bounds nothing
-        key, node, counters[HEAP] = heap_pop(state.heap_key, state.heap_node, counters[HEAP])
+        key, popped, counters[HEAP] = heap_pop(state.heap_key, state.heap_node, counters[HEAP])
+        # As int64, like the walks start_search and the beam hand over: kernels called with a narrower
+        # integer would be compiled a second time for it.
+        node = int(popped)
         g = _KEY_SHIFT - 1 - key % _KEY_SHIFT
         if g != state.steps[node]:
             continue  # a stale entry: the node was reached more cheaply since
-        here = state.position[node]
+        here = int(state.position[node])
         if _dominated(state, here, g, state.seen[node], checks, node):
             continue
         if not state.exact[node]:
