@@ -155,6 +155,10 @@ def test_bodies_leave_the_space_and_the_trace_has_poses() -> None:
     assert len(scene.world.space.bodies) == before + 2
     episode.run()
     assert len(scene.world.space.bodies) == before
+    unfinished = continuous_episode("still-captured")
+    unfinished.step()
+    unfinished.close()
+    assert len(scene.world.space.bodies) == before
     data = json.loads(json.dumps(alert_trace_data(episode, scene, search="ripple", intruder="route")))
     assert (data["motion"], data["tick_hz"], data["turn_speed"]) == ("continuous", 20.0, 90.0)
     ticks = episode.tick + 1

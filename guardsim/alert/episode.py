@@ -148,6 +148,11 @@ class AlertEpisode:
             self.step()
         return self.result()
 
+    def close(self) -> None:
+        """Give back what the movement took from the scene (continuous motion: the guards' bodies in its
+        space), as the end of the episode does; for an episode left unfinished."""
+        self.movement.close()
+
     def _move_guards(self) -> None:
         tick = self.tick
         chase_field: np.ndarray | None = None
