@@ -7,6 +7,8 @@ Usage::
     python benchmarks/optimum.py --planners --only maze-32-32-4   # every planner against the optimum
     python benchmarks/optimum.py --planners --tiny                # the same on the tests' tiny levels
     python benchmarks/optimum.py --planners --real                # small real maps, bench starts 0-2
+    python benchmarks/optimum.py --guards 2                       # the team optimum (makespan) table
+    python benchmarks/optimum.py --guards 2 --only lak105d --max-expansions 20000
 
 Moving AI maps from ``../shared/maps/movingai`` imported at cell size 1, the watchman-route solvers'
 sight rule (``--los bresenham --fov 360``), unlimited range or 8 cells (targets with
@@ -23,6 +25,17 @@ the state) from four spread starts each, facing down, instead of the maps. ``--r
 Moving AI maps of :data:`REAL_MAPS` (same sight rule, unlimited range) from the starts of bench episodes
 0-2 of seed 0 (``guardsim optimum MAP --episode K``): those where the search proves the optimum within
 the time limit.
+
+With ``--guards 2``, the team table (:func:`guardsim.optimum.team.solve_team`, the makespan, same sight
+rule, unlimited range): the fixed two-agent scenarios of MWRP-CP3's ``configs/`` and, on each map of its
+published two-agent results, ``--draws`` start pairs drawn as its experiment draws them (random border
+cells, :func:`border_cells`) from seed 0. MWRP-CP3's results record neither the starts nor the makespans
+of those runs, only the times, so its column is the median of its published times on the map (over its
+own random starts, ``experiments/results/*.csv``), not a time on the same instance. Maps the shared
+folder lacks (den202d, lak105d, custom-*) are read from a local fetch of the MWRP-CP3 repository
+(``--mwrp-repo``, a git directory; never committed here). The search stops after ``--max-expansions``
+(a count, so the table is the same on every machine). Seconds are the solver's own, after a warm-up
+solve that compiles the kernels.
 """
 
 from __future__ import annotations
@@ -51,14 +64,144 @@ CASES: list[tuple[str, tuple[int, int], float | None, int]] = [
 #: lt_undercitydungeon).
 REAL_MAPS = ("maze-32-32-2", "den020d", "den207d")
 
+#: MWRP-CP3's fixed two-agent scenarios (its ``configs/``): (map, starts (x, y), config file).
+TEAM_CASES: list[tuple[str, list[tuple[int, int]], str]] = [
+    ("custom-11-11", [(0, 0), (10, 10)], "configs/maze/11_by_11_multi.json"),
+    ("custom-13-13", [(0, 0), (0, 12)], "configs/maze/13_by_13_maze.json"),
+    ("custom-19-19", [(0, 0), (0, 18)], "configs/maze/19_by_19_maze.json"),
+    ("lak105d", [(4, 23), (23, 5)], "configs/games/lak105.json"),
+    ("maze-32-32-2", [(1, 1), (1, 31)], "configs/maze/big_maze_tight_duo.json"),
+    ("maze-32-32-4", [(1, 1), (28, 28)], "configs/maze/big_maze.json"),
+    ("den101d", [(11, 40), (62, 2)], "configs/games/den101d.json, its first two agents"),
+]
+#: MWRP-CP3's published two-agent medians (MWRP_CP3 rows, seconds) and where its repository keeps them.
+TEAM_PUBLISHED: dict[str, tuple[float, str]] = {
+    "den202d": (0.0375, "game_map_scaling_merged.csv"),
+    "lak105d": (0.101, "game_map_scaling_merged.csv"),
+    "maze-32-32-2": (8.367, "maze_map_scaling.csv"),
+    "den101d": (9.536, "game_map_scaling_merged.csv"),
+    "custom-11-11": (0.067, "maze_map_scaling.csv"),
+    "custom-13-13": (0.101, "maze_map_scaling.csv"),
+    "custom-19-19": (0.057, "maze_map_scaling.csv"),
+}
+#: Where the MWRP-CP3 repository keeps the maps the shared folder lacks.
+MWRP_MAPS = {
+    "den202d": "maps/den202d.map",
+    "lak105d": "maps/maps2/lak105d.map",
+    "custom-11-11": "maps/custom-11-11.map",
+    "custom-13-13": "maps/custom-13-13.map",
+    "custom-19-19": "maps/custom-19-19.map",
+}
+MWRP_REPO = REPO.parent / ".mirror" / "srikarg89+MWRP-CP3" / "repo"
 
-def scene_of(name: str, view_range: float | None):
+
+def scene_of(name: str, view_range: float | None, path: Path | None = None):
     """The scene of a Moving AI map with the Bresenham rule and a 360-degree view."""
     from guardsim.cli.common import build_scene
     from guardsim.importers import import_map
 
-    level = import_map(MAPS / f"{name}.map").level
+    level = import_map(path or MAPS / f"{name}.map").level
     return build_scene(level, "bresenham", 360.0, view_range)
+
+
+def map_file(name: str, repo: Path, folder: Path) -> Path:
+    """The shared copy of a map, else the MWRP-CP3 repository's (``git show`` into ``folder``)."""
+    import subprocess
+
+    shared = MAPS / f"{name}.map"
+    if shared.exists():
+        return shared
+    copy = folder / f"{name}.map"
+    text = subprocess.run(
+        ["git", "--git-dir", str(repo), "show", f"HEAD:{MWRP_MAPS[name]}"], capture_output=True, check=True
+    ).stdout
+    copy.write_bytes(text)
+    return copy
+
+
+def border_cells(path: Path) -> list[tuple[int, int]]:
+    """The cells MWRP-CP3's experiment draws starts from (``experiments/main_experiment.py``): on game maps
+    (den, lak) the free cells on the map's edge or next (8 ways) to the blocked region joined to the edge;
+    on the others the free cells within 2 of the edge. ``.`` is free, anything else blocked."""
+    lines = [line.strip() for line in path.read_text().splitlines()[4:] if line.strip()]
+    free = [[c == "." for c in line] for line in lines]
+    rows, cols = len(free), len(free[0])
+    edge = [(x, y) for y in range(rows) for x in range(cols) if x in (0, cols - 1) or y in (0, rows - 1)]
+    if not path.stem.startswith(("den", "lak")):
+        return [
+            (x, y) for y in range(rows) for x in range(cols) if free[y][x] and min(x, y, cols - 1 - x, rows - 1 - y) < 2
+        ]
+    cells = {(x, y) for x, y in edge if free[y][x]}
+    stack = [(x, y) for x, y in edge if not free[y][x]]
+    reached = set(stack)
+    while stack:
+        x, y = stack.pop()
+        for dx in (-1, 0, 1):
+            for dy in (-1, 0, 1):
+                nx, ny = x + dx, y + dy
+                if 0 <= nx < cols and 0 <= ny < rows and free[ny][nx]:
+                    cells.add((nx, ny))
+        for dx, dy in ((1, 0), (-1, 0), (0, 1), (0, -1)):
+            nx, ny = x + dx, y + dy
+            if 0 <= nx < cols and 0 <= ny < rows and not free[ny][nx] and (nx, ny) not in reached:
+                reached.add((nx, ny))
+                stack.append((nx, ny))
+    return sorted(cells)
+
+
+def team_rows(arguments: argparse.Namespace) -> None:
+    """The team table: MWRP-CP3's fixed scenarios, then start pairs drawn on its published maps."""
+    import statistics
+    import tempfile
+
+    import numpy as np
+
+    from guardsim.optimum.team import solve_team
+
+    guards = arguments.guards
+    warm = scene_of("maze-32-32-4", None)
+    solve_team(warm, [((1, 1), 0)] * guards)  # compiles the kernels: the times below are warm
+    cases: list[tuple[str, list[tuple[int, int]], str]] = [
+        (name, starts[:guards], source) for name, starts, source in TEAM_CASES if len(starts) >= guards
+    ]
+    rng = np.random.default_rng(0)
+    print("| map | starts (x, y) | source | optimum | proved | start bound | expansions | nodes | seconds "
+          "| MWRP-CP3 median (s, its own random starts) |")  # fmt: skip
+    print("| --- | --- | --- | --- | --- | --- | --- | --- | --- | --- |")
+    with tempfile.TemporaryDirectory() as folder:
+        for name in TEAM_PUBLISHED:
+            if name in ("custom-11-11", "custom-13-13", "custom-19-19"):
+                continue
+            path = map_file(name, arguments.mwrp_repo, Path(folder))
+            scene = scene_of(name, None, path)
+            pool = [cell for cell in border_cells(path) if scene.grid.traversable[cell[1], cell[0]]]
+            drawn = 0
+            while drawn < arguments.draws:
+                picks = [pool[int(i)] for i in rng.choice(len(pool), size=guards, replace=False)]
+                component = scene.grid.component(*picks[0])
+                if all(component[y, x] for x, y in picks):
+                    cases.append((name, picks, f"drawn on the border, seed 0, draw {drawn}"))
+                    drawn += 1
+        seconds: dict[str, list[float]] = {}
+        for name, starts, source in cases:
+            if arguments.only and arguments.only != name:
+                continue
+            scene = scene_of(name, None, map_file(name, arguments.mwrp_repo, Path(folder)))
+            result = solve_team(
+                scene, [(start, 0) for start in starts], max_expansions=arguments.max_expansions or None
+            )
+            seconds.setdefault(name, []).append(result.seconds)
+            published = TEAM_PUBLISHED.get(name)
+            verdict = str(result.steps) if result.proved else f"{result.lower_bound}..{result.steps}"
+            print(
+                f"| {name} | {', '.join(map(str, starts))} | {source} | {verdict} | {str(result.proved).lower()} "
+                f"| {result.root_bound} | {result.expansions} | {result.nodes} | {result.seconds:.2f} "
+                f"| {'' if published is None else f'{published[0]:g}'} |",
+                flush=True,
+            )
+    print()
+    for name, times in seconds.items():
+        print(f"{name}: median {statistics.median(times):.2f} s over {len(times)} start pairs")
 
 
 def tiny_cases() -> list[tuple[str, object, tuple[int, int]]]:
@@ -108,7 +251,16 @@ def main() -> None:
     parser.add_argument("--planners", action="store_true", help="Also every planner against the proved optima.")
     parser.add_argument("--tiny", action="store_true", help="The tests' tiny levels instead of the maps.")
     parser.add_argument("--real", action="store_true", help="Small real maps from bench starts 0-2.")
+    parser.add_argument("--guards", type=int, default=1, help="Above 1: the team optimum (makespan) table.")
+    parser.add_argument("--draws", type=int, default=3, help="Start pairs drawn per published map (--guards).")
+    parser.add_argument(
+        "--max-expansions", type=int, default=200_000, help="Expansions per team search (--guards); 0: no limit."
+    )
+    parser.add_argument("--mwrp-repo", type=Path, default=MWRP_REPO, help="A fetched MWRP-CP3 git directory.")
     arguments = parser.parse_args()
+    if arguments.guards > 1:
+        team_rows(arguments)
+        return
     proved = []
     if arguments.real:
         from guardsim.starts import episode_start

@@ -15,7 +15,7 @@ import numpy as np
 from guardsim.kernels.compiler import jit
 from guardsim.kernels.subsets import subset_path_bound
 
-__all__ = ["UNREACHABLE", "Heuristic", "eccentricity", "estimate", "estimate_work"]
+__all__ = ["UNREACHABLE", "Heuristic", "eccentricity", "estimate", "estimate_work", "pick_pivots"]
 
 #: Distance to a target the position cannot reach; fits int16 with room to add a few steps.
 UNREACHABLE = 30000
@@ -86,13 +86,33 @@ def estimate(
     """
     row = heuristic.to_watchers[position]
     pool, between = heuristic.pool, heuristic.between
-    # Farthest first: each pivot the unseen candidate farthest from the agent and the pivots taken,
-    # among those sharing no watcher with them (the k-centre rule, which spreads the pivots out).
+    count = pick_pivots(heuristic, row, seen, kept, link, gap)
+    farthest = eccentricity(heuristic, position, seen, full)
+    if count == 0:
+        return farthest
+    # The pivots' distances from the agent, in the scratch ``gap`` (done with it).
+    for k in range(count):
+        gap[k] = row[pool[kept[k]]]
+    return max(farthest, subset_path_bound(gap, between, kept, count, order, UNREACHABLE))
+
+
+@jit
+def pick_pivots(
+    heuristic: Heuristic, need: np.ndarray, seen: np.ndarray, kept: np.ndarray, link: np.ndarray, gap: np.ndarray
+) -> int:
+    """Up to ``heuristic.pivots`` unseen pool cells spread out, farthest first; returns how many, their
+    pool indices in ``kept``. ``need[bit]`` is how far the agents are from goal cell ``bit`` (the steps
+    to its nearest watcher); ``link`` and ``gap`` are work arrays of the pool's size.
+
+    Each pivot is the unseen candidate farthest from the agents and from the pivots already taken, among
+    those sharing no watcher with them (the k-centre rule, which spreads the pivots out).
+    """
+    pool, between = heuristic.pool, heuristic.between
     candidates = 0
     for candidate in range(pool.shape[0]):
         if _unseen(seen, pool[candidate]):
             link[candidates] = candidate
-            gap[candidates] = row[pool[candidate]]
+            gap[candidates] = need[pool[candidate]]
             candidates += 1
     count = 0
     while count < heuristic.pivots:
@@ -111,13 +131,7 @@ def estimate(
                 weight = between[link[index], chosen]
                 if weight < gap[index]:
                     gap[index] = weight
-    farthest = eccentricity(heuristic, position, seen, full)
-    if count == 0:
-        return farthest
-    # The pivots' distances from the agent, in the scratch ``gap`` (done with it).
-    for k in range(count):
-        gap[k] = row[pool[kept[k]]]
-    return max(farthest, subset_path_bound(gap, between, kept, count, order, UNREACHABLE))
+    return count
 
 
 @jit(inline="always")

@@ -33,6 +33,7 @@ from typing import TYPE_CHECKING, Any, NamedTuple
 import numpy as np
 
 from guardsim.errors import LevelError, LimitError
+from guardsim.kernels.frontier import frontier, frontier_work
 from guardsim.search import DOMINANCE_CHECKS
 from guardsim.search.astar import (
     EXPANSIONS,
@@ -145,12 +146,17 @@ def solve_team(
     graph = residual_goal(graph, also=positions[1:].tolist())
     heuristic = build_heuristic(graph)
     later = later_distances(heuristic.to_watchers, positions)
-    # One guard covering everything alone, the others waiting, is a team walk: the first incumbent.
+    # The first incumbent: the shorter of one guard covering everything alone (the others waiting) and
+    # a greedy team walk.
     alone, alone_steps = beam_route(graph, heuristic, 8)
     if alone_steps < 0:
         alone, alone_steps = greedy_walk(graph.successors, graph.views, graph.full, graph.start)
     if alone_steps < 0:
         raise LevelError(f"{scene.level.source}: some cell reachable from the starts is seen from nowhere")
+    first_routes = [alone] + [np.array([position], dtype=np.int64) for position in positions[1:].tolist()]
+    greedy_routes, greedy_steps = _greedy_team(graph.successors, graph.views, graph.full, positions)
+    if 0 <= greedy_steps < alone_steps:
+        first_routes, alone_steps = greedy_routes, greedy_steps
     words = graph.full.size
     budget = DEFAULT_MEMORY_BYTES if memory_bytes is None else memory_bytes
     per_node = 8 * words + 6 * 4 + 1 + 2 * 12 + 2 * 8 + 4
@@ -189,8 +195,7 @@ def solve_team(
     if int(counters[INCUMBENT_NODE]) >= 0:
         routes = team_routes(state, int(counters[INCUMBENT_NODE]), positions)
     else:
-        routes = [alone] + [np.array([position], dtype=np.int64) for position in positions[1:].tolist()]
-        makespan = int(alone_steps)
+        routes, makespan = first_routes, int(alone_steps)
     proved = stopped_by == "proved"
     floor = makespan if proved or counters[HEAP] == 0 else min(makespan, int(state.heap_key[0] // (1 << 16)))
     if not proved and max(floor, root_bound) >= makespan:
@@ -214,6 +219,33 @@ def solve_team(
         graph.headings_matter,
         time.perf_counter() - began,
     )
+
+
+def _greedy_team(
+    successors: np.ndarray, views: np.ndarray, full: np.ndarray, starts: np.ndarray
+) -> tuple[list[np.ndarray], int]:
+    """A team walk, greedily: the guard that has walked least takes its nearest move that sees something
+    new (ties: the most new cells). Each guard's macro-move positions and the makespan (-1 if stuck)."""
+    distance, queue, found, found_steps = frontier_work(successors.shape[0])
+    seen = np.bitwise_or.reduce(views[starts], axis=0)
+    routes = [[int(start)] for start in starts.tolist()]
+    walked = [0] * starts.size
+    stuck = [False] * starts.size
+    while not np.array_equal(seen, full):
+        moving = [k for k in range(starts.size) if not stuck[k]]
+        if not moving:
+            return [], -1
+        guard = min(moving, key=lambda k: (walked[k], k))
+        count = frontier(successors, views, routes[guard][-1], seen, distance, queue, found, found_steps)
+        if count == 0:
+            stuck[guard] = True
+            continue
+        gains = [int(np.unpackbits((views[found[i]] & ~seen).view(np.uint8)).sum()) for i in range(count)]
+        best = min(range(count), key=lambda i: (int(found_steps[i]), -gains[i], i))
+        routes[guard].append(int(found[best]))
+        walked[guard] += int(found_steps[best])
+        seen = seen | views[found[best]]
+    return [np.array(route, dtype=np.int64) for route in routes], max(walked)
 
 
 def _position(states: np.ndarray, cell: int, heading: int, headings_matter: bool) -> int:

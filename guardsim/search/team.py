@@ -39,9 +39,10 @@ import numpy as np
 
 from guardsim.kernels.arrays import copy_into
 from guardsim.kernels.compiler import jit
-from guardsim.kernels.estimate import UNREACHABLE, Heuristic, estimate, estimate_work
+from guardsim.kernels.estimate import UNREACHABLE, Heuristic, estimate, estimate_work, pick_pivots
 from guardsim.kernels.frontier import frontier, frontier_work, node_hash
 from guardsim.kernels.heap import heap_pop, heap_push
+from guardsim.kernels.subsets import subset_path_bound
 from guardsim.search.astar import (
     EXPANSIONS,
     FLOOR,
@@ -164,6 +165,78 @@ def _cheap_bound(
 
 
 @jit
+def _split_bound(
+    heuristic: Heuristic,
+    later: np.ndarray,
+    starts: np.ndarray,
+    guard: int,
+    position: int,
+    steps: int,
+    seen: np.ndarray,
+    need: np.ndarray,
+    work: tuple[np.ndarray, np.ndarray, np.ndarray, np.ndarray],
+    cost: np.ndarray,
+    combined: np.ndarray,
+) -> int:
+    """A lower bound on the makespan from pivots shared out among the guards still to walk.
+
+    Up to ``heuristic.pivots`` unseen pivots (:func:`~guardsim.kernels.estimate.pick_pivots`, farthest
+    from the team first). Each pivot is seen by one of guards ``guard ..``; a guard's walk enters the
+    watcher sets of those it sees in some order, so it is at least its steps so far plus the shortest
+    order through any subset of them (:func:`~guardsim.kernels.subsets.subset_path_bound`, from its
+    position, or a later guard's start). The bound is the least, over the ways to share the pivots out,
+    of the longest guard's bound (dynamic programming over subsets, ``3**pivots`` per guard).
+    """
+    kept, link, gap, order = work
+    pool, between = heuristic.pool, heuristic.between
+    guards = starts.shape[0]
+    row = heuristic.to_watchers[position]
+    for candidate in range(pool.shape[0]):
+        bit = pool[candidate]
+        need[bit] = min(steps + row[bit], later[guard, bit], UNREACHABLE)
+    count = pick_pivots(heuristic, need, seen, kept, link, gap)
+    if count == 0:
+        return steps
+    subsets = 1 << count
+    never = 1 << 30
+    for j in range(guard, guards):
+        source = row if j == guard else heuristic.to_watchers[starts[j]]
+        for k in range(count):
+            gap[k] = source[pool[kept[k]]]
+        subset_path_bound(gap, between, kept, count, order, UNREACHABLE)
+        base = steps if j == guard else 0
+        cost[j, 0] = base
+        for mask in range(1, subsets):
+            shortest = never
+            for last in range(count):
+                if order[mask * count + last] < shortest:
+                    shortest = order[mask * count + last]
+            value = base + shortest if shortest < UNREACHABLE else never
+            # A shorter order through a subset would not bound the walk: the largest over subsets does.
+            for k in range(count):
+                if mask & (1 << k) and cost[j, mask ^ (1 << k)] > value:
+                    value = cost[j, mask ^ (1 << k)]
+            cost[j, mask] = value
+    for mask in range(subsets):
+        combined[0, mask] = cost[guards - 1, mask]
+    for j in range(guards - 2, guard - 1, -1):
+        for mask in range(subsets):
+            best = never
+            part = mask
+            while True:
+                value = max(cost[j, part], combined[0, mask ^ part])
+                if value < best:
+                    best = value
+                if part == 0:
+                    break
+                part = (part - 1) & mask
+            combined[1, mask] = best
+        for mask in range(subsets):
+            combined[0, mask] = combined[1, mask]
+    return combined[0, subsets - 1]
+
+
+@jit
 def _find(
     state: TeamSearchState, guard: int, position: int, before: int, seen: np.ndarray, positions: int
 ) -> tuple[int, int]:
@@ -264,12 +337,18 @@ def start_team(
         for word in range(full.shape[0]):
             seen[word] |= views[starts[k], word]
     bound = _cheap_bound(heuristic, later, 0, starts[0], 0, 0, seen, full)
+    work = estimate_work(heuristic)
+    kept, link, gap, order = work
     if guards == 1:
-        kept, link, gap, order = estimate_work(heuristic)
         bound = max(bound, estimate(heuristic, starts[0], seen, full, kept, link, gap, order))
+    else:
+        need = np.empty(heuristic.to_watchers.shape[1], dtype=np.int16)
+        cost = np.empty((guards, 1 << heuristic.pivots), dtype=np.int64)
+        combined = np.empty((2, 1 << heuristic.pivots), dtype=np.int64)
+        bound = max(bound, _split_bound(heuristic, later, starts, 0, starts[0], 0, seen, need, work, cost, combined))
     _, slot = _find(state, 0, starts[0], 0, seen, positions)
     node = _add(state, slot, starts[0], 0, starts[0], 0, 0, -1, bound, seen)
-    state.exact[node] = guards == 1
+    state.exact[node] = True
     counters[FLOOR] = bound
     done = True
     for word in range(full.shape[0]):
@@ -368,7 +447,11 @@ def run_team(
     words = full.shape[0]
     guards = starts.shape[0]
     distance, queue, found, found_steps = frontier_work(positions)
-    kept, link, gap, order = estimate_work(heuristic)
+    work = estimate_work(heuristic)
+    kept, link, gap, order = work
+    need = np.empty(heuristic.to_watchers.shape[1], dtype=np.int16)
+    cost = np.empty((guards, 1 << heuristic.pivots), dtype=np.int64)
+    combined = np.empty((2, 1 << heuristic.pivots), dtype=np.int64)
     seen = np.empty(words, dtype=np.uint64)
     expanded = 0
     while counters[STATUS] == RUNNING and expanded < budget:
@@ -389,10 +472,16 @@ def run_team(
             continue  # a stale entry: the node was reached more cheaply, or its bound rose, since
         if _dominated(state, guard * positions + here, g, before, state.seen[node], checks, node):
             continue
-        if not state.exact[node] and guard == guards - 1:
-            # The last guard must see the rest alone: the one-guard estimate, once, at the heap's top.
+        if not state.exact[node]:
+            # Once, at the heap's top: the last guard must see the rest alone (the one-guard estimate);
+            # before it, the pivots shared out among the guards left.
             state.exact[node] = True
-            raised = g + estimate(heuristic, here, state.seen[node], full, kept, link, gap, order)
+            if guard == guards - 1:
+                raised = g + estimate(heuristic, here, state.seen[node], full, kept, link, gap, order)
+            else:
+                raised = _split_bound(
+                    heuristic, later, starts, guard, here, g, state.seen[node], need, work, cost, combined
+                )
             if raised > state.bound[node]:
                 state.bound[node] = raised
                 if raised < counters[INCUMBENT]:
