@@ -48,8 +48,8 @@ from guardsim.search.astar import (
     greedy_walk,
 )
 from guardsim.search.beam import beam_route
-from guardsim.search.graph import build_search_graph, route_steps
-from guardsim.search.heuristic import build_heuristic
+from guardsim.search.graph import SearchGraph, build_search_graph, goal_bits, route_steps
+from guardsim.search.heuristic import Heuristic, build_heuristic
 from guardsim.search.residual import residual_goal
 from guardsim.search.team import later_distances, new_team_state, run_team, start_team, team_routes
 from guardsim.vision.rules import VisionFunction
@@ -146,17 +146,20 @@ def solve_team(
     graph = residual_goal(graph, also=positions[1:].tolist())
     heuristic = build_heuristic(graph)
     later = later_distances(heuristic.to_watchers, positions)
-    # The first incumbent: the shorter of one guard covering everything alone (the others waiting) and
-    # a greedy team walk.
+    # The first incumbent: the shortest of one guard covering everything alone (the others waiting), a
+    # greedy team walk, and each guard covering the cells nearest its start.
     alone, alone_steps = beam_route(graph, heuristic, 8)
     if alone_steps < 0:
         alone, alone_steps = greedy_walk(graph.successors, graph.views, graph.full, graph.start)
     if alone_steps < 0:
         raise LevelError(f"{scene.level.source}: some cell reachable from the starts is seen from nowhere")
     first_routes = [alone] + [np.array([position], dtype=np.int64) for position in positions[1:].tolist()]
-    greedy_routes, greedy_steps = _greedy_team(graph.successors, graph.views, graph.full, positions)
-    if 0 <= greedy_steps < alone_steps:
-        first_routes, alone_steps = greedy_routes, greedy_steps
+    for routes, steps in (
+        _greedy_team(graph.successors, graph.views, graph.full, positions),
+        _nearest_shares(graph, heuristic, positions),
+    ):
+        if 0 <= steps < alone_steps:
+            first_routes, alone_steps = routes, steps
     words = graph.full.size
     budget = DEFAULT_MEMORY_BYTES if memory_bytes is None else memory_bytes
     per_node = 8 * words + 6 * 4 + 1 + 2 * 12 + 2 * 8 + 4
@@ -246,6 +249,23 @@ def _greedy_team(
         walked[guard] += int(found_steps[best])
         seen = seen | views[found[best]]
     return [np.array(route, dtype=np.int64) for route in routes], max(walked)
+
+
+def _nearest_shares(graph: SearchGraph, heuristic: Heuristic, starts: np.ndarray) -> tuple[list[np.ndarray], int]:
+    """A team walk: each goal cell goes to the guard whose start is nearest a watcher of it (ties to the
+    first), and each guard covers its share by the one-guard beam. Routes and makespan (-1 if stuck)."""
+    nearest = np.argmin(heuristic.to_watchers[starts], axis=0)
+    routes, makespan = [], 0
+    for guard, start in enumerate(starts.tolist()):
+        others_cells = np.zeros(int(graph.goal_cells.max(initial=0)) + 1, dtype=bool)
+        others_cells[graph.goal_cells[nearest != guard]] = True
+        others = goal_bits(graph, others_cells)
+        route, steps = beam_route(graph._replace(start=start), heuristic, 8, known=others)
+        if steps < 0:
+            return [], -1
+        routes.append(route)
+        makespan = max(makespan, int(steps))
+    return routes, makespan
 
 
 def _position(states: np.ndarray, cell: int, heading: int, headings_matter: bool) -> int:
