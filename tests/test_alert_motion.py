@@ -195,16 +195,61 @@ def test_cli_continuous_one_episode_and_trace(files: tuple[Path, Path], tmp_path
 @pytest.mark.parametrize(
     ("args", "message"),
     [
-        (["--motion", "continuous", "--gif", "x.gif"], "--gif and --html draw grid-motion episodes"),
+        (["--motion", "continuous", "--html", "x.html"], "--html draws grid-motion episodes"),
         (["--move-speed", "3"], "grid episodes have no game time"),
     ],
-    ids=["gif-continuous", "speed-on-grid"],
+    ids=["html-continuous", "speed-on-grid"],
 )
 def test_cli_refusals_are_one_line(files: tuple[Path, Path], args: list[str], message: str) -> None:
     level, patrol = files
     result = run("alert", level, "--patrol", patrol, "--intruder", "still", "--from", "10.5,6.5", *args)
     assert result.exit_code == 2
     assert message in result.output and "Traceback" not in result.output
+
+
+def test_gif_draws_guards_at_their_bodies(tmp_path: Path) -> None:
+    """Each frame's guard discs stand where the bodies were at that tick, not at their cells' centres."""
+    import imageio.v3 as iio
+
+    from guardsim.alert.gif import write_alert_gif
+    from guardsim.alert.trace import guard_trace
+    from guardsim.render.palette import PALETTE, guard_index
+    from guardsim.sneak.gif import SneakFrames
+
+    episode = continuous_episode("route-escaped")
+    episode.run()
+    scene, table = setup()
+    path = tmp_path / "a.gif"
+    count = write_alert_gif(path, scene, table, episode, suspicious=0.5)
+    poses = np.asarray(episode.record["poses"], dtype=np.float64)
+    frames = iio.imread(path, index=None)
+    assert count == frames.shape[0] == poses.shape[0]
+    drawer = SneakFrames(scene.level, guard_trace(scene, table, episode), size=None)
+    grid = scene.grid
+    scale = drawer.layout.scale
+    checked = 0
+    for tick in range(count):
+        for guard in range(poses.shape[1]):
+            x, y, _ = poses[tick, guard]
+            cell = grid.cell_of((x, y))
+            assert cell is not None
+            centre = (
+                grid.origin[0] + (cell[0] + 0.5) * grid.cell_size,
+                grid.origin[1] + (cell[1] + 0.5) * grid.cell_size,
+            )
+            body, middle = np.asarray(drawer.to_pixels((x, y))), np.asarray(drawer.to_pixels(centre))
+            if np.hypot(*(body - middle)) < 0.3 * scale:
+                continue
+            # The disc: pixels of exactly the guard's colour within a cell of the body.
+            left, top = drawer.layout.left, drawer.layout.top
+            x0, y0 = int(body[0] + left - scale), int(body[1] + top - scale)
+            window = frames[tick, y0 : y0 + 2 * scale + 1, x0 : x0 + 2 * scale + 1].astype(int)
+            rows, cols = np.nonzero((window == np.asarray(PALETTE[guard_index(guard)])).all(axis=2))
+            assert rows.size, (tick, guard)
+            disc = np.array([cols.mean() + x0 - left, rows.mean() + y0 - top])
+            assert np.hypot(*(disc - body)) < np.hypot(*(disc - middle)), (tick, guard, disc, body, middle)
+            checked += 1
+    assert checked >= 5  # enough frames catch a body well away from its cell's centre
 
 
 def test_cli_subprocess_continuous_episodes(files: tuple[Path, Path]) -> None:

@@ -68,6 +68,16 @@ def write_alert_gif(
             side = x - radius - 9 if x > layout.left + layout.play[0] - 3 * radius - 8 else x + radius + 2
             draw.text((side, y - radius - 13), letter, fill=int(Index.OUTLINE))
 
+    # In continuous motion the guards are drawn, and look, from their bodies' poses at each tick.
+    poses = np.asarray(record["poses"], dtype=np.float64) if "poses" in record else None
     return write_sneak_gif(
-        path, scene.level, trace, cells, meters=meters, states=states, suspicious=suspicious, overlay=overlay
+        path,
+        scene.level,
+        trace,
+        cells,
+        meters=meters,
+        states=states,
+        suspicious=suspicious,
+        overlay=overlay,
+        guard_poses=None if poses is None else poses.transpose(1, 0, 2),
     )

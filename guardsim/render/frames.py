@@ -112,6 +112,9 @@ class FrameDrawer:
         self.trail_width = max(1, round(scale / 3))
         # Pose points in the coordinates Pillow draws in (pixel centres on whole numbers), for the trail.
         self._pose_points: np.ndarray | None = None
+        self.guard_poses: np.ndarray | None = None
+        """``float (guards, ticks + 1, 3)``: each guard's ``x, y, facing degrees`` at every tick, for a team
+        whose bodies move freely (an alert episode in continuous motion); the trace's cells otherwise."""
         if trace.poses is not None and self.guards == 1:
             self._pose_points = np.column_stack(self.to_pixels((trace.poses[:, 1], trace.poses[:, 2]))) - 0.5
         self._reset()
@@ -278,6 +281,9 @@ class FrameDrawer:
     def pose(self, guard: int, tick: int) -> tuple[tuple[float, float], float]:
         """Where guard ``guard`` is at ``tick`` (a world point) and where it faces (degrees, clockwise on
         screen from +x): the recorded pose under continuous motion, else its cell's centre and heading."""
+        if self.guard_poses is not None:
+            x, y, facing = (float(v) for v in self.guard_poses[guard, min(tick, self.guard_poses.shape[1] - 1)])
+            return (x, y), facing
         poses = getattr(self.trace, "poses", None)
         if poses is not None and guard == 0:
             _, x, y, facing = (float(v) for v in poses[tick])

@@ -144,6 +144,7 @@ def write_sneak_gif(
     states: Sequence[str] = (),
     suspicious: float = 0.5,
     overlay: Callable[[ImageDraw.ImageDraw, SneakFrames, int], None] | None = None,
+    guard_poses: np.ndarray | None = None,
 ) -> int:
     """Write the guards of ``trace`` with the intruder walking ``intruder`` (one cell per tick of the
     trace): its trail in the cyan of guard colour 6 (teams of up to five keep their own colours), itself a
@@ -157,9 +158,11 @@ def write_sneak_gif(
 
     With ``period`` (the patrol's lap) the caption also gives the lap tick: the trace's tick 0 is lap tick
     ``lap_start`` (the sneak's start tick). ``overlay(draw, drawer, tick)`` draws more on each frame (palette
-    indices) before the intruder and the meters."""
+    indices) before the intruder and the meters. ``guard_poses`` (``float (guards, ticks + 1, 3)``: ``x, y,
+    facing degrees``) draws each guard and its cone where its body is rather than at its cell."""
     options = options or GifOptions()
     drawer = SneakFrames(level, trace, size=options.size, lap_start=lap_start, period=period)
+    drawer.guard_poses = guard_poses
     layout = drawer.layout
     if meters is not None:
         meters = np.asarray(meters, dtype=np.float64)
