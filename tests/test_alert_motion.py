@@ -185,8 +185,10 @@ def test_cli_continuous_one_episode_and_trace(files: tuple[Path, Path], tmp_path
     level, patrol = files
     trace = tmp_path / "alert.json"
     result = run("alert", level, "--patrol", patrol, "--intruder", "still", "--from", "10.5,6.5", "--motion",
-                 "continuous", "--tick-hz", "20", "--trace", trace)  # fmt: skip
+                 "continuous", "--tick-hz", "20", "--trace", trace, "--gif", tmp_path / "a.gif",
+                 "--html", tmp_path / "a.html")  # fmt: skip
     assert result.exit_code == 0, result.output
+    assert (tmp_path / "a.gif").stat().st_size > 0 and "guard_poses" in (tmp_path / "a.html").read_text()
     assert result.stdout.splitlines()[0].startswith("alert room: captured, detected at ")
     data = json.loads(trace.read_text())
     assert data["motion"] == "continuous" and data["tick_hz"] == 20.0 and data["outcome"]["outcome"] == "captured"
@@ -195,10 +197,9 @@ def test_cli_continuous_one_episode_and_trace(files: tuple[Path, Path], tmp_path
 @pytest.mark.parametrize(
     ("args", "message"),
     [
-        (["--motion", "continuous", "--html", "x.html"], "--html draws grid-motion episodes"),
         (["--move-speed", "3"], "grid episodes have no game time"),
     ],
-    ids=["html-continuous", "speed-on-grid"],
+    ids=["speed-on-grid"],
 )
 def test_cli_refusals_are_one_line(files: tuple[Path, Path], args: list[str], message: str) -> None:
     level, patrol = files
@@ -250,6 +251,50 @@ def test_gif_draws_guards_at_their_bodies(tmp_path: Path) -> None:
             assert np.hypot(*(disc - body)) < np.hypot(*(disc - middle)), (tick, guard, disc, body, middle)
             checked += 1
     assert checked >= 5  # enough frames catch a body well away from its cell's centre
+
+
+def test_page_draws_guards_at_their_bodies(tmp_path: Path) -> None:
+    """The page carries every guard's poses, and in real Chromium each guard's disc is centred on its
+    body, not on its cell, at a tick where the body is between cells."""
+    from guardsim.viewer.alerts import write_alert_page
+    from tests.pages import page_json
+    from tests.test_alert_html import decoded, screenshot
+    from tests.test_browser import CHROMIUM
+
+    episode = continuous_episode("route-escaped")
+    episode.run()
+    scene, table = setup()
+    page = tmp_path / "a.html"
+    write_alert_page(page, scene, table, episode)
+    data = page_json(page.read_text())
+    poses = np.asarray(episode.record["poses"], dtype=np.float64)
+    for guard, text in enumerate(data["guard_poses"]):
+        assert np.allclose(decoded(text, "f4").reshape(-1, 3), poses[:, guard], atol=1e-3)
+    if CHROMIUM is None:
+        pytest.skip("no chromium on PATH: install Debian's chromium (apt-get install -y chromium), as .ci/run does")
+    grid = scene.grid
+
+    def offset(tick: int, guard: int) -> float:
+        x, y, _ = poses[tick, guard]
+        col, row = (x - grid.origin[0]) / grid.cell_size, (y - grid.origin[1]) / grid.cell_size
+        return float(np.hypot(col % 1 - 0.5, row % 1 - 0.5))
+
+    tick, guard = max(((t, g) for t in range(poses.shape[0]) for g in range(poses.shape[1])), key=lambda p: offset(*p))
+    assert offset(tick, guard) > 0.3
+    (left, top, scale), image = screenshot(page, f"tick={tick}&scale=24", tmp_path / "profile")
+    x, y, _ = poses[tick, guard]
+    body = np.array(
+        [left + (x - grid.origin[0]) / grid.cell_size * scale, top + (y - grid.origin[1]) / grid.cell_size * scale]
+    )
+    cell = np.floor((body - (left, top)) / scale)
+    middle = np.array([left, top]) + (cell + 0.5) * scale
+    colour = np.array([int(data["guard_colours"][guard][k : k + 2], 16) for k in (1, 3, 5)])
+    x0, y0 = int(body[0] - scale), int(body[1] - scale)
+    window = image[y0 : y0 + 2 * scale + 1, x0 : x0 + 2 * scale + 1]
+    rows, cols = np.nonzero(np.abs(window - colour).sum(axis=2) <= 6)
+    assert rows.size
+    disc = np.array([cols.mean() + x0, rows.mean() + y0])
+    assert np.hypot(*(disc - body)) < np.hypot(*(disc - middle)), (disc, body, middle)
 
 
 def test_cli_subprocess_continuous_episodes(files: tuple[Path, Path]) -> None:

@@ -179,8 +179,6 @@ def alert(
 
     # Teams are fine here (each guard walks its own body): one guard is passed so that only the speeds are checked.
     check_motion(motion, 1, los, move_speed=move_speed, turn_speed=turn_speed, tick_hz=tick_hz)
-    if motion == "continuous" and html_path is not None:
-        raise GuardsimError("--html draws grid-motion episodes; with --motion continuous, write --gif or --trace")
     if workers is not None and scheduler is not None and scheduler != "local":
         raise GuardsimError("--workers and --scheduler exclude each other: the scheduler's workers run the episodes")
     level = with_detection(

@@ -111,4 +111,8 @@ def write_alert_page(
     """Write the viewer page of ``episode`` to ``path`` (atomically); ``patrol`` adds the guards' routes."""
     trace = guard_trace(scene, table, episode)
     overlays = alert_overlays(scene, table, episode, patrol=patrol, suspicious=suspicious)
-    write_viewer(path, scene.level, trace, overlays=overlays)
+    # In continuous motion the guards are drawn, and look, from their bodies' poses at each tick.
+    poses = np.asarray(episode.record["poses"], dtype=np.float64) if "poses" in episode.record else None
+    write_viewer(
+        path, scene.level, trace, overlays=overlays, guard_poses=None if poses is None else poses.transpose(1, 0, 2)
+    )

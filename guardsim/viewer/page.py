@@ -62,11 +62,18 @@ _INTRUDER_COLOUR = GUARD_COLOURS[5]
 
 
 def page_data(
-    level: Level | None, trace: Trace, *, field: np.ndarray | None = None, overlays: Overlays | None = None
+    level: Level | None,
+    trace: Trace,
+    *,
+    field: np.ndarray | None = None,
+    overlays: Overlays | None = None,
+    guard_poses: np.ndarray | None = None,
 ) -> dict[str, Any]:
     """Everything the page needs, as JSON-ready data.
 
-    ``overlays`` adds a patrol's or a sneak's layers (see :mod:`guardsim.viewer.layers`).
+    ``overlays`` adds a patrol's or a sneak's layers (see :mod:`guardsim.viewer.layers`). ``guard_poses``
+    (``float (guards, ticks + 1, 3)``: ``x, y, facing degrees``) draws every guard and its cone where its
+    body is (a team in continuous motion) instead of at its cell.
 
     With ``level`` ``None`` the walls are rebuilt from the trace's grid (see
     :func:`guardsim.viewer.walls.rings_from_grid`) and vision the trace does not record takes the
@@ -118,6 +125,8 @@ def page_data(
     if poses is not None:
         # Continuous motion: guard 0's recorded [x, y, heading_degrees] per tick, drawn instead of its cell.
         data["poses"] = packed(np.asarray(poses)[:, 1:4], "f4")
+    if guard_poses is not None:
+        data["guard_poses"] = [packed(np.asarray(poses, dtype=np.float64).ravel(), "f4") for poses in guard_poses]
     data["tick_hz"] = getattr(trace, "tick_hz", None)
     if field is not None:
         data["field"] = _field_snapshots(np.asarray(field), trace.steps, trace.shape)
@@ -134,13 +143,19 @@ def _asset(name: str) -> str:
 
 
 def build_page(
-    level: Level | None, trace: Trace, *, field: np.ndarray | None = None, overlays: Overlays | None = None
+    level: Level | None,
+    trace: Trace,
+    *,
+    field: np.ndarray | None = None,
+    overlays: Overlays | None = None,
+    guard_poses: np.ndarray | None = None,
 ) -> str:
     """The viewer page for ``trace`` as HTML text (self-contained: script and data inline).
 
     ``overlays`` adds a patrol's idleness, laps and routes, or a sneak's intruder.
     """
-    data = json.dumps(page_data(level, trace, field=field, overlays=overlays), separators=(",", ":"))
+    document = page_data(level, trace, field=field, overlays=overlays, guard_poses=guard_poses)
+    data = json.dumps(document, separators=(",", ":"))
     # Inside <script>, "</" would end the element early; JSON allows the escaped form.
     data = data.replace("</", "<\\/")
     title = f"{trace.level}: {trace.planner}, {trace.steps} ticks"
@@ -162,12 +177,14 @@ def write_viewer(
     *,
     field: np.ndarray | None = None,
     overlays: Overlays | None = None,
+    guard_poses: np.ndarray | None = None,
 ) -> None:
     """Write the viewer page for ``trace`` to ``path`` (atomically).
 
     ``field`` defaults to the trace's recorded planner field (``trace.field``) when it has one;
-    ``overlays`` adds a patrol's or a sneak's layers (:func:`guardsim.viewer.patrols.patrol_overlays`).
+    ``overlays`` adds a patrol's or a sneak's layers (:func:`guardsim.viewer.patrols.patrol_overlays`);
+    ``guard_poses`` as :func:`page_data` takes it.
     """
     if field is None:
         field = getattr(trace, "field", None)
-    write_text_atomic(path, build_page(level, trace, field=field, overlays=overlays))
+    write_text_atomic(path, build_page(level, trace, field=field, overlays=overlays, guard_poses=guard_poses))

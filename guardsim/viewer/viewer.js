@@ -151,6 +151,8 @@
     const headings = data.headings.map((text) => decode(text, Uint8Array));
     const guards = paths.length;
     const poses = data.poses ? decode(data.poses, Float32Array) : null;
+    // A team in continuous motion: every guard's [x, y, heading_degrees] per tick.
+    const guardPoses = data.guard_poses ? data.guard_poses.map((text) => decode(text, Float32Array)) : null;
     const colours = data.colours;
     const field = data.field
       ? { ticks: data.field.ticks, max: data.field.max, values: decode(data.field.data, Float32Array) }
@@ -270,13 +272,19 @@
     // A guard's world position and facing (degrees): the recorded pose under continuous motion, else
     // its cell's centre and heading.
     const pose = (guard, tick) => {
+      if (guardPoses) {
+        const own = guardPoses[guard];
+        return [[own[3 * tick], own[3 * tick + 1]], own[3 * tick + 2]];
+      }
       if (poses && guard === 0) return [[poses[3 * tick], poses[3 * tick + 1]], poses[3 * tick + 2]];
       const cell = paths[guard][tick];
       return [[ox + ((cell % cols) + 0.5) * data.cell_size, oy + (Math.floor(cell / cols) + 0.5) * data.cell_size], 90 * headings[guard][tick]];
     };
     // Where a guard's trail passes at a tick, in canvas pixels: through its poses when it has them.
-    const trailPoint = (guard, tick) =>
-      poses && guard === 0 ? [px(poses[3 * tick]), py(poses[3 * tick + 1])] : centre(paths[guard][tick]);
+    const trailPoint = (guard, tick) => {
+      if (guardPoses) return [px(guardPoses[guard][3 * tick]), py(guardPoses[guard][3 * tick + 1])];
+      return poses && guard === 0 ? [px(poses[3 * tick]), py(poses[3 * tick + 1])] : centre(paths[guard][tick]);
+    };
     const block = Math.max(1, Math.ceil(steps / TRAIL_BLOCKS));
     const trailLevel = (walked, tick) => {
       const age = Math.floor(tick / block) - Math.floor(walked / block);
