@@ -66,9 +66,12 @@ class Recorder(event.Listener):
             arguments = [encode_type(a) for a in e.data["args"]]
         except TypeError:
             arguments = None
-        # numba's own helpers, and callees whose argument types cannot be written down, compile with
-        # their caller: their time stays in it.
-        if caller >= 0 and (arguments is None or not function.__module__.startswith("guardsim.")):
+        # numba's own helpers, callees whose argument types cannot be written down and functions that are
+        # not dispatchers (register_jitable ones, compiled only inside callers) compile with their
+        # caller: their time stays in it.
+        own = getattr(sys.modules.get(function.__module__), function.__name__, None)
+        if caller >= 0 and (arguments is None or not function.__module__.startswith("guardsim.")
+                            or not hasattr(own, "compile")):
             skipped[frame] = caller
             stack[-1][1] += below
             return

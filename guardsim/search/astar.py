@@ -299,11 +299,11 @@ def run_search(
         key, popped, counters[HEAP] = heap_pop(state.heap_key, state.heap_node, counters[HEAP])
         # As int64, like the walks start_search and the beam hand over: kernels called with a narrower
         # integer would be compiled a second time for it.
-        node = int(popped)
+        node = np.int64(popped)
         g = _KEY_SHIFT - 1 - key % _KEY_SHIFT
         if g != state.steps[node]:
             continue  # a stale entry: the node was reached more cheaply since
-        here = int(state.position[node])
+        here = np.int64(state.position[node])
         if _dominated(state, here, g, state.seen[node], checks, node):
             continue
         if not state.exact[node]:
