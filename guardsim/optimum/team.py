@@ -34,6 +34,7 @@ import numpy as np
 
 from guardsim.errors import LevelError, LimitError
 from guardsim.kernels.frontier import frontier, frontier_work
+from guardsim.kernels.team_estimate import later_distances
 from guardsim.search import DOMINANCE_CHECKS
 from guardsim.search.astar import (
     EXPANSIONS,
@@ -51,7 +52,7 @@ from guardsim.search.beam import beam_route
 from guardsim.search.graph import SearchGraph, build_search_graph, goal_bits, route_steps
 from guardsim.search.heuristic import Heuristic, build_heuristic
 from guardsim.search.residual import residual_goal
-from guardsim.search.team import later_distances, new_team_state, run_team, start_team, team_routes
+from guardsim.search.team import new_team_state, run_team, start_team, team_routes
 from guardsim.vision.rules import VisionFunction
 from guardsim.vision.table import view_table
 

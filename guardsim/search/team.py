@@ -39,10 +39,10 @@ import numpy as np
 
 from guardsim.kernels.arrays import copy_into
 from guardsim.kernels.compiler import jit
-from guardsim.kernels.estimate import UNREACHABLE, Heuristic, estimate, estimate_work, pick_pivots
+from guardsim.kernels.estimate import Heuristic, estimate, estimate_work
 from guardsim.kernels.frontier import frontier, frontier_work, node_hash
 from guardsim.kernels.heap import heap_pop, heap_push
-from guardsim.kernels.subsets import subset_path_bound
+from guardsim.kernels.team_estimate import split_bound, team_bound
 from guardsim.search.astar import (
     EXPANSIONS,
     FLOOR,
@@ -57,7 +57,7 @@ from guardsim.search.astar import (
     STATUS,
 )
 
-__all__ = ["TeamSearchState", "later_distances", "new_team_state", "run_team", "start_team", "team_routes"]
+__all__ = ["TeamSearchState", "new_team_state", "run_team", "start_team", "team_routes"]
 
 _KEY_SHIFT = 1 << 16
 #: Steps of one guard's walk that the heap's tie-break tells apart.
@@ -118,122 +118,10 @@ def new_team_state(capacity: int, words: int, positions: int, guards: int) -> Te
     )
 
 
-def later_distances(to_watchers: np.ndarray, starts: np.ndarray) -> np.ndarray:
-    """``int16 (guards, goal)``: row ``k``, the fewest steps from any later guard's start to a watcher of
-    each goal cell (:data:`UNREACHABLE` for the last guard)."""
-    guards = starts.size
-    later = np.full((guards, to_watchers.shape[1]), UNREACHABLE, dtype=np.int16)
-    for k in range(guards - 2, -1, -1):
-        later[k] = np.minimum(later[k + 1], to_watchers[starts[k + 1]])
-    return later
-
-
 @jit(inline="always")
 def _key(bound: int, guard: int, steps: int) -> int:
     tie = min(guard * _TIE_STEPS + min(steps, _TIE_STEPS - 1), _KEY_SHIFT - 1)
     return bound * _KEY_SHIFT + (_KEY_SHIFT - 1 - tie)
-
-
-@jit
-def _cheap_bound(
-    heuristic: Heuristic,
-    later: np.ndarray,
-    guard: int,
-    position: int,
-    steps: int,
-    before: int,
-    seen: np.ndarray,
-    full: np.ndarray,
-) -> int:
-    """``max(G, g, max over unseen c of min(g + d_k(c), later guards' d(c)))``."""
-    row = heuristic.to_watchers[position]
-    rest = later[guard]
-    best = max(before, steps)
-    for word in range(full.shape[0]):
-        left = full[word] & ~seen[word]
-        bit = word * 64
-        while left:
-            if left & np.uint64(1):
-                need = steps + row[bit]
-                if rest[bit] < need:
-                    need = rest[bit]
-                if need > best:
-                    best = need
-            left >>= np.uint64(1)
-            bit += 1
-    return best
-
-
-@jit
-def _split_bound(
-    heuristic: Heuristic,
-    later: np.ndarray,
-    starts: np.ndarray,
-    guard: int,
-    position: int,
-    steps: int,
-    seen: np.ndarray,
-    need: np.ndarray,
-    work: tuple[np.ndarray, np.ndarray, np.ndarray, np.ndarray],
-    cost: np.ndarray,
-    combined: np.ndarray,
-) -> int:
-    """A lower bound on the makespan from pivots shared out among the guards still to walk.
-
-    Up to ``heuristic.pivots`` unseen pivots (:func:`~guardsim.kernels.estimate.pick_pivots`, farthest
-    from the team first). Each pivot is seen by one of guards ``guard ..``; a guard's walk enters the
-    watcher sets of those it sees in some order, so it is at least its steps so far plus the shortest
-    order through any subset of them (:func:`~guardsim.kernels.subsets.subset_path_bound`, from its
-    position, or a later guard's start). The bound is the least, over the ways to share the pivots out,
-    of the longest guard's bound (dynamic programming over subsets, ``3**pivots`` per guard).
-    """
-    kept, link, gap, order = work
-    pool, between = heuristic.pool, heuristic.between
-    guards = starts.shape[0]
-    row = heuristic.to_watchers[position]
-    for candidate in range(pool.shape[0]):
-        bit = pool[candidate]
-        need[bit] = min(steps + row[bit], later[guard, bit], UNREACHABLE)
-    count = pick_pivots(heuristic, need, seen, kept, link, gap)
-    if count == 0:
-        return steps
-    subsets = 1 << count
-    never = 1 << 30
-    for j in range(guard, guards):
-        source = row if j == guard else heuristic.to_watchers[starts[j]]
-        for k in range(count):
-            gap[k] = source[pool[kept[k]]]
-        subset_path_bound(gap, between, kept, count, order, UNREACHABLE)
-        base = steps if j == guard else 0
-        cost[j, 0] = base
-        for mask in range(1, subsets):
-            shortest = never
-            for last in range(count):
-                if order[mask * count + last] < shortest:
-                    shortest = order[mask * count + last]
-            value = base + shortest if shortest < UNREACHABLE else never
-            # A shorter order through a subset would not bound the walk: the largest over subsets does.
-            for k in range(count):
-                if mask & (1 << k) and cost[j, mask ^ (1 << k)] > value:
-                    value = cost[j, mask ^ (1 << k)]
-            cost[j, mask] = value
-    for mask in range(subsets):
-        combined[0, mask] = cost[guards - 1, mask]
-    for j in range(guards - 2, guard - 1, -1):
-        for mask in range(subsets):
-            best = never
-            part = mask
-            while True:
-                value = max(cost[j, part], combined[0, mask ^ part])
-                if value < best:
-                    best = value
-                if part == 0:
-                    break
-                part = (part - 1) & mask
-            combined[1, mask] = best
-        for mask in range(subsets):
-            combined[0, mask] = combined[1, mask]
-    return combined[0, subsets - 1]
 
 
 @jit
@@ -336,7 +224,7 @@ def start_team(
     for k in range(guards):
         for word in range(full.shape[0]):
             seen[word] |= views[starts[k], word]
-    bound = _cheap_bound(heuristic, later, 0, starts[0], 0, 0, seen, full)
+    bound = team_bound(heuristic, later, 0, starts[0], 0, 0, seen, full)
     work = estimate_work(heuristic)
     kept, link, gap, order = work
     if guards == 1:
@@ -345,7 +233,7 @@ def start_team(
         need = np.empty(heuristic.to_watchers.shape[1], dtype=np.int16)
         cost = np.empty((guards, 1 << heuristic.pivots), dtype=np.int64)
         combined = np.empty((2, 1 << heuristic.pivots), dtype=np.int64)
-        bound = max(bound, _split_bound(heuristic, later, starts, 0, starts[0], 0, seen, need, work, cost, combined))
+        bound = max(bound, split_bound(heuristic, later, starts, 0, starts[0], 0, seen, need, work, cost, combined))
     _, slot = _find(state, 0, starts[0], 0, seen, positions)
     node = _add(state, slot, starts[0], 0, starts[0], 0, 0, -1, bound, seen)
     state.exact[node] = True
@@ -399,7 +287,7 @@ def _offer(
         state.steps[other] = steps
         state.parent[other] = parent
         # Not the old bound: it counted the old steps.
-        bound = max(floor, _cheap_bound(heuristic, later, guard, position, steps, before, seen, full))
+        bound = max(floor, team_bound(heuristic, later, guard, position, steps, before, seen, full))
         state.bound[other] = bound
         state.exact[other] = complete
     else:
@@ -411,7 +299,7 @@ def _offer(
         bound = (
             makespan
             if complete
-            else max(floor, _cheap_bound(heuristic, later, guard, position, steps, before, seen, full))
+            else max(floor, team_bound(heuristic, later, guard, position, steps, before, seen, full))
         )
         if bound >= counters[INCUMBENT]:
             return
@@ -479,7 +367,7 @@ def run_team(
             if guard == guards - 1:
                 raised = g + estimate(heuristic, here, state.seen[node], full, kept, link, gap, order)
             else:
-                raised = _split_bound(
+                raised = split_bound(
                     heuristic, later, starts, guard, here, g, state.seen[node], need, work, cost, combined
                 )
             if raised > state.bound[node]:
