@@ -276,27 +276,32 @@ def test_compiling_ahead_covers_what_the_command_compiles(command: str, tmp_path
     assert json.loads(done.stdout.strip().splitlines()[-1]) == []
 
 
-def _entry(name: str, seconds: float, caller: int) -> list[object]:
-    return ["m", name, [], seconds, caller]
+def _entry(name: str, seconds: float) -> list[object]:
+    return ["m", name, [], seconds, -1]
 
 
-def test_compile_plan_is_dealt_to_both_processes_by_finish_time() -> None:
-    from guardsim.kernels.ahead import _halves
+def test_compile_plan_is_dealt_to_both_processes_by_finish_time(monkeypatch: pytest.MonkeyPatch) -> None:
+    from guardsim.kernels import ahead
 
+    calls = {"a": {"a1"}, "b": {"b1"}, "big": {"c0", "c1", "c2", "c3"}}
+    monkeypatch.setattr(ahead, "_compiled_with", lambda entry: {f"m:{n}" for n in calls.get(entry[1], set())})
     # Two independent kernels of 4 s, each with a 1 s callee: each process takes one family.
-    entries = [_entry("a1", 1.0, 1), _entry("a", 4.0, -1), _entry("b1", 1.0, 3), _entry("b", 4.0, -1)]
-    mine, theirs = _halves(entries)
+    entries = [_entry("a1", 1.0), _entry("a", 4.0), _entry("b1", 1.0), _entry("b", 4.0)]
+    mine, theirs = ahead._halves(entries)
     assert [e[1] for e in mine] == ["a1", "a"] and [e[1] for e in theirs] == ["b1", "b"]
     # One big caller over four callees: the callees are shared out, the caller goes where it ends first,
     # and every entry is compiled once, in the plan's order on each side.
-    entries = [_entry(f"c{k}", 1.0, 4) for k in range(4)] + [_entry("big", 2.0, -1), _entry("lone", 3.0, -1)]
-    mine, theirs = _halves(entries)
+    entries = [_entry(f"c{k}", 1.0) for k in range(4)] + [_entry("big", 2.0), _entry("lone", 3.0)]
+    mine, theirs = ahead._halves(entries)
     names = [e[1] for e in mine] + [e[1] for e in theirs]
     assert sorted(names) == sorted(e[1] for e in entries)
     for side in (mine, theirs):
         assert [entries.index(e) for e in side] == sorted(entries.index(e) for e in side)
     loads = [sum(float(e[3]) for e in side) for side in (mine, theirs)]  # type: ignore[arg-type]
     assert abs(loads[0] - loads[1]) <= 3.0
-    # Entries of an old plan (no caller recorded) are each called from Python.
-    mine, theirs = _halves([["m", "x", [], 2.0], ["m", "y", [], 2.0]])
-    assert len(mine) == len(theirs) == 1
+    # A caller never starts on one side before a callee the other side is still compiling ends: with a
+    # 4 s callee on one side, its 1 s caller waits on the same side rather than compile it twice.
+    calls = {"top": {"slow"}}
+    entries = [_entry("slow", 4.0), _entry("quick", 1.0), _entry("top", 1.0)]
+    mine, theirs = ahead._halves(entries)
+    assert {e[1] for e in mine} == {"slow", "top"} and [e[1] for e in theirs] == ["quick"]

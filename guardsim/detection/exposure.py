@@ -13,6 +13,7 @@ import numpy as np
 
 from guardsim.detection.model import DetectionModel
 from guardsim.grid import CoverageGrid
+from guardsim.kernels.arrays import copy_into
 from guardsim.kernels.compiler import jit
 from guardsim.kernels.meter import DETECTED, meter_after
 from guardsim.kernels.steps import cell_of_state
@@ -115,7 +116,7 @@ def _ever_detected(gain: np.ndarray, fall: float, cell: int, max_laps: int) -> i
     levels = np.zeros(guards)
     before = np.zeros(guards)
     for _ in range(max_laps):
-        before[:] = levels
+        copy_into(before, 0, levels)  # a slice copy would cost seconds to compile
         for phase in range(period):
             for guard in range(guards):
                 levels[guard] = meter_after(levels[guard], gain[guard, phase, cell], fall)

@@ -81,6 +81,34 @@ def _dispatcher(entry: list[Any]) -> Any:
     return getattr(importlib.import_module(entry[0]), entry[1])
 
 
+def _entry_name(entry: list[Any]) -> str:
+    return f"{entry[0]}:{entry[1]}"
+
+
+def _compiled_with(entry: list[Any]) -> set[str]:
+    """The compiled functions that compiling ``entry``'s function compiles: itself and, recursively,
+    every compiled function its code names (``module:name``; empty when the entry is stale)."""
+    try:
+        waiting = [_dispatcher(entry)]
+    except (ImportError, AttributeError):
+        return set()
+    found: set[str] = set()
+    while waiting:
+        function = waiting.pop()
+        python = getattr(function, "py_func", None)
+        if python is None:
+            continue
+        name = f"{python.__module__}:{python.__name__}"
+        if name in found:
+            continue
+        found.add(name)
+        for word in python.__code__.co_names:
+            named = python.__globals__.get(word)
+            if hasattr(named, "py_func"):
+                waiting.append(named)
+    return found
+
+
 def _compile(entry: list[Any]) -> None:
     _dispatcher(entry).compile(tuple(decode_type(argument) for argument in entry[2]))
 
@@ -89,18 +117,18 @@ def _halves(entries: list[list[Any]]) -> tuple[list[list[Any]], list[list[Any]]]
     """The plan split between this process and the helper, each list in the plan's order.
 
     The plan lists functions in the order their compiling ended, callees before callers, each with its
-    own compile time (callees excluded) and the index of the entry it was compiled under (-1: called from
-    Python). Entries are dealt out in that order, each to the process that would be done with it first:
-    a process that reaches a caller before the other has compiled one of its callees compiles that
-    callee too (the cost counted), and one that has it loads it from the cache.
+    own compile time (callees excluded). Entries are dealt out in that order, each to the process that
+    would be done with it first: a process that reaches a caller before the other has compiled one of
+    its callees (any earlier entry its code reaches) compiles that callee too, and the cost is counted;
+    one that finds it compiled loads it from the cache.
     """
-    parents = [int(entry[4]) if len(entry) > 4 else -1 for entry in entries]
-    below: list[list[int]] = [[] for _ in entries]
-    for index, parent in enumerate(parents):
-        # Every callee ends before its caller, so each list holds whole subtrees in order.
-        while 0 <= parent < len(entries):
-            below[parent].append(index)
-            parent = parents[parent]
+    # What compiling an entry compiles too: the earlier entries whose functions its code reaches (a
+    # callee compiled first for another caller is recorded under that one, not under this).
+    names = [_entry_name(entry) for entry in entries]
+    below: list[list[int]] = []
+    for index, entry in enumerate(entries):
+        reached = _compiled_with(entry) - {names[index]}
+        below.append([earlier for earlier in range(index) if names[earlier] in reached])
     clock = [0.0, 0.0]
     side = [0] * len(entries)
     finish = [0.0] * len(entries)

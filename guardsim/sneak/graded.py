@@ -16,6 +16,7 @@ from __future__ import annotations
 import numpy as np
 
 from guardsim.errors import LimitError
+from guardsim.kernels.arrays import copy_into
 from guardsim.kernels.compiler import jit
 from guardsim.kernels.meter import DETECTED, meter_after
 
@@ -33,7 +34,9 @@ def _grow(array: np.ndarray, needed: int) -> np.ndarray:
     while size < needed:
         size *= 2
     grown = np.empty((size, *array.shape[1:]), dtype=array.dtype)
-    grown[: array.shape[0]] = array
+    # The leading rows of a C-ordered array are its first elements: one flat copy by loop (numba's slice
+    # assignment costs about two seconds to compile).
+    copy_into(grown.reshape(-1), 0, array.reshape(-1))
     return grown
 
 
