@@ -801,3 +801,34 @@ def test_negative_level_key_is_one_line_error(key: str) -> None:
         parse_level({**ROOM, "guard": {**ROOM["guard"], key: -1}})
     message = str(error.value)
     assert f"guard.{key}" in message and "\n" not in message
+
+
+def test_a_sneak_intruder_enters_when_its_unseen_path_starts() -> None:
+    """A sneak intruder is outside the level until the lap tick its unseen path starts (no guard sees or
+    catches it before), then stands at its entry and walks the path a cell a tick: wherever the sneak
+    check finds an unseen path, the alert episode replays it undetected, arriving when the path does.
+    (It used to wait inside, at its entry, and a guard walking over that cell caught it at tick 0.)"""
+    from guardsim.patrol.scoring import seen_timeline
+    from guardsim.sneak import find_sneak
+
+    scene, table = setup()
+    grid = scene.grid
+    patrol = ring_patrol(grid)
+    seen = seen_timeline(table, patrol.states, grid.size)
+    corners = [grid.flat(0, 0), grid.flat(11, 7), grid.flat(11, 0), grid.flat(0, 7)]
+    waited = 0
+    for source in corners + [grid.flat(c, r) for c, r in RING[::3]]:
+        for target in corners:
+            path = find_sneak(grid.neighbours, seen, source, target)
+            if path is None or source == target:
+                continue
+            episode = alert_episode(scene, patrol, intruder="sneak", source=source, target=target, table=table)
+            outcome = episode.run()
+            wait = path.start_tick % int(patrol.period or 1)
+            assert outcome.outcome == "undetected_arrival", (source, target, path.start_tick)
+            intruder = episode.record["intruder"]
+            assert intruder[:wait] == [None] * wait
+            assert intruder[wait : wait + len(path.cells) - 1] == path.cells[:-1].tolist()
+            assert [e.tick for e in episode.events if e.event == "arrived"] == [wait + len(path.cells) - 1]
+            waited += wait > 0
+    assert waited >= 3

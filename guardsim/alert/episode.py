@@ -116,7 +116,7 @@ class AlertEpisode:
             self.cells[guard], self.headings[guard] = int(cell_of_state(state)), int(heading_of_state(state))
         self.movement.follow(self.cells, self.headings)
         for guard in range(guards):
-            if spotted and self.movement.sees_at_start(guard, intruder.cell):
+            if spotted and intruder.present and self.movement.sees_at_start(guard, intruder.cell):
                 meter = self.meters[guard]
                 meter.level = meter.peak = 1.0  # the experiments' "detected mid-level": the meter starts full
         self._look_and_update()
@@ -250,7 +250,7 @@ class AlertEpisode:
 
     def _look_and_update(self) -> None:
         tick = self.tick
-        intruder = -1 if self.intruder.gone else self.intruder.cell
+        intruder = self.intruder.cell if self.intruder.present else -1
         look = self.movement.look(tick, intruder, self.meters)
         self.in_sight = list(look.seen)
         self.seen_now = look.cells
@@ -359,7 +359,7 @@ class AlertEpisode:
             record["awareness_peak"].append([round(peak, 4) for peak in movement.peaks])
         record["guard_states"].append(list(self.modes))
         record["awareness"].append([round(m.level, 4) for m in self.meters])
-        record["intruder"].append(None if self.intruder.gone else self.intruder.cell)
+        record["intruder"].append(self.intruder.cell if self.intruder.present else None)
         record["contaminated"].append(self.contamination.count)
         record["contaminated_cells"].append(np.flatnonzero(self.contamination.cells).astype(np.int32))
         record["last_known"].append(self.last_known)

@@ -36,7 +36,8 @@ def write_alert_gif(
     trace = guard_trace(scene, table, episode)
     record = episode.record
     cells: list[tuple[int, int]] = []
-    last = record["intruder"][0]
+    # Before a sneak enters it is drawn at its entry, where it waits; after it leaves, where it left.
+    last = next((cell for cell in record["intruder"] if cell is not None), episode.intruder.cell)
     for cell in record["intruder"]:
         last = cell if cell is not None else last
         cells.append(grid.unflat(last))

@@ -6,7 +6,8 @@ leaves the level.
 
 - ``route``: walks a given path (or the shortest path to its goal) without stopping, chased or not.
 - ``sneak``: walks the fastest path no guard of the patrol sees (the sneak check's search; the closest
-  call when there is none), waiting at its entry for the lap tick the path starts; chased, it flees
+  call when there is none), entering the level at the tick its path starts (outside until then: no
+  guard sees or catches it); chased, it flees
   as the evader does, then walks the shortest path to its goal once no guard is alarmed.
 - ``evader``: walks the shortest path to its goal; chased, it runs for the cell it reaches first whose
   distance from every guard is largest, waits there while guards are alarmed, then resumes.
@@ -52,6 +53,9 @@ class Intruder:
         if self._route is not None and self._route and self._route[0] == self.cell:
             self._route = self._route[1:]
         self._wait_until = wait_until
+        self.present = wait_until <= 0
+        """Whether it is in the level: a ``sneak`` intruder enters at its entry at tick ``wait_until`` (the
+        lap tick its unseen path starts), and leaves at its goal."""
         self._fled = False
         self._hide = -1
         self._goal_field: np.ndarray | None = None
@@ -60,6 +64,10 @@ class Intruder:
         """Move for tick ``tick``: ``chased`` when some guard chases it, ``alarmed`` when some guard is
         chasing or searching."""
         if self.gone or self.kind == "still":
+            return
+        if not self.present:
+            # Outside until the tick its path starts, when it stands at its entry; it moves from the next.
+            self.present = tick >= self._wait_until
             return
         self._credit += self.speed
         while self._credit >= 1.0 - 1e-9 and not self.gone:
@@ -71,6 +79,7 @@ class Intruder:
             self.cell = nxt
             if self.cell == self.goal:
                 self.gone = True
+                self.present = False
 
     def _next(self, tick: int, guard_cells: Sequence[int], chased: bool, alarmed: bool) -> int:
         if self.kind == "route":
@@ -81,7 +90,7 @@ class Intruder:
                 return self._flee(guard_cells)
             if self._fled:
                 return -1 if alarmed else self._towards_goal()
-            return -1 if tick < self._wait_until else self._along_route()
+            return self._along_route()
         # evader
         if chased:
             self._hide = self._hiding_cell(guard_cells)

@@ -72,7 +72,8 @@ def alert_episode(
 
     A ``route`` intruder walks ``route`` (flat cells from ``source``) or else the shortest path to
     ``target``; a ``sneak`` intruder plans the fastest unseen path of the patrol's lap (the closest call
-    when there is none) and waits at its entry for the lap tick that path starts.
+    when there is none) and enters the level at the tick that path starts (outside until then, unseen
+    and out of reach), or at once when ``spotted``.
     """
     grid = scene.grid
     table = table if table is not None else view_table(grid, scene.vision())
@@ -92,7 +93,8 @@ def alert_episode(
         if path is None:
             raise ValueError("the intruder's goal cannot be reached from its start")
         route = path.cells.tolist()
-        wait = (path.start_tick - phase) % int(patrol.period or 1)
+        # Spotted, it is already in the level (seen at its entry); else it enters when its path starts.
+        wait = 0 if spotted else (path.start_tick - phase) % int(patrol.period or 1)
     runner = make_intruder(
         intruder, grid.neighbours, source, goal=target, route=route, speed=rules.intruder_speed, wait_until=wait
     )

@@ -41,27 +41,30 @@ def alert_overlays(
     ticks = len(record["cells"])
     guards = len(episode.modes)
     meters = np.asarray(record["awareness"], dtype=np.float64).reshape(ticks, guards)
-    # The intruder while it is in the level (it leaves at its goal), and whether some guard sees it.
+    # The intruder while it is in the level (a sneak enters when its path starts; any leaves at its goal),
+    # and whether some guard sees it.
+    start = next((tick for tick, cell in enumerate(record["intruder"]) if cell is not None), 0)
     cells = []
-    for cell in record["intruder"]:
+    for cell in record["intruder"][start:]:
         if cell is None:
             break
         cells.append(int(cell))
+    ticks_in = range(start, start + len(cells))
     in_view = [
         any(
             _sees(table, record["cells"][tick][guard], record["headings"][tick][guard], cell) for guard in range(guards)
         )
-        for tick, cell in enumerate(cells)
+        for tick, cell in zip(ticks_in, cells, strict=True)
     ]
     detected_at = next((e.tick for e in episode.events if e.event == "detected"), None)
     states = [
-        intruder_state(list(meters[tick]), in_view[tick], suspicious, detected_at is not None and tick >= detected_at)
-        for tick in range(len(cells))
+        intruder_state(list(meters[tick]), seen, suspicious, detected_at is not None and tick >= detected_at)
+        for tick, seen in zip(ticks_in, in_view, strict=True)
     ]
     goal = episode.intruder.goal
     intruder = Intruder(
         [grid.unflat(cell) for cell in cells],
-        0,
+        start,
         in_view=in_view,
         source=grid.centre(*grid.unflat(cells[0])) if cells else None,
         target=grid.centre(*grid.unflat(goal)) if goal >= 0 else None,
