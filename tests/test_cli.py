@@ -266,3 +266,12 @@ def test_a_gif_named_as_another_format_is_refused(tmp_path: Path) -> None:
     ]
     assert run("play", SQUARE, "--gif", tmp_path / "plain", "--max-steps", "2").exit_code == 0
     assert (tmp_path / "plain").read_bytes()[:6] == b"GIF89a"
+
+
+def test_no_command_prints_the_help() -> None:
+    """`guardsim` alone prints the usage and the commands, on several lines, and exits 0."""
+    result = run()
+    assert result.exit_code == 0
+    lines = result.stdout.splitlines()
+    assert lines[0].startswith("Usage: ") and any(line.strip().startswith("play") for line in lines)
+    assert "error" not in result.stderr

@@ -433,3 +433,21 @@ def test_compressed_data_is_not_inflated_past_what_the_layer_needs(tmp_path: Pat
     }
     with pytest.raises(LevelError, match="tile data has 5 tiles, expected 4"):
         import_map(write_json(tmp_path, data))
+
+
+@pytest.mark.parametrize("command", ["patrol", "sneak", "alert", "check", "bounds"])
+def test_commands_that_take_a_map_take_the_import_options(command: str) -> None:
+    """Every command that reads a level takes a map with the import options (``--spawn-tile`` and the rest)."""
+    result = CliRunner().invoke(main, [command, "--help"])
+    assert result.exit_code == 0
+    for option in ("--spawn-tile", "--wall-tile", "--cell-size", "--view", "--strict"):
+        assert option in result.output, (command, option)
+
+
+def test_bounds_reads_a_map_with_its_spawn_tile(tmp_path: Path) -> None:
+    """`guardsim bounds map.tmx --spawn-tile 3`: the import's summary names the spawn it was told of."""
+    path = tmp_path / "rotated.tmx"
+    path.write_text(TMX_ROTATED.replace('<tile id="2" type="guard"/>', ""), encoding="utf-8")
+    result = CliRunner().invoke(main, ["bounds", str(path), "--spawn-tile", "3"])
+    assert result.exit_code == 0, result.output
+    assert "1 guard spawn" in result.stderr

@@ -55,6 +55,10 @@ def _one_line_usage_errors() -> Iterator[None]:
     click's usage block (usage, hint, blank line, error)."""
     try:
         yield
+    except click.exceptions.NoArgsIsHelpError as error:
+        # No command at all: the help, as it is, is the answer (not an error squashed into one line).
+        click.echo(error.format_message())
+        sys.exit(0)
     except click.UsageError as error:
         command = error.ctx.info_name if error.ctx is not None and error.ctx.parent is not None else None
         hint = f" (see guardsim {command} --help)" if command else " (see guardsim --help)"

@@ -29,6 +29,7 @@ from guardsim.cli.common import (
     vision_options,
     with_detection,
 )
+from guardsim.cli.map_options import MapImport, map_options
 from guardsim.cli.motion import _SPEED_HELP, _speed_options, check_motion, motion_of
 from guardsim.cli.patrol import output_folder
 from guardsim.cli.sneak import sneak_cell
@@ -121,10 +122,12 @@ def _motion_options(command: F) -> F:
 @_motion_options
 @detection_options
 @vision_options
+@map_options
 @limit_options
 @reports_errors
 def alert(
     level_path: str,
+    map_import: MapImport,
     patrol_path: str,
     intruder: str,
     source: tuple[float, float] | None,
@@ -182,7 +185,7 @@ def alert(
     if workers is not None and scheduler is not None and scheduler != "local":
         raise GuardsimError("--workers and --scheduler exclude each other: the scheduler's workers run the episodes")
     level = with_detection(
-        load(level_path, max_cells, max_vertices, max_file_bytes),
+        load(level_path, max_cells, max_vertices, max_file_bytes, map_import),
         detect_near=detect_near,
         detect_far=detect_far,
         forget=forget,

@@ -10,6 +10,7 @@ import click
 
 from guardsim.bounds import lower_bounds
 from guardsim.cli.common import build_scene, cli_start, limit_options, load, parse_point, reports_errors, vision_options
+from guardsim.cli.map_options import MapImport, map_options
 from guardsim.level import HEADINGS
 from guardsim.optimum import MAX_POSITIONS, solve
 from guardsim.search.graph import build_search_graph
@@ -66,10 +67,12 @@ def start_options(command: F) -> F:
     f"from a start with at most {SEARCH_POSITIONS} guard positions, else 0].",
 )
 @vision_options
+@map_options
 @limit_options
 @reports_errors
 def bounds(
     level_path: str,
+    map_import: MapImport,
     start: tuple[float, float] | None,
     heading: str | None,
     seed: int,
@@ -89,7 +92,7 @@ def bounds(
     best order; the best bound is the largest (docs/bounds.md). The
     start and heading are chosen as by `guardsim play`: --start, else the level's, else drawn from --seed.
     """
-    level = load(level_path, max_cells, max_vertices, max_file_bytes)
+    level = load(level_path, max_cells, max_vertices, max_file_bytes, map_import)
     from guardsim.kernels.ahead import compile_ahead
 
     compile_ahead("bounds")

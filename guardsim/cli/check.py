@@ -17,6 +17,7 @@ from guardsim.cli.common import (
     vision_options,
     with_detection,
 )
+from guardsim.cli.map_options import MapImport, map_options
 from guardsim.errors import GuardsimError
 from guardsim.planners import PLANNERS
 
@@ -112,10 +113,12 @@ def _each_point(_ctx: click.Context, param: click.Parameter, values: tuple[str, 
 @click.option("--seed", type=click.IntRange(min=0), default=0, show_default=True)
 @detection_options
 @vision_options
+@map_options
 @limit_options
 @reports_errors
 def check(
     level_path: str,
+    map_import: MapImport,
     max_cover_steps: int | None,
     max_idleness: int | None,
     no_unreachable: bool | None,
@@ -184,7 +187,7 @@ def check(
             "--sneak or --checks"
         )
     level = with_detection(
-        load(level_path, max_cells, max_vertices, max_file_bytes),
+        load(level_path, max_cells, max_vertices, max_file_bytes, map_import),
         detect_near=detect_near,
         detect_far=detect_far,
         forget=forget,

@@ -11,6 +11,7 @@ from pathlib import Path
 import click
 
 from guardsim.cli.common import FiniteFloatRange, build_scene, limit_options, load, reports_errors, vision_options
+from guardsim.cli.map_options import MapImport, map_options
 from guardsim.errors import GuardsimError
 from guardsim.patrol.job import PatrolJob, check_job, run_patrol, tiled_source_of
 from guardsim.patrol.model import STRATEGIES
@@ -110,10 +111,12 @@ def output_folder(path: str) -> Path:
     help="Pixels per world unit for --units pixels and --godot [default: the Tiled map's tile size, else 32].",
 )
 @vision_options
+@map_options
 @limit_options
 @reports_errors
 def patrol(
     level_path: str,
+    map_import: MapImport,
     out_dir: str,
     guards: int,
     strategy: str,
@@ -176,7 +179,7 @@ def patrol(
         max_file_bytes=max_file_bytes,
     )
     check_job(job)
-    level = load(level_path, max_cells, max_vertices, max_file_bytes)
+    level = load(level_path, max_cells, max_vertices, max_file_bytes, map_import)
     from guardsim.kernels.ahead import compile_ahead
 
     compile_ahead("patrol")

@@ -14,6 +14,7 @@ from guardsim.cli.common import (
     vision_options,
     with_detection,
 )
+from guardsim.cli.map_options import MapImport, map_options
 from guardsim.cli.patrol import output_folder
 from guardsim.errors import GuardsimError
 from guardsim.grid import CoverageGrid
@@ -72,10 +73,12 @@ def sneak_cell(scene_grid: CoverageGrid, point: tuple[float, float], option: str
 )
 @detection_options
 @vision_options
+@map_options
 @limit_options
 @reports_errors
 def sneak(
     level_path: str,
+    map_import: MapImport,
     patrol_path: str,
     source: tuple[float, float] | None,
     target: tuple[float, float],
@@ -116,7 +119,7 @@ def sneak(
     if safe and not html:
         raise GuardsimError("--safe outlines spots on the page: give --html")
     level = with_detection(
-        load(level_path, max_cells, max_vertices, max_file_bytes),
+        load(level_path, max_cells, max_vertices, max_file_bytes, map_import),
         detect_near=detect_near,
         detect_far=detect_far,
         forget=forget,
