@@ -22,12 +22,14 @@ import shutil
 import sys
 import threading
 import time
+import warnings
 from collections.abc import Callable
 from pathlib import Path
 from typing import Any, TypeVar
 
 import numba
 from numba.core import config, event, types
+from numba.core.errors import NumbaIRAssumptionWarning
 
 __all__ = ["NOTICE_SECONDS", "cache_folder", "compiled_sources", "jit", "silence_notice", "source_digest"]
 
@@ -195,6 +197,10 @@ class _CompileNotice(event.Listener):
             print(f"guardsim: compiling kernels once for this version (kept in {cache_folder()})", file=stream)
             stream.flush()
 
+
+# numba asks users to report this internal check of its own IR ("variable ... is not in scope") while it
+# compiles some loops correctly; it says nothing about guardsim's results, so a user never sees it.
+warnings.filterwarnings("ignore", category=NumbaIRAssumptionWarning)
 
 _NOTICE = _CompileNotice()
 event.register("numba:compile", _NOTICE)
