@@ -451,3 +451,12 @@ def test_bounds_reads_a_map_with_its_spawn_tile(tmp_path: Path) -> None:
     result = CliRunner().invoke(main, ["bounds", str(path), "--spawn-tile", "3"])
     assert result.exit_code == 0, result.output
     assert "1 guard spawn" in result.stderr
+
+
+def test_an_empty_tmx_is_not_valid_xml(tmp_path: Path) -> None:
+    """An empty .tmx has no content to tell its format by: its name says XML, and the error says so."""
+    path = tmp_path / "empty.tmx"
+    path.write_bytes(b"")
+    result = CliRunner().invoke(main, ["import", str(path), "--out", str(tmp_path / "x.json")])
+    assert result.exit_code == 2
+    assert "empty.tmx: not valid XML" in result.stderr and "JSON" not in result.stderr

@@ -53,7 +53,8 @@ def read_tiled(
     declare, checked before any tile data is decoded.
     """
     data = read_capped_bytes(path, max_file_bytes=max_file_bytes)
-    if data.lstrip()[:1] == b"<":
+    # Told apart by content; with no content to tell by (an empty file), by the name's suffix.
+    if data.lstrip()[:1] == b"<" or (not data.strip() and str(path).lower().endswith((".tmx", ".tsx", ".tx"))):
         tmx = TmxReader(Path(path), max_file_bytes, max_cells, cells_per_tile)
         return tmx.read(parse_xml_bytes(data, tmx.source))
     reader = JsonReader(Path(path), max_file_bytes, max_cells, cells_per_tile)
