@@ -165,7 +165,8 @@ def test_page_loads_and_the_alert_readout_is_the_trace(alert_page: Episode, tmp_
         assert readout["data-contaminated"] == str(trace["contaminated"][tick]), tick
         text = element(dom, "alert-readout")
         assert text.startswith(f"guard 1 {alert_page.states(tick)[0]} \u00b7 guard 2 {alert_page.states(tick)[1]}")
-        assert text.endswith(f"{trace['contaminated'][tick]} cells contaminated")
+        count = trace["contaminated"][tick]
+        assert text.endswith(f"{count} {'cell' if count == 1 else 'cells'} contaminated")
         intruder = trace["intruder_path"][tick]
         if intruder is not None:
             assert element(dom, "intruder-readout").startswith(f"intruder at [{intruder[0]}, {intruder[1]}]: ")

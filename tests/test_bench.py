@@ -478,3 +478,13 @@ def test_several_planners_are_grouped_per_level_and_planner(tmp_path: Path, tiny
     texts = svg_texts(out / "steps.svg")
     assert "ripplefront" in texts
     assert "tour" in texts
+
+
+def test_a_run_folder_with_an_option_set_only_one_side_says_both_values() -> None:
+    """Reusing a continuous run's folder for a grid run names the option and both sides' values."""
+    from guardsim.experiment.results import _difference
+
+    assert _difference({"motion": "continuous", "seed": 0}, {"seed": 0}) == '"continuous" there, not set here'.join(
+        ["motion: ", ""]
+    )
+    assert _difference({"seed": 0}, {"seed": 0, "tick_hz": 30}) == "tick_hz: not set there, 30 here"

@@ -275,3 +275,15 @@ def test_no_command_prints_the_help() -> None:
     lines = result.stdout.splitlines()
     assert lines[0].startswith("Usage: ") and any(line.strip().startswith("play") for line in lines)
     assert "error" not in result.stderr
+
+
+def test_view_of_an_alert_trace_points_to_alert_html(tmp_path: Path) -> None:
+    """An alert trace is not a play trace: `view` says where its page comes from, in one line."""
+    trace = tmp_path / "al.json"
+    trace.write_text('{"level": "x", "guard_states": [["patrol"]], "events": []}')
+    result = run("view", trace, "--html", tmp_path / "x.html")
+    assert result.exit_code == 2
+    assert result.stderr.splitlines() == [
+        f"guardsim: error: {trace}: an alert episode's trace (from guardsim alert --trace); its page is written "
+        "by guardsim alert ... --html FILE"
+    ]

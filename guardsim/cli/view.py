@@ -38,6 +38,11 @@ def view(
     from guardsim.viewer import write_viewer
 
     data = read_json_file(trace_path, max_file_bytes=max_file_bytes, kind="trace file", error=LevelError)
+    if isinstance(data, dict) and "guard_states" in data and "planner" not in data:
+        raise LevelError(
+            f"{trace_path}: an alert episode's trace (from guardsim alert --trace); its page is written by "
+            "guardsim alert ... --html FILE"
+        )
     trace = trace_from_stored(data, source=trace_path, max_cells=max_cells)
     level = None
     note = "walls rebuilt from the trace's grid (give --level for the real walls)"

@@ -89,7 +89,9 @@ def _difference(earlier: Any, now: dict[str, Any]) -> str:
         return "not a run.json written by guardsim bench"
     for name in sorted(set(earlier) | set(now), key=str):
         if name not in earlier or name not in now:
-            return f"{_clip(str(name), 40)}: {'missing there' if name not in earlier else 'not an option here'}"
+            there = _short(earlier[name]) if name in earlier else "not set"
+            here = _short(now[name]) if name in now else "not set"
+            return f"{_clip(str(name), 40)}: {there} there, {here} here"
         if earlier[name] != now[name]:
             return f"{name}: {_short(earlier[name])} there, {_short(now[name])} here"
     return ""

@@ -18,6 +18,7 @@ import numpy as np
 
 from guardsim.errors import GuardsimError
 from guardsim.files.output import write_text_atomic
+from guardsim.importers.imported import counted
 from guardsim.level import DEFAULT_MAX_FILE_BYTES
 from guardsim.patrol.model import STRATEGIES
 from guardsim.patrol.scoring import NEVER, PatrolScore
@@ -257,7 +258,7 @@ def run_patrol(scene: Scene, folder: Path, job: PatrolJob) -> PatrolRun:
             if report is not None:
                 lines.append(
                     f"  route {number} cleaned: {report.waypoints_before} -> {report.waypoints_after} waypoints "
-                    f"({report.jogs} jogs, {report.spurs} spurs taken out), worst idleness "
+                    f"({counted(report.jogs, 'jog')}, {counted(report.spurs, 'spur')} taken out), worst idleness "
                     f"{_mean(report.worst_before)} -> {_mean(report.worst_after)} s replayed"
                 )
     if export_path or godot_out:

@@ -214,7 +214,7 @@ const GuardsimLayers = (function () {
       const count = alert.info.contaminated_counts[row];
       const parts = names.map((name, guard) => (alert.guards > 1 ? "guard " + (guard + 1) + " " : "") + name);
       if (known >= 0) parts.push("last known [" + cellText(known).replace(",", ", ") + "]");
-      parts.push(count + " cells contaminated");
+      parts.push(count + (count === 1 ? " cell" : " cells") + " contaminated");
       return {
         text: parts.join(" \u00b7 "),
         states: names.join(","),
