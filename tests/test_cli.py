@@ -287,3 +287,12 @@ def test_view_of_an_alert_trace_points_to_alert_html(tmp_path: Path) -> None:
         f"guardsim: error: {trace}: an alert episode's trace (from guardsim alert --trace); its page is written "
         "by guardsim alert ... --html FILE"
     ]
+
+
+def test_patrol_refuses_an_unwritable_export_before_its_work(tmp_path: Path) -> None:
+    """`--export` naming a folder: one line, exit 2, and no patrol.json written first."""
+    out = tmp_path / "out"
+    result = run("patrol", SQUARE, "--out", out, "--export", tmp_path)
+    assert result.exit_code == 2
+    assert result.stderr.splitlines() == [f"guardsim: error: {tmp_path}: cannot write: Is a directory"]
+    assert not (out / "patrol.json").exists()

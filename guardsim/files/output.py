@@ -16,7 +16,7 @@ from pathlib import Path
 
 from guardsim.errors import OutputError
 
-__all__ = ["atomic_path", "write_text_atomic"]
+__all__ = ["atomic_path", "check_writable", "write_text_atomic"]
 
 
 @contextlib.contextmanager
@@ -56,6 +56,20 @@ def atomic_path(target: str | os.PathLike[str]) -> Iterator[Path]:
     finally:
         with contextlib.suppress(FileNotFoundError):
             temporary.unlink()
+
+
+def check_writable(target: str | os.PathLike[str]) -> None:
+    """Raise the :class:`OutputError` writing ``target`` would raise for a reason known now (it is a
+    folder or a special file, or its folder does not exist), so a command can refuse before its work."""
+    target = Path(target)
+    special = _special_kind(target)
+    if special and special != "a character device":
+        raise OutputError(f"{target}: is {special}, not a regular file; guardsim writes outputs to files only")
+    if target.is_dir():
+        raise OutputError(f"{target}: cannot write: Is a directory")
+    folder = target.parent if str(target.parent) else Path(".")
+    if not folder.is_dir():
+        raise OutputError(f"{target}: folder {folder} does not exist")
 
 
 def _special_kind(target: Path) -> str:

@@ -17,7 +17,7 @@ from typing import Any, NamedTuple
 import numpy as np
 
 from guardsim.errors import GuardsimError
-from guardsim.files.output import write_text_atomic
+from guardsim.files.output import check_writable, write_text_atomic
 from guardsim.importers.imported import counted
 from guardsim.level import DEFAULT_MAX_FILE_BYTES
 from guardsim.patrol.model import STRATEGIES
@@ -120,6 +120,11 @@ def run_patrol(scene: Scene, folder: Path, job: PatrolJob) -> PatrolRun:
     )
     clean, clean_tolerance, units, axis = job.clean, job.clean_tolerance, job.units, job.axis
     pixels_per_unit, max_file_bytes = job.pixels_per_unit, job.max_file_bytes
+    # Outputs named outside the folder are checked first: a bad one found after the work would leave the
+    # folder's files written and the command failed.
+    for named in (export_path, tiled_out, godot_out):
+        if named is not None:
+            check_writable(named)
     lines: list[str] = []
     warnings: list[str] = []
     setup = patrol_setup(scene, guards, seed=seed)
