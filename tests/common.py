@@ -6,6 +6,7 @@ import copy
 import csv
 import json
 import sys
+from collections.abc import Callable
 from pathlib import Path
 from typing import Any
 
@@ -185,15 +186,12 @@ OPEN_ROOM = {
 }
 
 
-def optimum_steps(scene: Scene, start: tuple[int, int], heading: int, vision: VisionFunction) -> int:
-    """The fewest steps after which a guard from ``(start, heading)`` has seen every reachable cell.
-
-    Breadth-first over (state, seen goal cells as a bitmask): the first layer holding a full mask.
-    """
+def goal_masks(scene: Scene, start: tuple[int, int], vision: VisionFunction) -> tuple[Callable[[int], int], int]:
+    """For brute-force searches: what a state sees of the cells reachable from ``start``, as a bitmask
+    (cached), and the mask of all of them."""
     grid = scene.grid
     goal = np.flatnonzero(grid.component(*start).ravel()).tolist()
     bit = {cell: 1 << number for number, cell in enumerate(goal)}
-    full = (1 << len(goal)) - 1
     masks: dict[int, int] = {}
 
     def mask(state: int) -> int:
@@ -202,6 +200,16 @@ def optimum_steps(scene: Scene, start: tuple[int, int], heading: int, vision: Vi
             masks[state] = sum(bit.get(int(cell), 0) for cell in vision(col, row, state % 4))
         return masks[state]
 
+    return mask, (1 << len(goal)) - 1
+
+
+def optimum_steps(scene: Scene, start: tuple[int, int], heading: int, vision: VisionFunction) -> int:
+    """The fewest steps after which a guard from ``(start, heading)`` has seen every reachable cell.
+
+    Breadth-first over (state, seen goal cells as a bitmask): the first layer holding a full mask.
+    """
+    grid = scene.grid
+    mask, full = goal_masks(scene, start, vision)
     neighbours = grid.neighbours.tolist()
     first = grid.flat(*start) * 4 + heading
     layer = {(first, mask(first))}

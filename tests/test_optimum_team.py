@@ -22,7 +22,7 @@ from guardsim.optimum import solve
 from guardsim.optimum.team import TeamOptimumResult, solve_team
 from guardsim.simulation import Scene
 from guardsim.vision.rules import VisionFunction
-from tests.common import SHORT_SIGHTED, guardsim_command, scene_from, starts, write_level
+from tests.common import SHORT_SIGHTED, goal_masks, guardsim_command, scene_from, starts, write_level
 
 #: Tiny levels with a 360-degree view (positions are cells).
 ALL_ROUND = {
@@ -35,17 +35,7 @@ CONE = {name: SHORT_SIGHTED[name] for name in ("corridor", "room-3x5", "l-room",
 def team_steps(scene: Scene, team: list[tuple[tuple[int, int], int]], vision: VisionFunction) -> int:
     """The fewest ticks until guards from ``team`` have together seen every cell reachable from the first."""
     grid = scene.grid
-    goal = np.flatnonzero(grid.component(*team[0][0]).ravel()).tolist()
-    bit = {cell: 1 << number for number, cell in enumerate(goal)}
-    full = (1 << len(goal)) - 1
-    masks: dict[int, int] = {}
-
-    def mask(state: int) -> int:
-        if state not in masks:
-            col, row = grid.unflat(state // 4)
-            masks[state] = sum(bit.get(int(cell), 0) for cell in vision(col, row, state % 4))
-        return masks[state]
-
+    mask, full = goal_masks(scene, team[0][0], vision)
     neighbours = grid.neighbours.tolist()
 
     def moves(state: int) -> list[int]:
