@@ -28,7 +28,7 @@ from guardsim.kernels.steps import greedy_step, heading_of_state, state_of
 if TYPE_CHECKING:
     from guardsim.vision.table import ViewTable
 
-__all__ = ["WalkLog", "WalkTeam", "descent", "look", "team_walk"]
+__all__ = ["WalkLog", "WalkTeam", "descent", "look", "look_along", "team_walk"]
 
 
 class WalkTeam(NamedTuple):
@@ -147,6 +147,17 @@ def look(table: ViewTable, goal: np.ndarray, seen: np.ndarray, counts: np.ndarra
                     for other in range(watch_start[cell], watch_start[cell + 1]):
                         counts[watchers[other]] -= 1
     return new
+
+
+@jit
+def look_along(
+    table: ViewTable, goal: np.ndarray, seen: np.ndarray, path: np.ndarray, facing: np.ndarray, begin: int, end: int
+) -> None:
+    """Mark as seen what a walk sees from its ticks ``begin`` to ``end - 1`` (cells ``path``, headings
+    ``facing``)."""
+    no_counts = np.zeros(0, dtype=np.int32)
+    for tick in range(begin, end):
+        look(table, goal, seen, no_counts, False, state_of(path[tick], facing[tick]))
 
 
 @jit

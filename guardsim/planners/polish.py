@@ -19,11 +19,9 @@ from __future__ import annotations
 
 import numpy as np
 
-from guardsim.kernels.arrays import copy_into
-from guardsim.kernels.compiler import jit
 from guardsim.kernels.distances import FAR
-from guardsim.kernels.steps import cell_of_state, heading_of_state, state_of
-from guardsim.kernels.walk import WalkLog, WalkTeam, look, team_walk
+from guardsim.kernels.states import cell_of_state, heading_of_state, state_of
+from guardsim.kernels.walk import WalkLog, WalkTeam, look_along, team_walk
 from guardsim.vision.table import ViewTable
 
 __all__ = ["POLISH_REACH", "POLISH_TICKS", "polish_route"]
@@ -88,7 +86,6 @@ def polish_route(
     return best, int(steps)
 
 
-@jit
 def _resume(
     neighbours: np.ndarray,
     table: ViewTable,
@@ -106,31 +103,27 @@ def _resume(
     team = WalkTeam(
         np.array([cell], dtype=np.int64),
         np.array([heading], dtype=np.int64),
-        route.copy().reshape(1, route.size) if route.size else np.full((1, 1), -1, dtype=np.int64),
+        route.reshape(1, route.size).copy() if route.size else np.full((1, 1), -1, dtype=np.int64),
         np.array([route.size], dtype=np.int64),
     )
     log.visit_count[0] = 0
     log.reached[0, :] = -1
-    ticks = team_walk(neighbours, table, goal, seen, team, limit, far, log)
-    for other in range(goal.shape[0]):
-        if goal[other] and not seen[other]:
-            return -1
-    return ticks
+    ticks = int(team_walk(neighbours, table, goal, seen, team, int(limit), far, log))
+    return -1 if bool((goal & ~seen).any()) else ticks
 
 
-@jit
 def _change(
     route: np.ndarray, index: int, choice: int, neighbours: np.ndarray, entry: np.ndarray, reach: int, out: np.ndarray
 ) -> int:
     """Write the route from ``index`` on, with change number ``choice`` made there, into ``out``; its
     length, or -1 when that change does not apply (a wall in the way, a state no step enters, no change)."""
     size = route.size
-    state = route[index]
+    state = int(route[index])
     cell, heading = cell_of_state(state), heading_of_state(state)
     tail = route[index + 1 :]
     if choice == 0:
-        copy_into(out, 0, tail)
-        return tail.size
+        out[: tail.size] = tail
+        return int(tail.size)
     choice -= 1
     if choice < 3:
         changed = state_of(cell, (heading + 1 + choice) % 4)
@@ -141,7 +134,7 @@ def _change(
             direction, turn = rest // 2, rest % 2
             other = cell
             for _ in range(steps):
-                other = neighbours[other, direction]
+                other = int(neighbours[other, direction])
                 if other < 0:
                     return -1
             if turn == 1 and direction == heading:
@@ -150,18 +143,17 @@ def _change(
         elif choice == 8 * reach and index + 1 < size:
             out[0] = route[index + 1]
             out[1] = state
-            copy_into(out, 2, tail[1:])
-            return tail.size + 1
+            out[2 : tail.size + 1] = tail[1:]
+            return int(tail.size) + 1
         else:
             return -1
     if entry[changed] < 0:
         return -1
     out[0] = changed
-    copy_into(out, 1, tail)
-    return tail.size + 1
+    out[1 : tail.size + 1] = tail
+    return int(tail.size) + 1
 
 
-@jit
 def _polish(
     neighbours: np.ndarray,
     table: ViewTable,
@@ -176,6 +168,8 @@ def _polish(
     max_ticks: int,
     far: int,
 ) -> tuple[np.ndarray, int]:
+    # Plain Python around the compiled walk: a trial is one compiled call, so compiling this loop (and
+    # its chain of callers above ``team_walk``, about 3.5 s on first use) would buy nothing.
     size = route.size
     longest = size + 1
     moves = np.full((1, limit), -1, dtype=np.int64)
@@ -192,12 +186,11 @@ def _polish(
     best = _resume(neighbours, table, goal, trial_seen, cell, heading, route, limit, far, log)
     if best < 0:
         return route, -1
-    copy_into(base_path, 0, path[0, : best + 1])
-    copy_into(base_facing, 0, facing[0, : best + 1])
-    copy_into(base_reached, 0, reached[0, :size])
+    base_path[: best + 1] = path[0, : best + 1]
+    base_facing[: best + 1] = facing[0, : best + 1]
+    base_reached[:size] = reached[0, :size]
     route = route.copy()
     changed = np.empty(longest, dtype=np.int64)
-    no_counts = np.zeros(0, dtype=np.int32)
     choices = 1 + 3 + 8 * reach + 1
     used = walked = 0
     improved = True
@@ -207,12 +200,12 @@ def _polish(
         here_seen, here_tick = seen.copy(), 0
         index = 0
         while index < route.size and used < trials and walked < max_ticks:
-            tick = base_reached[index]
+            tick = int(base_reached[index])
             if tick < 0:
                 break
-            while here_tick < tick:
-                here_tick += 1
-                look(table, goal, here_seen, no_counts, False, state_of(base_path[here_tick], base_facing[here_tick]))
+            if here_tick < tick:
+                look_along(table, goal, here_seen, base_path, base_facing, here_tick + 1, tick + 1)
+                here_tick = tick
             room = best - tick - 1
             for choice in range(choices):
                 if room <= 0 or used >= trials or walked + room > max_ticks:
@@ -222,16 +215,16 @@ def _polish(
                     continue
                 used += 1
                 walked += room
-                copy_into(trial_seen, 0, here_seen)
+                trial_seen[:] = here_seen
                 ticks = _resume(
                     neighbours, table, goal, trial_seen,
-                    base_path[tick], base_facing[tick], changed[:length], room, far, log,
+                    int(base_path[tick]), int(base_facing[tick]), changed[:length], room, far, log,
                 )  # fmt: skip
                 if ticks < 0:
                     continue
                 best = tick + ticks
-                copy_into(base_path, tick, path[0, : ticks + 1])
-                copy_into(base_facing, tick, facing[0, : ticks + 1])
+                base_path[tick : tick + ticks + 1] = path[0, : ticks + 1]
+                base_facing[tick : tick + ticks + 1] = facing[0, : ticks + 1]
                 base_reached[index:] = -1
                 for later in range(length):
                     if reached[0, later] >= 0:
