@@ -134,7 +134,11 @@ def spread_picks(
             for m in range(member_start[state], member_start[state + 1]):
                 alive[members[m]] = False
         if not area.opened[best]:
-            fill_distances(neighbours, pool_cells[begin:end], -1, area.gaps[best])
+            # int64 sources, as every other fill passes them: an int32 slice compiled the fill again.
+            sources = np.empty(end - begin, dtype=np.int64)
+            for k in range(begin, end):
+                sources[k - begin] = pool_cells[k]
+            fill_distances(neighbours, sources, -1, area.gaps[best])
             area.separation[best, :] = UNKNOWN
             area.ahead[best, :] = UNKNOWN
             area.opened[best] = True
