@@ -125,7 +125,7 @@ def guardsim_command() -> list[str]:
     script = Path(sys.executable).with_name("guardsim")
     if script.exists():
         return [str(script)]
-    return [sys.executable, "-c", "from guardsim.cli import main; main()"]
+    return [sys.executable, "-c", "from guardsim.cli import run; run()"]
 
 
 # guardsim bench: the shipped Square, a run in-process, its results table.

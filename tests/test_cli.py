@@ -8,6 +8,7 @@ from __future__ import annotations
 import json
 import re
 import subprocess
+import sys
 from pathlib import Path
 
 import imageio.v3 as iio
@@ -296,3 +297,31 @@ def test_patrol_refuses_an_unwritable_export_before_its_work(tmp_path: Path) -> 
     assert result.exit_code == 2
     assert result.stderr.splitlines() == [f"guardsim: error: {tmp_path}: cannot write: Is a directory"]
     assert not (out / "patrol.json").exists()
+
+
+@pytest.mark.parametrize(
+    ("arguments", "status", "stdout", "stderr"),
+    [
+        (["--version"], 0, "guardsim, version", ""),
+        (["play", "missing.json"], 2, "", "guardsim: error: missing.json: no such file"),
+    ],
+)
+def test_the_program_exits_at_once_after_the_exit_handlers(
+    arguments: list[str], status: int, stdout: str, stderr: str, tmp_path: Path
+) -> None:
+    # run() skips the interpreter's teardown with os._exit: the exit handlers must still run, after
+    # the command's output, and the status must be the command's.
+    program = (
+        "import atexit, sys\n"
+        "atexit.register(lambda: print('handler ran', flush=True))\n"
+        f"sys.argv = ['guardsim', *{arguments!r}]\n"
+        "from guardsim.cli import run\n"
+        "run()\n"
+        "print('not reached')\n"
+    )
+    done = subprocess.run([sys.executable, "-c", program], capture_output=True, text=True, cwd=tmp_path, timeout=120)
+    assert done.returncode == status
+    assert done.stdout.startswith(stdout)
+    assert done.stdout.endswith("handler ran\n")
+    assert "not reached" not in done.stdout
+    assert done.stderr.strip() == stderr

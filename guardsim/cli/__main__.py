@@ -1,5 +1,5 @@
 """``python -m guardsim.cli``: the same command line as ``guardsim``."""
 
-from guardsim.cli import main
+from guardsim.cli import run
 
-main()
+run()
