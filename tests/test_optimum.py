@@ -20,13 +20,13 @@ from click.testing import CliRunner
 import guardsim.cli.optimum as cli_optimum
 from guardsim.bounds import lower_bounds
 from guardsim.cli import main
-from guardsim.kernels.frontier import frontier, frontier_work
+from guardsim.kernels.frontier import drop_shadowed, frontier, frontier_work
 from guardsim.optimum import OptimumResult, SearchProgress, solve
 from guardsim.search.graph import build_search_graph
 from guardsim.search.residual import residual_goal
 from guardsim.simulation import Scene
 from guardsim.vision.rules import VisionFunction
-from guardsim.vision.table import view_table
+from guardsim.vision.table import ViewTable, view_table
 from tests.common import (
     EMPTY_SQUARE,
     SHORT_SIGHTED,
@@ -122,10 +122,7 @@ def test_frontier_moves_cost_their_shortest_distance(name: str) -> None:
     at the plain breadth-first distance: the walk rebuilt along shortest paths then has the steps the
     search counted (once a detour's length, which raised "the walk has 272 steps, the search counted
     276" on arena at range 8)."""
-    data = SHORT_SIGHTED["pillar"] if name == "pillar-360" else SHORT_SIGHTED[name]
-    guard = {"view_range": 2.0, "fov_degrees": 360} if name == "pillar-360" else {}
-    scene = scene_from(data, guard={**data.get("guard", {}), **guard})
-    table = view_table(scene.grid, scene.vision())
+    scene, table = _frontier_level(name)
     generator = np.random.default_rng(27)
     detours = 0
     for start in starts(scene, most=4):
@@ -146,6 +143,46 @@ def test_frontier_moves_cost_their_shortest_distance(name: str) -> None:
             assert (work[0] == -1).all()
             detours += sum(avoiding[p] > plain[p] for p in found)
     assert detours > 0 or name == "corridor"  # the case that once disagreed occurs
+
+
+def _frontier_level(name: str) -> tuple[Scene, ViewTable]:
+    """A short-sighted tiny level (``pillar-360``: the pillar seen all round at range 2) and its view table."""
+    data = SHORT_SIGHTED["pillar"] if name == "pillar-360" else SHORT_SIGHTED[name]
+    guard = {"view_range": 2.0, "fov_degrees": 360} if name == "pillar-360" else {}
+    scene = scene_from(data, guard={**data.get("guard", {}), **guard})
+    return scene, view_table(scene.grid, scene.vision())
+
+
+@pytest.mark.parametrize("name", [*SHORT_SIGHTED, "pillar-360"], ids=[*SHORT_SIGHTED, "pillar-360"])
+def test_a_move_is_dropped_exactly_when_a_shortest_path_passes_another_move(name: str) -> None:
+    """``drop_shadowed`` keeps, in order, the moves no shortest path reaches through another move's
+    position (the search's pruning, ``docs/optimum.md``), and leaves its work arrays clean."""
+    scene, table = _frontier_level(name)
+    generator = np.random.default_rng(28)
+    dropped = 0
+    for start in starts(scene, most=4):
+        graph = build_search_graph(scene.grid, table, start, 1)
+        distance, queue, found, found_steps = frontier_work(graph.positions)
+        mark = np.zeros(graph.positions, dtype=np.int8)
+        between = {p: _distances(graph.successors, p, lambda _: True) for p in range(graph.positions)}
+        for _ in range(40):
+            bits = [generator.integers(0, 2**63, size=graph.full.size, dtype=np.uint64) for _ in range(2)]
+            seen = graph.full & (bits[0] | bits[1])
+            origin = int(generator.integers(graph.positions))
+            count = frontier(graph.successors, graph.views, origin, seen, distance, queue, found, found_steps)
+            moves = found[:count].tolist()
+            steps = dict(zip(moves, found_steps[:count].tolist(), strict=True))
+            expected = [
+                b
+                for b in moves
+                if not any(a != b and b in between[a] and steps[a] + between[a][b] == steps[b] for a in moves)
+            ]
+            kept = drop_shadowed(graph.successors, origin, found, found_steps, count, distance, queue, mark)
+            assert found[:kept].tolist() == expected
+            assert found_steps[:kept].tolist() == [steps[b] for b in expected]
+            assert (distance == -1).all() and (mark == 0).all()
+            dropped += count - kept
+    assert dropped > 0 or name == "corridor"
 
 
 def _distances(successors: np.ndarray, origin: int, passable: Callable[[int], bool]) -> dict[int, int]:

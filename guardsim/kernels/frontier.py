@@ -7,7 +7,7 @@ import numpy as np
 
 from guardsim.kernels.compiler import jit
 
-__all__ = ["frontier", "frontier_work", "node_hash"]
+__all__ = ["drop_shadowed", "frontier", "frontier_work", "node_hash"]
 
 
 @jit(inline="always")
@@ -97,6 +97,72 @@ def frontier(
     for index in range(tail):
         distance[queue[index]] = -1
     return count
+
+
+@jit
+def drop_shadowed(
+    successors: np.ndarray,
+    origin: int,
+    found: np.ndarray,
+    found_steps: np.ndarray,
+    count: int,
+    distance: np.ndarray,
+    queue: np.ndarray,
+    mark: np.ndarray,
+) -> int:
+    """Keep only the moves of :func:`frontier` that no shortest path from ``origin`` reaches through
+    another move's position; returns how many are left, in their order, at the front of ``found`` and
+    ``found_steps``.
+
+    A move to ``b`` is *shadowed* when some move's position ``a`` lies on a shortest path to ``b``
+    (``d(origin, a) + d(a, b) = d(origin, b)``): walking through ``a`` to ``b`` takes no more steps, sees
+    at least as much, and sees ``a``'s new cells sooner. So among the optimal walks from the node, one
+    that sees its cells as early as possible (the least sum over its steps of the cells not yet seen)
+    never makes a shadowed move, and dropping them keeps an optimal walk from every node (the pruning of
+    MWRP-CP3's expanding borders). ``distance`` must be all -1 and ``mark`` all 0 on entry; both are
+    left so.
+
+    One breadth-first search over the layers up to the farthest move: a position is marked *behind* when
+    some position one layer nearer on a shortest path to it is a move's position or itself behind.
+    """
+    if count == 0:
+        return 0
+    farthest = 0
+    for index in range(count):
+        mark[found[index]] = 1
+        if found_steps[index] > farthest:
+            farthest = found_steps[index]
+    distance[origin] = 0
+    queue[0] = origin
+    head, tail = 0, 1
+    while head < tail:
+        here = queue[head]
+        head += 1
+        step = distance[here] + 1
+        if step > farthest:
+            continue
+        behind = mark[here] != 0
+        for direction in range(4):
+            there = successors[here, direction]
+            if there < 0:
+                continue
+            if distance[there] < 0:
+                distance[there] = step
+                queue[tail] = there
+                tail += 1
+            if behind and distance[there] == step:
+                mark[there] |= 2
+    kept = 0
+    for index in range(count):
+        if mark[found[index]] & 2:
+            continue
+        found[kept] = found[index]
+        found_steps[kept] = found_steps[index]
+        kept += 1
+    for index in range(tail):
+        distance[queue[index]] = -1
+        mark[queue[index]] = 0  # every move's position is within reach of the search
+    return kept
 
 
 @jit

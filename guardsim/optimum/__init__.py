@@ -202,7 +202,9 @@ def solve(
         if time_limit is not None and time.perf_counter() - began > time_limit:
             stopped_by = "time"
             break
-        run_search(state, heuristic, graph.successors, graph.views, graph.full, budget, DOMINANCE_CHECKS, float(weight))
+        run_search(
+            state, heuristic, graph.successors, graph.views, graph.full, budget, DOMINANCE_CHECKS, float(weight), True
+        )
         if progress is not None:
             best = int(counters[INCUMBENT]) if counters[INCUMBENT_NODE] >= 0 else int(greedy_steps)
             floor = best if counters[STATUS] == PROVED else min(best, max(int(counters[FLOOR]), root_bound))

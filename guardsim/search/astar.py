@@ -27,7 +27,7 @@ from numba.extending import register_jitable
 from guardsim.kernels.arrays import copy_into
 from guardsim.kernels.compiler import jit
 from guardsim.kernels.estimate import Heuristic, eccentricity, estimate, estimate_work
-from guardsim.kernels.frontier import frontier, frontier_work, node_hash
+from guardsim.kernels.frontier import drop_shadowed, frontier, frontier_work, node_hash
 from guardsim.kernels.heap import heap_pop, heap_push
 
 __all__ = ["FULL", "PROVED", "RUNNING", "SearchState", "greedy_walk", "new_search_state", "run_search", "start_search"]
@@ -266,6 +266,7 @@ def run_search(
     budget: int,
     checks: int,
     weight: float = 1.0,
+    shadows: bool = False,
 ) -> None:
     """Expand at most ``budget`` nodes, or until the optimum is proved or the node arrays are full.
 
@@ -282,6 +283,7 @@ def run_search(
     distance, queue, found, found_steps = frontier_work(positions)
     kept, link, gap, order = estimate_work(heuristic)
     seen = np.empty(words, dtype=np.uint64)
+    mark = np.zeros(positions if shadows else 0, dtype=np.int8)
     expanded = 0
     while counters[STATUS] == RUNNING and expanded < budget:
         if counters[HEAP] == 0:
@@ -326,6 +328,8 @@ def run_search(
         counters[EXPANSIONS] += 1
         parent_h = state.estimate[node]
         count = frontier(successors, views, here, state.seen[node], distance, queue, found, found_steps)
+        if shadows:
+            count = drop_shadowed(successors, here, found, found_steps, count, distance, queue, mark)
         for index in range(count):
             there = found[index]
             steps = g + found_steps[index]
