@@ -250,7 +250,11 @@ print(json.dumps(unplanned))
 
 @pytest.mark.parametrize(
     "command",
-    ["play:tour", "patrol", *(pytest.param(name, marks=pytest.mark.slow) for name in ("sneak", "alert", "bounds", "optimum", "bench"))],
+    [
+        "play:tour",
+        "patrol",
+        *(pytest.param(name, marks=pytest.mark.slow) for name in ("sneak", "alert", "bounds", "optimum", "bench")),
+    ],
 )
 def test_compiling_ahead_covers_what_the_command_compiles(command: str, tmp_path: Path) -> None:
     # After compile_ahead(command), running the command compiles nothing more: the plan is current.
@@ -277,32 +281,30 @@ def test_compiling_ahead_covers_what_the_command_compiles(command: str, tmp_path
     assert json.loads(done.stdout.strip().splitlines()[-1]) == []
 
 
-def _entry(name: str, seconds: float) -> list[object]:
-    return ["m", name, [], seconds, -1]
+def test_both_processes_take_the_plan_in_order_never_a_callee_the_other_is_compiling() -> None:
+    from guardsim.kernels.ahead import COMPILED, FREE, TAKEN, take
 
-
-def test_compile_plan_is_dealt_to_both_processes_by_finish_time(monkeypatch: pytest.MonkeyPatch) -> None:
-    from guardsim.kernels import ahead
-
-    calls = {"a": {"a1"}, "b": {"b1"}, "big": {"c0", "c1", "c2", "c3"}}
-    monkeypatch.setattr(ahead, "_compiled_with", lambda entry: {f"m:{n}" for n in calls.get(entry[1], set())})
-    # Two independent kernels of 4 s, each with a 1 s callee: each process takes one family.
-    entries = [_entry("a1", 1.0), _entry("a", 4.0), _entry("b1", 1.0), _entry("b", 4.0)]
-    mine, theirs = ahead._halves(entries)
-    assert [e[1] for e in mine] == ["a1", "a"] and [e[1] for e in theirs] == ["b1", "b"]
-    # One big caller over four callees: the callees are shared out, the caller goes where it ends first,
-    # and every entry is compiled once, in the plan's order on each side.
-    entries = [_entry(f"c{k}", 1.0) for k in range(4)] + [_entry("big", 2.0), _entry("lone", 3.0)]
-    mine, theirs = ahead._halves(entries)
-    names = [e[1] for e in mine] + [e[1] for e in theirs]
-    assert sorted(names) == sorted(e[1] for e in entries)
-    for side in (mine, theirs):
-        assert [entries.index(e) for e in side] == sorted(entries.index(e) for e in side)
-    loads = [sum(float(e[3]) for e in side) for side in (mine, theirs)]  # type: ignore[arg-type]
-    assert abs(loads[0] - loads[1]) <= 3.0
-    # A caller never starts on one side before a callee the other side is still compiling ends: with a
-    # 4 s callee on one side, its 1 s caller waits on the same side rather than compile it twice.
-    calls = {"top": {"slow"}}
-    entries = [_entry("slow", 4.0), _entry("quick", 1.0), _entry("top", 1.0)]
-    mine, theirs = ahead._halves(entries)
-    assert {e[1] for e in mine} == {"slow", "top"} and [e[1] for e in theirs] == ["quick"]
+    # Entries 0 and 1 are callees of 2; 3 stands alone.
+    below = [[], [], [0, 1], []]
+    state = [FREE] * 4
+    assert take(state, below) == 0 and state == [TAKEN, FREE, FREE, FREE]  # one process: 0
+    assert take(state, below) == 1  # the other: 1
+    # Both callees are being compiled: the caller waits, the lone entry goes first.
+    assert take(state, below) == 3
+    assert take(state, below) is None
+    state[0] = COMPILED
+    assert take(state, below) is None  # 1 is still being compiled
+    state[1] = state[3] = COMPILED
+    assert take(state, below) == 2
+    assert take(state, below) == -1  # nothing free: done
+    # A caller whose callee nobody has started takes it along (compiling the caller compiles it).
+    state = [COMPILED, FREE, FREE]
+    assert take(state, [[], [], [1]]) == 1
+    state = [COMPILED, TAKEN, FREE, FREE]
+    assert take(state, [[], [], [0], [1]]) == 2 and state == [COMPILED, TAKEN, TAKEN, FREE]
+    state = [FREE, FREE]
+    state[0] = COMPILED
+    assert take(state, [[], [0]]) == 1 and state == [COMPILED, TAKEN]
+    state = [FREE, FREE, FREE]
+    state[0] = TAKEN
+    assert take(state, [[], [], [1]]) == 1 and take(state, [[], [], [1]]) is None

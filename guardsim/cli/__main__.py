@@ -1,5 +1,6 @@
-"""``python -m guardsim.cli``: the same command line as ``guardsim``."""
+"""``python -m guardsim.cli``: the same command line as ``guardsim``, as a plain Python program (its
+interpreter tears down as usual, so ``python -m cProfile -m guardsim.cli ...`` prints its profile)."""
 
-from guardsim.cli import run
+from guardsim.cli import main
 
-run()
+main()

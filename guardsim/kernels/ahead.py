@@ -5,10 +5,9 @@ kernels are known in advance, though: ``plan.json`` beside this file lists, per 
 function the command compiles (those it calls from Python and, where their argument types can be
 written down, the kernels those call), with the argument types, in the order compiling them ended
 (recorded by ``python benchmarks/compile_plan.py``). On a cache folder that has not yet seen the
-command, :func:`compile_ahead` deals that list out to two processes so that both finish about together
-(a callee the other process has not compiled yet is counted where it would be compiled twice); a forked
-process compiles its share while this one compiles the other, both into the same cache, and then the
-command runs on cached code. Later runs find the folder's mark and skip it.
+command, :func:`compile_ahead` forks a helper process and both work down that list together, each
+taking the next entry it can (:func:`take`: not one whose callees the other is compiling) into the
+same cache; then the command runs on cached code. Later runs find the folder's mark and skip it.
 
 A plan that no longer matches the code (a function renamed, its argument types changed) costs only
 time: what compiling ahead missed is compiled when first called, as without it, and ``tests/
@@ -22,6 +21,7 @@ import importlib
 import json
 import multiprocessing
 import os
+import time
 from functools import cache
 from pathlib import Path
 from typing import Any
@@ -32,7 +32,7 @@ from numba.core import types
 
 from guardsim.kernels.compiler import cache_folder, silence_notice
 
-__all__ = ["PLAN_FILE", "compile_ahead", "decode_type", "encode_type", "plan"]
+__all__ = ["PLAN_FILE", "compile_ahead", "decode_type", "encode_type", "plan", "take"]
 
 #: The recorded plan: ``{command: [[module, function, [argument type, ...], seconds, caller], ...]}``, ``seconds``
 #: the function's own compile time (its planned callees excluded), ``caller`` the index of the entry it was
@@ -113,44 +113,61 @@ def _compile(entry: list[Any]) -> None:
     _dispatcher(entry).compile(tuple(decode_type(argument) for argument in entry[2]))
 
 
-def _halves(entries: list[list[Any]]) -> tuple[list[list[Any]], list[list[Any]]]:
-    """The plan split between this process and the helper, each list in the plan's order.
+#: An entry's state in the table both processes share: free, being compiled, compiled.
+FREE, TAKEN, COMPILED = 0, 1, 2
+#: Seconds a process waits before looking again when every free entry needs one the other is compiling.
+_POLL = 0.005
 
-    The plan lists functions in the order their compiling ended, callees before callers, each with its
-    own compile time (callees excluded). Entries are dealt out in that order, each to the process that
-    would be done with it first: a process that reaches a caller before the other has compiled one of
-    its callees (any earlier entry its code reaches) compiles that callee too, and the cost is counted;
-    one that finds it compiled loads it from the cache.
-    """
-    # What compiling an entry compiles too: the earlier entries whose functions its code reaches (a
-    # callee compiled first for another caller is recorded under that one, not under this).
+
+def _callees(entries: list[list[Any]]) -> list[list[int]]:
+    """For each entry, the earlier entries whose functions compiling it compiles too (its code reaches
+    them: a callee compiled first for another caller is recorded under that one, not under this)."""
     names = [_entry_name(entry) for entry in entries]
     below: list[list[int]] = []
     for index, entry in enumerate(entries):
         reached = _compiled_with(entry) - {names[index]}
         below.append([earlier for earlier in range(index) if names[earlier] in reached])
-    clock = [0.0, 0.0]
-    side = [0] * len(entries)
-    finish = [0.0] * len(entries)
-    for index, entry in enumerate(entries):
-        best: tuple[float, int] | None = None
-        for process in (0, 1):
-            start = clock[process]
-            extra = sum(
-                float(entries[callee][3])
-                for callee in below[index]
-                if side[callee] != process and finish[callee] > start
-            )
-            done = start + float(entry[3]) + extra
-            if best is None or done < best[0]:
-                best = (done, process)
-        assert best is not None
-        finish[index], side[index] = best
-        clock[best[1]] = best[0]
-    return (
-        [entry for index, entry in enumerate(entries) if side[index] == 0],
-        [entry for index, entry in enumerate(entries) if side[index] == 1],
-    )
+    return below
+
+
+def take(state: Any, below: list[list[int]]) -> int | None:
+    """The entry a process compiles next, marked in ``state`` (with the callees it compiles along):
+    the first free entry, in the plan's order, none of whose callees the other process is compiling
+    (it would compile them again); -1 when none is free; None when the free ones must wait.
+
+    The plan lists callees before callers, so both processes work down it together, each taking the
+    next entry when it is done with one: neither sits idle while the other has a long list left, as a
+    split made in advance from recorded compile times (which vary by half from run to run) left it.
+    """
+    waiting = False
+    for index, callees in enumerate(below):
+        if state[index] != FREE:
+            continue
+        if any(state[callee] == TAKEN for callee in callees):
+            waiting = True
+            continue
+        state[index] = TAKEN
+        for callee in callees:
+            if state[callee] == FREE:
+                state[callee] = TAKEN
+        return index
+    return None if waiting else -1
+
+
+def _work(entries: list[list[Any]], below: list[list[int]], state: Any) -> None:
+    """Compile entries taken from the shared ``state`` until none is left."""
+    while True:
+        with state.get_lock():
+            index = take(state, below)
+        if index is None:
+            time.sleep(_POLL)
+            continue
+        if index < 0:
+            return
+        _compile_quietly([entries[index]])
+        with state.get_lock():
+            for done in (index, *below[index]):
+                state[done] = COMPILED
 
 
 def compile_ahead(command: str) -> None:
@@ -166,19 +183,19 @@ def compile_ahead(command: str) -> None:
     mark = cache_folder() / f"ahead-{command}"
     if not entries or mark.exists():
         return
-    mine, theirs = _halves(entries)
     # Set numba's compiler up once, here (a first compile sets up most of it), so that the forked
     # helper starts with it ready.
     numba.njit(_warm_up)(np.zeros(1, dtype=np.int64))
-    helper = None
-    if theirs and "fork" in multiprocessing.get_all_start_methods():
-        helper = multiprocessing.get_context("fork").Process(target=_helper, args=(theirs,), daemon=True)
+    if "fork" in multiprocessing.get_all_start_methods() and len(entries) > 1:
+        context = multiprocessing.get_context("fork")
+        below = _callees(entries)
+        state = context.Array("b", len(entries))
+        helper = context.Process(target=_helper, args=(entries, below, state), daemon=True)
         helper.start()
-    else:
-        mine = entries
-    _compile_quietly(mine)
-    if helper is not None:
+        _work(entries, below, state)
         helper.join()
+    else:
+        _compile_quietly(entries)
     with contextlib.suppress(OSError):  # an unwritable cache: the next run compiles ahead again, no harm
         mark.touch()
 
@@ -187,9 +204,9 @@ def _warm_up(values: np.ndarray) -> int:
     return int(values.sum()) + values.shape[0]
 
 
-def _helper(entries: list[list[Any]]) -> None:
+def _helper(entries: list[list[Any]], below: list[list[int]], state: Any) -> None:
     silence_notice()  # this process has said it already, or will
-    _compile_quietly(entries)
+    _work(entries, below, state)
 
 
 def _compile_quietly(entries: list[list[Any]]) -> None:
