@@ -7,6 +7,7 @@ Usage::
     python benchmarks/optimum.py --planners --only maze-32-32-4   # every planner against the optimum
     python benchmarks/optimum.py --planners --tiny                # the same on the tests' tiny levels
     python benchmarks/optimum.py --planners --real                # small real maps, bench starts 0-2
+    python benchmarks/optimum.py --hard                           # issue 28's six hard instances
     python benchmarks/optimum.py --guards 2                       # the team optimum (makespan) table
     python benchmarks/optimum.py --guards 2 --only lak105d --max-expansions 20000
 
@@ -25,6 +26,11 @@ the state) from four spread starts each, facing down, instead of the maps. ``--r
 Moving AI maps of :data:`REAL_MAPS` (same sight rule, unlimited range) from the starts of bench episodes
 0-2 of seed 0 (``guardsim optimum MAP --episode K``): those where the search proves the optimum within
 the time limit.
+
+``--hard`` runs the six instances of issue 28 (:data:`HARD_CASES`: four at range 8 that MWRP-CP3 proves
+in 49.9 s or leaves open, two unlimited), each at most ``--time-limit`` seconds, after a warm-up solve that
+loads the compiled kernels; seconds are the solver's own (``result.seconds``, view table included), the
+gap is ``(found - lower bound) / found``.
 
 With ``--guards 2``, the team table (:func:`guardsim.optimum.team.solve_team`, the makespan, same sight
 rule, unlimited range): the fixed two-agent scenarios of MWRP-CP3's ``configs/`` and, on each map of its
@@ -57,6 +63,17 @@ CASES: list[tuple[str, tuple[int, int], float | None, int]] = [
     ("den101d", (36, 20), None, 167),
     ("maze-32-32-4", (1, 1), 8.0, 210),
     ("maze-32-32-4", (15, 16), 8.0, 235),
+]
+
+#: The hard instances of issue 28: (map, start (x, y), view range or None, MWRP-CP3 on this machine:
+#: its optimum and seconds, or the lower bound it had when it stopped unproved).
+HARD_CASES: list[tuple[str, tuple[int, int], float | None, str]] = [
+    ("den101d", (21, 2), 8.0, "192 proved in 49.9 s"),
+    ("den101d", (36, 20), 8.0, "unproved in 150 s (bound >= 193)"),
+    ("arena", (3, 1), 8.0, "unproved in 150 s (bound >= 113)"),
+    ("arena", (24, 24), 8.0, "unproved in 150 s (bound >= 112)"),
+    ("room-32-32-4", (3, 0), None, "unproved in 300 s (bound >= 159)"),
+    ("random-32-32-20", (0, 0), None, "unproved in 240 s (bound >= 62)"),
 ]
 
 #: Small real maps whose optima the search proves from bench starts in seconds (tried and unproved in
@@ -258,6 +275,29 @@ def planner_rows(cases: list[tuple[str, object, tuple[int, int], int, int]]) -> 
         )
 
 
+def hard_rows(time_limit: float, only: str | None) -> None:
+    """The table of :data:`HARD_CASES` (``--hard``)."""
+    from guardsim.optimum import solve
+
+    solve(scene_of("maze-32-32-4", None), (1, 1), 0)  # loads (or compiles) the kernels: the rows are warm
+    print(
+        "| map | start | range | MWRP-CP3 | found | proved | lower bound | gap | start bound | expansions "
+        "| nodes | seconds |"
+    )
+    print("| --- | --- | --- | --- | --- | --- | --- | --- | --- | --- | --- | --- |")
+    for name, start, view_range, anchor in HARD_CASES:
+        if only and only != name:
+            continue
+        result = solve(scene_of(name, view_range), start, 0, time_limit=time_limit)
+        gap = (result.steps - result.lower_bound) / result.steps
+        print(
+            f"| {name} | {start} | {'unlimited' if view_range is None else f'{view_range:g}'} | {anchor} "
+            f"| {result.steps} | {str(result.proved).lower()} | {result.lower_bound} | {100 * gap:.1f} % "
+            f"| {result.root_bound} | {result.expansions} | {result.nodes} | {result.seconds:.1f} |",
+            flush=True,
+        )
+
+
 def main() -> None:
     from guardsim.optimum import solve
 
@@ -267,6 +307,7 @@ def main() -> None:
     parser.add_argument("--planners", action="store_true", help="Also every planner against the proved optima.")
     parser.add_argument("--tiny", action="store_true", help="The tests' tiny levels instead of the maps.")
     parser.add_argument("--real", action="store_true", help="Small real maps from bench starts 0-2.")
+    parser.add_argument("--hard", action="store_true", help="Issue 28's six hard instances.")
     parser.add_argument("--guards", type=int, default=1, help="Above 1: the team optimum (makespan) table.")
     parser.add_argument("--draws", type=int, default=3, help="Start pairs drawn per published map (--guards).")
     parser.add_argument(
@@ -280,6 +321,9 @@ def main() -> None:
         team_rows(arguments)
         return
     proved = []
+    if arguments.hard:
+        hard_rows(arguments.time_limit, arguments.only)
+        return
     if arguments.real:
         from guardsim.starts import episode_start
 
