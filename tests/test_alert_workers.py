@@ -93,6 +93,31 @@ def test_resume_runs_only_the_missing_episodes(files, one_worker, tmp_path: Path
     assert contents(out) == contents(reference_out)
 
 
+def test_the_first_episode_run_for_trace_is_not_counted_as_done(files, one_worker, tmp_path: Path) -> None:
+    """--trace runs the first episode in this process: it is counted as run, never as 'already done',
+    in a new folder and on resume (where it runs again for its trace); the folder and the trace are the
+    uninterrupted run's."""
+    _, reference_out = one_worker
+    out, trace = tmp_path / "out", tmp_path / "first.json"
+    fresh = run(files, *EPISODES, "--workers", "1", "--out", out, "--trace", trace)
+    assert fresh.exit_code == 0, fresh.output
+    assert "running 24 of 24 episodes: the first here for --trace, 23 on 1 worker (this process)\n" in fresh.stderr
+    assert "already done" not in fresh.stderr
+    assert contents(out) == contents(reference_out)
+    assert trace.read_bytes() == (reference_out / "ripple-0000.json").read_bytes()
+    (out / "team-0005.json").unlink()
+    resumed = run(files, *EPISODES, "--workers", "1", "--out", out, "--trace", trace, "--gif", tmp_path / "a.gif")
+    assert resumed.exit_code == 0, resumed.output
+    assert (
+        "running 2 of 24 episodes: the first here for --trace, --gif, 1 on 1 worker (this process) (22 already done)"
+        in resumed.stderr
+    )
+    again = run(files, *EPISODES, "--workers", "1", "--out", out, "--trace", trace)
+    assert again.exit_code == 0, again.output
+    assert f"{out}: 23 of 24 episodes already done, the first run here for --trace\n" in again.stderr
+    assert contents(out) == contents(reference_out)
+
+
 def test_other_options_are_not_resumed(files, one_worker, tmp_path: Path) -> None:
     """A folder holding a run with another seed is refused in one line; nothing is overwritten."""
     _, reference_out = one_worker

@@ -167,7 +167,8 @@ def alert(
     --seed, the same for every strategy) a table per search strategy. --from/--to fix the entry and
     goal; a still intruder needs only --from. Episodes run on --workers local processes or a Dask
     --scheduler, with the same results wherever they run. With --out DIR, running the same command
-    again resumes: episodes whose trace is in DIR are not run again.
+    again resumes: episodes whose trace is in DIR are not run again (but the first, for --trace,
+    --gif or --html).
 
     Exit status: 0 every episode ran; 1 some did not run (a worker was lost; with --out, run the same
     command again to resume); 2 bad input or an output that cannot be written.
@@ -256,19 +257,27 @@ def alert(
                     outcomes[task.key] = kept
     written: list[str] = []
     first = None
-    if trace_path is not None or gif_path is not None or html_path is not None:
-        # The first episode runs here, whole: its trace, GIF and page need the episode itself.
+    # The options the first episode runs here for (its trace, GIF and page need the episode itself): it
+    # runs even when a resumed folder holds its trace, and is counted as run, not as already done.
+    here = ", ".join(name for name, path in (("--trace", trace_path), ("--gif", gif_path), ("--html", html_path))
+                     if path is not None)  # fmt: skip
+    if here:
         first = _run_first(scene, table, tasks[0])
         if folder is not None:
             write_text_atomic(folder / trace_name(*tasks[0].key), _trace(first, scene, tasks[0]))
+        outcomes.pop(tasks[0].key, None)
+    done_before = len(outcomes)
+    if first is not None:
         outcomes[tasks[0].key] = first.result()
     pending = [task for task in tasks if task.key not in outcomes]
     if pending:
         remember_setup(scene, table)
-        _run_pending(pending, outcomes, folder, done_before=len(tasks) - len(pending), workers=workers,
+        _run_pending(pending, outcomes, folder, done_before=done_before, first_here=here, workers=workers,
                      scheduler=scheduler)  # fmt: skip
     elif folder is not None and len(tasks) > 1:
-        click.echo(f"{folder}: all {len(tasks)} episodes already done", err=True)
+        ran = f", the first run here for {here}" if here else ""
+        already = "all" if done_before == len(tasks) else f"{done_before} of"
+        click.echo(f"{folder}: {already} {len(tasks)} episodes already done{ran}", err=True)
     runs = {name: [outcomes[(name, index)] for index in range(episodes)] for name in searches}
     rows = [summarise(name, found) for name, found in runs.items()]
     if first is not None and trace_path is not None:
@@ -370,17 +379,21 @@ def _run_pending(
     folder: Path | None,
     *,
     done_before: int,
+    first_here: str,
     workers: int | None,
     scheduler: str | None,
 ) -> None:
     """Run ``pending`` on the executor ``--workers``/``--scheduler`` ask for (:func:`guardsim.experiment.executors.make_executor`,
     as ``guardsim bench``), filling ``outcomes`` and writing each trace into ``folder`` as it comes back.
-    On Ctrl-C or lost episodes, say how to resume and exit."""
+    ``done_before`` episodes were found done in ``folder``; ``first_here`` names the options the first
+    episode ran for in this process (empty: it did not). On Ctrl-C or lost episodes, say how to resume
+    and exit."""
     from guardsim.alert.batch import run_alert_task, trace_name
     from guardsim.cli.bench import NOT_RUN, ProgressLine
     from guardsim.experiment.executors import make_executor
 
-    total = done_before + len(pending)
+    ran_here = 1 if first_here else 0
+    total = done_before + ran_here + len(pending)
     with contextlib.ExitStack() as stack:
         if scheduler == "local":
             scheduler = stack.enter_context(_local_cluster(workers))
@@ -392,7 +405,10 @@ def _run_pending(
         chatty = total > 1
         if chatty:
             already = f" ({done_before} already done)" if done_before else ""
-            click.echo(f"running {len(pending)} of {total} episodes on {executor.description}{already}", err=True)
+            where = f" on {executor.description}"
+            if first_here:
+                where = f": the first here for {first_here}, {len(pending)}{where}"
+            click.echo(f"running {ran_here + len(pending)} of {total} episodes{where}{already}", err=True)
         progress = ProgressLine(len(pending), sys.stderr if chatty else io.StringIO())
         resume = f"; traces in {folder}; run the same command again to resume" if folder is not None else ""
         lost = 0
