@@ -168,18 +168,31 @@ def run(*args: str | Path) -> Any:
 
 
 def test_validate_fix_writes_the_repaired_level(tmp_path: Path) -> None:
-    """`validate BAD --fix OUT` lists the repairs, says ok, writes OUT atomically and exits 0."""
+    """`validate BAD --fix OUT` lists the repairs, ends with one line saying what it fixed and where it
+    wrote (never 'ok' for a file that had problems), writes OUT atomically and exits 0."""
     data, _ = REPAIRABLE["overlapping-holes"]
     path = write_level(tmp_path, changed(data, guard={"start": [0.5, 0.5]}))
     out = tmp_path / "fixed.json"
-    result = run("validate", path, "--fix", out)
+    result = run("validate", path, "--fix", out, "--no-warnings")
     assert result.exit_code == 0, result.output
-    assert f"{path}: repaired holes[0] and holes[1]: merged" in result.stdout
-    assert f"{path}: ok" in result.stdout
-    assert f"wrote the repaired level to {out}" in result.stdout
+    lines = result.stdout.splitlines()
+    assert lines[0].startswith(f"{path}: repaired holes[0] and holes[1]: merged")
+    repairs = f"{len(lines) - 1} repair{'s' if len(lines) > 2 else ''}"
+    assert lines[-1] == f"{path}: made {repairs} (above), the result is valid -> {out}"
+    assert not any(line.endswith(": ok") for line in lines)
     level = load_level(out)
     assert len(level.holes) == 1
     assert [p.name for p in tmp_path.iterdir() if p.name.startswith(".")] == []
+
+
+def test_validate_fix_says_when_there_is_nothing_to_fix(tmp_path: Path) -> None:
+    """A level that needs no repair is ok, and OUT is the same level, written."""
+    path = write_level(tmp_path, repair_level_data(SQUARE_WITH_HOLE)[0])
+    out = tmp_path / "fixed.json"
+    result = run("validate", path, "--fix", out, "--no-warnings")
+    assert result.exit_code == 0, result.output
+    assert result.stdout.splitlines() == [f"{path}: ok, nothing to fix -> {out} (the same level)"]
+    assert load_level(out).holes == load_level(path).holes
 
 
 def test_validate_fix_does_not_write_an_invalid_level(tmp_path: Path) -> None:
@@ -191,6 +204,18 @@ def test_validate_fix_does_not_write_an_invalid_level(tmp_path: Path) -> None:
     assert result.exit_code == 2
     assert "crosses or touches itself" in result.stdout
     assert "not written" in result.stdout
+    assert not out.exists()
+
+
+def test_validate_fix_says_a_level_no_guard_fits_is_not_written(tmp_path: Path) -> None:
+    """Valid geometry the guard cannot stand in: the error, then that OUT is not written."""
+    path = write_level(tmp_path, {"outer": [[0, 0], [1, 0], [1, 1], [0, 1]], "guard": {"radius": 2}})
+    out = tmp_path / "fixed.json"
+    result = run("validate", path, "--fix", out)
+    assert result.exit_code == 2
+    assert result.stdout.splitlines()[-1] == (
+        f"{path}: not written to {out}: the problems above need a designer's decision"
+    )
     assert not out.exists()
 
 

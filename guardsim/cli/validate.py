@@ -65,7 +65,8 @@ def validate(
     """Report every problem in each LEVEL, then warnings; exit 0 only if all are valid.
 
     Warnings do not change the exit status. With --fix, the repairs are listed first and the problems
-    and warnings are those of the repaired level, which is written to OUT only if it is valid.
+    and warnings are those of the repaired level, which is written to OUT only if it is valid; the last
+    line says how many repairs were made (or that none were needed) and whether OUT was written.
     """
     if fix_path is not None and len(level_paths) != 1:
         click.echo(f"guardsim: error: --fix {fix_path} takes exactly one LEVEL, not {len(level_paths)}", err=True)
@@ -96,12 +97,14 @@ def validate(
             except GuardsimError as error:
                 click.echo(with_options(f"{error}{warning_note(caught)}"))
                 invalid.append(path)
+                if fix_path is not None:
+                    _write_fixed(path, fix_path, data, repairs=len(repairs), written=False)
                 continue
         for problem in problems:
             click.echo(with_options(f"{path}: {problem}"))
         if problems:
             invalid.append(path)
-        else:
+        elif fix_path is None:
             click.echo(f"{path}: ok")
         if scene is not None and show_warnings:
             with captured_warnings():
@@ -109,7 +112,7 @@ def validate(
             _echo_warnings(path, found)
             warned = warned or bool(found)
         if fix_path is not None:
-            _write_fixed(path, fix_path, data, written=not problems and level is not None)
+            _write_fixed(path, fix_path, data, repairs=len(repairs), written=not problems and level is not None)
     if invalid:
         # One line on stderr naming the files, whatever the number of problems listed above.
         names = ", ".join(invalid[:3]) + (f" and {len(invalid) - 3} more" if len(invalid) > 3 else "")
@@ -154,9 +157,17 @@ def _echo_warnings(path: str, warnings: list[DesignerWarning]) -> None:
             click.echo(f"{path}: warning: {len(rest)} more {kind}s ({cells} cells)")
 
 
-def _write_fixed(path: str, fix_path: str, data: Any, *, written: bool) -> None:
+def _write_fixed(path: str, fix_path: str, data: Any, *, repairs: int, written: bool) -> None:
+    """Write the repaired level if it is valid, and say in one line what was fixed and where it went
+    (never 'ok' for a file that needed repairs)."""
     if written:
         write_text_atomic(fix_path, level_json_text(data))
-        click.echo(f"{path}: wrote the repaired level to {fix_path}")
+        if repairs:
+            # Repairs, not problems: some (a ring's orientation) change what validate alone accepts.
+            click.echo(
+                f"{path}: made {repairs} repair{'s' if repairs != 1 else ''} (above), the result is valid -> {fix_path}"
+            )
+        else:
+            click.echo(f"{path}: ok, nothing to fix -> {fix_path} (the same level)")
     else:
         click.echo(f"{path}: not written to {fix_path}: the problems above need a designer's decision")
