@@ -12,6 +12,7 @@ import numpy as np
 
 from guardsim.bounds.area import choose_clusters
 from guardsim.bounds.watchers import state_distances
+from guardsim.kernels.arrays import count_true, largest, smallest, upto
 from guardsim.kernels.compiler import jit
 from guardsim.kernels.distances import new_fill
 from guardsim.kernels.picks import AreaWatchers, pick_matrix, spread_picks, start_edges
@@ -110,7 +111,7 @@ def _local_search(matrix: np.ndarray, start_edge: np.ndarray, chosen: np.ndarray
                     chosen[into] = False
                 if trials >= most_trials:
                     break
-    return value, int(chosen.sum())
+    return value, count_true(chosen)
 
 
 @jit
@@ -152,8 +153,11 @@ def _best_subset(
         value = _chosen_bound(matrix, start_edge, chosen, members, link, inside)
         if value > best_value:
             best_count, best_value = count, value
-    value, clusters = _local_search(matrix, start_edge, np.arange(size) < best_count, most_trials)
-    path = path_bound(matrix, start_edge, np.arange(min(size, path_clusters)))
+    first = np.zeros(size, dtype=np.bool_)
+    for count in range(best_count):
+        first[count] = True
+    value, clusters = _local_search(matrix, start_edge, first, most_trials)
+    path = path_bound(matrix, start_edge, upto(min(size, path_clusters)))
     return value, clusters, path
 
 
@@ -247,7 +251,7 @@ def _start_bounds(
     the greedy clusters' start edge, the picks' cluster bound, its clusters, the path bound and the
     number of picks."""
     gap = new_fill(neighbours, -1, np.full(1, start_cell, dtype=np.int64))
-    greedy_edge = start_edges(area, kept, gap).min() if kept.shape[0] else 0
+    greedy_edge = smallest(start_edges(area, kept, gap), kept.shape[0]) if kept.shape[0] else 0
     alive = np.zeros(area.pool.shape[0], dtype=np.bool_)
     count = 0
     for position in range(area.pool.shape[0]):
@@ -256,7 +260,7 @@ def _start_bounds(
             count += 1
     picks = spread_picks(area, alive, gap, neighbours, most)
     edges = start_edges(area, picks, gap)
-    lower = edges.max() if edges.shape[0] else 0
+    lower = largest(edges, edges.shape[0]) if edges.shape[0] else 0
     eccentricity = _eccentricity(area.order, area.entry_start, area.entry_cells, gap, seen, lower)
     if picks.shape[0] < 2:
         return eccentricity, greedy_edge, 0, 0, 0, picks.shape[0]

@@ -10,6 +10,7 @@ from typing import NamedTuple
 
 import numpy as np
 
+from guardsim.kernels.arrays import true_indices
 from guardsim.kernels.compiler import jit
 from guardsim.kernels.distances import fill_distances
 
@@ -111,7 +112,7 @@ def spread_picks(
     alive = alive.copy()
     value = np.full(size, far, dtype=np.int64)
     # The live candidates, in order; dead ones are dropped as each pick's pass meets them.
-    live = np.flatnonzero(alive)
+    live = true_indices(alive)
     count_live = live.shape[0]
     best = -1
     for index in range(count_live):

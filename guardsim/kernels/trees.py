@@ -14,6 +14,7 @@ from __future__ import annotations
 
 import numpy as np
 
+from guardsim.kernels.arrays import largest, upto
 from guardsim.kernels.compiler import jit
 from guardsim.kernels.distances import spread, spread_states
 from guardsim.kernels.steps import cell_of_state, heading_of_state, state_of
@@ -85,7 +86,7 @@ def spanning_tree_weight(neighbours: np.ndarray, label: np.ndarray, clusters: in
                 weight[count] = ahead[state] + 1 + behind[other]
                 count += 1
     # Kruskal, the walks ordered by a counting sort on their lengths (small whole numbers).
-    heaviest = weight[:count].max() if count else 0
+    heaviest = largest(weight, count) if count else 0
     slot = np.zeros(heaviest + 2, dtype=np.int64)
     for index in range(count):
         slot[weight[index] + 1] += 1
@@ -95,7 +96,7 @@ def spanning_tree_weight(neighbours: np.ndarray, label: np.ndarray, clusters: in
     for index in range(count):
         order[slot[weight[index]]] = index
         slot[weight[index]] += 1
-    parent = np.arange(clusters)
+    parent = upto(clusters)
     total = 0
     joined = 0
     for edge in order:

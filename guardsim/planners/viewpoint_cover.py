@@ -11,6 +11,7 @@ from __future__ import annotations
 
 import numpy as np
 
+from guardsim.kernels.arrays import count_true
 from guardsim.kernels.compiler import jit
 from guardsim.vision.table import ViewTable
 
@@ -67,7 +68,7 @@ def _greedy_cover(
             keep[position] = False
             for index in range(sight_start[state], sight_start[state + 1]):
                 multiplicity[sight[index]] -= 1
-    result = np.empty(keep.sum(), dtype=np.int64)
+    result = np.empty(count_true(keep), dtype=np.int64)
     count = 0
     for position in range(len(chosen)):
         if keep[position]:

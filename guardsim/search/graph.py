@@ -18,6 +18,7 @@ from typing import NamedTuple
 import numpy as np
 
 from guardsim.grid import HEADINGS_PER_CELL, CoverageGrid, cell_of_state, heading_of_state, state_of
+from guardsim.kernels.arrays import true_indices
 from guardsim.kernels.compiler import jit
 from guardsim.kernels.distances import fill_states
 from guardsim.kernels.estimate import UNREACHABLE
@@ -70,7 +71,10 @@ def _reachable_states(neighbours: np.ndarray, start_state: int) -> np.ndarray:
     """States reachable from ``start_state``, ascending."""
     distance = np.empty(state_of(neighbours.shape[0], 0), dtype=np.int32)
     fill_states(neighbours, start_state, -1, distance)
-    return np.flatnonzero(distance >= 0)
+    reached = np.empty(distance.shape[0], dtype=np.bool_)
+    for state in range(distance.shape[0]):
+        reached[state] = distance[state] >= 0
+    return true_indices(reached)
 
 
 @jit
