@@ -101,6 +101,14 @@ EDGE_CASES: dict[str, dict[str, Any]] = {
     "starts-empty": changed(EMPTY_SQUARE, starts=[]),
     "name-null": changed(EMPTY_SQUARE, name=None),
     "top-level-string": "level",  # type: ignore[dict-item]
+    "tile-pixels": changed(EMPTY_SQUARE, tile_pixels=[64, 32]),
+    "tile-pixels-whole-float": changed(EMPTY_SQUARE, tile_pixels=[64.0, 64]),
+    "tile-pixels-fraction": changed(EMPTY_SQUARE, tile_pixels=[64.5, 64]),
+    "tile-pixels-zero": changed(EMPTY_SQUARE, tile_pixels=[0, 64]),
+    "tile-pixels-too-large": changed(EMPTY_SQUARE, tile_pixels=[4097, 64]),
+    "tile-pixels-one-side": changed(EMPTY_SQUARE, tile_pixels=[64]),
+    "tile-pixels-bool": changed(EMPTY_SQUARE, tile_pixels=[True, 64]),
+    "tile-pixels-number": changed(EMPTY_SQUARE, tile_pixels=64),
 }
 
 
@@ -160,6 +168,7 @@ def test_every_known_key_is_in_the_schema() -> None:
         cell_size=1,
         starts=[[0.5, 0.5]],
         player_starts=[[5.5, 5.5]],
+        tile_pixels=[64, 64],
         guard={
             "view_range": 5,
             "fov_degrees": 90,

@@ -124,6 +124,54 @@ def test_a_hand_made_level_exports_a_map_that_real_tiled_opens_with_its_route(tm
     assert imported.level.free_area().area == pytest.approx(3 * 3 * 2 + 5 * 1 - 0.6)  # type: ignore[attr-defined]
 
 
+def test_a_level_with_no_tile_size_says_which_it_assumed(tmp_path: Path) -> None:
+    """A level that records no map tile size gets 32-pixel tiles, and one warning line saying so and
+    how to give the map's own."""
+    level = write_level(tmp_path, CORRIDOR)
+    exported = tmp_path / "fresh.tmx"
+    result = CliRunner().invoke(
+        main, ["patrol", str(level), "--out", str(tmp_path / "o"), "--tiled-out", str(exported)]
+    )
+    assert result.exit_code == 0, result.output
+    assert result.stderr.splitlines() == [
+        f"guardsim: warning: {exported}: 32-pixel tiles assumed ({level} records no tile_pixels); for the tiles "
+        "of the Tiled map it came from, give --tiled-source MAP (or import the map again)"
+    ]
+    assert 'tilewidth="32" tileheight="32"' in exported.read_text()
+
+
+@needs_tiled
+def test_a_level_imported_from_a_64_pixel_map_exports_64_pixel_tiles(tmp_path: Path) -> None:
+    """`guardsim import` records the map's tile size in the level (tile_pixels); `patrol --tiled-out`
+    without --tiled-source writes tiles of that size, with no warning, and real Tiled reads the routes
+    at 64 pixels a world unit."""
+    source = tmp_path / "map.tmx"
+    source.write_text(SOURCE_TMX.replace('"16"', '"64"'), encoding="utf-8")
+    level = tmp_path / "level.json"
+    imported = CliRunner().invoke(main, ["import", str(source), "--out", str(level)])
+    assert imported.exit_code == 0, imported.output
+    assert json.loads(level.read_text())["tile_pixels"] == [64, 64]
+    exported, route_path = tmp_path / "fresh.tmx", tmp_path / "route.json"
+    args = [
+        "patrol",
+        str(level),
+        "--out",
+        str(tmp_path / "o"),
+        "--tiled-out",
+        str(exported),
+        "--export",
+        str(route_path),
+    ]
+    result = CliRunner().invoke(main, args)
+    assert result.exit_code == 0, result.output
+    assert result.stderr == ""
+    data = _resave(tmp_path, exported)
+    assert (data["tilewidth"], data["tileheight"]) == (64, 64)
+    properties = {item["name"]: item["value"] for item in data["properties"]}
+    origin = tuple(float(value) for value in properties["guardsim_origin"].split(","))
+    _check_routes(_route_layer(data), json.loads(route_path.read_text()), 64, origin)  # type: ignore[arg-type]
+
+
 @needs_tiled
 def test_a_tiled_copy_opens_in_real_tiled_with_its_route_and_imports_as_the_source(tmp_path: Path) -> None:
     from guardsim.importers import import_map

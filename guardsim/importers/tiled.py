@@ -17,6 +17,7 @@ map edge all round, a start area much smaller than the free area) is a warning.
 
 from __future__ import annotations
 
+import dataclasses
 import math
 import os
 from collections.abc import Iterable
@@ -40,6 +41,7 @@ from guardsim.level import (
     DEFAULT_MAX_CELLS,
     DEFAULT_MAX_FILE_BYTES,
     DEFAULT_MAX_VERTICES,
+    MAX_TILE_PIXELS,
     level_to_data,
     parse_level,
 )
@@ -226,6 +228,10 @@ def import_tiled(
         if standing:
             data["player_starts"] = [list(point) for point in standing]
         level = parse_level(data, source=source, max_cells=max_cells, max_vertices=max_vertices)
+    # One tile is one world unit: the level keeps the map's tile size, the pixels of routes written for it.
+    tile = (tiled.tile_width, tiled.tile_height)
+    if all(side == int(side) and 1 <= side <= MAX_TILE_PIXELS for side in tile):
+        level = dataclasses.replace(level, tile_pixels=(int(tile[0]), int(tile[1])))
     # The map's own size, as Tiled shows it; the grid cropped to the level says where it sits (summary).
     declared = tiled.size
     inside = bounds[0] >= 0 and bounds[1] >= 0 and bounds[2] <= declared[0] and bounds[3] <= declared[1]

@@ -17,6 +17,7 @@ from guardsim.level.limits import DEFAULT_MAX_CELLS, DEFAULT_MAX_FILE_BYTES, DEF
 from guardsim.level.loading import load_level, read_level_json, read_limited_bytes
 from guardsim.level.model import (
     HEADINGS,
+    MAX_TILE_PIXELS,
     GuardSpec,
     Level,
     Point,
@@ -37,6 +38,7 @@ __all__ = [
     "DEFAULT_MAX_FILE_BYTES",
     "DEFAULT_MAX_VERTICES",
     "HEADINGS",
+    "MAX_TILE_PIXELS",
     "GuardSpec",
     "Level",
     "LevelError",

@@ -13,7 +13,17 @@ import numpy as np
 import shapely
 from shapely.geometry import Polygon
 
-__all__ = ["HEADINGS", "GuardSpec", "Level", "Point", "Problem", "Ring", "free_area_of", "grid_shape_of"]
+__all__ = [
+    "HEADINGS",
+    "MAX_TILE_PIXELS",
+    "GuardSpec",
+    "Level",
+    "Point",
+    "Problem",
+    "Ring",
+    "free_area_of",
+    "grid_shape_of",
+]
 
 #: Heading names and their angle in degrees; y points down, so 90 degrees is "down" on screen.
 HEADINGS = {"right": 0, "down": 90, "left": 180, "up": 270}
@@ -73,6 +83,10 @@ class GuardSpec:
     """Alert: seconds before a guard's detection reaches its teammates."""
 
 
+#: Largest tile side in pixels a level may record (``Level.tile_pixels``).
+MAX_TILE_PIXELS = 4096
+
+
 @dataclass(frozen=True)
 class Level:
     """A validated level."""
@@ -90,6 +104,9 @@ class Level:
     """Where the player (the intruder of ``sneak`` and ``alert``) starts, when the designer marks it."""
     source: str = "<level>"
     """Where the level was read from, for messages."""
+    tile_pixels: tuple[int, int] | None = None
+    """``(width, height)`` in pixels of a tile of the map the level was imported from (one tile is one
+    world unit), for routes written in that map's pixels; ``None``: not known (a level drawn by hand)."""
 
     @property
     def bounds(self) -> tuple[float, float, float, float]:

@@ -25,7 +25,7 @@ from guardsim.files.reading import (
 )
 from guardsim.level.geometry import MAX_OVERLAPS_LISTED, check_geometry
 from guardsim.level.limits import DEFAULT_MAX_CELLS, DEFAULT_MAX_VERTICES
-from guardsim.level.model import HEADINGS, GuardSpec, Level, Point, Problem, Ring, grid_shape_of
+from guardsim.level.model import HEADINGS, MAX_TILE_PIXELS, GuardSpec, Level, Point, Problem, Ring, grid_shape_of
 
 __all__ = ["MAX_OVERLAPS_LISTED", "check_level_data", "parse_level"]
 
@@ -35,7 +35,7 @@ MAX_NAME_CHARS = 200
 #: level is refused instead of checked pair by pair.
 PAIRS_PER_VERTEX = 2
 
-_TOP_KEYS = {"name", "cell_size", "outer", "holes", "guard", "starts", "player_starts"}
+_TOP_KEYS = {"name", "cell_size", "outer", "holes", "guard", "starts", "player_starts", "tile_pixels"}
 _MOTION_KEYS = ("move_speed", "turn_speed", "tick_hz")
 _DETECTION_KEYS = ("detect_near", "detect_far", "forget", "suspicious")
 _ALERT_KEYS = ("capture_radius", "search_seconds", "radio_delay")
@@ -126,6 +126,7 @@ def _check(data: Any, source: str, max_cells: int, max_vertices: int) -> tuple[L
     guard = _guard(data.get("guard", {}), problems)
     starts = _points(data.get("starts", []), "starts", problems)
     players = _points(data.get("player_starts", []), "player_starts", problems)
+    tile_pixels = _tile_pixels(data.get("tile_pixels"), problems)
 
     if outer is not None and cell_size is not None:
         xs = [p[0] for p in outer]
@@ -141,7 +142,9 @@ def _check(data: Any, source: str, max_cells: int, max_vertices: int) -> tuple[L
             )
             return None, problems
     if outer is not None:
-        check_geometry(outer, holes, guard, starts, problems, max_pairs=PAIRS_PER_VERTEX * max_vertices, players=players)
+        check_geometry(
+            outer, holes, guard, starts, problems, max_pairs=PAIRS_PER_VERTEX * max_vertices, players=players
+        )
     if problems or outer is None or cell_size is None or guard is None or starts is None or players is None:
         return None, problems
     level = Level(
@@ -153,8 +156,29 @@ def _check(data: Any, source: str, max_cells: int, max_vertices: int) -> tuple[L
         starts=tuple(starts),
         player_starts=tuple(players),
         source=source,
+        tile_pixels=tile_pixels,
     )
     return level, problems
+
+
+def _tile_pixels(value: Any, problems: list[Problem]) -> tuple[int, int] | None:
+    """``tile_pixels``: absent, or ``[width, height]``, whole numbers of pixels from 1 to 4096."""
+    if value is None:
+        return None
+    if (
+        isinstance(value, list)
+        and len(value) == 2
+        and all(isinstance(side, int | float) and not isinstance(side, bool) for side in value)
+        and all(side == int(side) and 1 <= side <= MAX_TILE_PIXELS for side in value)
+    ):
+        return int(value[0]), int(value[1])
+    problems.append(
+        Problem(
+            "tile_pixels",
+            f"must be [width, height], whole numbers of pixels from 1 to {MAX_TILE_PIXELS}, not {excerpt(value, 40)}",
+        )
+    )
+    return None
 
 
 def _number(

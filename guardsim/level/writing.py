@@ -43,6 +43,8 @@ def level_to_data(level: Level) -> dict[str, Any]:
         data["starts"] = [list(p) for p in level.starts]
     if level.player_starts:
         data["player_starts"] = [list(p) for p in level.player_starts]
+    if level.tile_pixels is not None:
+        data["tile_pixels"] = list(level.tile_pixels)
     return data
 
 

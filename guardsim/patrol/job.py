@@ -267,7 +267,7 @@ def run_patrol(scene: Scene, folder: Path, job: PatrolJob) -> PatrolRun:
                     f"{_mean(report.worst_before)} -> {_mean(report.worst_after)} s replayed"
                 )
     if export_path or godot_out:
-        pixels = _pixels_per_unit(pixels_per_unit, tiled_source, max_file_bytes)
+        pixels = _pixels_per_unit(pixels_per_unit, tiled_source, level.tile_pixels, max_file_bytes)
     if export_path:
         from guardsim.patrol.export import RouteFrame, route_data
 
@@ -293,10 +293,16 @@ def run_patrol(scene: Scene, folder: Path, job: PatrolJob) -> PatrolRun:
         from guardsim.files.output import atomic_path
         from guardsim.files.reading import read_limited_bytes
         from guardsim.patrol.tiled_export import tiled_with_routes
-        from guardsim.patrol.tiled_fresh import tiled_from_level
+        from guardsim.patrol.tiled_fresh import DEFAULT_TILE_PIXELS, tiled_from_level
 
         if tiled_source is None:
-            copy = tiled_from_level(level, tiled_out, chosen, scene.grid, speed=speed, routes=routes)
+            tile: int | tuple[int, int] = level.tile_pixels or DEFAULT_TILE_PIXELS
+            if level.tile_pixels is None:
+                warnings.append(
+                    f"{tiled_out}: {tile}-pixel tiles assumed ({level.source} records no tile_pixels); for the "
+                    "tiles of the Tiled map it came from, give --tiled-source MAP (or import the map again)"
+                )
+            copy = tiled_from_level(level, tiled_out, chosen, scene.grid, speed=speed, routes=routes, tile_pixels=tile)
         else:
             source_bytes = read_limited_bytes(tiled_source, max_file_bytes=max_file_bytes, kind="Tiled map")
             copy = tiled_with_routes(
@@ -322,8 +328,11 @@ def run_patrol(scene: Scene, folder: Path, job: PatrolJob) -> PatrolRun:
     return PatrolRun(lines, warnings, written, data)
 
 
-def _pixels_per_unit(chosen: float | None, tiled_source: str | None, max_file_bytes: int) -> tuple[float, float]:
-    """Pixels per world unit along x and y: as chosen, else the Tiled map's tile size, else 32."""
+def _pixels_per_unit(
+    chosen: float | None, tiled_source: str | None, tile_pixels: tuple[int, int] | None, max_file_bytes: int
+) -> tuple[float, float]:
+    """Pixels per world unit along x and y: as chosen, else the Tiled map's tile size, else the one the
+    level records (:attr:`~guardsim.level.Level.tile_pixels`), else 32."""
     if chosen is not None:
         return chosen, chosen
     if tiled_source is not None:
@@ -333,6 +342,8 @@ def _pixels_per_unit(chosen: float | None, tiled_source: str | None, max_file_by
         return map_tile_size(
             tiled_source, read_limited_bytes(tiled_source, max_file_bytes=max_file_bytes, kind="Tiled map")
         )
+    if tile_pixels is not None:
+        return float(tile_pixels[0]), float(tile_pixels[1])
     from guardsim.patrol.godot import DEFAULT_PIXELS_PER_UNIT
 
     return DEFAULT_PIXELS_PER_UNIT, DEFAULT_PIXELS_PER_UNIT

@@ -1,6 +1,7 @@
 """A fresh Tiled map for a level drawn by hand (``guardsim patrol --tiled-out`` without a source map).
 
-One tile is one world unit (``tile_pixels`` pixels). The level's outer ring is a ``boundary`` polygon,
+One tile is one world unit (``tile_pixels`` pixels: the level's own :attr:`~guardsim.level.Level.tile_pixels`
+when it records them, else 32). The level's outer ring is a ``boundary`` polygon,
 its holes are polygons on a ``walls`` layer inside a wall border one tile wide, its starts are
 ``guard spawn`` points, and the ``guardsim`` layer holds the routes
 (:mod:`guardsim.patrol.tiled_export`).
@@ -16,7 +17,7 @@ from xml.etree import ElementTree
 
 from guardsim.errors import PatrolError
 from guardsim.grid import CoverageGrid
-from guardsim.level import Level
+from guardsim.level import MAX_TILE_PIXELS, Level
 from guardsim.patrol.export import DEFAULT_SPEED, guard_routes
 from guardsim.patrol.model import Patrol
 from guardsim.patrol.tiled_export import route_properties, tiled_kind, tmx_with_routes
@@ -34,10 +35,11 @@ def tiled_from_level(
     grid: CoverageGrid,
     *,
     speed: float = DEFAULT_SPEED,
-    tile_pixels: int = DEFAULT_TILE_PIXELS,
+    tile_pixels: int | tuple[int, int] = DEFAULT_TILE_PIXELS,
     routes: list[dict[str, Any]] | None = None,
 ) -> bytes:
-    """A fresh Tiled map (``.tmx``, or JSON for ``.tmj``/``.json``) of a level drawn without one.
+    """A fresh Tiled map (``.tmx``, or JSON for ``.tmj``/``.json``) of a level drawn without one, with
+    tiles of ``tile_pixels`` pixels (one side, or ``(width, height)``).
 
     The level sits inside a wall border one tile wide; the map's origin is one tile above and left of
     the level's lowest corner (the map property ``guardsim_origin`` says where, in world units), so the
@@ -53,8 +55,12 @@ def tiled_from_level(
     >>> 'width="5" height="3" tilewidth="16" tileheight="16"' in text, text.count("guardsim_route")
     (True, 1)
     """
-    if not (isinstance(tile_pixels, int) and 1 <= tile_pixels <= 4096):
-        raise PatrolError(f"{target}: tile size must be a whole number of pixels from 1 to 4096, not {tile_pixels}")
+    tile_width, tile_height = (tile_pixels, tile_pixels) if isinstance(tile_pixels, int) else tile_pixels
+    for side in (tile_width, tile_height):
+        if not (isinstance(side, int) and 1 <= side <= MAX_TILE_PIXELS):
+            raise PatrolError(
+                f"{target}: tile size must be a whole number of pixels from 1 to {MAX_TILE_PIXELS}, not {side}"
+            )
     kind = tiled_kind(target)
     xs = [x for x, _ in level.outer]
     ys = [y for _, y in level.outer]
@@ -65,7 +71,7 @@ def tiled_from_level(
     height = math.ceil(max(ys) - top - 1e-9) + 1
 
     def ring(points: tuple[tuple[float, float], ...]) -> str:
-        return " ".join(f"{(x - left) * tile_pixels:g},{(y - top) * tile_pixels:g}" for x, y in points)
+        return " ".join(f"{(x - left) * tile_width:g},{(y - top) * tile_height:g}" for x, y in points)
 
     objects = [
         f'  <object id="1" name="level boundary" type="boundary" x="0" y="0"><polygon points="{ring(level.outer)}"/></object>'
@@ -84,7 +90,7 @@ def tiled_from_level(
     ]
     starts = [
         f'  <object id="{2 + len(walls) + index}" name="guard spawn {index + 1}" type="spawn" '
-        f'x="{(x - left) * tile_pixels:g}" y="{(y - top) * tile_pixels:g}"><point/></object>'
+        f'x="{(x - left) * tile_width:g}" y="{(y - top) * tile_height:g}"><point/></object>'
         for index, (x, y) in enumerate(level.starts or ((level.guard.start,) if level.guard.start else ()))
     ]
     from xml.sax.saxutils import quoteattr
@@ -93,7 +99,7 @@ def tiled_from_level(
         [
             '<?xml version="1.0" encoding="UTF-8"?>',
             f'<map version="1.8" tiledversion="1.8.2" orientation="orthogonal" renderorder="right-down" '
-            f'width="{width}" height="{height}" tilewidth="{tile_pixels}" tileheight="{tile_pixels}" infinite="0" '
+            f'width="{width}" height="{height}" tilewidth="{tile_width}" tileheight="{tile_height}" infinite="0" '
             f'nextlayerid="4" nextobjectid="{2 + len(walls) + len(starts)}">',
             " <properties>",
             f'  <property name="guardsim_level" value={quoteattr(level.name)}/>',
