@@ -40,7 +40,8 @@ def choose_clusters(
     Only watchers with ``distance >= 0`` (reachable from the start) count. Returns the cluster number of
     every state (-1 for none) and the kept cells, cluster by cluster.
     """
-    label = np.full(distance.shape[0], -1, dtype=np.int32)
+    label = np.empty(distance.shape[0], dtype=np.int32)
+    label[:] = -1
     kept = np.empty(order.shape[0], dtype=np.int64)
     clusters = 0
     for cell in order:
@@ -66,7 +67,8 @@ def _unique_keys(
 ) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
     """Per cell of ``cells``: the distinct ``key`` of its usable watchers (CSR start and values) and how
     many usable watchers it has."""
-    stamp = np.full(size, -1, dtype=np.int64)
+    stamp = np.empty(size, dtype=np.int64)
+    stamp[:] = -1
     start = np.zeros(cells.shape[0] + 1, dtype=np.int64)
     count = np.zeros(cells.shape[0], dtype=np.int64)
     flat = np.empty(16, dtype=np.int64)

@@ -33,7 +33,8 @@ def nearest_watchers(
 ) -> tuple[np.ndarray, np.ndarray]:
     """Per cell of ``cells``: the distance to its nearest reachable watcher (-1 if none), and how many
     of its watchers are reachable (``distance >= 0``)."""
-    nearest = np.full(cells.shape[0], -1, dtype=np.int32)
+    nearest = np.empty(cells.shape[0], dtype=np.int32)
+    nearest[:] = -1
     reachable = np.zeros(cells.shape[0], dtype=np.int64)
     for index in range(cells.shape[0]):
         cell = cells[index]

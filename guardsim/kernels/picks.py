@@ -110,7 +110,8 @@ def spread_picks(
     for cell in range(gap.shape[0]):
         near[cell] = gap[cell] if gap[cell] >= 0 else far
     alive = alive.copy()
-    value = np.full(size, far, dtype=np.int64)
+    value = np.empty(size, dtype=np.int64)
+    value[:] = far
     # The live candidates, in order; dead ones are dropped as each pick's pass meets them.
     live = true_indices(alive)
     count_live = live.shape[0]
@@ -195,7 +196,8 @@ def pick_matrix(area: AreaWatchers, picks: np.ndarray) -> np.ndarray:
 def start_edges(area: AreaWatchers, positions: np.ndarray, gap: np.ndarray) -> np.ndarray:
     """Fewest steps from the start state (``gap``: distances from its cell) to a usable watcher of each
     ``order`` position (-1: none)."""
-    out = np.full(positions.shape[0], -1, dtype=np.int64)
+    out = np.empty(positions.shape[0], dtype=np.int64)
+    out[:] = -1
     for index in range(positions.shape[0]):
         least = _least_gap(
             gap, area.entry_cells, area.entry_start[positions[index]], area.entry_start[positions[index] + 1], 1 << 30

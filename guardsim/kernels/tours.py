@@ -206,7 +206,8 @@ def _improve(cost: np.ndarray, tour: np.ndarray, near: np.ndarray, max_rounds: i
     length = tour.shape[0]
     forward = np.zeros(length, dtype=np.int64)
     backward = np.zeros(length, dtype=np.int64)
-    at = np.full(cost.shape[0], -1, dtype=np.int64)
+    at = np.empty(cost.shape[0], dtype=np.int64)
+    at[:] = -1
     _reposition(cost, tour, forward, backward, at)
     for _ in range(max_rounds):
         changed = _two_opt(cost, tour, forward, backward, at, near)

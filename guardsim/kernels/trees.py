@@ -28,8 +28,10 @@ def _spread(neighbours: np.ndarray, label: np.ndarray, clusters: int, backward: 
     """Search from all clusters at once: each state's distance from (or, ``backward``, to) the nearest
     cluster, and that cluster's number; -1 where none is connected."""
     states = label.shape[0]
-    distance = np.full(states, -1, dtype=np.int32)
-    nearest = np.full(states, -1, dtype=np.int32)
+    distance = np.empty(states, dtype=np.int32)
+    distance[:] = -1
+    nearest = np.empty(states, dtype=np.int32)
+    nearest[:] = -1
     queue = np.empty(states, dtype=np.int64)
     tail = 0
     for state in range(states):
@@ -122,8 +124,10 @@ def cluster_distances(neighbours: np.ndarray, label: np.ndarray, clusters: int) 
     """
     cells = neighbours.shape[0]
     states = label.shape[0]
-    ahead = np.full((clusters, clusters), -1, dtype=np.int64)
-    distance = np.full(cells, -1, dtype=np.int32)
+    ahead = np.empty((clusters, clusters), dtype=np.int64)
+    ahead[:] = -1
+    distance = np.empty(cells, dtype=np.int32)
+    distance[:] = -1
     queue = np.empty(cells, dtype=np.int64)
     members_start = np.zeros(clusters + 1, dtype=np.int64)
     for state in range(states):

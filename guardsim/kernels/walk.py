@@ -213,12 +213,15 @@ def team_walk(
         if goal[cell] and not seen[cell]:
             unseen += 1
     position = np.zeros(guards, dtype=np.int64)
-    target = np.full(guards, -1, dtype=np.int64)
+    target = np.empty(guards, dtype=np.int64)
+    target[:] = -1
     # Each field and the frontier search keep their own queue: it lists the cells to clear next time.
-    fields = np.full((guards, cell_count), far, dtype=np.int32)
+    fields = np.empty((guards, cell_count), dtype=np.int32)
+    fields[:] = far
     field_queues = np.empty((guards, cell_count), dtype=np.int64)
     field_filled = np.zeros(guards, dtype=np.int64)
-    here = np.full(cell_count, far, dtype=np.int32)
+    here = np.empty(cell_count, dtype=np.int32)
+    here[:] = far
     queue = np.empty(cell_count, dtype=np.int64)
     here_filled = np.zeros(1, dtype=np.int64)
     decided = np.empty(guards, dtype=np.int64)

@@ -175,7 +175,8 @@ def _entry_searches(
     """One search per lap tick in ``phases``, entering then only; whether each reaches a goal node (-2 in
     the first entry past ``max_labels``). The node arrays are cleaned between searches, not rebuilt."""
     period, cells = gain.shape[1], gain.shape[2]
-    head = np.full(period * cells, -1, dtype=np.int64)
+    head = np.empty(period * cells, dtype=np.int64)
+    head[:] = -1
     settled = np.zeros(period * cells, dtype=np.bool_)
     entries = np.zeros(period, dtype=np.bool_)
     out = np.zeros(phases.size, dtype=np.int64)

@@ -47,7 +47,8 @@ def _bfs(neighbours: np.ndarray, seen: np.ndarray, source: int, target: int) -> 
     """Unseen BFS over (tick mod period, cell); returns the parent array and the node reached (-1: none)."""
     period, cells = seen.shape
     nodes = period * cells
-    parent = np.full(nodes, -2, dtype=np.int64)
+    parent = np.empty(nodes, dtype=np.int64)
+    parent[:] = -2
     queue = np.empty(nodes, dtype=np.int64)
     tail = 0
     for tick in range(period):
@@ -83,8 +84,10 @@ def _dijkstra(neighbours: np.ndarray, seen: np.ndarray, source: int, target: int
     nodes = period * cells
     # A tick in view outweighs any path's unseen ticks (a shortest path visits each node at most once).
     weight = nodes + 1
-    best = np.full(nodes, np.iinfo(np.int64).max, dtype=np.int64)
-    parent = np.full(nodes, -2, dtype=np.int64)
+    best = np.empty(nodes, dtype=np.int64)
+    best[:] = np.iinfo(np.int64).max
+    parent = np.empty(nodes, dtype=np.int64)
+    parent[:] = -2
     done = np.zeros(nodes, dtype=np.bool_)
     # The heap grows as needed: most searches push far fewer entries than the five per node they could.
     heap_keys = np.empty(period + 1024, dtype=np.int64)
