@@ -9,6 +9,7 @@ from __future__ import annotations
 
 import numpy as np
 
+from guardsim.kernels.arrays import upto
 from guardsim.kernels.compiler import jit
 
 __all__ = ["heap_pop", "heap_push", "heap_sort", "stable_order"]
@@ -103,7 +104,7 @@ def stable_order(keys: np.ndarray) -> np.ndarray:
     [3, 1, 0, 2]
     """
     size = keys.shape[0]
-    order = np.arange(size)
+    order = upto(size)
     for start in range(size // 2 - 1, -1, -1):
         _sift_order(keys, order, start, size)
     for last in range(size - 1, 0, -1):
