@@ -7,7 +7,8 @@ Usage::
 
 What it does, printing each command with its wall time:
 
-1. imports the real maps (``MAPS``, from ``--shared``) with ``guardsim import MAP --out OUT/maps/NAME.json``;
+1. imports the real maps (``MAPS``, from ``--shared``) with ``guardsim import MAP --out OUT/maps/NAME.json``
+   (printed as ``MAPS/movingai/NAME.map``: the maps are third-party data, not in the repository);
 2. runs ``guardsim bench`` with every planner on the shipped levels (``--episodes`` per planner, default
    50) and on the imported maps (``--map-episodes``, default 20), once per team size of ``--guards``
    (default 1, 2 and 4), each into its own folder under ``--out``. A folder that already holds the run
@@ -85,8 +86,9 @@ def guardsim(*arguments: str | Path) -> tuple[str, float]:
 
 
 def _relative(text: str) -> str:
-    """Paths under the repository or the shared folder, written as from the repository."""
-    for root, name in ((REPO, ""), (SHARED.parent.parent, "../")):
+    """Paths under the repository written as from the repository; paths under the shared maps folder as
+    ``MAPS/...`` (the maps are not in the repository: docs/results.md says where they come from)."""
+    for root, name in ((REPO, ""), (SHARED, "MAPS/")):
         prefix = str(root) + os.sep
         if text.startswith(prefix):
             return name + text[len(prefix) :]

@@ -4,6 +4,7 @@ from __future__ import annotations
 
 import doctest
 import os
+import re
 from pathlib import Path
 
 import pytest
@@ -20,3 +21,41 @@ def test_doc_examples(page: str, monkeypatch: pytest.MonkeyPatch) -> None:
     assert result.attempted > 10, "the page lost its examples"
     assert result.failed == 0, f"{result.failed} examples of {page} failed (run: python -m doctest -v docs/{page})"
     assert os.getcwd() == str(DOCS.parent)
+
+
+#: Pages this check leaves out: their owners keep them (they still name ``../shared`` paths).
+UNCHECKED_PAGES = ("optimum.md", "performance.md", "kernels.md")
+
+
+def _pages() -> list[Path]:
+    return [DOCS.parent / "README.md", *sorted(page for page in DOCS.glob("*.md") if page.name not in UNCHECKED_PAGES)]
+
+
+def test_docs_name_no_file_beside_the_developers_checkout() -> None:
+    """No page points into ``../shared`` (the developers' maps, beside their checkout only): an example
+    uses a file the repository ships, or says the map is the reader's own."""
+    found = [
+        f"{page.name}:{number}: {line.strip()}"
+        for page in _pages()
+        for number, line in enumerate(page.read_text(encoding="utf-8").splitlines(), start=1)
+        if "../shared" in line
+    ]
+    assert found == []
+
+
+def test_doc_commands_name_shipped_files() -> None:
+    """Each repository path (``levels/...``, ``tests/data/...``, ``examples/...``) in a command of a code
+    block is there, so the command runs from a fresh clone."""
+    missing = []
+    for page in _pages():
+        block = False
+        for number, line in enumerate(page.read_text(encoding="utf-8").splitlines(), start=1):
+            if line.lstrip().startswith("```"):
+                block = not block
+                continue
+            command = line.strip().removeprefix("$ ")
+            if block and command.startswith(("guardsim ", ".venv/bin/guardsim ", "python")):
+                for path in re.findall(r"(?<![\w/.])((?:levels|tests/data|examples)/[\w./-]*\w)", command):
+                    if not (DOCS.parent / path).exists():
+                        missing.append(f"{page.name}:{number}: {path}")
+    assert missing == []
