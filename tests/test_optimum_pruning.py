@@ -12,9 +12,10 @@ from typing import Any
 import numpy as np
 import pytest
 
+from guardsim.optimum import _weighted_walks
 from guardsim.search import DOMINANCE_CHECKS
-from guardsim.search.astar import INCUMBENT, PROVED, STATUS, new_search_state, run_search, start_search
-from guardsim.search.graph import build_search_graph
+from guardsim.search.astar import INCUMBENT, PROVED, STATUS, greedy_walk, new_search_state, run_search, start_search
+from guardsim.search.graph import build_search_graph, route_steps
 from guardsim.search.heuristic import build_heuristic
 from guardsim.search.residual import residual_goal
 from guardsim.simulation import Scene
@@ -68,3 +69,21 @@ def test_optimum_with_pruning_is_the_brute_force_optimum_on_random_levels(name: 
             optimum = optimum_steps(scene, start, heading, scene.vision())
             assert _astar_alone(scene, start, heading, shadows=True) == optimum, (width, height, start, heading)
             assert _astar_alone(scene, start, heading, shadows=False) == optimum
+
+
+@pytest.mark.parametrize("name", list(GUARDS), ids=list(GUARDS))
+def test_the_weighted_first_walks_are_real_walks_between_the_optimum_and_the_greedy_walk(name: str) -> None:
+    guard, sight = GUARDS[name]
+    generator = np.random.default_rng(2029)
+    shorter = 0
+    for _ in range(6):
+        width, height = int(generator.integers(4, 6)), int(generator.integers(3, 5))
+        scene = Scene.from_level(scene_from(_random_level(generator, width, height, guard)).level, line_of_sight=sight)
+        for start in starts(scene, most=3):
+            graph = residual_goal(build_search_graph(scene.grid, view_table(scene.grid, scene.vision()), start, 0))
+            greedy, greedy_steps = greedy_walk(graph.successors, graph.views, graph.full, graph.start)
+            route, steps = _weighted_walks(graph, build_heuristic(graph), greedy, int(greedy_steps), 0.0, None)
+            assert optimum_steps(scene, start, 0, scene.vision()) <= steps <= greedy_steps
+            assert len(route_steps(graph, route, 0)[0]) - 1 == steps  # rebuilt, it has the steps counted
+            shorter += steps < greedy_steps
+    assert shorter > 0 or name == "bresenham-360-2"  # there the greedy walk is already optimal

@@ -39,6 +39,7 @@ from guardsim.search.astar import (
     INCUMBENT_NODE,
     NODES,
     PROVED,
+    RUNNING,
     STATUS,
     greedy_walk,
     new_search_state,
@@ -46,8 +47,8 @@ from guardsim.search.astar import (
     start_search,
 )
 from guardsim.search.beam import beam_route
-from guardsim.search.graph import build_search_graph, route_steps
-from guardsim.search.heuristic import build_heuristic
+from guardsim.search.graph import SearchGraph, build_search_graph, route_steps
+from guardsim.search.heuristic import Heuristic, build_heuristic
 from guardsim.search.residual import residual_goal
 from guardsim.vision.rules import VisionFunction
 from guardsim.vision.table import view_table
@@ -69,6 +70,13 @@ INCUMBENT_BEAM = 8
 BEAM_MAX_POSITIONS = 8_000
 #: Expansions per compiled chunk between two looks at the clock.
 _CHUNK = 2_000
+#: Weighted searches run one after the other before the optimal one, for a shorter first walk (each
+#: starts from the best walk so far and stops after :data:`FIRST_WALK_EXPANSIONS`): den101d from (36, 20)
+#: at range 8, 235 steps from the beam, 205 after them.
+FIRST_WALK_WEIGHTS = (1.5, 1.25, 1.15)
+FIRST_WALK_EXPANSIONS = 20_000
+#: Nodes the state of each of those searches holds (about 100 MB at the most).
+_FIRST_WALK_NODES = 1 << 20
 
 
 class SearchProgress(NamedTuple):
@@ -176,6 +184,8 @@ def solve(
         greedy, greedy_steps = greedy_walk(graph.successors, graph.views, graph.full, graph.start)
     if greedy_steps < 0:
         raise LevelError(f"{scene.level.source}: some cell reachable from the start is seen from nowhere")
+    if weight == 1.0:
+        greedy, greedy_steps = _weighted_walks(graph, heuristic, greedy, int(greedy_steps), began, time_limit)
     words = graph.full.size
     per_node = 8 * words + 5 * 4 + 2 * 12 + 2 * 8
     capacity = max(1024, int(memory_bytes // per_node))
@@ -245,6 +255,29 @@ def solve(
         time.perf_counter() - began,
         float(weight),
     )
+
+
+def _weighted_walks(
+    graph: SearchGraph, heuristic: Heuristic, route: np.ndarray, steps: int, began: float, time_limit: float | None
+) -> tuple[np.ndarray, int]:
+    """The shortest of ``route`` and the walks the searches of :data:`FIRST_WALK_WEIGHTS` find, each
+    bounded in expansions (and by ``time_limit``): a weighted search goes deep fast, and a walk it finds
+    keeps more nodes out of the optimal search and is the answer's upper end when that search stops."""
+    words, capacity = graph.full.size, min(_FIRST_WALK_NODES, 64 * FIRST_WALK_EXPANSIONS)
+    for weight in FIRST_WALK_WEIGHTS:
+        state = new_search_state(capacity, words, graph.positions)
+        start_search(state, heuristic, graph.views, graph.full, graph.start, steps + 1, weight)
+        counters = state.counters
+        while counters[STATUS] == RUNNING and counters[EXPANSIONS] < FIRST_WALK_EXPANSIONS:
+            if time_limit is not None and time.perf_counter() - began > time_limit:
+                break
+            budget = min(_CHUNK, FIRST_WALK_EXPANSIONS - int(counters[EXPANSIONS]))
+            run_search(
+                state, heuristic, graph.successors, graph.views, graph.full, budget, DOMINANCE_CHECKS, weight, True
+            )
+        if counters[INCUMBENT_NODE] >= 0 and counters[INCUMBENT] <= steps:
+            route, steps = route_to(state, int(counters[INCUMBENT_NODE])), int(counters[INCUMBENT])
+    return route, steps
 
 
 def _weighted_floor(incumbent: int, weight: float) -> int:
