@@ -33,7 +33,7 @@ def test_cluster_rows_equal_local_rows(tmp_path: Path, scheduler: str) -> None:
     cluster = bench(*options, "--scheduler", scheduler, "--out", tmp_path / "cluster")
     assert local.exit_code == 0, local.output
     assert cluster.exit_code == 0, cluster.output
-    assert f"on Dask scheduler {scheduler}" in cluster.stderr
+    assert f"on Dask scheduler {scheduler} (2 workers now)" in cluster.stderr
     assert len(rows(tmp_path / "local")) == 6
     assert without_seconds(rows(tmp_path / "cluster")) == without_seconds(rows(tmp_path / "local"))
     assert (tmp_path / "cluster" / "summary.json").read_bytes() == (tmp_path / "local" / "summary.json").read_bytes()

@@ -306,7 +306,7 @@ class DaskCluster:
             message = " ".join(str(error).split()) or type(error).__name__
             raise GuardsimError(f"Dask scheduler {address}: cannot connect to it: {message}") from None
         workers = len(self._client.scheduler_info().get("workers", {}))
-        self.description = f"Dask scheduler {address} ({workers} workers now)"
+        self.description = f"Dask scheduler {address} ({workers} worker{'' if workers == 1 else 's'} now)"
         self.forked_workers = 0
         self._futures: list[Any] = []
 
