@@ -24,7 +24,7 @@ def test_doc_examples(page: str, monkeypatch: pytest.MonkeyPatch) -> None:
 
 
 #: Pages this check leaves out: their owners keep them (they still name ``../shared`` paths).
-UNCHECKED_PAGES = ("optimum.md", "performance.md", "kernels.md")
+UNCHECKED_PAGES = ("optimum.md",)
 
 
 def _pages() -> list[Path]:
