@@ -281,30 +281,28 @@ def test_compiling_ahead_covers_what_the_command_compiles(command: str, tmp_path
     assert json.loads(done.stdout.strip().splitlines()[-1]) == []
 
 
-def test_both_processes_take_the_plan_in_order_never_a_callee_the_other_is_compiling() -> None:
-    from guardsim.kernels.ahead import COMPILED, FREE, TAKEN, take
+def test_both_processes_take_ready_entries_longest_chain_first() -> None:
+    from guardsim.kernels.ahead import COMPILED, FREE, TAKEN, take, urgency
 
-    # Entries 0 and 1 are callees of 2; 3 stands alone.
-    below = [[], [], [0, 1], []]
-    state = [FREE] * 4
-    assert take(state, below) == 0 and state == [TAKEN, FREE, FREE, FREE]  # one process: 0
-    assert take(state, below) == 1  # the other: 1
-    # Both callees are being compiled: the caller waits, the lone entry goes first.
-    assert take(state, below) == 3
-    assert take(state, below) is None
+    # Entries 0 and 1 are callees of 2 (and 2 of 4); 3 stands alone, the longest single entry.
+    entries = [
+        ["m", name, [], seconds, -1] for name, seconds in (("a", 1.0), ("b", 0.5), ("c", 1.0), ("d", 2.5), ("e", 1.0))
+    ]
+    below = [[], [], [0, 1], [], [0, 1, 2]]
+    chain = urgency(entries, below)
+    assert chain == [3.0, 2.5, 2.0, 2.5, 1.0]
+    state = [FREE] * 5
+    # The callee under the longest chain first, then the lone entry (first in the plan on a tie).
+    assert take(state, below, chain) == 0 and state == [TAKEN, FREE, FREE, FREE, FREE]
+    assert take(state, below, chain) == 1
+    assert take(state, below, chain) == 3
+    # Only callers are left, and their callees are being compiled: they wait.
+    assert take(state, below, chain) is None
     state[0] = COMPILED
-    assert take(state, below) is None  # 1 is still being compiled
-    state[1] = state[3] = COMPILED
-    assert take(state, below) == 2
-    assert take(state, below) == -1  # nothing free: done
-    # A caller whose callee nobody has started takes it along (compiling the caller compiles it).
-    state = [COMPILED, FREE, FREE]
-    assert take(state, [[], [], [1]]) == 1
-    state = [COMPILED, TAKEN, FREE, FREE]
-    assert take(state, [[], [], [0], [1]]) == 2 and state == [COMPILED, TAKEN, TAKEN, FREE]
-    state = [FREE, FREE]
-    state[0] = COMPILED
-    assert take(state, [[], [0]]) == 1 and state == [COMPILED, TAKEN]
-    state = [FREE, FREE, FREE]
-    state[0] = TAKEN
-    assert take(state, [[], [], [1]]) == 1 and take(state, [[], [], [1]]) is None
+    assert take(state, below, chain) is None  # 1 is still being compiled
+    state[1] = COMPILED
+    assert take(state, below, chain) == 2
+    assert take(state, below, chain) is None  # 4 waits on 2
+    state[2] = state[3] = COMPILED
+    assert take(state, below, chain) == 4
+    assert take(state, below, chain) == -1  # nothing free: done

@@ -6,8 +6,8 @@ function the command compiles (those it calls from Python and, where their argum
 written down, the kernels those call), with the argument types, in the order compiling them ended
 (recorded by ``python benchmarks/compile_plan.py``). On a cache folder that has not yet seen the
 command, :func:`compile_ahead` forks a helper process and both work down that list together, each
-taking the next entry it can (:func:`take`: not one whose callees the other is compiling) into the
-same cache; then the command runs on cached code. Later runs find the folder's mark and skip it.
+taking the next entry it can (:func:`take`: one whose callees are compiled, the longest chain of
+callers above it first) into the same cache; then the command runs on cached code. Later runs find the folder's mark and skip it.
 
 A plan that no longer matches the code (a function renamed, its argument types changed) costs only
 time: what compiling ahead missed is compiled when first called, as without it, and ``tests/
@@ -32,7 +32,7 @@ from numba.core import types
 
 from guardsim.kernels.compiler import cache_folder, silence_notice
 
-__all__ = ["PLAN_FILE", "compile_ahead", "decode_type", "encode_type", "plan", "take"]
+__all__ = ["PLAN_FILE", "compile_ahead", "decode_type", "encode_type", "plan", "take", "urgency"]
 
 #: The recorded plan: ``{command: [[module, function, [argument type, ...], seconds, caller], ...]}``, ``seconds``
 #: the function's own compile time (its planned callees excluded), ``caller`` the index of the entry it was
@@ -115,7 +115,7 @@ def _compile(entry: list[Any]) -> None:
 
 #: An entry's state in the table both processes share: free, being compiled, compiled.
 FREE, TAKEN, COMPILED = 0, 1, 2
-#: Seconds a process waits before looking again when every free entry needs one the other is compiling.
+#: Seconds a process waits before looking again when every free entry waits on a callee being compiled.
 _POLL = 0.005
 
 
@@ -130,35 +130,49 @@ def _callees(entries: list[list[Any]]) -> list[list[int]]:
     return below
 
 
-def take(state: Any, below: list[list[int]]) -> int | None:
-    """The entry a process compiles next, marked in ``state`` (with the callees it compiles along):
-    the first free entry, in the plan's order, none of whose callees the other process is compiling
-    (it would compile them again); -1 when none is free; None when the free ones must wait.
+def urgency(entries: list[list[Any]], below: list[list[int]]) -> list[float]:
+    """For each entry, the recorded seconds of compiling from its start to the end of the longest chain
+    of callers above it (itself included): what must still be compiled, one after another, once it is."""
+    chain = [float(entry[3]) for entry in entries]
+    for index in range(len(entries) - 1, -1, -1):
+        for callee in below[index]:
+            chain[callee] = max(chain[callee], float(entries[callee][3]) + chain[index])
+    return chain
 
-    The plan lists callees before callers, so both processes work down it together, each taking the
-    next entry when it is done with one: neither sits idle while the other has a long list left, as a
-    split made in advance from recorded compile times (which vary by half from run to run) left it.
+
+def take(state: Any, below: list[list[int]], chain: list[float]) -> int | None:
+    """The entry a process compiles next, marked taken in ``state``: among the free entries whose
+    callees are all compiled, the one with the longest ``chain`` of callers still to compile above it
+    (the first in the plan's order on a tie); -1 when none is free; None when the free ones wait on
+    callees the other process is compiling.
+
+    Both processes take entries from the one table, each when it is done with one, so neither sits idle
+    while the other has a long list left (a split made in advance from recorded compile times, which
+    vary by half from run to run, left one process up to 1.6 s behind on ``bounds``), and the longest
+    chain goes first, so that its last caller does not end up compiling alone (``optimum``'s search
+    started 5.8 s in, taking the plan in order, and the other process was idle for its last 1.5 s).
     """
+    best = -1
     waiting = False
     for index, callees in enumerate(below):
         if state[index] != FREE:
             continue
-        if any(state[callee] == TAKEN for callee in callees):
+        if any(state[callee] != COMPILED for callee in callees):
             waiting = True
             continue
-        state[index] = TAKEN
-        for callee in callees:
-            if state[callee] == FREE:
-                state[callee] = TAKEN
-        return index
+        if best < 0 or chain[index] > chain[best]:
+            best = index
+    if best >= 0:
+        state[best] = TAKEN
+        return best
     return None if waiting else -1
 
 
-def _work(entries: list[list[Any]], below: list[list[int]], state: Any) -> None:
+def _work(entries: list[list[Any]], below: list[list[int]], chain: list[float], state: Any) -> None:
     """Compile entries taken from the shared ``state`` until none is left."""
     while True:
         with state.get_lock():
-            index = take(state, below)
+            index = take(state, below, chain)
         if index is None:
             time.sleep(_POLL)
             continue
@@ -166,8 +180,7 @@ def _work(entries: list[list[Any]], below: list[list[int]], state: Any) -> None:
             return
         _compile_quietly([entries[index]])
         with state.get_lock():
-            for done in (index, *below[index]):
-                state[done] = COMPILED
+            state[index] = COMPILED
 
 
 def compile_ahead(command: str) -> None:
@@ -189,10 +202,11 @@ def compile_ahead(command: str) -> None:
     if "fork" in multiprocessing.get_all_start_methods() and len(entries) > 1:
         context = multiprocessing.get_context("fork")
         below = _callees(entries)
+        chain = urgency(entries, below)
         state = context.Array("b", len(entries))
-        helper = context.Process(target=_helper, args=(entries, below, state), daemon=True)
+        helper = context.Process(target=_helper, args=(entries, below, chain, state), daemon=True)
         helper.start()
-        _work(entries, below, state)
+        _work(entries, below, chain, state)
         helper.join()
     else:
         _compile_quietly(entries)
@@ -206,9 +220,9 @@ def _warm_up(values: np.ndarray) -> int:
     return int(values[0]) + values.shape[0]
 
 
-def _helper(entries: list[list[Any]], below: list[list[int]], state: Any) -> None:
+def _helper(entries: list[list[Any]], below: list[list[int]], chain: list[float], state: Any) -> None:
     silence_notice()  # this process has said it already, or will
-    _work(entries, below, state)
+    _work(entries, below, chain, state)
 
 
 def _compile_quietly(entries: list[list[Any]]) -> None:

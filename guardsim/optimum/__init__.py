@@ -68,6 +68,11 @@ INCUMBENT_BEAM = 8
 #: over thousands of goal cells take tens of seconds before the search starts (Square's 13,720 states:
 #: 32 s for 792 steps), while the greedy walk takes a tenth of a second (515 steps there).
 BEAM_MAX_POSITIONS = 8_000
+#: Fewest positions for which the first incumbent comes from the beam: below them the A* proves the
+#: optimum in a fraction of a second from the greedy walk (the 12 x 9 room with a pillar, 377 states:
+#: 118 expansions from either first walk), and compiling the beam, 4 s of a first run's 19 s of
+#: compiling, would cost more than it could save.
+BEAM_MIN_POSITIONS = 512
 #: Expansions per compiled chunk between two looks at the clock.
 _CHUNK = 2_000
 #: Weighted searches run one after the other before the optimal one, for a shorter first walk (each
@@ -176,9 +181,9 @@ def solve(
     graph = residual_goal(graph)
     heuristic = build_heuristic(graph)
     # A short first walk keeps every node whose f reaches it out of memory; the beam finds one in
-    # bounded work on small levels (the greedy walk is the fallback, and the first walk on large ones).
+    # bounded work on small levels (the greedy walk is the fallback, and the first walk on large and tiny ones).
     greedy, greedy_steps = np.zeros(0, dtype=np.int64), -1
-    if graph.positions <= BEAM_MAX_POSITIONS:
+    if BEAM_MIN_POSITIONS <= graph.positions <= BEAM_MAX_POSITIONS:
         greedy, greedy_steps = beam_route(graph, heuristic, INCUMBENT_BEAM)
     if greedy_steps < 0:
         greedy, greedy_steps = greedy_walk(graph.successors, graph.views, graph.full, graph.start)
