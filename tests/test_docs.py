@@ -23,12 +23,8 @@ def test_doc_examples(page: str, monkeypatch: pytest.MonkeyPatch) -> None:
     assert os.getcwd() == str(DOCS.parent)
 
 
-#: Pages this check leaves out: their owners keep them (they still name ``../shared`` paths).
-UNCHECKED_PAGES = ("optimum.md",)
-
-
 def _pages() -> list[Path]:
-    return [DOCS.parent / "README.md", *sorted(page for page in DOCS.glob("*.md") if page.name not in UNCHECKED_PAGES)]
+    return [DOCS.parent / "README.md", *sorted(DOCS.glob("*.md"))]
 
 
 def test_docs_name_no_file_beside_the_developers_checkout() -> None:
