@@ -18,6 +18,7 @@ import pytest
 from click.testing import CliRunner
 
 import guardsim.cli.optimum as cli_optimum
+from guardsim import load_level
 from guardsim.bounds import lower_bounds
 from guardsim.cli import main
 from guardsim.kernels.frontier import drop_shadowed, frontier, frontier_work
@@ -29,6 +30,7 @@ from guardsim.vision.rules import VisionFunction
 from guardsim.vision.table import ViewTable, view_table
 from tests.common import (
     EMPTY_SQUARE,
+    REPO,
     SHORT_SIGHTED,
     STRIP,
     guardsim_command,
@@ -371,3 +373,22 @@ def test_bounds_search_bound_skipped_on_a_large_level() -> None:
     """On a shipped 60 x 60 level the search is not run by default, and the line says why."""
     line = _bounds_line(Path("levels/mgs_docks.json"), "--episode", "0")
     assert re.search(r"; search bound not run \(\d+ positions, over 6000: see --search-expansions\);", line), line
+
+
+def test_the_proved_bound_never_falls_as_the_search_goes(monkeypatch: pytest.MonkeyPatch) -> None:
+    # The heap's least f falls back now and then as lazy estimates come in (on Passages 14 times in
+    # 400 expansions); every value read is a bound, so the one reported is the largest read so far.
+    import guardsim.optimum as optimum
+
+    monkeypatch.setattr(optimum, "_CHUNK", 1)
+    level = load_level(REPO / "levels" / "passages.json")
+    scene = Scene.from_level(level)
+    seen: list[SearchProgress] = []
+    assert level.guard is not None and level.guard.start is not None
+    start = scene.grid.cell_of(level.guard.start)
+    assert start is not None
+    result = solve(scene, start, 0, max_expansions=400, progress=seen.append)
+    bounds = [where.lower_bound for where in seen]
+    assert len(bounds) == 400 and bounds[-1] > bounds[0]
+    assert bounds == sorted(bounds)
+    assert result.lower_bound >= bounds[-1]
