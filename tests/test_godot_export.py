@@ -145,3 +145,22 @@ def test_godot_options_are_checked(tmp_path: Path) -> None:
     assert result.exit_code == 2 and "'2' is not one of '4', '3'" in result.output
     result = run("patrol", path, "--out", tmp_path / "o", "--pixels-per-unit", "0", "--export", "r.json")
     assert result.exit_code == 2 and "--pixels-per-unit" in result.output
+
+
+def test_the_pixel_scale_is_said_when_assumed(tmp_path: Path) -> None:
+    # A hand-made level records no tile size: the Godot scene and a route in pixels use 32 px per unit,
+    # and say so on one warning line; given --pixels-per-unit, or a route in world units only, nothing.
+    path = write_level(tmp_path, STRIP)
+    scene, route = tmp_path / "patrol.tscn", tmp_path / "route.json"
+    base = ["patrol", str(path), "--out", str(tmp_path / "out"), "--godot", str(scene), "--export", str(route)]
+    assumed = run(*base, "--units", "pixels")
+    assert assumed.exit_code == 0, assumed.output
+    warning = [line for line in assumed.stderr.splitlines() if "assumed" in line]
+    assert warning == [
+        f"guardsim: warning: {scene}, {route}: 32 pixels per world unit assumed ({path} records no tile_pixels); "
+        "give --pixels-per-unit N, or --tiled-source MAP for the tiles of its Tiled map"
+    ]
+    chosen = run(*base, "--units", "pixels", "--pixels-per-unit", "16")
+    assert chosen.exit_code == 0 and "assumed" not in chosen.stderr
+    world = run("patrol", str(path), "--out", str(tmp_path / "out2"), "--export", str(route))
+    assert world.exit_code == 0 and "assumed" not in world.stderr

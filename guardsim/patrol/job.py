@@ -268,6 +268,14 @@ def run_patrol(scene: Scene, folder: Path, job: PatrolJob) -> PatrolRun:
                 )
     if export_path or godot_out:
         pixels = _pixels_per_unit(pixels_per_unit, tiled_source, level.tile_pixels, max_file_bytes)
+        if pixels_per_unit is None and tiled_source is None and level.tile_pixels is None:
+            # Only where pixels are written: the Godot scene, and an export in pixels.
+            assumed = [str(out) for out in (godot_out, export_path if units == "pixels" else None) if out]
+            if assumed:
+                warnings.append(
+                    f"{', '.join(assumed)}: {pixels[0]:g} pixels per world unit assumed ({level.source} records no "
+                    "tile_pixels); give --pixels-per-unit N, or --tiled-source MAP for the tiles of its Tiled map"
+                )
     if export_path:
         from guardsim.patrol.export import RouteFrame, route_data
 
