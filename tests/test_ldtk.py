@@ -290,6 +290,7 @@ def test_small_project_walls_spawn_and_player(tmp_path: Path) -> None:
     assert imported.level.holes and imported.level.bounds == (0, 0, 6, 4)
     assert imported.level.starts == ((1.5, 1.5),)
     assert imported.level.player_starts == ((4.5, 2.5),)
+    assert imported.level.tile_pixels == (16, 16)  # one 16-px cell is one world unit
     assert not imported.warnings
 
 
