@@ -40,7 +40,7 @@ import numpy as np
 from guardsim.kernels.arrays import copy_into
 from guardsim.kernels.compiler import jit
 from guardsim.kernels.estimate import Heuristic, estimate, estimate_work
-from guardsim.kernels.frontier import frontier, frontier_work, node_hash
+from guardsim.kernels.frontier import drop_shadowed, frontier, frontier_work, node_hash
 from guardsim.kernels.heap import heap_pop, heap_push
 from guardsim.kernels.team_estimate import split_bound, team_bound
 from guardsim.search.astar import (
@@ -335,6 +335,7 @@ def run_team(
     words = full.shape[0]
     guards = starts.shape[0]
     distance, queue, found, found_steps = frontier_work(positions)
+    mark = np.zeros(positions, dtype=np.int8)
     work = estimate_work(heuristic)
     kept, link, gap, order = work
     need = np.empty(heuristic.to_watchers.shape[1], dtype=np.int16)
@@ -381,6 +382,10 @@ def run_team(
         counters[EXPANSIONS] += 1
         floor = state.bound[node]
         count = frontier(successors, views, here, state.seen[node], distance, queue, found, found_steps)
+        # As for one guard (kernels.frontier.drop_shadowed): walking through a move's position to a
+        # move it shadows is no longer for this guard and sees at least as much, the other guards'
+        # walks unchanged, so some optimal team completion makes no shadowed move.
+        count = drop_shadowed(successors, here, found, found_steps, count, distance, queue, mark)
         for index in range(count):
             there = found[index]
             for word in range(words):
