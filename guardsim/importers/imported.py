@@ -4,7 +4,7 @@ from __future__ import annotations
 
 import os
 from collections.abc import Iterable, Sequence
-from dataclasses import dataclass
+from dataclasses import dataclass, replace
 from pathlib import Path
 from typing import Any
 
@@ -19,6 +19,7 @@ from guardsim.level import (
     DEFAULT_MAX_CELLS,
     DEFAULT_MAX_FILE_BYTES,
     DEFAULT_MAX_VERTICES,
+    MAX_TILE_PIXELS,
     Level,
     compact_numbers,
     level_json_text,
@@ -36,9 +37,18 @@ __all__ = [
     "level_json_text",
     "read_source_bytes",
     "read_source_text",
+    "with_tile_pixels",
 ]
 
 Point = tuple[float, float]
+
+
+def with_tile_pixels(level: Level, width: float, height: float) -> Level:
+    """``level`` keeping the pixels of one world unit of the map it came from (one tile or grid cell is
+    one world unit: the scale of routes written for it), when they are whole numbers in range."""
+    if all(side == int(side) and 1 <= side <= MAX_TILE_PIXELS for side in (width, height)):
+        return replace(level, tile_pixels=(int(width), int(height)))
+    return level
 
 
 @dataclass(frozen=True)

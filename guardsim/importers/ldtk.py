@@ -21,7 +21,6 @@ No wall found is a warning, as in a Tiled map. Reading is :mod:`guardsim.importe
 
 from __future__ import annotations
 
-import dataclasses
 import math
 import os
 import re
@@ -33,21 +32,21 @@ import shapely
 from shapely.geometry import Polygon, box
 
 from guardsim.errors import LevelError
-from guardsim.importers.imported import ImportedLevel, counted, level_from_walls, listed, raster_vertex_count
+from guardsim.importers.imported import (
+    ImportedLevel,
+    counted,
+    level_from_walls,
+    listed,
+    raster_vertex_count,
+    with_tile_pixels,
+)
 from guardsim.importers.ldtk_read import Entity, Layer, LdtkLevel, ValueDef, is_ldtk_json, read_ldtk
 from guardsim.importers.source import display_name, excerpt, parse_json_bytes, read_capped_bytes
 from guardsim.importers.tiled_marks import PLAYER_WORDS, SPAWN_WORDS, words
 from guardsim.importers.tiled_marks import WALL_WORDS as TILED_WALL_WORDS
 from guardsim.importers.tiled_spawns import keep_spawn_areas, usable_starts
 from guardsim.importers.walls import blocked_cell_walls
-from guardsim.level import (
-    DEFAULT_MAX_CELLS,
-    DEFAULT_MAX_FILE_BYTES,
-    DEFAULT_MAX_VERTICES,
-    MAX_TILE_PIXELS,
-    level_to_data,
-    parse_level,
-)
+from guardsim.level import DEFAULT_MAX_CELLS, DEFAULT_MAX_FILE_BYTES, DEFAULT_MAX_VERTICES, level_to_data, parse_level
 
 __all__ = ["GUARD_WORDS", "WALL_WORDS", "import_ldtk", "is_ldtk_file", "is_ldtk_json"]
 
@@ -160,9 +159,7 @@ def import_ldtk(
         if standing:
             data["player_starts"] = [list(point) for point in standing]
         built = parse_level(data, source=source, max_cells=max_cells, max_vertices=max_vertices)
-    # One grid cell is one world unit: the level keeps its pixels, the scale of routes written for it.
-    if 1 <= unit <= MAX_TILE_PIXELS:
-        built = dataclasses.replace(built, tile_pixels=(int(unit), int(unit)))
+    built = with_tile_pixels(built, unit, unit)
     size = (math.ceil(width), math.ceil(height))
     return ImportedLevel(
         built, "LDtk project", size, tuple(changes), tuple(warnings), tuple(point for point, _ in players)

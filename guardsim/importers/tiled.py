@@ -17,7 +17,6 @@ map edge all round, a start area much smaller than the free area) is a warning.
 
 from __future__ import annotations
 
-import dataclasses
 import math
 import os
 from collections.abc import Iterable
@@ -29,7 +28,14 @@ from shapely.geometry import Polygon, box
 from shapely.geometry.base import BaseGeometry
 
 from guardsim.errors import LevelError
-from guardsim.importers.imported import ImportedLevel, check_raster_limits, counted, level_from_walls, listed
+from guardsim.importers.imported import (
+    ImportedLevel,
+    check_raster_limits,
+    counted,
+    level_from_walls,
+    listed,
+    with_tile_pixels,
+)
 from guardsim.importers.source import display_name
 from guardsim.importers.tiled_checks import check_floor_is_ground, check_view, look_warnings
 from guardsim.importers.tiled_data import TileLayer
@@ -41,7 +47,6 @@ from guardsim.level import (
     DEFAULT_MAX_CELLS,
     DEFAULT_MAX_FILE_BYTES,
     DEFAULT_MAX_VERTICES,
-    MAX_TILE_PIXELS,
     level_to_data,
     parse_level,
 )
@@ -228,10 +233,7 @@ def import_tiled(
         if standing:
             data["player_starts"] = [list(point) for point in standing]
         level = parse_level(data, source=source, max_cells=max_cells, max_vertices=max_vertices)
-    # One tile is one world unit: the level keeps the map's tile size, the pixels of routes written for it.
-    tile = (tiled.tile_width, tiled.tile_height)
-    if all(side == int(side) and 1 <= side <= MAX_TILE_PIXELS for side in tile):
-        level = dataclasses.replace(level, tile_pixels=(int(tile[0]), int(tile[1])))
+    level = with_tile_pixels(level, tiled.tile_width, tiled.tile_height)
     # The map's own size, as Tiled shows it; the grid cropped to the level says where it sits (summary).
     declared = tiled.size
     inside = bounds[0] >= 0 and bounds[1] >= 0 and bounds[2] <= declared[0] and bounds[3] <= declared[1]
