@@ -202,6 +202,7 @@ def optimum(
         memory_bytes=memory_mb * 2**20,
         progress=_Progress(),
         weight=weight,
+        seed=seed,
     )
     names = list(HEADINGS)
     if result.proved and weight > 1.0:

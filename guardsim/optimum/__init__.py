@@ -41,6 +41,7 @@ from guardsim.search.astar import (
     PROVED,
     RUNNING,
     STATUS,
+    SearchState,
     greedy_walk,
     new_search_state,
     run_search,
@@ -49,6 +50,7 @@ from guardsim.search.astar import (
 from guardsim.search.beam import beam_route
 from guardsim.search.graph import SearchGraph, build_search_graph, route_steps
 from guardsim.search.heuristic import Heuristic, build_heuristic
+from guardsim.search.improve import IMPROVE_MAX_POSITIONS, improve_route
 from guardsim.search.residual import residual_goal
 from guardsim.vision.rules import VisionFunction
 from guardsim.vision.table import view_table
@@ -82,6 +84,14 @@ FIRST_WALK_WEIGHTS = (1.5, 1.25, 1.15)
 FIRST_WALK_EXPANSIONS = 20_000
 #: Nodes the state of each of those searches holds (about 100 MB at the most).
 _FIRST_WALK_NODES = 1 << 20
+#: Expansions after which a search still unproved improves its walk in hand by large-neighbourhood
+#: search (:mod:`guardsim.search.improve`): the quick proofs (the anchor's unlimited-range rows take
+#: 5 to 5,421 expansions) never pay for it; a long one gains a shorter walk, which is the answer's upper
+#: end when a limit stops the search and keeps more nodes out of memory (room-32-32-4 from (3, 0):
+#: 252 steps before, 199 after).
+IMPROVE_AFTER = 20_000
+#: Iterations of that search (about 1 s on room-32-32-4, 5 s on the 2,054-cell arena at range 8).
+IMPROVE_ITERATIONS = 2_000
 
 
 class SearchProgress(NamedTuple):
@@ -139,6 +149,7 @@ def solve(
     memory_bytes: int = DEFAULT_MEMORY_BYTES,
     progress: Callable[[SearchProgress], None] | None = None,
     weight: float = 1.0,
+    seed: int = 0,
 ) -> OptimumResult:
     """The fewest steps after which a guard from ``(start, heading)`` has seen every cell reachable from it.
 
@@ -163,6 +174,8 @@ def solve(
     weight
         W >= 1: weighted A* (heap on ``g + W * h``), which stops once the walk in hand is proved at most
         W times the optimum. 1: the optimum itself.
+    seed
+        Seeds the random choices of the walk improvement a long search makes (:data:`IMPROVE_AFTER`).
 
     Returns
     -------
@@ -209,6 +222,7 @@ def solve(
     # reported, as it goes and at the end, is the largest read so far (it fell from 160 to 158 between
     # two progress lines on room-32-32-4, and the end said 162).
     floor_seen = root_bound
+    improve_at = IMPROVE_AFTER if BEAM_MIN_POSITIONS <= graph.positions <= IMPROVE_MAX_POSITIONS else None
     while counters[STATUS] != PROVED:
         if counters[STATUS] == FULL:
             stopped_by = "memory"
@@ -227,6 +241,10 @@ def solve(
         )
         if weight == 1.0 and counters[STATUS] != PROVED:
             floor_seen = max(floor_seen, int(counters[FLOOR]))
+        if improve_at is not None and counters[STATUS] == RUNNING and counters[EXPANSIONS] >= improve_at:
+            improve_at = None
+            deadline = None if time_limit is None else began + time_limit
+            greedy, greedy_steps = _improve(graph, state, greedy, int(greedy_steps), seed, deadline)
         if progress is not None:
             best = int(counters[INCUMBENT]) if counters[INCUMBENT_NODE] >= 0 else int(greedy_steps)
             floor = best if counters[STATUS] == PROVED else min(best, floor_seen)
@@ -293,6 +311,22 @@ def _weighted_walks(
             )
         if counters[INCUMBENT_NODE] >= 0 and counters[INCUMBENT] <= steps:
             route, steps = route_to(state, int(counters[INCUMBENT_NODE])), int(counters[INCUMBENT])
+    return route, steps
+
+
+def _improve(
+    graph: SearchGraph, state: SearchState, route: np.ndarray, steps: int, seed: int, deadline: float | None
+) -> tuple[np.ndarray, int]:
+    """The walk in hand (the search's, else ``route``), improved by :func:`improve_route`; when shorter,
+    it becomes the search's incumbent (as the first walk is: the search then looks for one no longer)."""
+    counters = state.counters
+    if counters[INCUMBENT_NODE] >= 0:
+        route, steps = route_to(state, int(counters[INCUMBENT_NODE])), int(counters[INCUMBENT])
+    rng = np.random.default_rng(seed)
+    better, better_steps = improve_route(graph, route, IMPROVE_ITERATIONS, rng, deadline=deadline)
+    if better_steps < steps:
+        route, steps = better, better_steps
+        counters[INCUMBENT], counters[INCUMBENT_NODE] = better_steps + 1, -1
     return route, steps
 
 
