@@ -130,8 +130,11 @@ def _repair(
     stops: np.ndarray,
     count: int,
     seen: np.ndarray,
+    noise: np.ndarray,
+    share: float,
 ) -> int:
-    """Insert stops until the walk sees every goal cell (farthest insertion); returns the stop count."""
+    """Insert stops until the walk sees every goal cell (farthest insertion among the unseen cells whose
+    ``noise`` is below ``share``, all when none is); returns the stop count."""
     goal = watch_start.shape[0] - 1
     positions = steps.shape[0]
     # What inserting each position costs and where depends on the walk only, not on the cell it is for.
@@ -152,6 +155,8 @@ def _repair(
         dearest, dearest_place, dearest_position = -1, -1, -1
         for bit in range(goal):
             if (seen[bit >> 6] >> np.uint64(bit & 63)) & np.uint64(1):
+                continue
+            if noise[bit] >= share and dearest >= 0:
                 continue
             cheapest, position = -1, -1
             for k in range(watch_start[bit], watch_start[bit + 1]):
@@ -213,9 +218,12 @@ def _rebuild(
     stops: np.ndarray,
     count: int,
     seen: np.ndarray,
+    noise: np.ndarray,
+    share: float,
 ) -> tuple[int, int]:
-    """Repair, then drop spare stops: the stop count and the walk's steps."""
-    count = _repair(views, full, successors, steps, watch_start, watchers, stops, count, seen)
+    """Repair (``noise``, ``share``: as :func:`_repair`), then drop spare stops: the stop count and the
+    walk's steps."""
+    count = _repair(views, full, successors, steps, watch_start, watchers, stops, count, seen, noise, share)
     count = _drop_spare(views, full, successors, steps, stops, count, seen)
     return count, _length(steps, stops, count)
 
@@ -291,7 +299,10 @@ def improve_route(
     seen = np.empty_like(full)
     work = np.empty(room, dtype=np.int64)
     work[: route.size] = route
-    count, length = _rebuild(views, full, successors, steps, watch_start, watchers, work, int(route.size), seen)
+    noise = np.zeros(graph.goal_cells.size)
+    count, length = _rebuild(
+        views, full, successors, steps, watch_start, watchers, work, int(route.size), seen, noise, 1.0
+    )
     current = work[:count].copy()
     current_length = length
     best, best_length = current.copy(), length
@@ -300,7 +311,11 @@ def improve_route(
             break
         kept = current[~_removed(rng, current, steps)]
         work[: kept.size] = kept
-        count, length = _rebuild(views, full, successors, steps, watch_start, watchers, work, int(kept.size), seen)
+        noise = rng.random(graph.goal_cells.size)
+        share = float(rng.uniform(0.2, 1.0))
+        count, length = _rebuild(
+            views, full, successors, steps, watch_start, watchers, work, int(kept.size), seen, noise, share
+        )
         temperature = _FIRST_TEMPERATURE * (1.0 - iteration / iterations)
         worse = length - current_length
         if worse <= 0 or (temperature > 0 and rng.random() < np.exp(-worse / temperature)):
