@@ -8,6 +8,7 @@ Usage::
     python benchmarks/optimum.py --planners --tiny                # the same on the tests' tiny levels
     python benchmarks/optimum.py --planners --real                # small real maps, bench starts 0-2
     python benchmarks/optimum.py --hard                           # issue 28's six hard instances
+    python benchmarks/optimum.py --weights --time-limit 120       # --weight W on den101d (21, 2), range 8
     python benchmarks/optimum.py --guards 2                       # the team optimum (makespan) table
     python benchmarks/optimum.py --guards 2 --only lak105d --max-expansions 20000
 
@@ -75,6 +76,9 @@ HARD_CASES: list[tuple[str, tuple[int, int], float | None, str]] = [
     ("room-32-32-4", (3, 0), None, "unproved in 300 s (bound >= 159)"),
     ("random-32-32-20", (0, 0), None, "unproved in 240 s (bound >= 62)"),
 ]
+
+#: The weights of ``--weights``.
+WEIGHTS = (1.0, 1.05, 1.2, 1.5, 2.0)
 
 #: Seconds at which ``--hard`` reports the proved bound the search had reached.
 BOUND_MARKS = (10.0, 30.0, 100.0)
@@ -322,6 +326,23 @@ def hard_rows(time_limit: float, only: str | None) -> None:
         )
 
 
+def weight_rows(time_limit: float) -> None:
+    """``--weights``: weighted A* (``--weight W``) on den101d from (21, 2) at range 8 (optimum 192)."""
+    from guardsim.optimum import solve
+
+    solve(scene_of("maze-32-32-4", None), (1, 1), 0)  # warm
+    scene = scene_of("den101d", 8.0)
+    print("| W | found | proved | lower bound | expansions | seconds |")
+    print("| --- | --- | --- | --- | --- | --- |")
+    for weight in WEIGHTS:
+        result = solve(scene, (21, 2), 0, time_limit=time_limit, weight=weight)
+        print(
+            f"| {weight:g} | {result.steps} | {str(result.proved).lower()} | {result.lower_bound} "
+            f"| {result.expansions} | {result.seconds:.1f} |",
+            flush=True,
+        )
+
+
 def main() -> None:
     from guardsim.optimum import solve
 
@@ -332,6 +353,7 @@ def main() -> None:
     parser.add_argument("--tiny", action="store_true", help="The tests' tiny levels instead of the maps.")
     parser.add_argument("--real", action="store_true", help="Small real maps from bench starts 0-2.")
     parser.add_argument("--hard", action="store_true", help="Issue 28's six hard instances.")
+    parser.add_argument("--weights", action="store_true", help="Weighted A* on den101d (21, 2) at range 8.")
     parser.add_argument("--guards", type=int, default=1, help="Above 1: the team optimum (makespan) table.")
     parser.add_argument("--draws", type=int, default=3, help="Start pairs drawn per published map (--guards).")
     parser.add_argument(
@@ -347,6 +369,9 @@ def main() -> None:
     proved = []
     if arguments.hard:
         hard_rows(arguments.time_limit, arguments.only)
+        return
+    if arguments.weights:
+        weight_rows(arguments.time_limit)
         return
     if arguments.real:
         from guardsim.starts import episode_start
