@@ -25,7 +25,7 @@ from pathlib import Path
 REPO = Path(__file__).resolve().parents[1]
 
 #: The commands measured, in table order (``--commands`` picks among them).
-NAMES = ("play", "tour", "patrol", "sneak", "bounds", "optimum", "bench")
+NAMES = ("play", "tour", "patrol", "sneak", "bounds", "optimum", "bench", "optimum-team", "patrol-team")
 
 #: A 12 x 9 room with one pillar, for ``optimum``.
 ROOM = {
@@ -48,6 +48,8 @@ def command_lines(scratch: Path, checkout: Path, run: str) -> dict[str, list[str
         "bounds": ["bounds", square],
         "optimum": ["optimum", str(scratch / "room.json")],
         "bench": ["bench", square, "--episodes", "4", "--workers", "1", "--out", str(scratch / f"bench-{run}")],
+        "optimum-team": ["optimum", str(scratch / "room.json"), "--start", "0.5,0.5", "--start", "11.5,8.5", "--guards", "2"],
+        "patrol-team": ["patrol", square, "--guards", "2", "--out", str(scratch / f"patrol-team-{run}")],
     }  # fmt: skip
 
 

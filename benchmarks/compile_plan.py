@@ -45,6 +45,9 @@ def commands(scratch: Path) -> dict[str, list[str]]:
         "bounds": ["bounds", square],
         "optimum": ["optimum", str(scratch / "room.json")],
         "bench": ["bench", square, "--episodes", "4", "--workers", "1", "--out", str(scratch / "bench")],
+        "optimum:team": ["optimum", str(scratch / "room.json"), "--start", "0.5,0.5", "--start", "11.5,8.5",
+                         "--guards", "2"],
+        "patrol:team": ["patrol", square, "--guards", "2", "--out", str(scratch / "patrol-team")],
     }  # fmt: skip
 
 

@@ -253,7 +253,10 @@ print(json.dumps(unplanned))
     [
         "play:tour",
         "patrol",
-        *(pytest.param(name, marks=pytest.mark.slow) for name in ("sneak", "alert", "bounds", "optimum", "bench")),
+        *(
+            pytest.param(name, marks=pytest.mark.slow)
+            for name in ("sneak", "alert", "bounds", "optimum", "bench", "optimum:team", "patrol:team")
+        ),
     ],
 )
 def test_compiling_ahead_covers_what_the_command_compiles(command: str, tmp_path: Path) -> None:
@@ -271,6 +274,8 @@ def test_compiling_ahead_covers_what_the_command_compiles(command: str, tmp_path
         "bounds": ["bounds", square],
         "optimum": ["optimum", str(room), "--start", "0.5,0.5"],
         "bench": ["bench", square, "--episodes", "2", "--workers", "1", "--out", str(tmp_path / "bench")],
+        "optimum:team": ["optimum", str(room), "--start", "0.5,0.5", "--start", "11.5,8.5", "--guards", "2"],
+        "patrol:team": ["patrol", square, "--guards", "2", "--out", str(patrol)],
     }
     env = dict(os.environ, GUARDSIM_COMPILE_NOTICE="0")
     if command in ("sneak", "alert"):

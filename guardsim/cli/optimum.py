@@ -173,7 +173,8 @@ def optimum(
     level = load(level_path, max_cells, max_vertices, max_file_bytes, map_import)
     from guardsim.kernels.ahead import compile_ahead
 
-    compile_ahead("optimum")
+    team = search_from is None and (len(start) > 1 or (guards or 1) > 1)
+    compile_ahead("optimum:team" if team else "optimum")
     scene = build_scene(level, los, fov, view_range)
     if len(heading) > 1 and len(heading) != len(start):
         raise GuardsimError(f"{len(heading)} --heading options for {len(start)} --start: give one, or one per --start")

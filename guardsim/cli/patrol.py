@@ -182,7 +182,7 @@ def patrol(
     level = load(level_path, max_cells, max_vertices, max_file_bytes, map_import)
     from guardsim.kernels.ahead import compile_ahead
 
-    compile_ahead("patrol")
+    compile_ahead("patrol:team" if guards > 1 else "patrol")
     scene = build_scene(level, los, fov, view_range)
     done = run_patrol(scene, output_folder(out_dir), job)
     for warning in done.warnings:

@@ -149,7 +149,7 @@ def solve_team(
     later = later_distances(heuristic.to_watchers, positions)
     # The first incumbent: the shortest of one guard covering everything alone (the others waiting), a
     # greedy team walk, and each guard covering the cells nearest its start.
-    alone, alone_steps = beam_route(graph, heuristic, 8)
+    alone, alone_steps = _first_walk(graph, heuristic, None)
     if alone_steps < 0:
         alone, alone_steps = greedy_walk(graph.successors, graph.views, graph.full, graph.start)
     if alone_steps < 0:
@@ -261,12 +261,27 @@ def _nearest_shares(graph: SearchGraph, heuristic: Heuristic, starts: np.ndarray
         others_cells = np.zeros(int(graph.goal_cells.max(initial=0)) + 1, dtype=bool)
         others_cells[graph.goal_cells[nearest != guard]] = True
         others = goal_bits(graph, others_cells)
-        route, steps = beam_route(graph._replace(start=start), heuristic, 8, known=others)
+        route, steps = _first_walk(graph._replace(start=start), heuristic, others)
         if steps < 0:
             return [], -1
         routes.append(route)
         makespan = max(makespan, int(steps))
     return routes, makespan
+
+
+def _first_walk(graph: SearchGraph, heuristic: Heuristic, known: np.ndarray | None) -> tuple[np.ndarray, int]:
+    """A walk of one guard from ``graph.start`` seeing every goal cell not in ``known``: the beam's as in
+    :func:`guardsim.optimum.solve`, the greedy walk below ``BEAM_MIN_POSITIONS`` (the search proves such
+    levels from either, and compiling the beam was 3 of the 24 s a first team run spent compiling)."""
+    from guardsim.optimum import BEAM_MIN_POSITIONS
+
+    if graph.positions >= BEAM_MIN_POSITIONS:
+        return beam_route(graph, heuristic, 8, known=known)
+    if known is None:
+        return greedy_walk(graph.successors, graph.views, graph.full, graph.start)
+    share = graph.full & ~known
+    route, steps = greedy_walk(graph.successors, graph.views & share, share, graph.start)
+    return route, int(steps)
 
 
 def _position(states: np.ndarray, cell: int, heading: int, headings_matter: bool) -> int:
