@@ -382,7 +382,7 @@ def test_the_proved_bound_never_falls_as_the_search_goes(monkeypatch: pytest.Mon
 
     monkeypatch.setattr(optimum, "_CHUNK", 1)
     # The weighted first walks change nothing here and were 17 of the test's 20 s.
-    monkeypatch.setattr(optimum, "_weighted_walks", lambda graph, heuristic, walk, steps, began, limit: (walk, steps))
+    monkeypatch.setattr(optimum, "_weighted_walks", lambda graph, heuristic, walk, steps, *rest: (walk, steps))
     level = load_level(REPO / "levels" / "passages.json")
     scene = Scene.from_level(level)
     seen: list[SearchProgress] = []

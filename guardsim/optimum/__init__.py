@@ -22,6 +22,7 @@ must see both ends, 2 + 4 steps whichever it visits first.
 
 from __future__ import annotations
 
+import functools
 import time
 from collections.abc import Callable
 from typing import TYPE_CHECKING, Any, NamedTuple
@@ -202,8 +203,18 @@ def solve(
         greedy, greedy_steps = greedy_walk(graph.successors, graph.views, graph.full, graph.start)
     if greedy_steps < 0:
         raise LevelError(f"{scene.level.source}: some cell reachable from the start is seen from nowhere")
+
+    def tell(best: int, floor: int, expansions: int = 0, nodes: int = 0) -> None:
+        if progress is not None:
+            progress(SearchProgress(expansions, nodes, min(floor, best), best, time.perf_counter() - began))
+
+    def tell_before(best: int, before: int, where: tuple[int, int, int]) -> None:
+        tell(min(best, before), *where)
+
     if weight == 1.0:
-        greedy, greedy_steps = _weighted_walks(graph, heuristic, greedy, int(greedy_steps), began, time_limit)
+        greedy, greedy_steps = _weighted_walks(
+            graph, heuristic, greedy, int(greedy_steps), began, time_limit, lambda best, floor: tell(best, floor)
+        )
     words = graph.full.size
     per_node = 8 * words + 5 * 4 + 2 * 12 + 2 * 8
     capacity = max(1024, int(memory_bytes // per_node))
@@ -244,7 +255,10 @@ def solve(
         if improve_at is not None and counters[STATUS] == RUNNING and counters[EXPANSIONS] >= improve_at:
             improve_at = None
             deadline = None if time_limit is None else began + time_limit
-            greedy, greedy_steps = _improve(graph, state, greedy, int(greedy_steps), seed, deadline)
+            best_now = int(counters[INCUMBENT]) if counters[INCUMBENT_NODE] >= 0 else int(greedy_steps)
+            where = (floor_seen if weight == 1.0 else root_bound, int(counters[EXPANSIONS]), int(counters[NODES]))
+            report = functools.partial(tell_before, before=best_now, where=where)
+            greedy, greedy_steps = _improve(graph, state, greedy, int(greedy_steps), seed, deadline, report)
         if progress is not None:
             best = int(counters[INCUMBENT]) if counters[INCUMBENT_NODE] >= 0 else int(greedy_steps)
             floor = best if counters[STATUS] == PROVED else min(best, floor_seen)
@@ -292,11 +306,19 @@ def solve(
 
 
 def _weighted_walks(
-    graph: SearchGraph, heuristic: Heuristic, route: np.ndarray, steps: int, began: float, time_limit: float | None
+    graph: SearchGraph,
+    heuristic: Heuristic,
+    route: np.ndarray,
+    steps: int,
+    began: float,
+    time_limit: float | None,
+    report: Callable[[int, int], None] | None = None,
 ) -> tuple[np.ndarray, int]:
     """The shortest of ``route`` and the walks the searches of :data:`FIRST_WALK_WEIGHTS` find, each
     bounded in expansions (and by ``time_limit``): a weighted search goes deep fast, and a walk it finds
-    keeps more nodes out of the optimal search and is the answer's upper end when that search stops."""
+    keeps more nodes out of the optimal search and is the answer's upper end when that search stops.
+    ``report(best steps, start's estimate)`` is called after every chunk of expansions (the searches
+    took 11 s on the arena at range 8, too long to be silent)."""
     words, capacity = graph.full.size, min(_FIRST_WALK_NODES, 64 * FIRST_WALK_EXPANSIONS)
     for weight in FIRST_WALK_WEIGHTS:
         state = new_search_state(capacity, words, graph.positions)
@@ -309,13 +331,22 @@ def _weighted_walks(
             run_search(
                 state, heuristic, graph.successors, graph.views, graph.full, budget, DOMINANCE_CHECKS, weight, True
             )
+            if report is not None:
+                found = int(counters[INCUMBENT]) if counters[INCUMBENT_NODE] >= 0 else steps
+                report(min(steps, found), int(state.estimate[0]))
         if counters[INCUMBENT_NODE] >= 0 and counters[INCUMBENT] <= steps:
             route, steps = route_to(state, int(counters[INCUMBENT_NODE])), int(counters[INCUMBENT])
     return route, steps
 
 
 def _improve(
-    graph: SearchGraph, state: SearchState, route: np.ndarray, steps: int, seed: int, deadline: float | None
+    graph: SearchGraph,
+    state: SearchState,
+    route: np.ndarray,
+    steps: int,
+    seed: int,
+    deadline: float | None,
+    report: Callable[[int], None] | None = None,
 ) -> tuple[np.ndarray, int]:
     """The walk in hand (the search's, else ``route``), improved by :func:`improve_route`; when shorter,
     it becomes the search's incumbent (as the first walk is: the search then looks for one no longer)."""
@@ -323,7 +354,7 @@ def _improve(
     if counters[INCUMBENT_NODE] >= 0:
         route, steps = route_to(state, int(counters[INCUMBENT_NODE])), int(counters[INCUMBENT])
     rng = np.random.default_rng(seed)
-    better, better_steps = improve_route(graph, route, IMPROVE_ITERATIONS, rng, deadline=deadline)
+    better, better_steps = improve_route(graph, route, IMPROVE_ITERATIONS, rng, deadline=deadline, report=report)
     if better_steps < steps:
         route, steps = better, better_steps
         counters[INCUMBENT], counters[INCUMBENT_NODE] = better_steps + 1, -1

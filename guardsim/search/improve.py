@@ -21,6 +21,7 @@ iterations, so the walk is the same on every machine.
 from __future__ import annotations
 
 import time
+from collections.abc import Callable
 
 import numpy as np
 
@@ -34,6 +35,8 @@ __all__ = ["IMPROVE_MAX_POSITIONS", "improve_route"]
 IMPROVE_MAX_POSITIONS = 4096
 #: Most stops one iteration removes.
 _MOST_REMOVED = 10
+#: Iterations between two calls of ``improve_route``'s ``report`` (about 0.1-0.6 s).
+REPORT_EVERY = 100
 #: Temperature of the first iteration, in steps: a walk 3 steps longer is kept with probability 1/e.
 _FIRST_TEMPERATURE = 3.0
 
@@ -271,6 +274,7 @@ def improve_route(
     rng: np.random.Generator,
     *,
     deadline: float | None = None,
+    report: Callable[[int], None] | None = None,
 ) -> tuple[np.ndarray, int]:
     """A covering walk at most as long as ``route``'s, by ``iterations`` of large-neighbourhood search.
 
@@ -286,6 +290,8 @@ def improve_route(
         Every random choice.
     deadline
         ``time.perf_counter()`` after which no further iteration starts.
+    report
+        Called with the best walk's steps every :data:`REPORT_EVERY` iterations (a caller's progress).
 
     Returns
     -------
@@ -311,6 +317,8 @@ def improve_route(
     for iteration in range(iterations):
         if deadline is not None and time.perf_counter() > deadline:
             break
+        if report is not None and iteration % REPORT_EVERY == 0:
+            report(best_length)
         kept = current[~_removed(rng, current, steps)]
         work[: kept.size] = kept
         noise = rng.random(graph.goal_cells.size)
