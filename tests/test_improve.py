@@ -114,3 +114,14 @@ def test_the_first_walks_and_the_improvement_report_progress(monkeypatch: pytest
     bests = [where.best for where in seen]
     assert bests == sorted(bests, reverse=True) and bests[-1] == result.steps
     assert all(where.lower_bound <= result.steps for where in seen)
+
+
+def test_a_cell_seen_from_nowhere_is_an_error_not_a_hang() -> None:
+    scene, start = _pillared_room()
+    graph = residual_goal(build_search_graph(scene.grid, view_table(scene.grid, scene.vision()), start, 0))
+    greedy, _ = greedy_walk(graph.successors, graph.views, graph.full, graph.start)
+    views = graph.views.copy()
+    views[:, 0] &= ~np.uint64(1 << 5)  # goal cell 5 seen from nowhere
+    blind = graph._replace(views=views)
+    with pytest.raises(ValueError, match="seen from no position"):
+        improve_route(blind, greedy, 10, np.random.default_rng(0))

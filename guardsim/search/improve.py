@@ -139,7 +139,8 @@ def _repair(
     share: float,
 ) -> int:
     """Insert stops until the walk sees every goal cell (farthest insertion among the unseen cells whose
-    ``noise`` is below ``share``, all when none is); returns the stop count."""
+    ``noise`` is below ``share``, all when none is); returns the stop count, -1 if some unseen cell has
+    no watcher."""
     goal = watch_start.shape[0] - 1
     positions = steps.shape[0]
     # What inserting each position costs and where depends on the walk only, not on the cell it is for.
@@ -170,6 +171,8 @@ def _repair(
                     cheapest, position = cost[watcher], watcher
             if cheapest > dearest:
                 dearest, dearest_place, dearest_position = cheapest, where[position], position
+        if dearest_position < 0:
+            return -1  # the unseen cells looked at are seen from nowhere
         count = _insert(stops, count, dearest_place, dearest_position)
 
 
@@ -227,8 +230,10 @@ def _rebuild(
     share: float,
 ) -> tuple[int, int]:
     """Repair (``noise``, ``share``: as :func:`_repair`), then drop spare stops: the stop count and the
-    walk's steps."""
+    walk's steps (-1, -1 if the repair cannot see every cell)."""
     count = _repair(views, full, successors, steps, watch_start, watchers, stops, count, seen, noise, share)
+    if count < 0:
+        return -1, -1
     count = _drop_spare(views, full, successors, steps, stops, count, seen)
     return count, _length(steps, stops, count)
 
@@ -311,6 +316,8 @@ def improve_route(
     count, length = _rebuild(
         views, full, successors, steps, watch_start, watchers, work, int(route.size), seen, noise, 1.0
     )
+    if count < 0:
+        raise ValueError("some goal cell is seen from no position reachable from the start")
     current = work[:count].copy()
     current_length = length
     best, best_length = current.copy(), length
