@@ -90,6 +90,7 @@ def test_a_long_search_answers_with_the_improved_walk(monkeypatch: pytest.Monkey
     monkeypatch.setattr(optimum, "IMPROVE_AFTER", 10**9)
     plain = optimum.solve(scene, start, 0, max_expansions=2_000)
     monkeypatch.setattr(optimum, "IMPROVE_AFTER", 1)
+    assert optimum.solve(scene, start, 0, max_expansions=2_000, improve=False).steps == plain.steps
     improved = optimum.solve(scene, start, 0, max_expansions=2_000)
     assert not plain.proved and not improved.proved
     assert improved.steps < plain.steps

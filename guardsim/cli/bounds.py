@@ -136,7 +136,9 @@ def _search_bound(
         return None, "search bound not run (--search-expansions 0)", 0.0
     if positions > MAX_POSITIONS:
         return None, f"search bound not run ({positions} positions, over the exact search's {MAX_POSITIONS})", 0.0
-    found = solve(scene, cell, heading, vision, max_expansions=expansions, memory_bytes=SEARCH_MEMORY_BYTES)
+    found = solve(
+        scene, cell, heading, vision, max_expansions=expansions, memory_bytes=SEARCH_MEMORY_BYTES, improve=False
+    )
     if found.proved:
         return (
             found.steps,

@@ -151,6 +151,7 @@ def solve(
     progress: Callable[[SearchProgress], None] | None = None,
     weight: float = 1.0,
     seed: int = 0,
+    improve: bool = True,
 ) -> OptimumResult:
     """The fewest steps after which a guard from ``(start, heading)`` has seen every cell reachable from it.
 
@@ -177,6 +178,9 @@ def solve(
         W times the optimum. 1: the optimum itself.
     seed
         Seeds the random choices of the walk improvement a long search makes (:data:`IMPROVE_AFTER`).
+    improve
+        Whether a long search improves its walk at all (a caller that wants only the lower bound, as
+        ``guardsim bounds``, saves the 1-12 s it takes).
 
     Returns
     -------
@@ -233,7 +237,7 @@ def solve(
     # reported, as it goes and at the end, is the largest read so far (it fell from 160 to 158 between
     # two progress lines on room-32-32-4, and the end said 162).
     floor_seen = root_bound
-    improve_at = IMPROVE_AFTER if BEAM_MIN_POSITIONS <= graph.positions <= IMPROVE_MAX_POSITIONS else None
+    improve_at = IMPROVE_AFTER if improve and BEAM_MIN_POSITIONS <= graph.positions <= IMPROVE_MAX_POSITIONS else None
     while counters[STATUS] != PROVED:
         if counters[STATUS] == FULL:
             stopped_by = "memory"
