@@ -88,15 +88,16 @@ def test_a_long_search_answers_with_the_improved_walk(monkeypatch: pytest.Monkey
     scene, start = _pillared_room()
     monkeypatch.setattr(optimum, "_weighted_walks", lambda graph, heuristic, walk, steps, *rest: (walk, steps))
     monkeypatch.setattr(optimum, "IMPROVE_AFTER", 10**9)
-    plain = optimum.solve(scene, start, 0, max_expansions=2_000)
+    monkeypatch.setattr(optimum, "IMPROVE_ITERATIONS", 300)  # enough here; the test's time is the iterations'
+    plain = optimum.solve(scene, start, 0, max_expansions=500)
     monkeypatch.setattr(optimum, "IMPROVE_AFTER", 1)
-    assert optimum.solve(scene, start, 0, max_expansions=2_000, improve=False).steps == plain.steps
-    improved = optimum.solve(scene, start, 0, max_expansions=2_000)
+    assert optimum.solve(scene, start, 0, max_expansions=500, improve=False).steps == plain.steps
+    improved = optimum.solve(scene, start, 0, max_expansions=500)
     assert not plain.proved and not improved.proved
     assert improved.steps < plain.steps
     assert improved.lower_bound <= improved.steps
     assert_covering_walk(scene, improved, start, 0, scene.vision())
-    assert optimum.solve(scene, start, 0, max_expansions=2_000) == improved._replace(seconds=pytest.approx(0, abs=1e9))
+    assert optimum.solve(scene, start, 0, max_expansions=500) == improved._replace(seconds=pytest.approx(0, abs=1e9))
 
 
 def test_the_first_walks_and_the_improvement_report_progress(monkeypatch: pytest.MonkeyPatch) -> None:
@@ -104,12 +105,13 @@ def test_the_first_walks_and_the_improvement_report_progress(monkeypatch: pytest
     # improvement every REPORT_EVERY iterations (on the arena at range 8 they took 11 and 12 s).
     scene, start = _pillared_room()
     monkeypatch.setattr(optimum, "IMPROVE_AFTER", 1)
-    monkeypatch.setattr(optimum, "FIRST_WALK_EXPANSIONS", 6_000)
+    monkeypatch.setattr(optimum, "FIRST_WALK_EXPANSIONS", 2_000)
+    monkeypatch.setattr(optimum, "IMPROVE_ITERATIONS", 400)
     seen: list[optimum.SearchProgress] = []
-    result = optimum.solve(scene, start, 0, max_expansions=2_000, progress=seen.append)
+    result = optimum.solve(scene, start, 0, max_expansions=500, progress=seen.append)
     before_search = [where for where in seen if where.expansions == 0]
     assert len(before_search) >= 3  # three weighted searches, one chunk at least each
-    improving = [where for where in seen if where.expansions == 2_000 and where.best > result.steps]
+    improving = [where for where in seen if where.expansions == 500 and where.best > result.steps]
     assert improving  # reported while the improvement ran, before its walk was the answer
     assert len(seen) >= len(before_search) + optimum.IMPROVE_ITERATIONS // 100
     bests = [where.best for where in seen]
