@@ -1,24 +1,22 @@
-"""``guardsim alert``: guards that notice, chase, search and return, against an intruder."""
+"""``guardsim alert``: guards that notice, chase, search and return, against an intruder.
+
+The command checks its options, builds the episodes and prints; :mod:`guardsim.cli.alert_batch` runs them.
+"""
 
 from __future__ import annotations
 
-import contextlib
 import dataclasses
-import hashlib
-import io
 import itertools
 import json
-import logging
-import os
-import sys
-from collections.abc import Callable, Iterator
-from pathlib import Path
+from collections.abc import Callable
 from typing import TYPE_CHECKING, Any, TypeVar
 
 import click
 
 from guardsim.alert.intruders import read_route_points
+from guardsim.cli.alert_batch import episode_trace, run_first, run_options, run_pending
 from guardsim.cli.common import (
+    DetectionOverrides,
     FiniteFloatRange,
     build_scene,
     detection_options,
@@ -27,7 +25,6 @@ from guardsim.cli.common import (
     parse_point,
     reports_errors,
     vision_options,
-    with_detection,
 )
 from guardsim.cli.map_options import MapImport, map_options
 from guardsim.cli.motion import _SPEED_HELP, _speed_options, check_motion, motion_of
@@ -38,11 +35,7 @@ from guardsim.files.output import write_text_atomic
 from guardsim.motion.parameters import MOTIONS
 
 if TYPE_CHECKING:
-    from guardsim.alert import AlertEpisode, AlertOutcome, AlertRules, AlertSummary
-    from guardsim.alert.batch import AlertTask
-    from guardsim.detection import GuardDetection
-    from guardsim.scene import Scene
-    from guardsim.vision.table import ViewTable
+    from guardsim.alert import AlertOutcome, AlertSummary
 
 __all__ = ["alert"]
 
@@ -149,10 +142,7 @@ def alert(
     move_speed: float | None,
     turn_speed: float | None,
     tick_hz: float | None,
-    detect_near: float | None,
-    detect_far: float | None,
-    forget: float | None,
-    suspicious: float | None,
+    detection_overrides: DetectionOverrides,
     los: str,
     fov: float | None,
     view_range: float | None,
@@ -185,13 +175,7 @@ def alert(
     check_motion(motion, 1, los, move_speed=move_speed, turn_speed=turn_speed, tick_hz=tick_hz)
     if workers is not None and scheduler is not None and scheduler != "local":
         raise GuardsimError("--workers and --scheduler exclude each other: the scheduler's workers run the episodes")
-    level = with_detection(
-        load(level_path, max_cells, max_vertices, max_file_bytes, map_import),
-        detect_near=detect_near,
-        detect_far=detect_far,
-        forget=forget,
-        suspicious=suspicious,
-    )
+    level = detection_overrides.apply(load(level_path, max_cells, max_vertices, max_file_bytes, map_import))
     from guardsim.kernels.ahead import compile_ahead
 
     compile_ahead("alert")
@@ -246,9 +230,9 @@ def alert(
         resuming = (folder / RUN_NAME).exists()
         # Only a continuous run records its motion, so that grid runs made before it resume as they were.
         moving = {} if walking is None else {"motion": dataclasses.asdict(walking)}
-        options = _run_options(level_path, patrol_path, route_path, source, target, searches, scene, rules, detection,
-                               intruder=intruder, episodes=episodes, seed=seed, max_seconds=max_seconds, spotted=spotted,
-                               **moving)  # fmt: skip
+        options = run_options(level_path, patrol_path, route_path, source, target, searches, scene, rules, detection,
+                              intruder=intruder, episodes=episodes, seed=seed, max_seconds=max_seconds, spotted=spotted,
+                              **moving)  # fmt: skip
         check_run_options(folder, options)
         if resuming:
             for task in tasks:
@@ -262,9 +246,9 @@ def alert(
     here = ", ".join(name for name, path in (("--trace", trace_path), ("--gif", gif_path), ("--html", html_path))
                      if path is not None)  # fmt: skip
     if here:
-        first = _run_first(scene, table, tasks[0])
+        first = run_first(scene, table, tasks[0])
         if folder is not None:
-            write_text_atomic(folder / trace_name(*tasks[0].key), _trace(first, scene, tasks[0]))
+            write_text_atomic(folder / trace_name(*tasks[0].key), episode_trace(first, scene, tasks[0]))
         outcomes.pop(tasks[0].key, None)
     done_before = len(outcomes)
     if first is not None:
@@ -272,8 +256,8 @@ def alert(
     pending = [task for task in tasks if task.key not in outcomes]
     if pending:
         remember_setup(scene, table)
-        _run_pending(pending, outcomes, folder, done_before=done_before, first_here=here, workers=workers,
-                     scheduler=scheduler)  # fmt: skip
+        run_pending(pending, outcomes, folder, done_before=done_before, first_here=here, workers=workers,
+                    scheduler=scheduler)  # fmt: skip
     elif folder is not None and len(tasks) > 1:
         ran = f", the first run here for {here}" if here else ""
         already = "all" if done_before == len(tasks) else f"{done_before} of"
@@ -281,7 +265,7 @@ def alert(
     runs = {name: [outcomes[(name, index)] for index in range(episodes)] for name in searches}
     rows = [summarise(name, found) for name, found in runs.items()]
     if first is not None and trace_path is not None:
-        write_text_atomic(trace_path, _trace(first, scene, tasks[0]))
+        write_text_atomic(trace_path, episode_trace(first, scene, tasks[0]))
         written.append(trace_path)
     if folder is not None:
         summary = {
@@ -314,143 +298,6 @@ def alert(
         click.echo(_table(rows))
     for name in written:
         click.echo(f"wrote {name}")
-
-
-def _run_first(scene: Scene, table: ViewTable, task: AlertTask) -> AlertEpisode:
-    from guardsim.alert import alert_episode
-
-    episode = alert_episode(
-        scene, task.patrol, intruder=task.intruder, source=task.source, target=task.target, route=task.route,
-        search=task.search, phase=task.phase, max_seconds=task.max_seconds, table=table, rules=task.rules,
-        detection=task.detection, spotted=task.spotted, motion=task.motion or "grid",
-    )  # fmt: skip
-    episode.run()
-    return episode
-
-
-def _trace(episode: AlertEpisode, scene: Scene, task: AlertTask) -> str:
-    from guardsim.alert import alert_trace_data
-    from guardsim.alert.batch import trace_text
-
-    return trace_text(alert_trace_data(episode, scene, search=task.search, intruder=task.intruder))
-
-
-def _digest(path: str) -> str:
-    try:
-        return hashlib.sha256(Path(path).read_bytes()).hexdigest()
-    except OSError as error:
-        raise GuardsimError(f"{path}: cannot read it: {error.strerror or error}") from None
-
-
-def _run_options(
-    level_path: str,
-    patrol_path: str,
-    route_path: str | None,
-    source: tuple[float, float] | None,
-    target: tuple[float, float] | None,
-    searches: list[str],
-    scene: Scene,
-    rules: AlertRules,
-    detection: GuardDetection,
-    **given: object,
-) -> dict[str, object]:
-    """What decides the episodes' results, as recorded in the output folder's ``run.json``: a run with
-    other options is not resumed there."""
-    return {
-        "command": "guardsim alert",
-        "level": {"file": os.path.normpath(level_path), "sha256": _digest(level_path)},
-        "patrol": {"file": os.path.normpath(patrol_path), "sha256": _digest(patrol_path)},
-        "route": None if route_path is None else {"file": os.path.normpath(route_path), "sha256": _digest(route_path)},
-        "from": None if source is None else list(source),
-        "to": None if target is None else list(target),
-        "searches": searches,
-        **given,
-        "los": scene.rule.value,
-        "fov": scene.cone.fov_degrees,
-        "view_range": scene.cone.view_range,
-        "rules": dataclasses.asdict(rules),
-        "detection": {**dataclasses.asdict(detection.model), "view_range": detection.view_range, "dt": detection.dt},
-    }
-
-
-def _run_pending(
-    pending: list[AlertTask],
-    outcomes: dict[tuple[str, int], AlertOutcome],
-    folder: Path | None,
-    *,
-    done_before: int,
-    first_here: str,
-    workers: int | None,
-    scheduler: str | None,
-) -> None:
-    """Run ``pending`` on the executor ``--workers``/``--scheduler`` ask for (:func:`guardsim.experiment.executors.make_executor`,
-    as ``guardsim bench``), filling ``outcomes`` and writing each trace into ``folder`` as it comes back.
-    ``done_before`` episodes were found done in ``folder``; ``first_here`` names the options the first
-    episode ran for in this process (empty: it did not). On Ctrl-C or lost episodes, say how to resume
-    and exit."""
-    from guardsim.alert.batch import run_alert_task, trace_name
-    from guardsim.cli.bench import NOT_RUN, ProgressLine
-    from guardsim.experiment.executors import make_executor
-
-    ran_here = 1 if first_here else 0
-    total = done_before + ran_here + len(pending)
-    with contextlib.ExitStack() as stack:
-        if scheduler == "local":
-            scheduler = stack.enter_context(_local_cluster(workers))
-            workers = None
-        if scheduler is None:
-            # More processes than episodes would only cost start-up time.
-            workers = min(workers or os.cpu_count() or 1, len(pending))
-        executor = make_executor(workers, scheduler, preload=[run_alert_task.__module__])
-        chatty = total > 1
-        if chatty:
-            already = f" ({done_before} already done)" if done_before else ""
-            where = f" on {executor.description}"
-            if first_here:
-                where = f": the first here for {first_here}, {len(pending)}{where}"
-            click.echo(f"running {ran_here + len(pending)} of {total} episodes{where}{already}", err=True)
-        progress = ProgressLine(len(pending), sys.stderr if chatty else io.StringIO())
-        resume = f"; traces in {folder}; run the same command again to resume" if folder is not None else ""
-        lost = 0
-        failure = ""
-        try:
-            with executor:
-                for done in executor.run_unordered(run_alert_task, pending):
-                    if done.failure is not None:
-                        lost += 1
-                        failure = failure or (f"{type(done.failure).__name__}: {done.failure}".splitlines() or [""])[0]
-                        continue
-                    task, result = done.item, done.result
-                    if folder is not None and result.trace is not None:
-                        write_text_atomic(folder / trace_name(*task.key), result.trace)
-                    outcomes[task.key] = result.outcome
-                    progress.advance(None)  # type: ignore[arg-type]  # it only counts
-        except KeyboardInterrupt:
-            progress.close()
-            click.echo(f"guardsim: interrupted; {len(outcomes)} of {total} episodes done{resume}", err=True)
-            sys.exit(130)
-        finally:
-            progress.close()
-    if lost:
-        click.echo(f"guardsim: error: {lost} episodes did not run ({failure}){resume}", err=True)
-        sys.exit(NOT_RUN)
-
-
-@contextlib.contextmanager
-def _local_cluster(workers: int | None) -> Iterator[str]:
-    """A ``distributed.LocalCluster`` of ``workers`` processes (default: the cores), one thread each, for
-    ``--scheduler local``; yields its address."""
-    try:
-        from distributed import LocalCluster
-    except ImportError:
-        raise GuardsimError(
-            "--scheduler local needs dask.distributed, which is not installed: pip install 'guardsim[cluster]'"
-        ) from None
-    count = workers or os.cpu_count() or 1
-    with LocalCluster(
-        n_workers=count, processes=True, threads_per_worker=1, dashboard_address=None, silence_logs=logging.ERROR
-    ) as cluster:
-        yield cluster.scheduler_address
 
 
 def _table(rows: list[AlertSummary]) -> str:

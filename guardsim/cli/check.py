@@ -8,6 +8,7 @@ import sys
 import click
 
 from guardsim.cli.common import (
+    DetectionOverrides,
     build_scene,
     detection_options,
     limit_options,
@@ -15,7 +16,6 @@ from guardsim.cli.common import (
     parse_point,
     reports_errors,
     vision_options,
-    with_detection,
 )
 from guardsim.cli.map_options import MapImport, map_options
 from guardsim.errors import GuardsimError
@@ -133,10 +133,7 @@ def check(
     max_slack: int | None,
     checks_path: str | None,
     seed: int,
-    detect_near: float | None,
-    detect_far: float | None,
-    forget: float | None,
-    suspicious: float | None,
+    detection_overrides: DetectionOverrides,
     los: str,
     fov: float | None,
     view_range: float | None,
@@ -186,13 +183,7 @@ def check(
             f"{level_path}: no rule to check: give --max-cover-steps, --max-idleness, --no-unreachable, --safe, "
             "--sneak or --checks"
         )
-    level = with_detection(
-        load(level_path, max_cells, max_vertices, max_file_bytes, map_import),
-        detect_near=detect_near,
-        detect_far=detect_far,
-        forget=forget,
-        suspicious=suspicious,
-    )
+    level = detection_overrides.apply(load(level_path, max_cells, max_vertices, max_file_bytes, map_import))
     scene = build_scene(level, los, fov, view_range)
     results = run_checks(scene, rules, seed=seed)
     broken = [result for result in results if not result.holds]

@@ -9,7 +9,7 @@ import os
 import re
 import sys
 from collections.abc import Callable
-from typing import Any, TypeVar
+from typing import Any, TypeVar, cast
 
 import click
 import numpy as np
@@ -23,6 +23,7 @@ from guardsim.vision.rules import LineOfSight
 
 __all__ = [
     "LIMIT_OPTIONS",
+    "DetectionOverrides",
     "FiniteFloatRange",
     "build_scene",
     "cli_start",
@@ -34,7 +35,6 @@ __all__ = [
     "parse_point",
     "reports_errors",
     "vision_options",
-    "with_detection",
     "with_options",
 ]
 
@@ -214,8 +214,28 @@ def vision_options(command: F) -> F:
     return command
 
 
+@dataclasses.dataclass(frozen=True)
+class DetectionOverrides:
+    """The detection options a command was given (:func:`detection_options`): each replaces the level's
+    key of the same name (:class:`guardsim.level.GuardSpec`); ``None`` keeps the level's."""
+
+    detect_near: float | None = None
+    detect_far: float | None = None
+    forget: float | None = None
+    suspicious: float | None = None
+
+    def apply(self, level: Level) -> Level:
+        """``level`` with the overrides given applied (the level itself when none is)."""
+        given = {key: value for key, value in dataclasses.asdict(self).items() if value is not None}
+        return dataclasses.replace(level, guard=dataclasses.replace(level.guard, **given)) if given else level
+
+
 def detection_options(command: F) -> F:
-    """Options that override the level's detection keys: --detect-near, --detect-far, --forget, --suspicious."""
+    """Options that override the level's detection keys: --detect-near, --detect-far, --forget, --suspicious.
+
+    The command receives them as one ``detection_overrides: DetectionOverrides`` argument to apply to the level it
+    loads (:meth:`DetectionOverrides.apply`).
+    """
     helps = {
         "suspicious": "Awareness level (0 to 1) at which a guard becomes suspicious [default: the level's, else 0.5].",
         "forget": "Seconds for a full awareness meter to drain out of view [default: the level's, else 4].",
@@ -223,16 +243,18 @@ def detection_options(command: F) -> F:
         "detect-near": "Seconds in view to be detected at distance 0 (0 and --detect-far 0: seen is caught) "
         "[default: the level's, else 0.25].",
     }
+    keys = [field.name for field in dataclasses.fields(DetectionOverrides)]
+
+    @functools.wraps(command)
+    def wrapper(*args: Any, **kwargs: Any) -> Any:
+        overrides = DetectionOverrides(**{key: kwargs.pop(key) for key in keys})
+        return command(*args, detection_overrides=overrides, **kwargs)
+
+    decorated: Any = wrapper
     for name, text in helps.items():
         upper = 1 if name == "suspicious" else None
-        command = click.option(f"--{name}", type=FiniteFloatRange(min=0, max=upper), help=text)(command)
-    return command
-
-
-def with_detection(level: Level, **overrides: float | None) -> Level:
-    """The level with the detection options given (``detect_near=...``; ``None`` keeps the level's) applied."""
-    given: dict[str, Any] = {key: value for key, value in overrides.items() if value is not None}
-    return dataclasses.replace(level, guard=dataclasses.replace(level.guard, **given)) if given else level
+        decorated = click.option(f"--{name}", type=FiniteFloatRange(min=0, max=upper), help=text)(decorated)
+    return cast(F, decorated)
 
 
 def build_scene(level: Level, los: str = "pymunk", fov: float | None = None, view_range: float | None = None) -> Scene:

@@ -5,6 +5,7 @@ from __future__ import annotations
 import click
 
 from guardsim.cli.common import (
+    DetectionOverrides,
     build_scene,
     detection_options,
     limit_options,
@@ -12,7 +13,6 @@ from guardsim.cli.common import (
     parse_point,
     reports_errors,
     vision_options,
-    with_detection,
 )
 from guardsim.cli.map_options import MapImport, map_options
 from guardsim.cli.patrol import output_folder
@@ -87,10 +87,7 @@ def sneak(
     html: bool,
     undetected: bool,
     safe: tuple[tuple[float, float], ...],
-    detect_near: float | None,
-    detect_far: float | None,
-    forget: float | None,
-    suspicious: float | None,
+    detection_overrides: DetectionOverrides,
     los: str,
     fov: float | None,
     view_range: float | None,
@@ -118,13 +115,7 @@ def sneak(
         raise GuardsimError("--gif and --html write into the --out folder: give --out DIR")
     if safe and not html:
         raise GuardsimError("--safe outlines spots on the page: give --html")
-    level = with_detection(
-        load(level_path, max_cells, max_vertices, max_file_bytes, map_import),
-        detect_near=detect_near,
-        detect_far=detect_far,
-        forget=forget,
-        suspicious=suspicious,
-    )
+    level = detection_overrides.apply(load(level_path, max_cells, max_vertices, max_file_bytes, map_import))
     from guardsim.kernels.ahead import compile_ahead
 
     compile_ahead("sneak")
