@@ -24,7 +24,7 @@ from guardsim.kernels.distances import fill_states
 from guardsim.kernels.estimate import UNREACHABLE
 from guardsim.vision.table import ViewTable
 
-__all__ = ["FAR", "SearchGraph", "build_search_graph", "goal_bits", "route_steps", "watcher_distances"]
+__all__ = ["FAR", "SearchGraph", "build_search_graph", "goal_bits", "route_steps", "watcher_csr", "watcher_distances"]
 
 #: Distance to a target the position cannot reach (the estimate's own marker).
 FAR = UNREACHABLE
@@ -171,26 +171,34 @@ def _predecessors(successors: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
 
 
 @jit
-def _watcher_distances(
-    successors: np.ndarray, views: np.ndarray, goal: int, far: int
-) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
-    positions = successors.shape[0]
-    pred_start, pred = _predecessors(successors)
-    # Watchers of each goal cell, as CSR over positions.
-    counts = np.zeros(goal + 1, dtype=np.int64)
+def watcher_csr(views: np.ndarray, goal: int) -> tuple[np.ndarray, np.ndarray]:
+    """The positions that see each goal bit, as CSR: bit ``i`` is seen from
+    ``watchers[start[i]:start[i + 1]]`` (ascending)."""
+    positions = views.shape[0]
+    start = np.zeros(goal + 1, dtype=np.int64)
     for position in range(positions):
         for bit in range(goal):
             if (views[position, bit >> 6] >> np.uint64(bit & 63)) & np.uint64(1):
-                counts[bit + 1] += 1
+                start[bit + 1] += 1
     for bit in range(goal):
-        counts[bit + 1] += counts[bit]
-    watchers = np.empty(counts[goal], dtype=np.int64)
-    fill = counts[:goal].copy()
+        start[bit + 1] += start[bit]
+    watchers = np.empty(start[goal], dtype=np.int64)
+    fill = start[:goal].copy()
     for position in range(positions):
         for bit in range(goal):
             if (views[position, bit >> 6] >> np.uint64(bit & 63)) & np.uint64(1):
                 watchers[fill[bit]] = position
                 fill[bit] += 1
+    return start, watchers
+
+
+@jit
+def _watcher_distances(
+    successors: np.ndarray, views: np.ndarray, goal: int, far: int
+) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
+    positions = successors.shape[0]
+    pred_start, pred = _predecessors(successors)
+    counts, watchers = watcher_csr(views, goal)
     distance = np.full((goal, positions), far, dtype=np.int16)
     queue = np.empty(positions, dtype=np.int64)
     for bit in range(goal):

@@ -27,7 +27,7 @@ import numpy as np
 
 from guardsim.kernels.compiler import jit
 from guardsim.kernels.distances import distance_fields
-from guardsim.search.graph import SearchGraph
+from guardsim.search.graph import SearchGraph, watcher_csr
 
 __all__ = ["IMPROVE_MAX_POSITIONS", "improve_route"]
 
@@ -39,27 +39,6 @@ _MOST_REMOVED = 10
 REPORT_EVERY = 100
 #: Temperature of the first iteration, in steps: a walk 3 steps longer is kept with probability 1/e.
 _FIRST_TEMPERATURE = 3.0
-
-
-@jit
-def _watchers(views: np.ndarray, goal: int) -> tuple[np.ndarray, np.ndarray]:
-    """CSR of the positions that see each goal bit."""
-    positions = views.shape[0]
-    start = np.zeros(goal + 1, dtype=np.int64)
-    for position in range(positions):
-        for bit in range(goal):
-            if (views[position, bit >> 6] >> np.uint64(bit & 63)) & np.uint64(1):
-                start[bit + 1] += 1
-    for bit in range(goal):
-        start[bit + 1] += start[bit]
-    fill = start[:goal].copy()
-    watchers = np.empty(start[goal], dtype=np.int64)
-    for position in range(positions):
-        for bit in range(goal):
-            if (views[position, bit >> 6] >> np.uint64(bit & 63)) & np.uint64(1):
-                watchers[fill[bit]] = position
-                fill[bit] += 1
-    return start, watchers
 
 
 @jit
@@ -307,7 +286,7 @@ def improve_route(
         raise ValueError(f"improve_route keeps all-pairs steps: at most {IMPROVE_MAX_POSITIONS} positions")
     successors, views, full = graph.successors, graph.views, graph.full
     steps = distance_fields(successors, np.arange(graph.positions, dtype=np.int64))
-    watch_start, watchers = _watchers(views, int(graph.goal_cells.size))
+    watch_start, watchers = watcher_csr(views, int(graph.goal_cells.size))
     room = int(route.size + graph.goal_cells.size + 1)
     seen = np.empty_like(full)
     work = np.empty(room, dtype=np.int64)
