@@ -381,6 +381,7 @@ def wait_for_rows(process: subprocess.Popen[str], results: Path, count: int) -> 
         time.sleep(0.01)
 
 
+@pytest.mark.slow  # 7-12 s: the README command stays under 5 minutes; CI runs the slow tier
 def test_interrupted_run_resumes(tmp_path: Path) -> None:
     """Ctrl-C mid-run (SIGINT to the whole process group, as a terminal sends it): status 130, one line,
     complete rows kept; the same command then runs only the rest."""

@@ -84,6 +84,7 @@ def _pillared_room() -> tuple[Scene, tuple[int, int]]:
     return Scene.from_level(parse_level(level), line_of_sight="bresenham"), (0, 0)
 
 
+@pytest.mark.slow  # 7-12 s: the README command stays under 5 minutes; CI runs the slow tier
 def test_a_long_search_answers_with_the_improved_walk(monkeypatch: pytest.MonkeyPatch) -> None:
     scene, start = _pillared_room()
     monkeypatch.setattr(optimum, "_weighted_walks", lambda graph, heuristic, walk, steps, *rest: (walk, steps))

@@ -178,6 +178,7 @@ _CALL = (
 )
 
 
+@pytest.mark.slow  # 7-12 s: the README command stays under 5 minutes; CI runs the slow tier
 def test_an_edited_kernel_is_compiled_again(tmp_path: Path) -> None:
     # A caller in bounds/ carries a compiled copy of the fill it calls in kernels/: editing only the
     # kernel's file must still change what the caller computes, with no cache deleted by hand.
@@ -206,6 +207,7 @@ def test_an_edited_kernel_is_compiled_again(tmp_path: Path) -> None:
     assert run() == "[2, 4, 6]"
 
 
+@pytest.mark.slow  # 7-12 s: the README command stays under 5 minutes; CI runs the slow tier
 def test_compiling_is_said_once_on_one_line(tmp_path: Path) -> None:
     env = dict(os.environ, GUARDSIM_CACHE_DIR=str(tmp_path / "cache"), GUARDSIM_COMPILE_NOTICE="0.01")
 
