@@ -26,7 +26,11 @@ CASES = 100
 SEED = 16
 
 
-@pytest.mark.parametrize("kind", IMPORTER_KINDS)
+@pytest.mark.parametrize(
+    "kind",
+    # tmx (6-7 s: XML through pytiled-parser) runs in the slow tier; tiled-json keeps the Tiled path in the fast one.
+    [pytest.param(kind, marks=[pytest.mark.slow] if kind == "tmx" else []) for kind in IMPORTER_KINDS],
+)
 def test_generated_maps_keep_the_rule(kind: str) -> None:
     failures: Counter[str] = Counter()
     examples: dict[str, str] = {}

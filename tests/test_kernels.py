@@ -254,10 +254,9 @@ print(json.dumps(unplanned))
     "command",
     [
         "play:tour",
-        "patrol",
         *(
             pytest.param(name, marks=pytest.mark.slow)
-            for name in ("sneak", "alert", "bounds", "optimum", "bench", "optimum:team", "patrol:team")
+            for name in ("patrol", "sneak", "alert", "bounds", "optimum", "bench", "optimum:team", "patrol:team")
         ),
     ],
 )
