@@ -3,7 +3,8 @@ the ``tour`` planner's exact seed).
 
 A node is a position and the set of goal cells already seen (a bit set of 64-bit words). The estimate
 is the larger of the eccentricity (the farthest unseen goal cell's nearest watcher) and the longest
-shortest order through a few spread-out unseen "pivots" (:mod:`guardsim.kernels.subsets`).
+shortest order through a few spread-out unseen "pivots" (:mod:`guardsim.kernels.subsets`), and, when
+the search has one, a pattern database's value (:mod:`guardsim.search.pattern`).
 """
 
 from __future__ import annotations
@@ -15,7 +16,7 @@ import numpy as np
 from guardsim.kernels.compiler import jit
 from guardsim.kernels.subsets import subset_path_bound
 
-__all__ = ["UNREACHABLE", "Heuristic", "eccentricity", "estimate", "estimate_work", "pick_pivots"]
+__all__ = ["UNREACHABLE", "Heuristic", "eccentricity", "estimate", "estimate_work", "pattern_value", "pick_pivots"]
 
 #: Distance to a target the position cannot reach; fits int16 with room to add a few steps.
 UNREACHABLE = 30000
@@ -33,6 +34,11 @@ class Heuristic(NamedTuple):
     """``int16 (pool, pool)``: steps between the watcher sets of two candidates, the shorter way round."""
     pivots: int
     """Most pivots per node (the work grows as ``2**pivots * pivots**2``)."""
+    pattern_bits: np.ndarray
+    """``int64 (k,)``: goal bits of a pattern database's picks (:mod:`guardsim.search.pattern`); none by default."""
+    pattern: np.ndarray
+    """``uint8 (2**k, positions)``: its table, the fewest steps to see the picks left from each position
+    and subset of picks seen (one row of zeros when there are no picks)."""
 
 
 @jit
@@ -69,6 +75,17 @@ def eccentricity(heuristic: Heuristic, position: int, seen: np.ndarray, full: np
 
 
 @jit
+def pattern_value(heuristic: Heuristic, position: int, seen: np.ndarray) -> int:
+    """The pattern database's bound at ``position`` with ``seen`` seen (0 without one)."""
+    bits = heuristic.pattern_bits
+    subset = 0
+    for index in range(bits.shape[0]):
+        if not _unseen(seen, bits[index]):
+            subset |= 1 << index
+    return int(heuristic.pattern[subset, position])
+
+
+@jit
 def estimate(
     heuristic: Heuristic,
     position: int,
@@ -87,7 +104,7 @@ def estimate(
     row = heuristic.to_watchers[position]
     pool, between = heuristic.pool, heuristic.between
     count = pick_pivots(heuristic, row, seen, kept, link, gap)
-    farthest = eccentricity(heuristic, position, seen, full)
+    farthest = max(eccentricity(heuristic, position, seen, full), pattern_value(heuristic, position, seen))
     if count == 0:
         return farthest
     # The pivots' distances from the agent, in the scratch ``gap`` (done with it).

@@ -52,6 +52,7 @@ from guardsim.search.beam import beam_route
 from guardsim.search.graph import SearchGraph, build_search_graph, route_steps
 from guardsim.search.heuristic import Heuristic, build_heuristic
 from guardsim.search.improve import IMPROVE_MAX_POSITIONS, improve_route
+from guardsim.search.pattern import build_pattern, with_pattern
 from guardsim.search.residual import residual_goal
 from guardsim.vision.rules import VisionFunction
 from guardsim.vision.table import view_table
@@ -152,6 +153,7 @@ def solve(
     weight: float = 1.0,
     seed: int = 0,
     improve: bool = True,
+    pattern: bool = True,
 ) -> OptimumResult:
     """The fewest steps after which a guard from ``(start, heading)`` has seen every cell reachable from it.
 
@@ -181,6 +183,9 @@ def solve(
     improve
         Whether a long search improves its walk at all (a caller that wants only the lower bound, as
         ``guardsim bounds``, saves the 1-12 s it takes).
+    pattern
+        Whether a long search (:data:`IMPROVE_AFTER` expansions unproved) builds a pattern database
+        (:mod:`guardsim.search.pattern`, 2-10 s) and starts again with it in its estimate.
 
     Returns
     -------
@@ -215,6 +220,9 @@ def solve(
     def tell_before(best: int, before: int, where: tuple[int, int, int]) -> None:
         tell(min(best, before), *where)
 
+    def tell_pattern(_picks: int, value: int, best: int, where: tuple[int, int, int]) -> None:
+        tell(best, max(where[0], value), *where[1:])
+
     if weight == 1.0:
         greedy, greedy_steps = _weighted_walks(
             graph, heuristic, greedy, int(greedy_steps), began, time_limit, lambda best, floor: tell(best, floor)
@@ -237,14 +245,19 @@ def solve(
     # reported, as it goes and at the end, is the largest read so far (it fell from 160 to 158 between
     # two progress lines on room-32-32-4, and the end said 162).
     floor_seen = root_bound
-    improve_at = IMPROVE_AFTER if improve and BEAM_MIN_POSITIONS <= graph.positions <= IMPROVE_MAX_POSITIONS else None
+    done_before = 0  # expansions of the search before it started again with a pattern database
+    improve_at = (
+        IMPROVE_AFTER
+        if (improve or pattern) and BEAM_MIN_POSITIONS <= graph.positions <= IMPROVE_MAX_POSITIONS
+        else None
+    )
     while counters[STATUS] != PROVED:
         if counters[STATUS] == FULL:
             stopped_by = "memory"
             break
         budget = _CHUNK
         if max_expansions is not None:
-            budget = min(budget, max_expansions - int(counters[EXPANSIONS]))
+            budget = min(budget, max_expansions - done_before - int(counters[EXPANSIONS]))
             if budget <= 0:
                 stopped_by = "expansions"
                 break
@@ -261,8 +274,24 @@ def solve(
             deadline = None if time_limit is None else began + time_limit
             best_now = int(counters[INCUMBENT]) if counters[INCUMBENT_NODE] >= 0 else int(greedy_steps)
             where = (floor_seen if weight == 1.0 else root_bound, int(counters[EXPANSIONS]), int(counters[NODES]))
-            report = functools.partial(tell_before, before=best_now, where=where)
-            greedy, greedy_steps = _improve(graph, state, greedy, int(greedy_steps), seed, deadline, report)
+            if improve:
+                report = functools.partial(tell_before, before=best_now, where=where)
+                greedy, greedy_steps = _improve(graph, state, greedy, int(greedy_steps), seed, deadline, report)
+            if pattern:
+                # A stronger estimate for the rest of the search: the nodes so far were weighed with the
+                # weaker one, so the search starts again from the start with it, the walk in hand as its
+                # incumbent (the bound read so far stays proved).
+                if counters[INCUMBENT_NODE] >= 0:
+                    greedy, greedy_steps = route_to(state, int(counters[INCUMBENT_NODE])), int(counters[INCUMBENT])
+                told = functools.partial(tell_pattern, best=int(greedy_steps), where=where)
+                heuristic = with_pattern(heuristic, *build_pattern(graph, deadline=deadline, report=told))
+                done_before += int(counters[EXPANSIONS])
+                del state
+                state = new_search_state(capacity, words, graph.positions)
+                counters = state.counters
+                start_search(state, heuristic, graph.views, graph.full, graph.start, greedy_steps + 1, float(weight))
+                root_bound = max(root_bound, int(state.estimate[0]))
+                floor_seen = max(floor_seen, root_bound)
         if progress is not None:
             best = int(counters[INCUMBENT]) if counters[INCUMBENT_NODE] >= 0 else int(greedy_steps)
             floor = best if counters[STATUS] == PROVED else min(best, floor_seen)
@@ -270,7 +299,11 @@ def solve(
                 floor = _weighted_floor(best, weight) if counters[STATUS] == PROVED else root_bound
             progress(
                 SearchProgress(
-                    int(counters[EXPANSIONS]), int(counters[NODES]), floor, best, time.perf_counter() - began
+                    done_before + int(counters[EXPANSIONS]),
+                    int(counters[NODES]),
+                    floor,
+                    best,
+                    time.perf_counter() - began,
                 )
             )
     incumbent = int(counters[INCUMBENT])
@@ -300,7 +333,7 @@ def solve(
         proved,
         max(floor, root_bound) if not proved or weight != 1.0 else incumbent,
         root_bound,
-        int(counters[EXPANSIONS]),
+        done_before + int(counters[EXPANSIONS]),
         int(counters[NODES]),
         stopped_by,
         graph.headings_matter,

@@ -26,7 +26,7 @@ from numba.extending import register_jitable
 
 from guardsim.kernels.arrays import copy_into
 from guardsim.kernels.compiler import jit
-from guardsim.kernels.estimate import Heuristic, eccentricity, estimate, estimate_work
+from guardsim.kernels.estimate import Heuristic, eccentricity, estimate, estimate_work, pattern_value
 from guardsim.kernels.frontier import drop_shadowed, frontier, frontier_work, node_hash
 from guardsim.kernels.heap import heap_pop, heap_push
 
@@ -354,7 +354,11 @@ def run_search(
                 if counters[NODES] >= capacity:
                     counters[STATUS] = FULL
                     break
-                h = 0 if complete else eccentricity(heuristic, there, seen, full)
+                h = (
+                    0
+                    if complete
+                    else max(eccentricity(heuristic, there, seen, full), pattern_value(heuristic, there, seen))
+                )
                 h = max(h, parent_h - found_steps[index])
                 if _f(steps, h, weight) >= counters[INCUMBENT]:
                     continue

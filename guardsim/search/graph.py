@@ -24,7 +24,16 @@ from guardsim.kernels.distances import fill_states
 from guardsim.kernels.estimate import UNREACHABLE
 from guardsim.vision.table import ViewTable
 
-__all__ = ["FAR", "SearchGraph", "build_search_graph", "goal_bits", "route_steps", "watcher_csr", "watcher_distances"]
+__all__ = [
+    "FAR",
+    "SearchGraph",
+    "build_search_graph",
+    "goal_bits",
+    "predecessors",
+    "route_steps",
+    "watcher_csr",
+    "watcher_distances",
+]
 
 #: Distance to a target the position cannot reach (the estimate's own marker).
 FAR = UNREACHABLE
@@ -148,7 +157,7 @@ def build_search_graph(
 
 
 @jit
-def _predecessors(successors: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
+def predecessors(successors: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
     """Reverse adjacency as CSR: the positions with a move into each position."""
     positions = successors.shape[0]
     start = np.zeros(positions + 1, dtype=np.int64)
@@ -197,7 +206,7 @@ def _watcher_distances(
     successors: np.ndarray, views: np.ndarray, goal: int, far: int
 ) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
     positions = successors.shape[0]
-    pred_start, pred = _predecessors(successors)
+    pred_start, pred = predecessors(successors)
     counts, watchers = watcher_csr(views, goal)
     distance = np.full((goal, positions), far, dtype=np.int16)
     queue = np.empty(positions, dtype=np.int64)

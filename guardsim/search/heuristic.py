@@ -53,4 +53,6 @@ def build_heuristic(graph: SearchGraph, pool: int = POOL, pivots: int = PIVOTS) 
     counts = np.diff(watch_start)
     order = np.lexsort((np.arange(counts.size), counts))[:pool].astype(np.int64)
     between = _between(to_watchers, watch_start, watchers, order)
-    return Heuristic(np.ascontiguousarray(to_watchers.T), order, between, pivots)
+    # No pattern database: no picks, and a row of zeros for the empty subset.
+    no_picks, zeros = np.zeros(0, dtype=np.int64), np.zeros((1, graph.positions), dtype=np.uint8)
+    return Heuristic(np.ascontiguousarray(to_watchers.T), order, between, pivots, no_picks, zeros)
