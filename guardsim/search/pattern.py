@@ -182,14 +182,14 @@ def _next_pick(
 def build_pattern(
     graph: SearchGraph,
     *,
-    most_entries: int = PATTERN_ENTRIES,
+    most_entries: int | None = None,
     deadline: float | None = None,
     report: Callable[[int, int], None] | None = None,
 ) -> tuple[np.ndarray, np.ndarray]:
     """Picks and their table for ``graph`` (``int64`` goal bits, ``uint8 (2**k, positions)``).
 
     Picks are added one at a time (see the module text) while the table stays within ``most_entries``
-    entries and :data:`PATTERN_MOST_PICKS`; ``report(picks, value at the start)`` is called after each.
+    entries (:data:`PATTERN_ENTRIES` by default) and :data:`PATTERN_MOST_PICKS`; ``report(picks, value at the start)`` is called after each.
     The work is counted in picks: the same graph gives the same table, unless ``deadline`` (a
     :func:`time.perf_counter` reading) passes first, which stops adding picks.
     """
@@ -200,7 +200,8 @@ def build_pattern(
     table = np.zeros((1, positions), dtype=np.uint8)
     cover = np.zeros(positions, dtype=np.int64)
     walk = np.array([graph.start], dtype=np.int64)
-    while len(bits) < PATTERN_MOST_PICKS and (2 << len(bits)) * positions <= most_entries:
+    most = PATTERN_ENTRIES if most_entries is None else most_entries
+    while len(bits) < PATTERN_MOST_PICKS and (2 << len(bits)) * positions <= most:
         if deadline is not None and time.perf_counter() > deadline:
             break
         bit = _next_pick(graph.views, successors, graph.full, walk, counts, watchers)
