@@ -290,7 +290,7 @@ def hard_rows(time_limit: float, only: str | None) -> None:
     from guardsim.search.astar import greedy_walk
     from guardsim.search.graph import build_search_graph
     from guardsim.search.improve import improve_route
-    from guardsim.search.pattern import build_pattern
+    from guardsim.search.pattern import build_patterns
     from guardsim.vision.table import view_table
 
     # Load (or compile) the kernels, the walk improvement's too: the rows are warm.
@@ -300,7 +300,7 @@ def hard_rows(time_limit: float, only: str | None) -> None:
     improve_route(
         graph, greedy_walk(graph.successors, graph.views, graph.full, graph.start)[0], 1, np.random.default_rng(0)
     )
-    build_pattern(graph, most_entries=4 * graph.positions)
+    build_patterns(graph, 2, most_entries=4 * graph.positions)
     marks = [mark for mark in BOUND_MARKS if mark < time_limit]
     print(
         "| map | start | range | MWRP-CP3 | found | proved | lower bound | gap | start bound | "

@@ -14,11 +14,12 @@ from guardsim.search import DOMINANCE_CHECKS
 from guardsim.search.astar import INCUMBENT, PROVED, STATUS, new_search_state, run_search, start_search
 from guardsim.search.graph import SearchGraph, build_search_graph
 from guardsim.search.heuristic import build_heuristic
-from guardsim.search.pattern import _cover, build_pattern, pattern_table, with_pattern
+from guardsim.search.pattern import _cover, build_pattern, build_patterns, pattern_table, with_pattern
 from guardsim.search.residual import residual_goal
 from guardsim.simulation import Scene
 from guardsim.vision.table import view_table
 from tests.common import optimum_steps, scene_from, starts
+from tests.test_improve import _pillared_room
 from tests.test_optimum_pruning import GUARDS, _random_level
 
 SHARED = Path(__file__).resolve().parents[2] / "shared" / "maps" / "movingai"
@@ -78,42 +79,65 @@ def test_the_table_is_the_brute_force_walk_through_the_picks(name: str) -> None:
     assert checked > 100
 
 
+def _start_value(graph: SearchGraph, bits: np.ndarray, tables: np.ndarray) -> int:
+    """The largest of the tables' values at the start (stacked as :func:`build_patterns` gives them)."""
+    seen = graph.views[graph.start]
+    best = 0
+    for picks, table in zip(bits.tolist(), tables, strict=True):
+        subset = sum(1 << index for index, bit in enumerate(picks) if seen[bit >> 6] >> (bit & 63) & 1)
+        best = max(best, int(table[subset, graph.start]))
+    return best
+
+
 @pytest.mark.parametrize("name", list(GUARDS), ids=list(GUARDS))
 def test_the_pattern_bound_is_at_most_the_optimum_and_the_search_still_proves_it(name: str) -> None:
     raised = 0
     for scene, start, heading, graph in _levels(name, 2032, 6):
         optimum = optimum_steps(scene, start, heading, scene.vision())
-        bits, table = build_pattern(graph)
-        assert bits.size >= 1 or optimum == 0
-        seen_at_start = graph.views[graph.start]
-        subset = sum(1 << index for index, bit in enumerate(bits.tolist()) if seen_at_start[bit >> 6] >> (bit & 63) & 1)
-        value = int(table[subset, graph.start])
+        bits, tables = build_patterns(graph, 2)
+        assert bits.shape[1] >= 1 or optimum == 0
+        value = _start_value(graph, bits, tables)
         assert value <= optimum, (start, heading)
         plain = build_heuristic(graph)
-        heuristic = with_pattern(plain, bits, table)
+        heuristic = with_pattern(plain, bits, tables)
         state = new_search_state(1 << 16, graph.full.size, graph.positions)
         start_search(state, heuristic, graph.views, graph.full, graph.start, 1 << 14)
-        # The start's estimate is the larger of the plain one and the table's.
+        # The start's estimate is the larger of the plain one and the tables'.
         before = new_search_state(16, graph.full.size, graph.positions)
         start_search(before, plain, graph.views, graph.full, graph.start, 1 << 14)
         assert state.estimate[0] == max(before.estimate[0], value) or optimum == 0
         raised += value > before.estimate[0]
         run_search(state, heuristic, graph.successors, graph.views, graph.full, 1 << 20, DOMINANCE_CHECKS, 1.0, True)
         assert state.counters[STATUS] == PROVED and state.counters[INCUMBENT] == optimum, (start, heading)
-    assert raised  # the table is more than the plain estimate somewhere, else this test checks nothing
+    assert raised  # the tables are more than the plain estimate somewhere, else this test checks nothing
 
 
 def test_the_same_graph_gives_the_same_table_and_a_budget_caps_it() -> None:
     _, _, _, graph = _levels("bresenham-360-1", 2033, 1)[0]
-    bits, table = build_pattern(graph)
-    again_bits, again_table = build_pattern(graph)
+    bits, table, walk = build_pattern(graph)
+    again_bits, again_table, again_walk = build_pattern(graph)
     assert np.array_equal(bits, again_bits) and np.array_equal(table, again_table)
-    small_bits, small_table = build_pattern(graph, most_entries=4 * graph.positions)
+    assert np.array_equal(walk, again_walk) and walk[0] == graph.start
+    small_bits, small_table, _ = build_pattern(graph, most_entries=4 * graph.positions)
     assert small_bits.size == 2 and small_table.shape == (4, graph.positions)
     assert np.array_equal(small_bits, bits[:2])  # picks are added one at a time, the first ones kept
     reports: list[tuple[int, int]] = []
     build_pattern(graph, most_entries=4 * graph.positions, report=lambda picks, value: reports.append((picks, value)))
     assert [picks for picks, _ in reports] == [1, 2] and reports[0][1] <= reports[1][1]
+
+
+def test_the_second_table_picks_against_the_first_tables_walk() -> None:
+    scene, start = _pillared_room()
+    graph = residual_goal(build_search_graph(scene.grid, view_table(scene.grid, scene.vision()), start, 0))
+    bits, tables = build_patterns(graph, 2, most_entries=8 * graph.positions)
+    first_bits, first_table, walk = build_pattern(graph, most_entries=8 * graph.positions)
+    second_bits, second_table, _ = build_pattern(graph, most_entries=8 * graph.positions, walk=walk)
+    assert bits.shape == (2, 3) and tables.shape == (2, 8, graph.positions)
+    assert np.array_equal(bits, [first_bits, second_bits]) and np.array_equal(tables, [first_table, second_table])
+    # The second table's first pick is a cell the first table's walk leaves unseen.
+    seen = np.bitwise_or.reduce(graph.views[walk], axis=0)
+    bit = int(second_bits[0])
+    assert not seen[bit >> 6] >> np.uint64(bit & 63) & np.uint64(1)
 
 
 @pytest.mark.slow  # 8 s: the table of a 819-position map
@@ -125,6 +149,6 @@ def test_on_random_32_32_20_the_table_proves_93_at_the_start() -> None:
 
     scene = build_scene(import_map(SHARED / "random-32-32-20.map").level, "bresenham", 360.0, None)
     graph = residual_goal(build_search_graph(scene.grid, view_table(scene.grid, scene.vision()), (0, 0), 0))
-    bits, table = build_pattern(graph)
+    bits, table, _ = build_pattern(graph)
     assert bits.size == 17
     assert table[_cover(graph.views, bits)[graph.start], graph.start] == 93

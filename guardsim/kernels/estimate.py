@@ -35,10 +35,11 @@ class Heuristic(NamedTuple):
     pivots: int
     """Most pivots per node (the work grows as ``2**pivots * pivots**2``)."""
     pattern_bits: np.ndarray
-    """``int64 (k,)``: goal bits of a pattern database's picks (:mod:`guardsim.search.pattern`); none by default."""
+    """``int64 (tables, k)``: goal bits of the picks of pattern databases (:mod:`guardsim.search.pattern`);
+    none by default."""
     pattern: np.ndarray
-    """``uint8 (2**k, positions)``: its table, the fewest steps to see the picks left from each position
-    and subset of picks seen (one row of zeros when there are no picks)."""
+    """``uint8 (tables, 2**k, positions)``: their tables, the fewest steps to see the picks left from each
+    position and subset of picks seen (one row of zeros when there are no picks)."""
 
 
 @jit
@@ -76,13 +77,17 @@ def eccentricity(heuristic: Heuristic, position: int, seen: np.ndarray, full: np
 
 @jit
 def pattern_value(heuristic: Heuristic, position: int, seen: np.ndarray) -> int:
-    """The pattern database's bound at ``position`` with ``seen`` seen (0 without one)."""
-    bits = heuristic.pattern_bits
-    subset = 0
-    for index in range(bits.shape[0]):
-        if not _unseen(seen, bits[index]):
-            subset |= 1 << index
-    return int(heuristic.pattern[subset, position])
+    """The pattern databases' bound at ``position`` with ``seen`` seen: the largest of their values (0
+    without one)."""
+    bits, tables = heuristic.pattern_bits, heuristic.pattern
+    best = 0
+    for table in range(bits.shape[0]):
+        subset = 0
+        for index in range(bits.shape[1]):
+            if not _unseen(seen, bits[table, index]):
+                subset |= 1 << index
+        best = max(best, int(tables[table, subset, position]))
+    return best
 
 
 @jit

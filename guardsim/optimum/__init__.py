@@ -52,7 +52,7 @@ from guardsim.search.beam import beam_route
 from guardsim.search.graph import SearchGraph, build_search_graph, route_steps
 from guardsim.search.heuristic import Heuristic, build_heuristic
 from guardsim.search.improve import IMPROVE_MAX_POSITIONS, improve_route
-from guardsim.search.pattern import build_pattern, with_pattern
+from guardsim.search.pattern import build_patterns, with_pattern
 from guardsim.search.residual import residual_goal
 from guardsim.vision.rules import VisionFunction
 from guardsim.vision.table import view_table
@@ -284,7 +284,7 @@ def solve(
                 if counters[INCUMBENT_NODE] >= 0:
                     greedy, greedy_steps = route_to(state, int(counters[INCUMBENT_NODE])), int(counters[INCUMBENT])
                 told = functools.partial(tell_pattern, best=int(greedy_steps), where=where)
-                heuristic = with_pattern(heuristic, *build_pattern(graph, deadline=deadline, report=told))
+                heuristic = with_pattern(heuristic, *build_patterns(graph, deadline=deadline, report=told))
                 done_before += int(counters[EXPANSIONS])
                 del state
                 state = new_search_state(capacity, words, graph.positions)

@@ -54,5 +54,5 @@ def build_heuristic(graph: SearchGraph, pool: int = POOL, pivots: int = PIVOTS) 
     order = np.lexsort((np.arange(counts.size), counts))[:pool].astype(np.int64)
     between = _between(to_watchers, watch_start, watchers, order)
     # No pattern database: no picks, and a row of zeros for the empty subset.
-    no_picks, zeros = np.zeros(0, dtype=np.int64), np.zeros((1, graph.positions), dtype=np.uint8)
+    no_picks, zeros = np.zeros((1, 0), dtype=np.int64), np.zeros((1, 1, graph.positions), dtype=np.uint8)
     return Heuristic(np.ascontiguousarray(to_watchers.T), order, between, pivots, no_picks, zeros)
