@@ -46,8 +46,9 @@ PATTERN_ENTRIES = 1 << 27
 PATTERN_TABLES = 2
 #: Most picks whatever the size (the subset of seen picks is an ``int64`` bit mask).
 PATTERN_MOST_PICKS = 24
-#: A table value for "no walk sees the picks left" (never met in a connected goal) and the largest
-#: real value stored; longer walks are stored as this (still a lower bound).
+#: The table's values saturate (``uint8``): 254 stands for "254 or more", 255 for "255 or more, or no
+#: walk at all" (never met in a connected goal). Both stay lower bounds, so a walk longer than 254
+#: steps (a large level) only weakens the table.
 _UNREACHED = 255
 _LONGEST = 254
 
@@ -68,7 +69,7 @@ def _cover(views: np.ndarray, bits: np.ndarray) -> np.ndarray:
 def pattern_table(successors: np.ndarray, cover: np.ndarray, picks: int) -> np.ndarray:
     """``uint8 (2**picks, positions)``: at ``[seen, position]`` the fewest steps from ``position``, the picks
     of the bit mask ``seen`` already seen, until a watcher of every pick has been visited (``cover``: the
-    picks each position sees); 254 stands for 254 or more, 255 for never.
+    picks each position sees); 254 stands for 254 or more, 255 for 255 or more, or never.
 
     The entries whose mask lacks what their position sees are never read by the search and hold values
     of no meaning.
