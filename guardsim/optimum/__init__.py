@@ -246,7 +246,8 @@ def solve(
     # two progress lines on room-32-32-4, and the end said 162).
     floor_seen = root_bound
     done_before = 0  # expansions of the search before it started again with a pattern database
-    improve_at = (
+    # When a search still unproved runs long: the walk improvement, then the pattern databases.
+    long_at = (
         IMPROVE_AFTER
         if (improve or pattern) and BEAM_MIN_POSITIONS <= graph.positions <= IMPROVE_MAX_POSITIONS
         else None
@@ -269,8 +270,8 @@ def solve(
         )
         if weight == 1.0 and counters[STATUS] != PROVED:
             floor_seen = max(floor_seen, int(counters[FLOOR]))
-        if improve_at is not None and counters[STATUS] == RUNNING and counters[EXPANSIONS] >= improve_at:
-            improve_at = None
+        if long_at is not None and counters[STATUS] == RUNNING and counters[EXPANSIONS] >= long_at:
+            long_at = None
             deadline = None if time_limit is None else began + time_limit
             best_now = int(counters[INCUMBENT]) if counters[INCUMBENT_NODE] >= 0 else int(greedy_steps)
             where = (floor_seen if weight == 1.0 else root_bound, int(counters[EXPANSIONS]), int(counters[NODES]))
@@ -297,15 +298,7 @@ def solve(
             floor = best if counters[STATUS] == PROVED else min(best, floor_seen)
             if weight != 1.0:
                 floor = _weighted_floor(best, weight) if counters[STATUS] == PROVED else root_bound
-            progress(
-                SearchProgress(
-                    done_before + int(counters[EXPANSIONS]),
-                    int(counters[NODES]),
-                    floor,
-                    best,
-                    time.perf_counter() - began,
-                )
-            )
+            tell(best, floor, done_before + int(counters[EXPANSIONS]), int(counters[NODES]))
     incumbent = int(counters[INCUMBENT])
     if int(counters[INCUMBENT_NODE]) >= 0:
         route = route_to(state, int(counters[INCUMBENT_NODE]))

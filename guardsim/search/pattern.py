@@ -24,7 +24,7 @@ from collections.abc import Callable
 import numpy as np
 
 from guardsim.kernels.compiler import jit
-from guardsim.kernels.distances import fill_distances
+from guardsim.kernels.distances import FAR, fill_distances
 from guardsim.kernels.estimate import Heuristic
 from guardsim.search.graph import SearchGraph, predecessors, watcher_csr
 
@@ -174,7 +174,7 @@ def _next_pick(
         for word in range(words):
             seen[word] |= graph_views[position, word]
     distance = np.empty(successors.shape[0], dtype=np.int32)
-    fill_distances(successors, walk, np.iinfo(np.int32).max // 2, distance)
+    fill_distances(successors, walk, FAR, distance)
     best, best_far, best_count = -1, -1, 0
     for word in range(words):
         left = full[word] & ~seen[word]
