@@ -35,6 +35,8 @@ _SOURCES = {
     "RegressionError": "guardsim.errors",
     "GuardSpec": "guardsim.level",
     "Level": "guardsim.level",
+    "Camera": "guardsim.level",
+    "Light": "guardsim.level",
     # Levels and every map format the commands accept (guardsim.level.load_level reads level files only).
     "load_level": "guardsim.importers.loading:open_level",
     "parse_level": "guardsim.level",
@@ -51,6 +53,9 @@ _SOURCES = {
     "run_episode": "guardsim.simulation",
     "Trace": "guardsim.trace",
     **dict.fromkeys(("AwarenessMeter", "DetectionModel", "GuardDetection"), "guardsim.detection"),
+    **dict.fromkeys(("light_map", "light_at"), "guardsim.detection.light"),
+    **dict.fromkeys(("visibility", "meter_gain"), "guardsim.kernels.meter"),
+    "level_watch": "guardsim.detection.watch",
     "sneak_check": "guardsim.sneak",
     **dict.fromkeys(("AlertEpisode", "AlertRules", "alert_episode", "run_alerts"), "guardsim.alert"),
     **dict.fromkeys(("ContinuousSimulation", "GuardMotion"), "guardsim.motion"),
@@ -79,6 +84,13 @@ if TYPE_CHECKING:
     from guardsim.alert import alert_episode as alert_episode
     from guardsim.alert import run_alerts as run_alerts
     from guardsim.detection import AwarenessMeter as AwarenessMeter
+    from guardsim.detection.light import light_at as light_at
+    from guardsim.detection.light import light_map as light_map
+    from guardsim.detection.watch import level_watch as level_watch
+    from guardsim.kernels.meter import meter_gain as meter_gain
+    from guardsim.kernels.meter import visibility as visibility
+    from guardsim.level import Camera as Camera
+    from guardsim.level import Light as Light
     from guardsim.detection import DetectionModel as DetectionModel
     from guardsim.detection import GuardDetection as GuardDetection
     from guardsim.errors import CheckError as CheckError
