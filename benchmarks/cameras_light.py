@@ -73,9 +73,7 @@ def sneak_figures(guards: int) -> None:
 
     def with_watch() -> object:
         watch = level_watch(watched_scene, detection.dt)
-        return sneak_check(
-            grid, setup.table, patrol, source, target, detection=detection, undetected=True, watch=watch
-        )
+        return sneak_check(grid, setup.table, patrol, source, target, detection=detection, undetected=True, watch=watch)
 
     rows = []
     for name, run in (("without", plain), ("with", with_watch)):
@@ -83,7 +81,7 @@ def sneak_figures(guards: int) -> None:
         began = time.perf_counter()
         result = run()
         rows.append((name, time.perf_counter() - began, result))
-    (_, base, first), (_, seconds, second) = rows
+    (_, base, _), (_, seconds, _) = rows
     print(f"square, {guards} guards, lap {patrol.period} ticks; camera periods "
           f"{level_watch(watched_scene, detection.dt).periods}")  # fmt: skip
     for name, spent, result in rows:
