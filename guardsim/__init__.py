@@ -84,15 +84,11 @@ if TYPE_CHECKING:
     from guardsim.alert import alert_episode as alert_episode
     from guardsim.alert import run_alerts as run_alerts
     from guardsim.detection import AwarenessMeter as AwarenessMeter
+    from guardsim.detection import DetectionModel as DetectionModel
+    from guardsim.detection import GuardDetection as GuardDetection
     from guardsim.detection.light import light_at as light_at
     from guardsim.detection.light import light_map as light_map
     from guardsim.detection.watch import level_watch as level_watch
-    from guardsim.kernels.meter import meter_gain as meter_gain
-    from guardsim.kernels.meter import visibility as visibility
-    from guardsim.level import Camera as Camera
-    from guardsim.level import Light as Light
-    from guardsim.detection import DetectionModel as DetectionModel
-    from guardsim.detection import GuardDetection as GuardDetection
     from guardsim.errors import CheckError as CheckError
     from guardsim.errors import GuardsimError as GuardsimError
     from guardsim.errors import LevelError as LevelError
@@ -103,8 +99,12 @@ if TYPE_CHECKING:
     from guardsim.errors import RegressionError as RegressionError
     from guardsim.grid import CoverageGrid as CoverageGrid
     from guardsim.importers.loading import open_level as load_level  # noqa: F401  re-exported by name
+    from guardsim.kernels.meter import meter_gain as meter_gain
+    from guardsim.kernels.meter import visibility as visibility
+    from guardsim.level import Camera as Camera
     from guardsim.level import GuardSpec as GuardSpec
     from guardsim.level import Level as Level
+    from guardsim.level import Light as Light
     from guardsim.level import parse_level as parse_level
     from guardsim.motion import ContinuousSimulation as ContinuousSimulation
     from guardsim.motion import GuardMotion as GuardMotion

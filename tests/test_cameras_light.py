@@ -419,3 +419,45 @@ def test_a_joint_lap_past_the_limit_is_one_line_and_exit_2(tmp_path: Path) -> No
     )
     assert result.exit_code == 2
     assert "over the limit of 5 (raise it with --max-lap)" in result.output
+
+
+# --- Alert: camera alarms and dark cells ---
+
+
+def test_a_camera_alarm_tells_every_guard_where_the_intruder_is() -> None:
+    """An intruder walking toward the doorway fills the camera's meter at the first lit cell in its cone
+    ((3, 0): (2, 0) is dark): the alarm event, and the guard, far off and blind to it, searches from the
+    intruder's cell of that tick."""
+    from guardsim.alert import alert_episode
+
+    scene = Scene.from_level(level_from(json.loads(DOORWAY.read_text())))
+    grid = scene.grid
+    post = Patrol(np.array([[grid.flat(12, 3) * 4 + 2]]), 1, "post")
+    route = [grid.flat(col, 0) for col in range(0, 15)]
+    episode = alert_episode(scene, post, source=route[0], route=route, max_seconds=20)
+    while not episode.done and not any(event.event == "alarm" for event in episode.events):
+        episode.step()
+    alarm = next(event for event in episode.events if event.event == "alarm")
+    assert alarm.guard == 1  # the first camera, after the one guard
+    assert episode.last_known == grid.flat(3, 0) and episode.modes == ["search"]
+    assert episode.cameras.levels() == [1.0] and episode.meters[0].level == 0.0
+
+
+def test_a_dark_cell_hides_an_intruder_a_guard_looks_at() -> None:
+    """Down the dark side passage, in the guard's cone, the guard's meter never moves; in full light it fills."""
+    from guardsim.alert import alert_episode
+
+    data = json.loads(DOORWAY.read_text())
+    outcomes = []
+    for ambient in (0.0, 1.0):
+        scene = Scene.from_level(level_from(data, ambient_light=ambient, cameras=[]))
+        grid = scene.grid
+        post = Patrol(np.array([[grid.flat(12, 3) * 4 + 2]]), 1, "post")
+        route = [grid.flat(col, 3) for col in range(0, 11)]
+        episode = alert_episode(scene, post, source=route[0], route=route, max_seconds=8)
+        peak = 0.0
+        while not episode.done:
+            episode.step()
+            peak = max(peak, episode.meters[0].level)
+        outcomes.append(peak)
+    assert outcomes[0] == 0.0 and outcomes[1] == 1.0

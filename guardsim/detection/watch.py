@@ -18,13 +18,14 @@ import numpy as np
 from guardsim.detection.cameras import CameraSight, camera_gains, camera_sight
 from guardsim.detection.exposure import PatrolGains, patrol_gains
 from guardsim.detection.light import light_values, scene_sight
-from guardsim.detection.model import GuardDetection
+from guardsim.detection.model import AwarenessMeter, DetectionModel, GuardDetection
 from guardsim.errors import LimitError
 from guardsim.grid import CoverageGrid
+from guardsim.kernels.meter import DETECTED
 from guardsim.scene import Scene
 from guardsim.vision.table import ViewTable
 
-__all__ = ["MAX_JOINT_LAP", "LevelWatch", "joint_lap", "lap_gains", "level_watch"]
+__all__ = ["MAX_JOINT_LAP", "CameraAlarms", "LevelWatch", "joint_lap", "lap_gains", "level_watch"]
 
 #: Longest joint lap (patrol lap and camera swings), in ticks, before the exact checks refuse a level.
 MAX_JOINT_LAP = 10_000
@@ -115,3 +116,54 @@ def lap_gains(
         light=light, cameras=cameras,
     )  # fmt: skip
     return gains, states
+
+
+class CameraAlarms:
+    """The cameras' own meters in game time: :meth:`look` each tick; a camera whose meter fills raises
+    the alarm.
+
+    Examples
+    --------
+    >>> from guardsim import Scene, parse_level
+    >>> scene = Scene.from_level(parse_level({"outer": [[0, 0], [6, 0], [6, 1], [0, 1]],
+    ...     "cameras": [{"position": [0, 0.5], "detect_near": 1, "detect_far": 1}]}))
+    >>> detection = GuardDetection.of_level(scene.level)
+    >>> alarms = CameraAlarms(level_watch(scene, detection.dt), detection, guards=2)
+    >>> [alarms.look(tick, scene.grid.flat(3, 0)) for tick in range(3)], alarms.levels()
+    ([[], [2], []], [1.0])
+    """
+
+    def __init__(self, watch: LevelWatch | None, detection: GuardDetection, guards: int) -> None:
+        self.watch = watch
+        self.dt = detection.dt
+        self.guards = guards
+        model = detection.model
+        self.meters = [
+            AwarenessMeter(
+                DetectionModel(sight.detect_near, sight.detect_far, model.forget, model.suspicious, dark_sight=0.0),
+                sight.view_range,
+            )
+            for sight in (() if watch is None else watch.cameras)
+        ]
+
+    def look(self, tick: int, intruder: int) -> list[int]:
+        """Update every camera's meter for the intruder in flat cell ``intruder`` (-1: not in the level) at
+        tick ``tick`` of the cameras' swings; the watchers (``guards + camera``) whose meter filled now."""
+        if self.watch is None:
+            return []
+        filled = []
+        light = 1.0 if intruder < 0 else float(self.watch.light[intruder])
+        for index, (sight, meter) in enumerate(zip(self.watch.cameras, self.meters, strict=True)):
+            before = meter.level
+            where = int(np.searchsorted(sight.cells, intruder)) if intruder >= 0 else 0
+            seen = intruder >= 0 and where < sight.cells.size and int(sight.cells[where]) == intruder
+            seen = seen and bool(sight.in_cone[tick % sight.ticks, where])
+            distance = float(sight.distances[where]) if seen else 0.0
+            meter.update(self.dt, seen, distance, light)
+            if seen and meter.level >= DETECTED > before:
+                filled.append(self.guards + index)
+        return filled
+
+    def levels(self) -> list[float]:
+        """Each camera's meter."""
+        return [meter.level for meter in self.meters]
