@@ -6,6 +6,9 @@ from __future__ import annotations
 
 import json
 import math
+import os
+import shutil
+import subprocess
 from pathlib import Path
 
 import numpy as np
@@ -18,8 +21,10 @@ from guardsim.detection.cameras import camera_ticks
 from guardsim.detection.exposure import patrol_gains
 from guardsim.detection.light import light_map
 from guardsim.detection.watch import joint_lap, lap_gains, level_watch
-from guardsim.errors import LimitError
-from guardsim.level import Camera, check_level_data
+from guardsim.errors import LevelError, LimitError
+from guardsim.importers.ldtk import import_ldtk
+from guardsim.importers.tiled import import_tiled
+from guardsim.level import Camera, Level, Light, check_level_data
 from guardsim.patrol import Patrol, patrol_setup
 from guardsim.scene import Scene
 from guardsim.sneak import sneak_check
@@ -461,3 +466,107 @@ def test_a_dark_cell_hides_an_intruder_a_guard_looks_at() -> None:
             peak = max(peak, episode.meters[0].level)
         outcomes.append(peak)
     assert outcomes[0] == 0.0 and outcomes[1] == 1.0
+
+
+# --- Importers: Tiled objects and LDtk entities ---
+
+CAMERAS_TMX = REPO / "tests" / "data" / "maps" / "tiled" / "cameras.tmx"
+TILED = shutil.which("tiled")
+
+
+def _watchers_of(level: Level) -> tuple[object, ...]:
+    return level.cameras, level.lights, level.ambient_light
+
+
+def test_tiled_camera_and_light_objects_become_level_keys() -> None:
+    """Classes camera/light in any case; heading from the rotation without a heading property; an ellipse
+    lamp's radius from its width; the map property ambient_light."""
+    imported = import_tiled(CAMERAS_TMX)
+    level = imported.level
+    assert level.cameras == (
+        Camera((1.0, 1.0), heading=45, sweep=90, turn_speed=45, pause=1),
+        Camera((9.0, 3.0), heading=180, fov_degrees=45),
+    )
+    assert level.lights == (Light((3.0, 3.0), 2.0), Light((7.0, 2.0), 3.0, 0.5))
+    assert level.ambient_light == 0.2
+    assert "2 camera(s), 2 light(s), ambient light 0.2" in " ".join(imported.changes)
+    # Cameras and lamps are never walls: the level is the room and its pillar only.
+    assert len(level.holes) == 1
+
+
+@pytest.mark.skipif(TILED is None, reason="Debian's tiled is not installed (.ci/run installs it)")
+def test_real_tiled_opens_the_map_and_its_json_imports_the_same(tmp_path: Path) -> None:
+    """Real Tiled opens the hand-written TMX and saves it as JSON; both import to the same watchers."""
+    again = tmp_path / "cameras.json"
+    runtime = tmp_path / "runtime"
+    runtime.mkdir(mode=0o700)
+    env = dict(os.environ, QT_QPA_PLATFORM="offscreen", HOME=str(tmp_path), XDG_RUNTIME_DIR=str(runtime))
+    assert TILED is not None
+    done = subprocess.run(
+        [TILED, "--export-map", "json", str(CAMERAS_TMX), str(again)], env=env, capture_output=True, text=True,
+        timeout=120,
+    )  # fmt: skip
+    assert done.returncode == 0, done.stderr
+    assert _watchers_of(import_tiled(again).level) == _watchers_of(import_tiled(CAMERAS_TMX).level)
+
+
+def test_a_tiled_camera_inside_a_wall_is_one_line_naming_it(tmp_path: Path) -> None:
+    text = CAMERAS_TMX.read_text().replace('x="144" y="48"', 'x="88" y="56"')  # inside the pillar
+    path = tmp_path / "bad.tmx"
+    path.write_text(text)
+    with pytest.raises(LevelError, match=r"cameras\[1\]\.position: \(5\.5, 3\.5\) lies inside a wall"):
+        import_tiled(path)
+
+
+def test_ldtk_camera_and_light_entities_become_level_keys(tmp_path: Path) -> None:
+    from tests.test_ldtk import project, write
+
+    data = project(cols=6, rows=4, csv=[1] * 6 + [1, 0, 0, 0, 0, 1] * 2 + [1] * 6,
+                   entities=(("Camera", 24, 24), ("Light", 72, 40)))  # fmt: skip
+    things = data["levels"][0]["layerInstances"][0]["entityInstances"]
+    things[0]["fieldInstances"] = [
+        {"__identifier": "heading", "__value": 90, "__type": "Float"},
+        {"__identifier": "sweep", "__value": 60, "__type": "Float"},
+    ]
+    things[1]["fieldInstances"] = [{"__identifier": "radius", "__value": 3, "__type": "Float"}]
+    data["levels"][0]["fieldInstances"] = [{"__identifier": "ambient_light", "__value": 0.3, "__type": "Float"}]
+    level = import_ldtk(write(tmp_path, data)).level
+    assert level.cameras == (Camera((1.5, 1.5), heading=90, sweep=60),)
+    assert level.lights == (Light((4.5, 2.5), 3.0),) and level.ambient_light == 0.3
+
+
+# --- Pictures ---
+
+
+def test_render_draws_the_swing_and_shades_the_dark_with_a_colour_bar(tmp_path: Path) -> None:
+    """Decoded: the camera's magenta is drawn, the dark floor is darker than the lamp-lit floor, the colour
+    bar runs from dark to light; a fully lit level without cameras renders as it did without the keys."""
+    import imageio.v3 as iio
+
+    from guardsim.render.palette import WATCH_COLOURS
+
+    runner = CliRunner()
+    png = tmp_path / "doorway.png"
+    result = runner.invoke(main, ["render", str(DOORWAY), "--png", str(png)])
+    assert result.exit_code == 0 and "1 camera(s), 1 light(s), light 0.00 to 0.90" in result.output
+    image = iio.imread(png)
+    assert (image[..., :3] == WATCH_COLOURS["camera"]).all(axis=-1).sum() > 100
+    plain = tmp_path / "plain.png"
+    data = json.loads(DOORWAY.read_text())
+    lit = {key: value for key, value in data.items() if key not in ("cameras", "lights", "ambient_light")}
+    runner.invoke(main, ["render", str(write_level(tmp_path, lit, "lit.json")), "--png", str(plain)])
+    bare = iio.imread(plain)
+    assert image.shape[0] > bare.shape[0]  # the colour bar
+    # The level's own cell (12, 3) is dark; the doorway's (7, 0) is lit by the lamp: both are floor.
+    scale = (bare.shape[1] - 2 * 36) // 15
+
+    def pixel(picture: np.ndarray, col: int, row: int) -> np.ndarray:
+        return picture[36 + row * scale + scale // 3, 36 + col * scale + scale // 3, :3].astype(int)
+
+    assert pixel(image, 13, 5).sum() < pixel(bare, 13, 5).sum() - 200
+    assert abs(pixel(image, 7, 0).sum() - pixel(bare, 7, 0).sum()) < 60
+    again = tmp_path / "again.png"
+    runner.invoke(
+        main, ["render", str(write_level(tmp_path, lit | {"ambient_light": 1.0}, "one.json")), "--png", str(again)]
+    )
+    assert again.read_bytes() == plain.read_bytes()
