@@ -31,7 +31,7 @@ from guardsim.sneak import sneak_check
 from guardsim.vision.table import ViewTable
 from tests.common import REPO, TINY_LEVELS, level_from, random_loop, scene_from, write_level
 
-DOORWAY = REPO / "levels" / "camera-doorway.json"
+DOORWAY = REPO / "examples" / "levels" / "camera-doorway.json"
 
 # --- The level keys ---
 
@@ -375,19 +375,7 @@ def test_sneak_with_cameras_and_light_agrees_with_brute_force(name: str) -> None
 
 def _post(tmp_path: Path) -> Path:
     """The guard of camera-doorway.json standing at the side passage's end, looking back down it."""
-    patrol = {
-        "level": "camera-doorway",
-        "cell_size": 1,
-        "origin": [0, 0],
-        "shape": [7, 15],
-        "motion": "grid",
-        "strategy": "evaluate",
-        "period": 1,
-        "guards": [{"loop": [[12, 3], [12, 3]], "headings": [2, 2]}],
-    }
-    path = tmp_path / "post.json"
-    path.write_text(json.dumps(patrol))
-    return path
+    return REPO / "examples" / "levels" / "camera-doorway-post.json"
 
 
 def test_the_dark_side_passage_gets_past_the_doorway_camera(tmp_path: Path) -> None:

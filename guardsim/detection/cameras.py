@@ -46,7 +46,7 @@ def camera_ticks(camera: Camera, dt: float, *, name: str = "camera") -> tuple[in
         return ticks, None
     turn = ticks * dt / 2 - camera.pause
     return ticks, (
-        f"{name}'s swing of {camera.period_seconds:g} s is {exact:.3g} ticks of {dt:g} s: rounded to {ticks} ticks "
+        f"{name}'s swing of {camera.period_seconds:.4g} s is {exact:.3g} ticks of {dt:g} s: rounded to {ticks} ticks "
         f"(turning at {camera.sweep / turn:.4g} degrees/s instead of {camera.turn_speed:g})"
     )
 
