@@ -412,6 +412,11 @@ def test_a_joint_lap_past_the_limit_is_one_line_and_exit_2(tmp_path: Path) -> No
     )
     assert result.exit_code == 2
     assert "over the limit of 5 (raise it with --max-lap)" in result.output
+    assert len(result.output.strip().splitlines()) == 2  # the player start's line, then the error
+    checked = CliRunner().invoke(
+        main, ["check", str(DOORWAY), "--patrol", str(post), "--safe", "9.5,0.5", "--max-lap", "5"]
+    )
+    assert checked.exit_code == 2 and "is 10 ticks, over the limit of 5" in checked.output
 
 
 # --- Alert: camera alarms and dark cells ---
@@ -558,3 +563,41 @@ def test_render_draws_the_swing_and_shades_the_dark_with_a_colour_bar(tmp_path: 
         main, ["render", str(write_level(tmp_path, lit | {"ambient_light": 1.0}, "one.json")), "--png", str(again)]
     )
     assert again.read_bytes() == plain.read_bytes()
+
+
+def test_the_sneak_gif_draws_the_cameras_their_meters_and_the_dark(tmp_path: Path) -> None:
+    """Decoded frames: the camera's magenta in every frame, the camera's meter bar filled red once it
+    detects, and the dark floor dithered (near-black pixels among the floor's)."""
+    import imageio.v3 as iio
+
+    from guardsim.render.palette import GUARD_COLOURS, palette_rgb
+
+    post = _post(tmp_path)
+    lit = tmp_path / "lit.json"
+    lit.write_text(DOORWAY.read_text().replace('"ambient_light": 0.0', '"ambient_light": 1.0'))
+    for level, out in ((DOORWAY, tmp_path / "dark"), (lit, tmp_path / "lit")):
+        result = CliRunner().invoke(
+            main,
+            [
+                "sneak",
+                str(level),
+                "--patrol",
+                str(post),
+                "--to",
+                "14.5,6.5",
+                "--undetected",
+                "--out",
+                str(out),
+                "--gif",
+            ],
+        )
+        assert result.exit_code == 0, result.output
+    dark = iio.imread(tmp_path / "dark" / "sneak.gif", index=None)[..., :3]
+    lit_frames = iio.imread(tmp_path / "lit" / "sneak.gif", index=None)[..., :3]
+    magenta = np.asarray(GUARD_COLOURS[4])
+    assert all((frame == magenta).all(axis=-1).sum() > 20 for frame in dark)
+    near_black = palette_rgb()[5]  # the outline entry the dark dithers with
+    assert (dark[5] == near_black).all(axis=-1).sum() > (lit_frames[5] == near_black).all(axis=-1).sum() + 200
+    # Caught in the doorway: the camera's bar fills with the detected red at the end.
+    red = np.asarray(GUARD_COLOURS[0])
+    assert (lit_frames[-1] == red).all(axis=-1).sum() > (lit_frames[0] == red).all(axis=-1).sum()

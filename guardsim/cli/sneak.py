@@ -180,6 +180,7 @@ def sneak(
             gif=gif,
             html=html,
             safe=safe,
+            watch=watch,
         )
         for warning in warnings:
             click.echo(f"guardsim: warning: {warning}", err=True)

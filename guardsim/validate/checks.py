@@ -31,7 +31,7 @@ from typing import Any, NamedTuple
 import numpy as np
 
 from guardsim.detection import NEVER_DETECTED, GuardDetection, time_to_detection
-from guardsim.detection.watch import LevelWatch, lap_gains, level_watch
+from guardsim.detection.watch import MAX_JOINT_LAP, LevelWatch, lap_gains, level_watch
 from guardsim.errors import CheckError
 from guardsim.files.reading import display_path, parse_json, read_text_file
 from guardsim.files.schema import check
@@ -105,6 +105,8 @@ class CheckRules:
     ``detected``/``undetected`` expectations, else its unseen path)."""
     max_slack: int | None = None
     """... and from at most this many."""
+    max_lap: int = MAX_JOINT_LAP
+    """Longest joint lap of the patrol and the level's camera swings the safe and sneak rules run over."""
 
     def validate(self) -> None:
         """Raise :class:`CheckError` when an option modifies rules that are not there (slack limits without
@@ -383,7 +385,7 @@ def _safe_results(scene: Scene, table: ViewTable, patrol: Patrol, rules: CheckRu
     cells = [_cell(scene, rule.point, rule.where, "point") for rule in rules.safe]
     detection = GuardDetection.of_level(scene.level)
     watch = _level_watch(scene)
-    gains, _ = lap_gains(scene.grid, table, patrol.states, detection, watch)
+    gains, _ = lap_gains(scene.grid, table, patrol.states, detection, watch, max_lap=rules.max_lap)
     in_view = gains.gain > 0
     lasts = time_to_detection(gains, scene.grid.traversable) if rules.undetected else None
     period = gains.gain.shape[1]
@@ -432,6 +434,7 @@ def _sneak_results(
         detection=GuardDetection.of_level(scene.level),
         undetected=rule.undetected,
         watch=_level_watch(scene),
+        max_lap=rules.max_lap,
     )
     path, grade = result.path, result.grade
     assert path is not None and grade is not None
