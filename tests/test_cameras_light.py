@@ -4,6 +4,7 @@ force over (lap tick, cell, meters) that computes sight, light and meters itself
 
 from __future__ import annotations
 
+import base64
 import json
 import math
 import os
@@ -601,3 +602,47 @@ def test_the_sneak_gif_draws_the_cameras_their_meters_and_the_dark(tmp_path: Pat
     # Caught in the doorway: the camera's bar fills with the detected red at the end.
     red = np.asarray(GUARD_COLOURS[0])
     assert (lit_frames[-1] == red).all(axis=-1).sum() > (lit_frames[0] == red).all(axis=-1).sum()
+
+
+CHROMIUM = shutil.which("chromium") or shutil.which("chromium-browser")
+
+
+@pytest.mark.skipif(CHROMIUM is None, reason="no chromium on PATH (apt-get install -y chromium, as .ci/run does)")
+def test_the_sneak_page_draws_the_cameras_cone_meter_and_the_light_in_real_chromium(tmp_path: Path) -> None:
+    """Real headless Chromium: no script error; the camera's magenta is on the canvas with the cameras
+    layer and not without; the light layer darkens the dark floor and leaves the lamp-lit doorway nearly
+    as it was; the page's data carries the camera's headings and its meters as sneak.json has them."""
+    from tests.pages import page_json
+    from tests.test_browser import cell_pixels, element, geometry, view
+
+    out = tmp_path / "out"
+    result = CliRunner().invoke(
+        main,
+        ["sneak", str(DOORWAY), "--patrol", str(_post(tmp_path)), "--to", "14.5,6.5", "--undetected",
+         "--out", str(out), "--html"],
+    )  # fmt: skip
+    assert result.exit_code == 0, result.output
+    page = out / "sneak.html"
+    data = page_json(page.read_text())
+    sneak = json.loads((out / "sneak.json").read_text())
+    scene = Scene.from_level(level_from(json.loads(DOORWAY.read_text())))
+    watch = level_watch(scene, 0.5)
+    headings = np.frombuffer(base64.b64decode(data["watch"]["cameras"][0]["headings"]), dtype="<f4")
+    assert np.allclose(headings, watch.cameras[0].headings)
+    meters = np.frombuffer(base64.b64decode(data["watch"]["meters"]), dtype="<f4")
+    assert np.allclose(meters, np.asarray(sneak["awareness"])[:, 1], atol=1e-6)
+    magenta = np.asarray(data["watch"]["camera_colour"])
+    profile = tmp_path / "profile"
+    dom, shown = view(page, "tick=4&layers=cameras,light&scale=40", profile)
+    assert element(dom, "errors") == ""
+    _, bare = view(page, "tick=4&layers=intruder&scale=40", profile)
+    left, top, scale = geometry(dom)
+
+    def on_canvas(image: np.ndarray) -> int:
+        area = image[top : top + 7 * scale, left : left + 15 * scale].astype(int)
+        return int((np.abs(area - magenta).sum(axis=-1) < 30).sum())
+
+    assert on_canvas(shown) > 100 and on_canvas(bare) == 0
+    dark_cell, lit_cell = np.array([[13, 5]]), np.array([[7, 0]])
+    assert cell_pixels(shown, dom, dark_cell).sum() < cell_pixels(bare, dom, dark_cell).sum() - 150
+    assert abs(cell_pixels(shown, dom, lit_cell).sum() - cell_pixels(bare, dom, lit_cell).sum()) < 80

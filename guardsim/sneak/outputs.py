@@ -119,7 +119,7 @@ def write_sneak_outputs(
             # The page runs in lap ticks from lap tick 0; the intruder enters at its start tick.
             lap = patrol_trace(scene, table, patrol, trace.goal.ravel(), start=0, ticks=patrol.ticks, label="sneak")
             overlays = sneak_overlays(
-                patrol, grid, result, source=source, target=target, detection=detection, safe=safe
+                patrol, grid, result, source=source, target=target, detection=detection, safe=safe, watch=watch
             )
             write_viewer(folder / "sneak.html", level, lap, overlays=overlays)
             written.append(str(folder / "sneak.html"))
