@@ -323,7 +323,7 @@ def _random_watch(level: dict[str, object], scene: Scene, rng: np.random.Generat
     return level | {"cameras": cameras, "lights": lights, "ambient_light": float(rng.choice([0.0, 0.25]))}
 
 
-@pytest.mark.parametrize("name", ["square-with-hole", "l-room"])
+@pytest.mark.parametrize("name", [pytest.param("square-with-hole", marks=pytest.mark.slow), "l-room"])
 def test_sneak_with_cameras_and_light_agrees_with_brute_force(name: str) -> None:
     """Both rules, both directions: found, fastest ticks and slack equal the brute force's; the reported
     meters replay through the rule."""
@@ -333,6 +333,7 @@ def test_sneak_with_cameras_and_light_agrees_with_brute_force(name: str) -> None
     rng = np.random.default_rng(40)
     compared = 0
     outcomes = set()
+    watched = dimmed = False
     for trial in range(4):
         scene = Scene.from_level(level_from(_random_watch(base, plain, rng)))
         setup = patrol_setup(scene)
@@ -360,6 +361,8 @@ def test_sneak_with_cameras_and_light_agrees_with_brute_force(name: str) -> None
                     continue
                 compared += 1
                 outcomes.add((undetected, result.found))
+                watched |= bool(result.gains.gain[result.gains.guards :].any())
+                dimmed |= bool(((result.gains.gain[: result.gains.guards] > 0) & (watch.light < 1)).any())
                 assert result.found == (fastest is not None), (trial, source, target, undetected)
                 assert result.slack == through
                 assert result.path is not None and result.grade is not None
@@ -369,6 +372,8 @@ def test_sneak_with_cameras_and_light_agrees_with_brute_force(name: str) -> None
                 assert np.allclose(result.grade.meters, replay, atol=1e-12)
     assert compared >= 10
     assert (True, True) in outcomes and (False, True) in outcomes
+    # The cameras saw floor and the guards looked into the dim in the cases compared.
+    assert watched and dimmed
 
 
 # --- The doorway camera and the dark side passage ---
@@ -566,6 +571,7 @@ def test_render_draws_the_swing_and_shades_the_dark_with_a_colour_bar(tmp_path: 
     assert again.read_bytes() == plain.read_bytes()
 
 
+@pytest.mark.slow
 def test_the_sneak_gif_draws_the_cameras_their_meters_and_the_dark(tmp_path: Path) -> None:
     """Decoded frames: the camera's magenta in every frame, the camera's meter bar filled red once it
     detects, and the dark floor dithered (near-black pixels among the floor's)."""
@@ -607,6 +613,7 @@ def test_the_sneak_gif_draws_the_cameras_their_meters_and_the_dark(tmp_path: Pat
 CHROMIUM = shutil.which("chromium") or shutil.which("chromium-browser")
 
 
+@pytest.mark.slow
 @pytest.mark.skipif(CHROMIUM is None, reason="no chromium on PATH (apt-get install -y chromium, as .ci/run does)")
 def test_the_sneak_page_draws_the_cameras_cone_meter_and_the_light_in_real_chromium(tmp_path: Path) -> None:
     """Real headless Chromium: no script error; the camera's magenta is on the canvas with the cameras
@@ -646,3 +653,28 @@ def test_the_sneak_page_draws_the_cameras_cone_meter_and_the_light_in_real_chrom
     dark_cell, lit_cell = np.array([[13, 5]]), np.array([[7, 0]])
     assert cell_pixels(shown, dom, dark_cell).sum() < cell_pixels(bare, dom, dark_cell).sum() - 150
     assert abs(cell_pixels(shown, dom, lit_cell).sum() - cell_pixels(bare, dom, lit_cell).sum()) < 80
+
+
+def test_a_dark_corner_in_a_guards_view_is_a_hiding_spot() -> None:
+    """Time to detection and exposure count the light: the side passage in front of the guard is never
+    detected and unexposed in the dark, detected in a few ticks in full light."""
+    data = json.loads(DOORWAY.read_text())
+    found = []
+    for ambient in (0.0, 1.0):
+        scene = Scene.from_level(level_from(data, ambient_light=ambient))
+        grid = scene.grid
+        table = patrol_setup(scene).table
+        post = Patrol(np.array([[grid.flat(12, 3) * 4 + 2]]), 1, "post")
+        detection = GuardDetection.of_level(scene.level)
+        result = sneak_check(
+            grid, table, post, grid.flat(0, 3), grid.flat(14, 6), detection=detection, undetected=True,
+            watch=level_watch(scene, detection.dt),
+        )  # fmt: skip
+        cell = grid.flat(8, 3)
+        found.append((int(result.time_to_detection[cell]), float(result.exposure[cell])))
+        if ambient == 0.0:
+            # The safest places to wait: never detected, however long the player stays.
+            assert result.hiding_spots and all(spot.lasts is None for spot in result.hiding_spots)
+    (dark_lasts, dark_exposure), (lit_lasts, lit_exposure) = found
+    assert dark_lasts == -1 and dark_exposure == 0.0
+    assert lit_lasts > 0 and lit_exposure == 1.0
