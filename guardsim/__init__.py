@@ -35,6 +35,8 @@ _SOURCES = {
     "RegressionError": "guardsim.errors",
     "GuardSpec": "guardsim.level",
     "Level": "guardsim.level",
+    "Camera": "guardsim.level",
+    "Light": "guardsim.level",
     # Levels and every map format the commands accept (guardsim.level.load_level reads level files only).
     "load_level": "guardsim.importers.loading:open_level",
     "parse_level": "guardsim.level",
@@ -51,6 +53,9 @@ _SOURCES = {
     "run_episode": "guardsim.simulation",
     "Trace": "guardsim.trace",
     **dict.fromkeys(("AwarenessMeter", "DetectionModel", "GuardDetection"), "guardsim.detection"),
+    **dict.fromkeys(("light_map", "light_at"), "guardsim.detection.light"),
+    **dict.fromkeys(("visibility", "meter_gain"), "guardsim.kernels.meter"),
+    "level_watch": "guardsim.detection.watch",
     "sneak_check": "guardsim.sneak",
     **dict.fromkeys(("AlertEpisode", "AlertRules", "alert_episode", "run_alerts"), "guardsim.alert"),
     **dict.fromkeys(("ContinuousSimulation", "GuardMotion"), "guardsim.motion"),
@@ -81,6 +86,9 @@ if TYPE_CHECKING:
     from guardsim.detection import AwarenessMeter as AwarenessMeter
     from guardsim.detection import DetectionModel as DetectionModel
     from guardsim.detection import GuardDetection as GuardDetection
+    from guardsim.detection.light import light_at as light_at
+    from guardsim.detection.light import light_map as light_map
+    from guardsim.detection.watch import level_watch as level_watch
     from guardsim.errors import CheckError as CheckError
     from guardsim.errors import GuardsimError as GuardsimError
     from guardsim.errors import LevelError as LevelError
@@ -91,8 +99,12 @@ if TYPE_CHECKING:
     from guardsim.errors import RegressionError as RegressionError
     from guardsim.grid import CoverageGrid as CoverageGrid
     from guardsim.importers.loading import open_level as load_level  # noqa: F401  re-exported by name
+    from guardsim.kernels.meter import meter_gain as meter_gain
+    from guardsim.kernels.meter import visibility as visibility
+    from guardsim.level import Camera as Camera
     from guardsim.level import GuardSpec as GuardSpec
     from guardsim.level import Level as Level
+    from guardsim.level import Light as Light
     from guardsim.level import parse_level as parse_level
     from guardsim.motion import ContinuousSimulation as ContinuousSimulation
     from guardsim.motion import GuardMotion as GuardMotion

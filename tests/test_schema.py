@@ -185,7 +185,11 @@ def test_every_known_key_is_in_the_schema() -> None:
             "capture_radius": 1.5,
             "search_seconds": 20,
             "radio_delay": 1,
+            "dark_sight": 1.5,
         },
+        cameras=[{"position": [0.5, 0.5], "heading": 90, "sweep": 45}],
+        ambient_light=0.5,
+        lights=[{"position": [0.5, 0.5], "radius": 3}],
     )
     assert set(schema["properties"]) == set(full)
     assert set(schema["properties"]["guard"]["properties"]) == set(full["guard"])

@@ -29,6 +29,7 @@ from guardsim.alert.model import AlertEvent, AlertOutcome, AlertRules
 from guardsim.alert.movement import ContinuousMovement, GridMovement, Movement
 from guardsim.alert.search import Contamination, make_search
 from guardsim.detection import AwarenessMeter, GuardDetection
+from guardsim.detection.watch import CameraAlarms, LevelWatch
 from guardsim.grid import CoverageGrid
 from guardsim.kernels.distances import distances_from
 from guardsim.kernels.steps import cell_of_state, greedy_step, heading_of_state
@@ -64,6 +65,7 @@ class AlertEpisode:
         max_ticks: int = 600,
         spotted: bool = False,
         movement: Movement | None = None,
+        watch: LevelWatch | None = None,
     ) -> None:
         if patrol.period is None:
             raise ValueError("an alert episode needs a repeating patrol (its period is null)")
@@ -76,6 +78,9 @@ class AlertEpisode:
         self.contamination = Contamination(self.neighbours)
         guards = patrol.guards
         self.movement: Movement = movement if movement is not None else GridMovement(grid, table, detection, guards)
+        self.cameras = CameraAlarms(watch, detection, guards)
+        if watch is not None and watch.dark and isinstance(self.movement, GridMovement | ContinuousMovement):
+            self.movement.light = watch.light
         self.tick = 0
         self._clock = [0] * guards
         """Per guard: its route clock (see the module)."""
@@ -255,6 +260,13 @@ class AlertEpisode:
         self.in_sight = list(look.seen)
         self.seen_now = look.cells
         chasing_before = "chase" in self.modes
+        alarms = self.cameras.look(self.phase + tick, intruder)
+        for camera in alarms:
+            # The alarm tells every guard where the intruder is now, as a guard's detection tells its team.
+            self.events.append(AlertEvent(tick, camera, "alarm"))
+            self.last_known = intruder
+            self._stats["detected"] = tick if self._stats["detected"] is None else self._stats["detected"]
+            self._radio_at = tick
         for guard, mode in enumerate(self.modes):
             meter, seen = self.meters[guard], self.in_sight[guard]
             if look.spotted[guard]:
@@ -291,7 +303,7 @@ class AlertEpisode:
                     self._left_route = True
                     self.events.append(AlertEvent(tick, guard, "joined"))
         if self.last_known >= 0:
-            if any(self.in_sight[g] and self.modes[g] == "chase" for g in range(len(self.modes))):
+            if alarms or any(self.in_sight[g] and self.modes[g] == "chase" for g in range(len(self.modes))):
                 self.contamination.seed(self.last_known)  # in sight: exactly where it is
                 self.search.start(self.last_known)
             else:

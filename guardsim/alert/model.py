@@ -29,7 +29,7 @@ __all__ = ["EVENTS", "GUARD_STATES", "INTRUDERS", "OUTCOMES", "AlertEvent", "Ale
 GUARD_STATES = ("patrol", "suspicious", "investigate", "chase", "search", "return")
 
 #: What the ``events`` list of an alert trace records.
-EVENTS = ("noticed", "detected", "lost", "joined", "captured", "gave_up", "back_on_route", "arrived")
+EVENTS = ("noticed", "detected", "lost", "joined", "captured", "gave_up", "back_on_route", "arrived", "alarm")
 
 #: The intruder kinds, by the name ``guardsim alert --intruder`` takes.
 INTRUDERS = ("route", "sneak", "evader", "still")
@@ -88,7 +88,8 @@ class AlertRules:
 
 
 class AlertEvent(NamedTuple):
-    """Something that happened at a tick: ``guard`` is -1 for the intruder's own events."""
+    """Something that happened at a tick: ``guard`` is -1 for the intruder's own events; a camera's
+    ``alarm`` names it after the guards (``guards + camera``)."""
 
     tick: int
     guard: int

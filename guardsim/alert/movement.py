@@ -89,6 +89,8 @@ class GridMovement:
         self.grid, self.table, self.detection = grid, table, detection
         self.cells = [0] * guards
         self.headings = [0] * guards
+        self.light: np.ndarray | None = None
+        """Each cell's light (``None``: full light everywhere); a dark cell hides the intruder."""
 
     def ready(self, guard: int) -> bool:
         return True
@@ -102,8 +104,11 @@ class GridMovement:
             sight = self.table.sees(state_of(self.cells[guard], self.headings[guard]))
             sights.append(sight)
             seen = intruder >= 0 and _contains(sight, intruder)
+            distance = self.distance(guard, intruder) if seen else 0.0
+            lit = _light_of(self.light, intruder)
+            seen = seen and meter.model.gain(self.detection.dt, distance, meter.view_range, lit) > 0
             seen_by.append(seen)
-            meter.update(self.detection.dt, seen, self.distance(guard, intruder) if seen else 0.0)
+            meter.update(self.detection.dt, seen, distance, lit)
         cells = np.concatenate(sights) if sights else np.zeros(0, dtype=np.int32)
         spotted = [seen and meter.level >= DETECTED for seen, meter in zip(seen_by, meters, strict=True)]
         return Look(seen_by, spotted, cells)
@@ -137,6 +142,8 @@ class ContinuousMovement:
         self.scene, self.grid, self.motion = scene, scene.grid, motion
         self.dt = float(dt)
         """Seconds per grid tick."""
+        self.light: np.ndarray | None = None
+        """Each cell's light (``None``: full light everywhere); a dark cell hides the intruder."""
         world = scene.world
         self._vision = PoseVision(
             world, scene.grid, scene.cone, scene.vision_cache.fill_arrays.walls, rule=scene.line_of_sight
@@ -252,7 +259,10 @@ class ContinuousMovement:
                 sight = self._vision(*follower.position, follower.heading)
                 sights.append(sight)
                 seen = intruder >= 0 and _contains(sight, intruder)
-                meter.update(self.motion.dt, seen, self.distance(guard, intruder) if seen else 0.0)
+                distance = self.distance(guard, intruder) if seen else 0.0
+                lit = _light_of(self.light, intruder)
+                seen = seen and meter.model.gain(self.motion.dt, distance, meter.view_range, lit) > 0
+                meter.update(self.motion.dt, seen, distance, lit)
                 self.peaks[guard] = max(self.peaks[guard], meter.level)
                 seen_by[guard] = seen_by[guard] or seen
                 spotted[guard] = spotted[guard] or (seen and meter.level >= DETECTED)
@@ -338,3 +348,9 @@ def _angle_between(a: float, b: float) -> float:
 def _contains(sorted_cells: np.ndarray, cell: int) -> bool:
     index = int(np.searchsorted(sorted_cells, cell))
     return index < sorted_cells.size and int(sorted_cells[index]) == cell
+
+
+def _light_of(light: np.ndarray | None, cell: int) -> float:
+    """The light of the intruder's cell (1 without a light map or without an intruder): a dark cell hides
+    it from a guard looking at it from beyond its dark sight."""
+    return 1.0 if light is None or cell < 0 else float(light[cell])

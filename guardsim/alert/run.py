@@ -13,6 +13,7 @@ from guardsim.alert.intruders import make_intruder
 from guardsim.alert.model import AlertOutcome, AlertRules
 from guardsim.alert.movement import ContinuousMovement, make_movement
 from guardsim.detection import GuardDetection
+from guardsim.detection.watch import level_watch
 from guardsim.grid import CoverageGrid
 from guardsim.kernels.distances import FAR, distances_from
 from guardsim.motion.parameters import GuardMotion
@@ -100,6 +101,8 @@ def alert_episode(
     )
     max_ticks = max(1, int(max_seconds / rules.dt + 1e-9))
     movement = make_movement(motion, scene, table, detection, dt=rules.dt, guards=patrol.guards)
+    level = scene.level
+    watch = level_watch(scene, detection.dt) if level.cameras or not level.lit else None
     return AlertEpisode(
         grid,
         table,
@@ -112,6 +115,7 @@ def alert_episode(
         max_ticks=max_ticks,
         spotted=spotted,
         movement=movement,
+        watch=watch,
     )
 
 

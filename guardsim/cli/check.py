@@ -110,6 +110,11 @@ def _each_point(_ctx: click.Context, param: click.Parameter, values: tuple[str, 
 @click.option(
     "--checks", "checks_path", type=str, help="Read the rules from a checks file (TOML or JSON); options add to it."
 )
+@click.option(
+    "--max-lap",
+    type=click.IntRange(min=1),
+    help="Longest joint lap of the patrol and the level's camera swings, in ticks [default: 10000].",
+)
 @click.option("--seed", type=click.IntRange(min=0), default=0, show_default=True)
 @detection_options
 @vision_options
@@ -132,6 +137,7 @@ def check(
     min_slack: int | None,
     max_slack: int | None,
     checks_path: str | None,
+    max_lap: int | None,
     seed: int,
     detection_overrides: DetectionOverrides,
     los: str,
@@ -176,6 +182,8 @@ def check(
         changes["min_slack"] = min_slack
     if max_slack is not None:
         changes["max_slack"] = max_slack
+    if max_lap is not None:
+        changes["max_lap"] = max_lap
     rules = dataclasses.replace(rules, **changes)  # type: ignore[arg-type]
     rules.validate()
     if rules.count == 0:

@@ -96,13 +96,30 @@ def render(
             image, level, scene.grid.shape, seen.reshape(scene.grid.shape), eye, heading, size=size
         )
         cone_note = f", a guard at ({eye_x:g}, {eye_y:g}) facing {heading_name} sees {int(seen.sum())} cells"
+    light = None
+    if level.cameras or not level.lit:
+        from guardsim.detection.light import light_map
+        from guardsim.render.watchers import draw_watch_overlay
+
+        light = None if level.lit else light_map(scene)
+        # Only floor is shaded: a wall is no darker for the dark.
+        floor_light = None if light is None else np.where(scene.grid.traversable, light, 1.0)
+        image = draw_watch_overlay(image, level, scene.grid.shape, floor_light, size=size)
+        floor = light[scene.grid.traversable] if light is not None else None
+        lit = "" if floor is None or not floor.size else f", light {floor.min():.2f} to {floor.max():.2f}"
+        cone_note += f", {len(level.cameras)} camera(s), {len(level.lights)} light(s){lit}"
     image = with_legend(
         image,
         unreachable=bool((scene.grid.traversable & ~reachable).any()),
         tight=bool(tight_cells(level, scene.grid.traversable, scene.grid.origin).any()),
         start=cell is not None or cone is not None,
         cone=cone is not None,
+        cameras=bool(level.cameras),
     )
+    if light is not None:
+        from guardsim.render.watchers import light_bar
+
+        image = np.concatenate([image, light_bar(image.shape[1])])
     with atomic_path(png_path) as temporary:
         iio.imwrite(temporary, image, extension=".png")
     traversable = int(scene.grid.traversable.sum())

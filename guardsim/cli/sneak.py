@@ -71,6 +71,12 @@ def sneak_cell(scene_grid: CoverageGrid, point: tuple[float, float], option: str
     metavar="X,Y",
     help="A safe spot to outline on DIR/sneak.html (as check --safe gives them); repeatable.",
 )
+@click.option(
+    "--max-lap",
+    type=click.IntRange(min=1),
+    default=None,
+    help="Longest joint lap of the patrol and the level's camera swings, in ticks [default: 10000].",
+)
 @detection_options
 @vision_options
 @map_options
@@ -87,6 +93,7 @@ def sneak(
     html: bool,
     undetected: bool,
     safe: tuple[tuple[float, float], ...],
+    max_lap: int | None,
     detection_overrides: DetectionOverrides,
     los: str,
     fov: float | None,
@@ -107,6 +114,7 @@ def sneak(
     player entering gets through.
     """
     from guardsim.detection import GuardDetection
+    from guardsim.detection.watch import MAX_JOINT_LAP, level_watch
     from guardsim.patrol import read_patrol
     from guardsim.sneak import sneak_check, sneak_data
     from guardsim.vision.table import view_table
@@ -142,7 +150,15 @@ def sneak(
         sneak_cell(grid, point, "--safe")
     table = view_table(grid, scene.vision())
     detection = GuardDetection.of_level(scene.level)
-    result = sneak_check(grid, table, patrol, start, goal, detection=detection, undetected=undetected)
+    watch = level_watch(scene, detection.dt) if level.cameras or not level.lit else None
+    for note in () if watch is None else watch.notes:
+        click.echo(f"guardsim: warning: {note}", err=True)
+    result = sneak_check(
+        grid, table, patrol, start, goal, detection=detection, undetected=undetected, watch=watch,
+        max_lap=MAX_JOINT_LAP if max_lap is None else max_lap,
+    )  # fmt: skip
+    if result.lap is not None:
+        patrol = result.lap
     path = result.path
     assert path is not None
     data = sneak_data(result, grid, level=level.name, patrol=patrol_path, **{"from": list(source), "to": list(target)})
@@ -164,6 +180,7 @@ def sneak(
             gif=gif,
             html=html,
             safe=safe,
+            watch=watch,
         )
         for warning in warnings:
             click.echo(f"guardsim: warning: {warning}", err=True)
@@ -176,7 +193,11 @@ def sneak(
         )
     grade = result.grade
     assert grade is not None
-    peak = ", ".join(f"{value:.2f}" for value in grade.peak_by_guard)
+    peaks = grade.peak_by_guard
+    guards = len(peaks) - result.gains.cameras
+    peak = ", ".join(f"{value:.2f}" for value in peaks[:guards])
+    if result.gains.cameras:
+        peak += "; by camera: " + ", ".join(f"{value:.2f}" for value in peaks[guards:])
     graded = (
         f"detected: {'yes, at tick ' + str(grade.detected_at) if grade.detected else 'no'}; "
         f"peak awareness {grade.peak:.2f} (by guard: {peak}); risk {grade.risk:.2f}; "

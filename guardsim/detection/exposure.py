@@ -1,8 +1,10 @@
 """A repeating patrol seen through the detection model: meter gains per tick, exposure, time to detection.
 
-The gains are the model applied once to every (guard, lap tick, cell): how much a tick spent in the cell
-adds to the guard's meter (0 where the guard does not see it). The graded sneak search, the
-time-to-detection map and the replay of a path all read them, so the model's numbers enter one place.
+The gains are the model applied once to every (watcher, lap tick, cell): how much a tick spent in the
+cell adds to the watcher's meter (0 where the watcher does not see it, or the cell is too dark to see the
+intruder in). The watchers are the patrol's guards, then the level's cameras (:mod:`guardsim.detection.watch`),
+over the joint lap of the patrol and the cameras' swings. The graded sneak search, the time-to-detection
+map and the replay of a path all read them, so the model's numbers enter one place.
 """
 
 from __future__ import annotations
@@ -15,7 +17,7 @@ from guardsim.detection.model import DetectionModel
 from guardsim.grid import CoverageGrid
 from guardsim.kernels.arrays import copy_into
 from guardsim.kernels.compiler import jit
-from guardsim.kernels.meter import DETECTED, meter_after
+from guardsim.kernels.meter import DETECTED, meter_after, meter_gain, visibility
 from guardsim.kernels.steps import cell_of_state
 from guardsim.vision.table import ViewTable
 
@@ -37,11 +39,19 @@ class PatrolGains(NamedTuple):
     """``int64 (guards, period)``: each guard's flat cell at each lap tick."""
     dt: float
     """Seconds per tick."""
+    cameras: int = 0
+    """How many of the watchers (the last rows of :attr:`gain`) are cameras; the guards come first."""
 
     @property
     def seen(self) -> np.ndarray:
-        """``bool (period, cells)``: whether any guard sees each cell at each tick."""
+        """``bool (period, cells)``: whether any watcher sees the intruder in each cell at each tick (in
+        its sight, and lit enough or within its dark sight)."""
         return np.asarray((self.gain > 0).any(axis=0))
+
+    @property
+    def guards(self) -> int:
+        """How many of the watchers are guards."""
+        return int(self.gain.shape[0]) - self.cameras
 
 
 @jit
@@ -55,6 +65,8 @@ def _fill_gains(
     far: float,
     view_range: float,
     dt: float,
+    dark_sight: float,
+    light: np.ndarray,
     out: np.ndarray,
 ) -> None:
     for guard in range(states.shape[0]):
@@ -65,30 +77,46 @@ def _fill_gains(
             for index in range(sight_start[state], sight_start[state + 1]):
                 cell = sight[index]
                 distance = cell_size * np.hypot(cell // cols - own_row, cell % cols - own_col)
-                share = min(distance / view_range, 1.0) if view_range > 0 else 1.0
-                seconds = near + (far - near) * share
-                out[guard, tick, cell] = dt / seconds if seconds > 0 else np.inf
+                seen = visibility(distance, dark_sight, light[cell])
+                out[guard, tick, cell] = meter_gain(dt, distance, view_range, near, far, seen)
 
 
 def patrol_gains(
-    grid: CoverageGrid, table: ViewTable, states: np.ndarray, model: DetectionModel, *, view_range: float, dt: float
+    grid: CoverageGrid,
+    table: ViewTable,
+    states: np.ndarray,
+    model: DetectionModel,
+    *,
+    view_range: float,
+    dt: float,
+    light: np.ndarray | None = None,
+    cameras: np.ndarray | None = None,
 ) -> PatrolGains:
     """The gains of a lap of ``states`` (``int64 (guards, period)``, a patrol's states).
 
     ``view_range`` is the guards' view range in world units (the distance at which ``detect_far``
-    applies) and ``dt`` the seconds per tick (:func:`~guardsim.detection.grid_tick_seconds`).
+    applies) and ``dt`` the seconds per tick (:func:`~guardsim.detection.grid_tick_seconds`). ``light``
+    (``float64 (cells,)``, default all 1) is each cell's light, ``cameras`` (``float64 (cameras, period,
+    cells)``) the cameras' own gains over the same lap, appended after the guards'
+    (:func:`guardsim.detection.watch.lap_gains` builds both for a level).
     """
     states = np.ascontiguousarray(states, dtype=np.int64)
-    gain = np.zeros((states.shape[0], states.shape[1], grid.size), dtype=np.float64)
+    extra = 0 if cameras is None else cameras.shape[0]
+    gain = np.zeros((states.shape[0] + extra, states.shape[1], grid.size), dtype=np.float64)
+    lit = np.ones(grid.size, dtype=np.float64) if light is None else np.ascontiguousarray(light, dtype=np.float64)
     _fill_gains(
         table.sight_start, table.sight, states, grid.shape[1], float(grid.cell_size),
-        float(model.detect_near), float(model.detect_far), float(view_range), float(dt), gain,
+        float(model.detect_near), float(model.detect_far), float(view_range), float(dt),
+        float(model.dark_sight), lit, gain,
     )  # fmt: skip
-    return PatrolGains(gain, model.fall(dt), cell_of_state(states), float(dt))
+    if cameras is not None:
+        gain[states.shape[0] :] = cameras
+    return PatrolGains(gain, model.fall(dt), cell_of_state(states), float(dt), extra)
 
 
 def exposure_map(gains: PatrolGains) -> np.ndarray:
-    """``float64 (cells,)``: the fraction of the lap each cell is in some guard's view."""
+    """``float64 (cells,)``: the fraction of the lap each cell is in some watcher's view (lit enough to
+    see the intruder in)."""
     return gains.seen.mean(axis=0)
 
 

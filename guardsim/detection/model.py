@@ -13,7 +13,7 @@ import math
 from dataclasses import dataclass
 from typing import Literal, NamedTuple
 
-from guardsim.kernels.meter import DETECTED, meter_after
+from guardsim.kernels.meter import DETECTED, meter_after, meter_gain, visibility
 from guardsim.level.model import GuardSpec, Level
 
 __all__ = [
@@ -55,9 +55,11 @@ class DetectionModel:
     """Seconds for a full meter to drain to 0 out of sight."""
     suspicious: float = 0.5
     """The level at which the guard becomes suspicious."""
+    dark_sight: float = 1.0
+    """World units within which the intruder is seen as in full light (0 for a camera: no dark sight)."""
 
     def __post_init__(self) -> None:
-        for name in ("detect_near", "detect_far", "forget", "suspicious"):
+        for name in ("detect_near", "detect_far", "forget", "suspicious", "dark_sight"):
             value = getattr(self, name)
             if not (isinstance(value, (int, float)) and math.isfinite(value) and value >= 0):
                 raise ValueError(f"detection: {name} must be a finite number >= 0, not {value!r}")
@@ -67,7 +69,7 @@ class DetectionModel:
     @classmethod
     def of_guard(cls, guard: GuardSpec) -> DetectionModel:
         """The model of a level's guard keys."""
-        return cls(guard.detect_near, guard.detect_far, guard.forget, guard.suspicious)
+        return cls(guard.detect_near, guard.detect_far, guard.forget, guard.suspicious, guard.dark_sight)
 
     @property
     def instant(self) -> bool:
@@ -79,10 +81,11 @@ class DetectionModel:
         share = min(max(distance / view_range, 0.0), 1.0) if view_range > 0 else 1.0
         return self.detect_near + (self.detect_far - self.detect_near) * share
 
-    def gain(self, dt: float, distance: float, view_range: float) -> float:
-        """How much a tick of ``dt`` seconds in sight at ``distance`` adds to the meter (``inf``: all of it)."""
-        seconds = self.seconds_to_detect(distance, view_range)
-        return dt / seconds if seconds > 0 else math.inf
+    def gain(self, dt: float, distance: float, view_range: float, light: float = 1.0) -> float:
+        """How much a tick of ``dt`` seconds in sight at ``distance`` adds to the meter (``inf``: all of it),
+        the intruder's cell lit at ``light`` (0 beyond :attr:`dark_sight`: nothing, as out of sight)."""
+        seen = visibility(distance, self.dark_sight, light)
+        return meter_gain(dt, distance, view_range, self.detect_near, self.detect_far, seen)
 
     def fall(self, dt: float) -> float:
         """How much a tick of ``dt`` seconds out of sight takes off the meter."""
@@ -119,9 +122,15 @@ class AwarenessMeter:
         self.level = self.peak = 0.0
         self.detected = False
 
-    def update(self, dt: float, in_sight: bool, distance: float = 0.0) -> float:
-        """Advance ``dt`` seconds with the intruder in sight at ``distance`` or not; returns the level."""
-        gain = self.model.gain(dt, distance, self.view_range) if in_sight else 0.0
+    def update(self, dt: float, in_sight: bool, distance: float = 0.0, light: float = 1.0) -> float:
+        """Advance ``dt`` seconds with the intruder in sight at ``distance`` or not, its cell lit at
+        ``light``; returns the level. In the dark beyond the watcher's dark sight it counts as out of sight.
+
+        >>> meter = AwarenessMeter(DetectionModel(), view_range=8.0)
+        >>> meter.update(0.5, True, 4.0, light=0.0), round(meter.update(0.5, True, 4.0, light=0.5), 4)
+        (0.0, 0.2857)
+        """
+        gain = self.model.gain(dt, distance, self.view_range, light) if in_sight else 0.0
         self.level = meter_after(self.level, gain, self.model.fall(dt))
         self.peak = max(self.peak, self.level)
         self.detected = self.detected or self.level >= DETECTED

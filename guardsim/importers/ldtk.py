@@ -46,6 +46,7 @@ from guardsim.importers.tiled_marks import PLAYER_WORDS, SPAWN_WORDS, words
 from guardsim.importers.tiled_marks import WALL_WORDS as TILED_WALL_WORDS
 from guardsim.importers.tiled_spawns import keep_spawn_areas, usable_starts
 from guardsim.importers.walls import blocked_cell_walls
+from guardsim.importers.watchers import ldtk_watchers, with_watchers
 from guardsim.level import DEFAULT_MAX_CELLS, DEFAULT_MAX_FILE_BYTES, DEFAULT_MAX_VERTICES, level_to_data, parse_level
 
 __all__ = ["GUARD_WORDS", "WALL_WORDS", "import_ldtk", "is_ldtk_file", "is_ldtk_json"]
@@ -159,6 +160,10 @@ def import_ldtk(
         if standing:
             data["player_starts"] = [list(point) for point in standing]
         built = parse_level(data, source=source, max_cells=max_cells, max_vertices=max_vertices)
+    built, watchers = with_watchers(
+        built, ldtk_watchers(ldtk, unit), source=source, max_cells=max_cells, max_vertices=max_vertices
+    )
+    changes += [watchers] if watchers else []
     built = with_tile_pixels(built, unit, unit)
     size = (math.ceil(width), math.ceil(height))
     return ImportedLevel(

@@ -77,6 +77,8 @@ class Entity:
     identifier: str
     tags: tuple[str, ...]
     centre: tuple[float, float]
+    fields: tuple[tuple[str, Any], ...] = ()
+    """Its field instances as ``(identifier, value)`` (cameras' and lamps' keys)."""
 
 
 @dataclass(frozen=True)
@@ -110,6 +112,8 @@ class LdtkLevel:
     others: tuple[str, ...]
     """The identifiers of the project's other levels."""
     notes: tuple[str, ...]
+    fields: tuple[tuple[str, Any], ...] = ()
+    """The level's field instances as ``(identifier, value)`` (``ambient_light``)."""
 
 
 class _Fields:
@@ -217,7 +221,10 @@ def read_ldtk(
         else:
             notes.append(f"ignored layer {layer.identifier!r} of unknown type {excerpt(layer.kind)}")
     others = tuple(name for index, name in enumerate(names) if index != chosen)
-    return LdtkLevel(names[chosen], width, height, tuple(layers), definitions, default_grid, others, tuple(notes))
+    return LdtkLevel(
+        names[chosen], width, height, tuple(layers), definitions, default_grid, others, tuple(notes),
+        _field_values(item.get("fieldInstances")),
+    )  # fmt: skip
 
 
 def _levels(fields: _Fields, root: dict[str, Any]) -> list[tuple[str, dict[str, Any]]]:
@@ -349,4 +356,20 @@ def _entity(fields: _Fields, item: dict[str, Any], where: str, offset: tuple[flo
     width = fields.number(item.get("width", 0), f"{where}.width")
     height = fields.number(item.get("height", 0), f"{where}.height")
     centre = (x + offset[0] + (0.5 - pivot_x) * width, y + offset[1] + (0.5 - pivot_y) * height)
-    return Entity(identifier, tuple(tag for tag in tags if isinstance(tag, str)), centre)
+    return Entity(
+        identifier,
+        tuple(tag for tag in tags if isinstance(tag, str)),
+        centre,
+        _field_values(item.get("fieldInstances")),
+    )
+
+
+def _field_values(raw: Any) -> tuple[tuple[str, Any], ...]:
+    """``(identifier, value)`` of each well-formed field instance; the level's checks judge the values."""
+    if not isinstance(raw, list):
+        return ()
+    return tuple(
+        (field["__identifier"], field.get("__value"))
+        for field in raw
+        if isinstance(field, dict) and isinstance(field.get("__identifier"), str)
+    )

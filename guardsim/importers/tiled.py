@@ -43,6 +43,7 @@ from guardsim.importers.tiled_geometry import TileGeometry, blocked_mask
 from guardsim.importers.tiled_read import read_tiled
 from guardsim.importers.tiled_roles import Guesses, RoleOptions, assign_roles, names, parse_wall_property
 from guardsim.importers.tiled_spawns import keep_spawn_areas, player_starts, spawn_points, usable_starts
+from guardsim.importers.watchers import tiled_watchers, with_watchers
 from guardsim.level import (
     DEFAULT_MAX_CELLS,
     DEFAULT_MAX_FILE_BYTES,
@@ -233,6 +234,10 @@ def import_tiled(
         if standing:
             data["player_starts"] = [list(point) for point in standing]
         level = parse_level(data, source=source, max_cells=max_cells, max_vertices=max_vertices)
+    level, watchers = with_watchers(
+        level, tiled_watchers(tiled), source=source, max_cells=max_cells, max_vertices=max_vertices
+    )
+    changes += [watchers] if watchers else []
     level = with_tile_pixels(level, tiled.tile_width, tiled.tile_height)
     # The map's own size, as Tiled shows it; the grid cropped to the level says where it sits (summary).
     declared = tiled.size

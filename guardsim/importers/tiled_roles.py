@@ -278,8 +278,8 @@ def assign_roles(tiled: TiledMap, options: RoleOptions) -> Guesses:
         wall_layer = _wall_layer(layer, options)
         mixed = wall_layer and any(says(item.name, WALL_WORDS) for item in layer.objects)
         for item in layer.objects:
-            if item.kind == ROUTE_CLASS:
-                continue
+            if item.kind == ROUTE_CLASS or item.kind.strip().lower() in ("camera", "light"):
+                continue  # guardsim's route, or a watcher or lamp (guardsim.importers.watchers)
             if _object_boundary(layer, item):
                 if item.closed:
                     found.boundary_objects.append((layer, item))

@@ -1,16 +1,22 @@
 """The awareness meter's rule, for plain Python and compiled code alike (importing this module registers it).
 
-A guard's meter rises by ``gain`` at a tick the intruder is in its sight and falls by ``fall`` at a tick it
-is not, staying within [0, 1]; the intruder is detected the first tick a meter reaches 1. This is the
-only place that rule is written: :class:`guardsim.detection.AwarenessMeter` (game code), the graded sneak
-search and the time-to-detection map all call :func:`meter_after`.
+A watcher's meter (a guard's or a camera's) rises by ``gain`` at a tick the intruder is in its sight and
+falls by ``fall`` at a tick it is not, staying within [0, 1]; the intruder is detected the first tick a
+meter reaches 1. The gain of a tick in sight at distance ``d`` is
+``v * dt / (detect_near + (detect_far - detect_near) * min(d / view_range, 1))``, ``v`` the intruder's
+visibility: 1 within the watcher's dark sight, else the light of its cell (0: it counts as out of
+sight). This is the only place those rules are written: :class:`guardsim.detection.AwarenessMeter`
+(game code), the gains of the sneak searches, the exposure and time-to-detection maps all call
+:func:`visibility`, :func:`meter_gain` and :func:`meter_after`.
 """
 
 from __future__ import annotations
 
+import math
+
 from numba.extending import register_jitable
 
-__all__ = ["DETECTED", "meter_after"]
+__all__ = ["DETECTED", "meter_after", "meter_gain", "visibility"]
 
 #: A meter at or above this is full: sums of gains such as 1/3 + 1/3 + 1/3 land a rounding error below 1.0,
 #: and three ticks of a third of the way must detect.
@@ -31,3 +37,34 @@ def meter_after(level: float, gain: float, fall: float) -> float:
     """
     after = level + gain if gain > 0.0 else level - fall
     return min(1.0, max(0.0, after)) if after < DETECTED else 1.0
+
+
+@register_jitable
+def visibility(distance: float, dark_sight: float, light: float) -> float:
+    """How visible the intruder is to a watcher ``distance`` away: 1 within ``dark_sight`` (a guard's
+    nose for the dark; 0 for a camera: none), else ``light``, the light of its cell in [0, 1].
+
+    >>> visibility(0.5, 1.0, 0.0), visibility(3.0, 1.0, 0.25), visibility(0.0, 0.0, 0.25)
+    (1.0, 0.25, 0.25)
+    """
+    return 1.0 if dark_sight > 0.0 and distance <= dark_sight else light
+
+
+@register_jitable
+def meter_gain(
+    dt: float, distance: float, view_range: float, detect_near: float, detect_far: float, seen: float
+) -> float:
+    """What a tick of ``dt`` seconds in sight at ``distance`` adds to a meter, ``seen`` being the
+    intruder's :func:`visibility`; 0 when ``seen`` is 0 (out of sight), ``inf`` when one tick detects.
+
+    >>> round(meter_gain(0.5, 4.0, 8.0, 0.25, 1.5, 1.0), 4), meter_gain(0.5, 4.0, 8.0, 0.25, 1.5, 0.0)
+    (0.5714, 0.0)
+    >>> meter_gain(0.5, 4.0, 8.0, 0.0, 0.0, 0.5)
+    inf
+    """
+    if seen <= 0.0:
+        return 0.0
+    share = min(max(distance / view_range, 0.0), 1.0) if view_range > 0 else 1.0
+    seconds = detect_near + (detect_far - detect_near) * share
+    # ``seen * dt`` first: at full light it is ``dt`` exactly, so the gains of a lit level are unchanged.
+    return seen * dt / seconds if seconds > 0 else math.inf

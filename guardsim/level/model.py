@@ -16,8 +16,10 @@ from shapely.geometry import Polygon
 __all__ = [
     "HEADINGS",
     "MAX_TILE_PIXELS",
+    "Camera",
     "GuardSpec",
     "Level",
+    "Light",
     "Point",
     "Problem",
     "Ring",
@@ -81,6 +83,59 @@ class GuardSpec:
     """Alert: seconds a guard searches after losing sight of the intruder before it gives up."""
     radio_delay: float = 2.0
     """Alert: seconds before a guard's detection reaches its teammates."""
+    dark_sight: float = 1.0
+    """World units within which the guard notices an intruder as in full light, however dark its cell."""
+
+
+@dataclass(frozen=True)
+class Camera:
+    """A security camera: a watcher fixed at a point, its cone sweeping to and fro (see docs/cameras-light.md).
+
+    At time 0 it faces ``heading - sweep / 2``, turns toward ``heading + sweep / 2`` at ``turn_speed``,
+    waits ``pause``, turns back and waits ``pause`` again: a period of ``2 * (sweep / turn_speed + pause)``
+    seconds. ``None`` for ``view_range``, ``detect_near`` or ``detect_far`` takes the guard's.
+
+    Examples
+    --------
+    >>> Camera((4.0, 0.0), heading=90, sweep=60).period_seconds
+    6.0
+    """
+
+    position: Point
+    """World units; on the free area or on the boundary of a wall."""
+    heading: float = 0.0
+    """Degrees, the middle of the swing: 0 is +x, 90 is +y (down)."""
+    fov_degrees: float = 60.0
+    """Full opening angle of the cone."""
+    view_range: float | None = None
+    """How far it sees, world units; ``None``: the guard's."""
+    sweep: float = 0.0
+    """Total swing in degrees (0: fixed), at most 360."""
+    turn_speed: float = 30.0
+    """Degrees per second while turning."""
+    pause: float = 1.0
+    """Seconds at each end of the swing."""
+    detect_near: float | None = None
+    """Seconds in view before it detects an intruder at distance 0; ``None``: the guard's."""
+    detect_far: float | None = None
+    """Seconds in view before it detects an intruder at the edge of its range; ``None``: the guard's."""
+
+    @property
+    def period_seconds(self) -> float:
+        """Seconds of one swing there and back (0 for a fixed camera)."""
+        return 2 * (self.sweep / self.turn_speed + self.pause) if self.sweep > 0 else 0.0
+
+
+@dataclass(frozen=True)
+class Light:
+    """A lamp: it lights the cells whose centres it sees within ``radius``, fading to 0 at the edge."""
+
+    position: Point
+    """World units."""
+    radius: float
+    """World units at which its light fades to 0."""
+    intensity: float = 1.0
+    """Light at its own position, in (0, 1]."""
 
 
 #: Largest tile side in pixels a level may record (``Level.tile_pixels``).
@@ -107,6 +162,17 @@ class Level:
     tile_pixels: tuple[int, int] | None = None
     """``(width, height)`` in pixels of a tile of the map the level was imported from (one tile is one
     world unit), for routes written in that map's pixels; ``None``: not known (a level drawn by hand)."""
+    cameras: tuple[Camera, ...] = ()
+    """Security cameras, watchers that never move (see :class:`Camera`)."""
+    ambient_light: float = 1.0
+    """Light everywhere, in [0, 1], before the lamps add theirs; 1 is full light (no darkness)."""
+    lights: tuple[Light, ...] = ()
+    """Lamps (see :class:`Light`)."""
+
+    @property
+    def lit(self) -> bool:
+        """Whether every cell is in full light (ambient 1): light then changes nothing."""
+        return self.ambient_light >= 1.0
 
     @property
     def bounds(self) -> tuple[float, float, float, float]:

@@ -26,6 +26,7 @@ from guardsim.files.reading import (
 from guardsim.level.geometry import MAX_OVERLAPS_LISTED, check_geometry
 from guardsim.level.limits import DEFAULT_MAX_CELLS, DEFAULT_MAX_VERTICES
 from guardsim.level.model import HEADINGS, MAX_TILE_PIXELS, GuardSpec, Level, Point, Problem, Ring, grid_shape_of
+from guardsim.level.watchers import check_placements, parse_ambient, parse_cameras, parse_lights
 
 __all__ = ["MAX_OVERLAPS_LISTED", "check_level_data", "parse_level"]
 
@@ -35,11 +36,17 @@ MAX_NAME_CHARS = 200
 #: level is refused instead of checked pair by pair.
 PAIRS_PER_VERTEX = 2
 
-_TOP_KEYS = {"name", "cell_size", "outer", "holes", "guard", "starts", "player_starts", "tile_pixels"}
+_TOP_KEYS = {
+    "name", "cell_size", "outer", "holes", "guard", "starts", "player_starts", "tile_pixels",
+    "cameras", "ambient_light", "lights",
+}  # fmt: skip
 _MOTION_KEYS = ("move_speed", "turn_speed", "tick_hz")
 _DETECTION_KEYS = ("detect_near", "detect_far", "forget", "suspicious")
 _ALERT_KEYS = ("capture_radius", "search_seconds", "radio_delay")
-_GUARD_KEYS = {"view_range", "fov_degrees", "radius", "start", "heading", *_MOTION_KEYS, *_DETECTION_KEYS, *_ALERT_KEYS}
+_GUARD_KEYS = {
+    "view_range", "fov_degrees", "radius", "start", "heading", *_MOTION_KEYS, *_DETECTION_KEYS, *_ALERT_KEYS,
+    "dark_sight",
+}  # fmt: skip
 
 
 def parse_level(
@@ -127,6 +134,9 @@ def _check(data: Any, source: str, max_cells: int, max_vertices: int) -> tuple[L
     starts = _points(data.get("starts", []), "starts", problems)
     players = _points(data.get("player_starts", []), "player_starts", problems)
     tile_pixels = _tile_pixels(data.get("tile_pixels"), problems)
+    cameras = parse_cameras(data.get("cameras"), problems)
+    lights = parse_lights(data.get("lights"), problems)
+    ambient = parse_ambient(data, problems)
 
     if outer is not None and cell_size is not None:
         xs = [p[0] for p in outer]
@@ -145,7 +155,11 @@ def _check(data: Any, source: str, max_cells: int, max_vertices: int) -> tuple[L
         check_geometry(
             outer, holes, guard, starts, problems, max_pairs=PAIRS_PER_VERTEX * max_vertices, players=players
         )
+        if not problems and cameras is not None and lights is not None:
+            check_placements(outer, [hole for hole in holes if hole is not None], cameras, lights, problems)
     if problems or outer is None or cell_size is None or guard is None or starts is None or players is None:
+        return None, problems
+    if cameras is None or lights is None or ambient is None:
         return None, problems
     level = Level(
         name=name,
@@ -157,6 +171,9 @@ def _check(data: Any, source: str, max_cells: int, max_vertices: int) -> tuple[L
         player_starts=tuple(players),
         source=source,
         tile_pixels=tile_pixels,
+        cameras=tuple(cameras),
+        ambient_light=ambient,
+        lights=tuple(lights),
     )
     return level, problems
 
@@ -287,7 +304,7 @@ def _guard(value: Any, problems: list[Problem]) -> GuardSpec | None:
         if value.get(key) is not None
     }
     detection: dict[str, float] = {}
-    for key in (*_DETECTION_KEYS, *_ALERT_KEYS):
+    for key in (*_DETECTION_KEYS, *_ALERT_KEYS, "dark_sight"):
         number = None
         if key in value:
             upper = 1 if key == "suspicious" else None

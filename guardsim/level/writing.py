@@ -9,7 +9,7 @@ from __future__ import annotations
 import json
 from typing import Any
 
-from guardsim.level.model import GuardSpec, Level
+from guardsim.level.model import Camera, GuardSpec, Level
 
 __all__ = ["compact_numbers", "level_json_text", "level_to_data"]
 
@@ -29,7 +29,10 @@ def level_to_data(level: Level) -> dict[str, Any]:
         if getattr(level.guard, key) is not None:
             guard[key] = getattr(level.guard, key)
     defaults = GuardSpec()
-    for key in ("detect_near", "detect_far", "forget", "suspicious", "capture_radius", "search_seconds", "radio_delay"):
+    for key in (
+        "detect_near", "detect_far", "forget", "suspicious", "capture_radius", "search_seconds", "radio_delay",
+        "dark_sight",
+    ):  # fmt: skip
         if getattr(level.guard, key) != getattr(defaults, key):
             guard[key] = getattr(level.guard, key)
     data: dict[str, Any] = {
@@ -45,6 +48,23 @@ def level_to_data(level: Level) -> dict[str, Any]:
         data["player_starts"] = [list(p) for p in level.player_starts]
     if level.tile_pixels is not None:
         data["tile_pixels"] = list(level.tile_pixels)
+    if level.cameras:
+        data["cameras"] = [_camera_data(camera) for camera in level.cameras]
+    if level.ambient_light != 1.0:
+        data["ambient_light"] = level.ambient_light
+    if level.lights:
+        data["lights"] = [
+            {"position": list(light.position), "radius": light.radius, "intensity": light.intensity}
+            for light in level.lights
+        ]
+    return data
+
+
+def _camera_data(camera: Camera) -> dict[str, Any]:
+    data: dict[str, Any] = {"position": list(camera.position)}
+    for key in ("heading", "fov_degrees", "view_range", "sweep", "turn_speed", "pause", "detect_near", "detect_far"):
+        if getattr(camera, key) is not None:
+            data[key] = getattr(camera, key)
     return data
 
 

@@ -33,6 +33,7 @@ __all__ = [
     "HEAT_RAMP",
     "PALETTE",
     "TRAIL_LEVELS",
+    "WATCH_COLOURS",
     "Index",
     "guard_index",
     "palette_rgb",
@@ -59,6 +60,16 @@ COLOURS: dict[str, tuple[int, int, int]] = {
     "ruler": (90, 90, 100),
     "guard": (214, 40, 40),
 }
+
+#: Cameras and light (apart from :data:`COLOURS`, whose entries the viewer pages carry): a camera and its
+#: swing (magenta, away from the guards' red and the cone's yellow), and the dark that shades unlit floor
+#: (deep blue; at most :data:`DARK_ALPHA` of it, so the floor still reads).
+WATCH_COLOURS: dict[str, tuple[int, int, int]] = {
+    "camera": (190, 30, 150),
+    "dark": (16, 20, 52),
+}
+#: The strongest shade of dark over floor with no light at all.
+DARK_ALPHA = 0.7
 
 #: One colour per guard of a team, in order; a ninth guard takes the first colour again. Chosen to stand
 #: apart from each other and from the floor, the unseen dark, the walls and the cone's yellow.

@@ -16,7 +16,7 @@ from guardsim.level import Level
 from guardsim.render.cells import tight_cells
 from guardsim.render.layout import grow_mask
 from guardsim.render.legend import draw_rgb_legend
-from guardsim.render.palette import COLOURS, GUARD_COLOURS
+from guardsim.render.palette import COLOURS, GUARD_COLOURS, WATCH_COLOURS
 from guardsim.render.sight import SightCaster
 from guardsim.render.text import font
 from guardsim.render.timeline import cell_pixels
@@ -201,6 +201,7 @@ def with_legend(
     tight: bool = False,
     start: bool = False,
     cone: bool = False,
+    cameras: bool = False,
 ) -> np.ndarray:
     """``preview`` with a legend bar below it naming each colour drawn (as the GIF frames' legend does).
 
@@ -220,6 +221,8 @@ def with_legend(
         items.append((_cone_tint(COLOURS["reachable"]), "sees now"))
     if start:
         items.append((GUARD_COLOURS[0], "guard"))
+    if cameras:
+        items.append((WATCH_COLOURS["camera"], "camera and its swing"))
     legend = draw_rgb_legend(preview.shape[1], items)
     return np.concatenate([preview, legend])
 

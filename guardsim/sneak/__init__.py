@@ -14,7 +14,8 @@ from typing import Any, NamedTuple
 
 import numpy as np
 
-from guardsim.detection import GuardDetection, PatrolGains, exposure_map, patrol_gains, time_to_detection
+from guardsim.detection import GuardDetection, PatrolGains, exposure_map, time_to_detection
+from guardsim.detection.watch import MAX_JOINT_LAP, LevelWatch, lap_gains
 from guardsim.errors import LimitError
 from guardsim.grid import CoverageGrid
 from guardsim.patrol.model import Patrol
@@ -80,6 +81,9 @@ class SneakResult(NamedTuple):
     """The best places to wait reachable undetected from the entry, safest first (at most
     :data:`HIDING_SPOTS_LISTED`)."""
     gains: PatrolGains
+    lap: Patrol | None = None
+    """The patrol repeated over the joint lap with the level's cameras (the patrol itself without them):
+    what :attr:`period` and the path's lap ticks count in."""
 
     @property
     def found(self) -> bool:
@@ -100,25 +104,33 @@ def sneak_check(
     *,
     detection: GuardDetection,
     undetected: bool = False,
+    watch: LevelWatch | None = None,
+    max_lap: int = MAX_JOINT_LAP,
 ) -> SneakResult:
     """Search for an unseen path (``undetected=True``: an undetected one) from cell ``source`` to cell
     ``target`` (flat indices) under ``patrol``, and grade it under ``detection``.
 
+    ``watch`` (:func:`guardsim.detection.watch.level_watch`) adds the level's cameras as watchers and its
+    light to every meter; the search then runs over the joint lap of the patrol and the cameras' swings
+    (at most ``max_lap`` ticks).
+
     Raises
     ------
     LimitError
-        When the period times the cells is over :data:`MAX_SNEAK_NODES`, or the undetected search keeps
-        too many labels.
+        When the period times the cells is over :data:`MAX_SNEAK_NODES`, the joint lap over ``max_lap``,
+        or the undetected search keeps too many labels.
     """
     if patrol.period is None:
         raise ValueError("the sneak check needs a repeating patrol (its period is null)")
-    nodes = patrol.period * grid.size
+    gains, states = lap_gains(grid, table, patrol.states, detection, watch, max_lap=max_lap)
+    lap = patrol if states.shape[1] == patrol.period else Patrol(states, states.shape[1], patrol.strategy)
+    period = states.shape[1]
+    nodes = period * grid.size
     if nodes > MAX_SNEAK_NODES:
         raise LimitError(
-            f"the sneak search would have {nodes} (cell, lap tick) nodes ({grid.size} cells x a {patrol.period}-tick lap), "
+            f"the sneak search would have {nodes} (cell, lap tick) nodes ({grid.size} cells x a {period}-tick lap), "
             f"over the limit of {MAX_SNEAK_NODES}"
         )
-    gains = patrol_gains(grid, table, patrol.states, detection.model, view_range=detection.view_range, dt=detection.dt)
     seen = gains.seen
     neighbours = grid.neighbours
     reach = unseen_reach(neighbours, seen, target)
@@ -131,19 +143,19 @@ def sneak_check(
         start, cells = search.path()
         # An unseen path as fast is the better answer: no guard's meter moves at all.
         if path is None or path.ticks > cells.size - 1:
-            path = SneakPath(
-                True, start, cells, int(seen[(start + np.arange(cells.size)) % patrol.period, cells].sum())
-            )
+            path = SneakPath(True, start, cells, int(seen[(start + np.arange(cells.size)) % period, cells].sum()))
         entries = entries | _undetected_entries(neighbours, gains, seen, source, target, reach)
     elif path is None:
         path = closest_call(neighbours, seen, source, target)
-    grade = None if path is None else grade_path(grid, table, patrol.states, detection, path.start_tick, path.cells)
+    grade = (
+        None if path is None else grade_path(grid, table, states, detection, path.start_tick, path.cells, watch=watch)
+    )
     reached = search.reached_cells()
     exposure = exposure_map(gains)
     lasts = time_to_detection(gains, grid.traversable)
     return SneakResult(
         path,
-        patrol.period,
+        period,
         seen,
         hiding_windows(seen, grid.traversable),
         undetected,
@@ -153,6 +165,7 @@ def sneak_check(
         lasts,
         _hiding_spots(reached, lasts, exposure),
         gains,
+        lap,
     )
 
 

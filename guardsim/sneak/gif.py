@@ -17,13 +17,29 @@ from guardsim.level import Level
 from guardsim.render.frames import FrameDrawer
 from guardsim.render.gif import GifOptions, GifStream, frame_ticks
 from guardsim.render.layout import MIN_GUARD_RADIUS
-from guardsim.render.palette import Index, guard_index
+from guardsim.render.palette import DARK_ALPHA, Index, guard_index
 from guardsim.trace import Trace
 
-__all__ = ["STATE_INDEX", "SneakFrames", "meter_bar_box", "meter_state", "path_states", "write_sneak_gif"]
+__all__ = [
+    "CAMERA_INDEX",
+    "STATE_INDEX",
+    "SneakFrames",
+    "camera_overlay",
+    "meter_bar_box",
+    "meter_state",
+    "path_states",
+    "write_sneak_gif",
+]
 
 #: The intruder's colour: a guard colour no team of up to five guards uses.
 _INTRUDER = guard_index(5)
+
+#: A camera, its cone and the frame of its meter bar: guard colour 4 (magenta), as the preview's cameras.
+CAMERA_INDEX = guard_index(4)
+#: 4 x 4 ordered dither: a floor pixel is shaded dark where its threshold is below its cell's darkness.
+_BAYER = np.array([[0, 8, 2, 10], [12, 4, 14, 6], [3, 11, 1, 9], [15, 7, 13, 5]]) / 16.0
+#: Floor entries (under the cone's tint or not) the dark may shade; walls, guards and text never.
+_FLOOR = (Index.FREE, Index.UNSEEN, Index.TIGHT, Index.CONE_BASE + Index.FREE, Index.CONE_BASE + Index.UNSEEN)
 
 #: Palette entries of the intruder's states (its disc) and of a meter bar's fill: white while unseen, the
 #: walls' grey in view, orange (guard colour 4) suspicious, red (guard colour 1) detected. The viewer's
@@ -112,15 +128,24 @@ class SneakFrames(FrameDrawer):
         return centres
 
 
-def _draw_meters(frame: np.ndarray, drawer: SneakFrames, tick: int, levels: np.ndarray, suspicious: float) -> None:
-    """Each guard's meter bar at ``tick``, clipped to the play area, onto ``frame`` (palette indices)."""
+def _draw_meters(
+    frame: np.ndarray,
+    drawer: SneakFrames,
+    tick: int,
+    levels: np.ndarray,
+    suspicious: float,
+    centres: list[tuple[float, float]] | None = None,
+    outline: int = int(Index.OUTLINE),
+) -> None:
+    """Each guard's meter bar at ``tick`` (or one per point of ``centres``), clipped to the play area, onto
+    ``frame`` (palette indices)."""
     layout = drawer.layout
     radius = max(MIN_GUARD_RADIUS, 0.45 * layout.scale)
     top, bottom = layout.top, layout.top + layout.play[1]
     left, right = layout.left, layout.left + layout.play[0]
-    for guard, (x, y) in enumerate(drawer.guard_centres(tick)):
+    for guard, (x, y) in enumerate(drawer.guard_centres(tick) if centres is None else centres):
         x0, y0, width, height = meter_bar_box(x, y, radius)
-        bar = np.full((height, width), Index.OUTLINE, dtype=np.uint8)
+        bar = np.full((height, width), outline, dtype=np.uint8)
         bar[1:-1, 1:-1] = Index.WHITE
         level = float(levels[guard])
         filled = round(min(1.0, max(0.0, level)) * (width - 2))
@@ -145,6 +170,9 @@ def write_sneak_gif(
     suspicious: float = 0.5,
     overlay: Callable[[ImageDraw.ImageDraw, SneakFrames, int], None] | None = None,
     guard_poses: np.ndarray | None = None,
+    light: np.ndarray | None = None,
+    cameras: Sequence[tuple[tuple[float, float], np.ndarray, float, float]] = (),
+    camera_meters: np.ndarray | None = None,
 ) -> int:
     """Write the guards of ``trace`` with the intruder walking ``intruder`` (one cell per tick of the
     trace): its trail in the cyan of guard colour 6 (teams of up to five keep their own colours), itself a
@@ -159,7 +187,13 @@ def write_sneak_gif(
     With ``period`` (the patrol's lap) the caption also gives the lap tick: the trace's tick 0 is lap tick
     ``lap_start`` (the sneak's start tick). ``overlay(draw, drawer, tick)`` draws more on each frame (palette
     indices) before the intruder and the meters. ``guard_poses`` (``float (guards, ticks + 1, 3)``: ``x, y,
-    facing degrees``) draws each guard and its cone where its body is rather than at its cell."""
+    facing degrees``) draws each guard and its cone where its body is rather than at its cell.
+
+    ``light`` (``float (rows, cols)``, 0 to 1) shades the floor by an ordered dither of near black, denser
+    the darker the cell (at most :data:`~guardsim.render.palette.DARK_ALPHA` of its pixels), so the floor
+    still reads. ``cameras`` (each ``(position, headings per lap tick, fov degrees, range)``) draws each
+    camera and its cone at the frame's lap tick, and ``camera_meters`` (``float (ticks + 1, cameras)``)
+    its meter bar over it."""
     options = options or GifOptions()
     drawer = SneakFrames(level, trace, size=options.size, lap_start=lap_start, period=period)
     drawer.guard_poses = guard_poses
@@ -175,14 +209,27 @@ def write_sneak_gif(
         raise ValueError(f"{len(states)} intruder states for {len(intruder)} ticks of path")
     ticks = frame_ticks(trace.steps, options)
     radius = max(2.0, layout.scale * 0.45)
+    dark = None if light is None else _dark_pixels(drawer, light)
+    play_area = np.zeros((layout.height, layout.width), dtype=bool)
+    play_area[layout.top : layout.top + layout.play[1], layout.left : layout.left + layout.play[0]] = True
     with atomic_path(path) as temporary, open(temporary, "wb") as file:
         stream = GifStream(file)
         for number, tick in enumerate(ticks):
             frame = drawer.frame(tick)
+            if dark is not None:
+                frame = frame.copy()
+                frame[dark & np.isin(frame, _FLOOR)] = Index.OUTLINE
             image = Image.frombytes("P", (frame.shape[1], frame.shape[0]), np.ascontiguousarray(frame).tobytes())
             draw = ImageDraw.Draw(image)
             if overlay is not None:
                 overlay(draw, drawer, tick)
+            camera_centres = camera_overlay(draw, drawer, tick, cameras, lap_start)
+            if cameras:
+                # A camera's cone reaches past the play area: the caption and the legend stay as they were.
+                drawn = np.array(image)
+                drawn[~play_area] = frame[~play_area]
+                image = Image.frombytes("P", (drawn.shape[1], drawn.shape[0]), np.ascontiguousarray(drawn).tobytes())
+                draw = ImageDraw.Draw(image)
             step = min(tick, len(intruder) - 1)
             points = [_pixel(drawer, cell) for cell in intruder[: step + 1]]
             if len(points) > 1:
@@ -194,6 +241,13 @@ def write_sneak_gif(
             shown = np.array(image)
             if meters is not None:
                 _draw_meters(shown, drawer, tick, meters[step], suspicious)
+            if camera_meters is not None and camera_centres:
+                # A camera on the top wall shows its bar below it, where the play area has room.
+                lifted = [
+                    (x, y if meter_bar_box(x, y, radius)[1] >= layout.top else y + 3 * radius + 8)
+                    for x, y in camera_centres
+                ]
+                _draw_meters(shown, drawer, tick, camera_meters[step], suspicious, lifted, CAMERA_INDEX)
             last = number == len(ticks) - 1
             stream.add(shown, max(options.frame_ms, options.hold_ms) if last else options.frame_ms)
         stream.close()
@@ -203,3 +257,50 @@ def write_sneak_gif(
 def _pixel(drawer: FrameDrawer, cell: tuple[int, int]) -> tuple[float, float]:
     x, y = drawer.cell_centre(cell)
     return x + drawer.layout.left, y + drawer.layout.top
+
+
+def _dark_pixels(drawer: FrameDrawer, light: np.ndarray) -> np.ndarray:
+    """``bool (frame height, frame width)``: the pixels the dark shades, by the ordered dither."""
+    layout = drawer.layout
+    height, width = layout.height, layout.width
+    mask = np.zeros((height, width), dtype=bool)
+    rows, cols = light.shape
+    scale = layout.scale
+    darkness = np.repeat(np.repeat((1.0 - np.clip(light, 0.0, 1.0)) * DARK_ALPHA, scale, axis=0), scale, axis=1)
+    x0, y0 = drawer.to_pixels(drawer.trace.origin)
+    top, left = layout.top + round(y0), layout.left + round(x0)
+    ys, xs = np.indices(darkness.shape)
+    area = mask[top : top + rows * scale, left : left + cols * scale]
+    area[:] = (
+        _BAYER[(ys + top) % 4, (xs + left) % 4][: area.shape[0], : area.shape[1]]
+        < darkness[: area.shape[0], : area.shape[1]]
+    )
+    return mask
+
+
+def camera_overlay(
+    draw: ImageDraw.ImageDraw,
+    drawer: FrameDrawer,
+    tick: int,
+    cameras: Sequence[tuple[tuple[float, float], np.ndarray, float, float]],
+    lap_start: int = 0,
+) -> list[tuple[float, float]]:
+    """Each camera (``(position, headings per tick of its swing, fov degrees, range)``) and the outline of
+    its cone at lap tick ``lap_start + tick``, in :data:`CAMERA_INDEX`; the frame pixels of the cameras."""
+    layout = drawer.layout
+    centres = []
+    for position, headings, fov, reach in cameras:
+        px, py = drawer.to_pixels(position)
+        x, y = layout.left + px, layout.top + py
+        heading = float(headings[(lap_start + tick) % len(headings)])
+        r = reach * drawer.pixels_per_unit
+        width = 2 if layout.scale >= 4 else 1
+        if fov >= 360:
+            draw.ellipse([x - r, y - r, x + r, y + r], outline=CAMERA_INDEX, width=width)
+        else:
+            draw.pieslice([x - r, y - r, x + r, y + r], heading - fov / 2, heading + fov / 2, outline=CAMERA_INDEX,
+                          width=width)  # fmt: skip
+        dot = max(3.0, 0.35 * layout.scale)
+        draw.ellipse([x - dot, y - dot, x + dot, y + dot], fill=CAMERA_INDEX, outline=int(Index.OUTLINE))
+        centres.append((x, y))
+    return centres

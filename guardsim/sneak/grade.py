@@ -19,7 +19,8 @@ from typing import NamedTuple
 
 import numpy as np
 
-from guardsim.detection.model import AwarenessMeter, GuardDetection
+from guardsim.detection.model import AwarenessMeter, DetectionModel, GuardDetection
+from guardsim.detection.watch import LevelWatch
 from guardsim.grid import CoverageGrid
 from guardsim.kernels.compiler import jit
 from guardsim.kernels.steps import cell_of_state
@@ -32,9 +33,11 @@ class PathGrade(NamedTuple):
     """A path replayed through the guards' awareness meters."""
 
     meters: np.ndarray
-    """``float64 (ticks + 1, guards)``: each guard's meter after each tick of the path."""
+    """``float64 (ticks + 1, watchers)``: each watcher's meter after each tick of the path (the guards,
+    then the level's cameras)."""
     in_view: np.ndarray
-    """``bool (ticks + 1,)``: whether some guard sees the intruder at each tick."""
+    """``bool (ticks + 1,)``: whether some watcher sees the intruder at each tick (in its sight, and lit
+    enough or within its dark sight)."""
     detected_at: int | None
     """Tick of the path (0 = entering) at which a meter first fills; ``None`` when none does."""
     closest_distance: float | None
@@ -47,7 +50,7 @@ class PathGrade(NamedTuple):
 
     @property
     def peak_by_guard(self) -> list[float]:
-        """Each guard's highest meter."""
+        """Each watcher's highest meter (the guards, then the cameras)."""
         return [float(value) for value in self.meters.max(axis=0)]
 
     @property
@@ -73,26 +76,48 @@ def grade_path(
     detection: GuardDetection,
     start_tick: int,
     cells: np.ndarray,
+    *,
+    watch: LevelWatch | None = None,
 ) -> PathGrade:
     """Replay the intruder's flat ``cells``, entering at lap tick ``start_tick`` of the lap ``states``
-    (``int64 (guards, period)``), through one awareness meter per guard."""
+    (``int64 (guards, period)``), through one awareness meter per guard, then one per camera of ``watch``
+    (whose light also dims what every watcher makes of the intruder)."""
     period = states.shape[1]
-    meters = [AwarenessMeter(detection.model, detection.view_range) for _ in range(states.shape[0])]
-    levels = np.zeros((len(cells), states.shape[0]))
+    guards = states.shape[0]
+    cameras = () if watch is None else watch.cameras
+    model = detection.model
+    meters = [AwarenessMeter(model, detection.view_range) for _ in range(guards)] + [
+        AwarenessMeter(
+            DetectionModel(camera.detect_near, camera.detect_far, model.forget, model.suspicious, dark_sight=0.0),
+            camera.view_range,
+        )
+        for camera in cameras
+    ]
+    levels = np.zeros((len(cells), len(meters)))
     in_view = np.zeros(len(cells), dtype=bool)
     detected_at: int | None = None
     closest = math.inf
     cols = grid.shape[1]
     for tick, cell in enumerate(int(value) for value in cells):
         row, col = divmod(cell, cols)
-        for guard, meter in enumerate(meters):
+        light = 1.0 if watch is None else float(watch.light[cell])
+        for guard, meter in enumerate(meters[:guards]):
             state = int(states[guard, (start_tick + tick) % period])
             guard_row, guard_col = divmod(int(cell_of_state(state)), cols)
             distance = grid.cell_size * math.hypot(row - guard_row, col - guard_col)
             closest = min(closest, distance)
             sees = bool(np.isin(cell, table.sees(state)))
-            in_view[tick] |= sees
-            levels[tick, guard] = meter.update(detection.dt, sees, distance)
+            in_view[tick] |= sees and model.gain(detection.dt, distance, detection.view_range, light) > 0
+            levels[tick, guard] = meter.update(detection.dt, sees, distance, light)
+            if meter.detected and detected_at is None:
+                detected_at = tick
+        for index, (camera, meter) in enumerate(zip(cameras, meters[guards:])):
+            where = np.searchsorted(camera.cells, cell)
+            sees = bool(where < camera.cells.size and camera.cells[where] == cell)
+            sees = sees and bool(camera.in_cone[(start_tick + tick) % camera.ticks, where])
+            distance = float(camera.distances[where]) if sees else 0.0
+            in_view[tick] |= sees and meter.model.gain(detection.dt, distance, meter.view_range, light) > 0
+            levels[tick, guards + index] = meter.update(detection.dt, sees, distance, light)
             if meter.detected and detected_at is None:
                 detected_at = tick
     return PathGrade(levels, in_view, detected_at, None if math.isinf(closest) else closest)

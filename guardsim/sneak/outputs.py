@@ -9,6 +9,7 @@ from pathlib import Path
 import numpy as np
 
 from guardsim.detection import GuardDetection
+from guardsim.detection.watch import LevelWatch
 from guardsim.errors import GuardsimError
 from guardsim.files.output import write_text_atomic
 from guardsim.patrol.model import Patrol
@@ -35,6 +36,7 @@ def write_sneak_outputs(
     gif: bool = False,
     html: bool = False,
     safe: Sequence[tuple[float, float]] = (),
+    watch: LevelWatch | None = None,
 ) -> tuple[list[str], list[str]]:
     """Write sneak.json (``data``, :func:`guardsim.sneak.sneak_data`) and hiding.png into ``folder``, and
     the GIF and the page when asked; the paths written and the warnings (what could not be drawn)."""
@@ -53,7 +55,9 @@ def write_sneak_outputs(
         windows[windows < 0] = float("nan")
         cells = [grid.unflat(int(cell)) for cell in path.cells]
         label = "unseen path" if path.found else f"closest call ({path.ticks_in_view} ticks in view)"
-        title = f"{level.name}: hiding spots, longest unseen window per cell ({data['never_seen_cells']} never seen, black)"
+        title = (
+            f"{level.name}: hiding spots, longest unseen window per cell ({data['never_seen_cells']} never seen, black)"
+        )
         write_heat_map(
             folder / "hiding.png",
             level,
@@ -88,6 +92,7 @@ def write_sneak_outputs(
                 for tick, cell in enumerate(path.cells)
                 if result.seen[(path.start_tick + tick) % result.period, cell]
             }
+            guards = grade.meters.shape[1] - result.gains.cameras
             write_sneak_gif(
                 folder / "sneak.gif",
                 level,
@@ -96,9 +101,15 @@ def write_sneak_outputs(
                 seen_ticks=seen_at,
                 lap_start=path.start_tick,
                 period=result.period,
-                meters=grade.meters,
+                meters=grade.meters[:, :guards],
                 states=path_states(grade.meters, grade.in_view, grade.detected_at, detection.model.suspicious),
                 suspicious=detection.model.suspicious,
+                light=None if watch is None or not watch.dark else watch.light.reshape(grid.shape),
+                cameras=[
+                    (sight.camera.position, sight.headings, sight.camera.fov_degrees, sight.view_range)
+                    for sight in (() if watch is None else watch.cameras)
+                ],
+                camera_meters=grade.meters[:, guards:] if result.gains.cameras else None,
             )
             written.append(str(folder / "sneak.gif"))
         if html:
@@ -108,7 +119,7 @@ def write_sneak_outputs(
             # The page runs in lap ticks from lap tick 0; the intruder enters at its start tick.
             lap = patrol_trace(scene, table, patrol, trace.goal.ravel(), start=0, ticks=patrol.ticks, label="sneak")
             overlays = sneak_overlays(
-                patrol, grid, result, source=source, target=target, detection=detection, safe=safe
+                patrol, grid, result, source=source, target=target, detection=detection, safe=safe, watch=watch
             )
             write_viewer(folder / "sneak.html", level, lap, overlays=overlays)
             written.append(str(folder / "sneak.html"))

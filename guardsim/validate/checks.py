@@ -30,7 +30,8 @@ from typing import Any, NamedTuple
 
 import numpy as np
 
-from guardsim.detection import NEVER_DETECTED, GuardDetection, patrol_gains, time_to_detection
+from guardsim.detection import NEVER_DETECTED, GuardDetection, time_to_detection
+from guardsim.detection.watch import MAX_JOINT_LAP, LevelWatch, lap_gains, level_watch
 from guardsim.errors import CheckError
 from guardsim.files.reading import display_path, parse_json, read_text_file
 from guardsim.files.schema import check
@@ -104,6 +105,8 @@ class CheckRules:
     ``detected``/``undetected`` expectations, else its unseen path)."""
     max_slack: int | None = None
     """... and from at most this many."""
+    max_lap: int = MAX_JOINT_LAP
+    """Longest joint lap of the patrol and the level's camera swings the safe and sneak rules run over."""
 
     def validate(self) -> None:
         """Raise :class:`CheckError` when an option modifies rules that are not there (slack limits without
@@ -342,27 +345,65 @@ def _guards(guards: list[int]) -> str:
     return f"guards {', '.join(map(str, guards[:-1]))} and {guards[-1]}"
 
 
+def _watchers(watchers: list[int], guards: int) -> str:
+    """The guards among ``watchers`` as :func:`_guards` names them, then the cameras (``camera 1``)."""
+    parts = []
+    theirs = [watcher for watcher in watchers if watcher < guards]
+    if theirs:
+        parts.append(_guards(theirs))
+    for watcher in watchers:
+        if watcher >= guards:
+            parts.append(f"camera {watcher - guards}")
+    return " and ".join(parts)
+
+
+def _ticks(ticks: np.ndarray, shown: int = 12) -> str:
+    """``3-7, 12, 20-21`` (runs of lap ticks), the first ``shown`` runs and how many more."""
+    runs: list[str] = []
+    begin = previous = int(ticks[0])
+    for tick in [*ticks[1:].tolist(), None]:
+        if tick is not None and tick == previous + 1:
+            previous = tick
+            continue
+        runs.append(str(begin) if begin == previous else f"{begin}-{previous}")
+        if tick is not None:
+            begin = previous = tick
+    more = f" and {len(runs) - shown} more runs" if len(runs) > shown else ""
+    return ", ".join(runs[:shown]) + more
+
+
+def _level_watch(scene: Scene) -> LevelWatch | None:
+    level = scene.level
+    if not level.cameras and level.lit:
+        return None
+    return level_watch(scene, GuardDetection.of_level(level).dt)
+
+
 def _safe_results(scene: Scene, table: ViewTable, patrol: Patrol, rules: CheckRules) -> list[CheckResult]:
-    """The safe rules' verdicts: each cell out of every guard's view all lap (``undetected``: a player
-    standing there never detected)."""
+    """The safe rules' verdicts: each cell out of every watcher's view all lap (``undetected``: a player
+    standing there never detected). The lap is the joint lap with the level's cameras."""
     cells = [_cell(scene, rule.point, rule.where, "point") for rule in rules.safe]
     detection = GuardDetection.of_level(scene.level)
-    gains = patrol_gains(
-        scene.grid, table, patrol.states, detection.model, view_range=detection.view_range, dt=detection.dt
-    )
+    watch = _level_watch(scene)
+    gains, _ = lap_gains(scene.grid, table, patrol.states, detection, watch, max_lap=rules.max_lap)
     in_view = gains.gain > 0
     lasts = time_to_detection(gains, scene.grid.traversable) if rules.undetected else None
-    period = patrol.ticks
+    period = gains.gain.shape[1]
     results = []
     for rule, cell in zip(rules.safe, cells):
         col, row = scene.grid.unflat(cell)
         ticks = np.flatnonzero(in_view[:, :, cell].any(axis=0))
         watchers = np.flatnonzero(in_view[:, :, cell].any(axis=1)).tolist()
         seen = (
-            f"in view of {_guards(watchers)} for {ticks.size} of {period} lap ticks, first at lap tick {ticks[0]}"
+            f"in view of {_watchers(watchers, gains.guards)} for {ticks.size} of {period} lap ticks, first at lap tick {ticks[0]}"
             if ticks.size
             else f"never in view during the {period}-tick lap"
         )
+        if ticks.size and gains.cameras:
+            cameras = [watcher for watcher in watchers if watcher >= gains.guards]
+            for watcher in cameras:
+                watched = np.flatnonzero(in_view[watcher, :, cell])
+                seen += f"; camera {watcher - gains.guards} watches it at lap ticks {_ticks(watched)}"
         if lasts is None:
             holds, message = ticks.size == 0, f"cell [{col}, {row}] is {seen}"
         elif lasts[cell] == NEVER_DETECTED:
@@ -392,6 +433,8 @@ def _sneak_results(
         target,
         detection=GuardDetection.of_level(scene.level),
         undetected=rule.undetected,
+        watch=_level_watch(scene),
+        max_lap=rules.max_lap,
     )
     path, grade = result.path, result.grade
     assert path is not None and grade is not None

@@ -9,7 +9,9 @@
 // - meters: each guard's awareness meter as a bar over it while the intruder is in;
 // - safe: the safe spots given, each cell outlined (green: holds, magenta: broken);
 // - an alert episode's (data.alert): states, each guard's state as the alert GIF's letter over it;
-//   meters at every tick; contaminated, the cells the intruder may be in as dots; last-known, a cross.
+//   meters at every tick; contaminated, the cells the intruder may be in as dots; last-known, a cross;
+// - light: the level's light, darkness shaded over the floor; cameras: each camera's cone at the lap tick
+//   and its meter over it while the intruder is in (data.watch).
 "use strict";
 const GuardsimLayers = (function () {
   const NEVER = [0, 0, 0];
@@ -57,6 +59,14 @@ const GuardsimLayers = (function () {
           meters: decode(data.alert.meters, Float32Array),
           contaminated: decode(data.alert.contaminated, Uint8Array),
           lastKnown: decode(data.alert.last_known, Int32Array),
+        }
+      : null;
+    const watch = data.watch
+      ? {
+          light: data.watch.light ? decode(data.watch.light, Float32Array) : null,
+          meters: data.watch.meters ? decode(data.watch.meters, Float32Array) : null,
+          cameras: data.watch.cameras.map((camera) => ({ ...camera, headings: decode(camera.headings, Float32Array) })),
+          image: null,
         }
       : null;
     const alertTicks = alert ? alert.lastKnown.length : 0;
@@ -145,6 +155,56 @@ const GuardsimLayers = (function () {
         });
       }
       if (alert && layers.contaminated) drawContaminated(alertRow(tick));
+      if (watch && watch.light && layers.light) context.drawImage(lightImage(), 0, 0, canvas.width, canvas.height);
+    }
+
+    // The dark over each floor cell: the watch colour at (1 - light) * dark_alpha, so the floor still reads.
+    function lightImage() {
+      if (!watch.image) {
+        const dark = data.watch.dark_colour;
+        watch.image = cellImage((pixels) => {
+          for (let i = 0; i < cells; i++) {
+            if (kinds[i] !== 1) continue;
+            const alpha = Math.round(255 * (1 - Math.min(1, Math.max(0, watch.light[i]))) * data.watch.dark_alpha);
+            pixels.set([dark[0], dark[1], dark[2], alpha], 4 * i);
+          }
+        });
+      }
+      return watch.image;
+    }
+
+    // Each camera, its cone's outline at page tick `tick` (the swing repeats), and its meter while the
+    // intruder walks; returns nothing.
+    function drawCameras(tick, radius) {
+      const rgb = "rgb(" + data.watch.camera_colour.join(",") + ")";
+      const step = walking(tick);
+      watch.cameras.forEach((camera, index) => {
+        const x = px(camera.position[0]), y = py(camera.position[1]);
+        const heading = (camera.headings[tick % camera.ticks] * Math.PI) / 180;
+        const half = (camera.fov * Math.PI) / 360;
+        const reach = camera.range * scale;
+        context.strokeStyle = rgb;
+        context.lineWidth = 2;
+        context.beginPath();
+        if (camera.fov >= 360) context.arc(x, y, reach, 0, 2 * Math.PI);
+        else {
+          context.moveTo(x, y);
+          context.arc(x, y, reach, heading - half, heading + half);
+          context.closePath();
+        }
+        context.stroke();
+        context.fillStyle = rgb;
+        context.beginPath();
+        context.arc(x, y, Math.max(3, radius * 0.8), 0, 2 * Math.PI);
+        context.fill();
+        if (watch.meters && step >= 0) {
+          // Below the camera when there is no room above it (a camera on the top wall).
+          const height = Math.max(5, Math.round(0.6 * radius));
+          const above = Math.round(y - radius) - 4 - height >= 0;
+          const spot = [x, above ? y : y + 3 * radius + 8];
+          drawMeters(watch.meters, watch.cameras.length, data.intruder, step, radius, [spot], index);
+        }
+      });
     }
 
     // Whether the intruder may be in `cell` at alert row `row` (a bit per cell, rows whole bytes).
@@ -269,8 +329,10 @@ const GuardsimLayers = (function () {
     // A bar over each guard (at `spots`, where viewer.js drew it), framed in the outline colour, white
     // inside, filled from the left by its meter: the box of guardsim.sneak.gif.meter_bar_box. `levels`
     // holds `guards` meters per step; `info` the suspicious level and the state colours.
-    function drawMeters(levels, guards, info, step, radius, spots) {
-      spots.forEach(([x, y], guard) => {
+    function drawMeters(levels, guards, info, step, radius, spots, only) {
+      spots.forEach(([x, y], spot) => {
+        // `only`: the one column (a camera's) drawn at the one spot given.
+        const guard = only === undefined ? spot : only;
         if (guard >= guards) return;
         const level = Math.min(1, Math.max(0, levels[step * guards + guard]));
         const half = Math.round(radius) + 1;
@@ -289,6 +351,7 @@ const GuardsimLayers = (function () {
     }
 
     function drawOver(tick, layers, radius, spots) {
+      if (watch && layers.cameras) drawCameras(tick, radius);
       if (data.safe && layers.safe) drawSafe();
       if (intruder && layers.intruder) drawIntruder(tick, radius);
       const step = walking(tick);
@@ -482,6 +545,8 @@ const GuardsimLayers = (function () {
     if (meters || alert) present.push("meters");
     if (alert) present.push("contaminated", "last-known", "states");
     if (data.safe) present.push("safe");
+    if (watch && watch.light) present.push("light");
+    if (watch && watch.cameras.length) present.push("cameras");
 
     const hex = (rgb) => "#" + rgb.map((v) => v.toString(16).padStart(2, "0")).join("");
 
@@ -515,6 +580,8 @@ const GuardsimLayers = (function () {
         items.push([hex(data.safe_colours.holds), "safe spot (holds)"]);
         items.push([hex(data.safe_colours.broken), "safe spot (broken)"]);
       }
+      if (watch && watch.cameras.length) items.push([hex(data.watch.camera_colour), "camera, its cone and meter"]);
+      if (watch && watch.light) items.push(["linear-gradient(90deg," + hex(data.watch.dark_colour) + ",#ffffff)", "light: dark to full"]);
       return items;
     }
 

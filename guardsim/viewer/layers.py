@@ -36,6 +36,7 @@ __all__ = [
     "LapViews",
     "Overlays",
     "SafeSpot",
+    "WatchLayers",
     "overlay_data",
 ]
 
@@ -140,6 +141,20 @@ class SafeSpot:
 
 
 @dataclass(frozen=True, eq=False)
+class WatchLayers:
+    """A level's cameras and light on a sneak page: the light shaded over the floor, each camera's cone at
+    every lap tick, and its meter over it while the intruder is in."""
+
+    light: np.ndarray | None = None
+    """``float (rows, cols)``: each cell's light, 0 to 1; ``None``: full light."""
+    cameras: Sequence[tuple[tuple[float, float], np.ndarray, float, float]] = ()
+    """Each camera: its position (world units), the degrees it faces at each tick of its swing, its field
+    of view and its range."""
+    meters: np.ndarray | None = None
+    """``float (len(intruder cells), cameras)``: each camera's meter after each tick of the intruder's path."""
+
+
+@dataclass(frozen=True, eq=False)
 class AlertLayers:
     """An alert episode's own layers (``guardsim alert --html``), a row per tick of the trace: what each
     guard is doing, its meter, where the intruder may be and where it was last seen. The intruder
@@ -186,6 +201,8 @@ class Overlays:
     """An alert episode's guard states, meters, contaminated set and last known cell."""
     layers: Sequence[str] = field(default=())
     """Layers shown when the page opens (empty: the page's usual ones); ``#layers=...`` overrides."""
+    watch: WatchLayers | None = None
+    """A level's cameras and light."""
 
 
 def _seen_runs(seen: np.ndarray) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
@@ -394,4 +411,39 @@ def overlay_data(overlays: Overlays, trace: Trace) -> dict[str, Any]:
         data["alert"] = _alert_data(overlays.alert, trace)
     if overlays.layers:
         data["default_layers"] = list(overlays.layers)
+    if overlays.watch is not None:
+        data["watch"] = _watch_data(overlays.watch, trace.shape)
+    return data
+
+
+def _watch_data(watch: WatchLayers, shape: tuple[int, int]) -> dict[str, Any]:
+    from guardsim.render.palette import DARK_ALPHA, WATCH_COLOURS
+
+    data: dict[str, Any] = {
+        "camera_colour": list(WATCH_COLOURS["camera"]),
+        "dark_colour": list(WATCH_COLOURS["dark"]),
+        "dark_alpha": DARK_ALPHA,
+        "cameras": [
+            {
+                "position": [float(p[0]), float(p[1])],
+                "headings": packed(np.asarray(headings), "f4"),
+                "ticks": len(headings),
+                "fov": float(fov),
+                "range": float(reach),
+            }
+            for p, headings, fov, reach in watch.cameras
+        ],
+    }
+    if watch.light is not None:
+        light = np.asarray(watch.light, dtype=np.float64)
+        if light.shape != shape:
+            raise GuardsimError(f"the light map has shape {light.shape}, the trace's grid {shape}")
+        data["light"] = packed(light.ravel(), "f4")
+    if watch.meters is not None:
+        meters = np.asarray(watch.meters, dtype=np.float64)
+        if meters.ndim != 2 or meters.shape[1] != len(watch.cameras):
+            raise GuardsimError(
+                f"the cameras' meters have shape {meters.shape}, expected (ticks, {len(watch.cameras)})"
+            )
+        data["meters"] = packed(meters.ravel(), "f4")
     return data

@@ -10,6 +10,7 @@ from collections.abc import Sequence
 import numpy as np
 
 from guardsim.detection import NEVER_DETECTED, DetectionModel, GuardDetection
+from guardsim.detection.watch import LevelWatch
 from guardsim.errors import GuardsimError
 from guardsim.grid import CoverageGrid
 from guardsim.patrol.export import waypoints
@@ -17,7 +18,7 @@ from guardsim.patrol.model import Patrol
 from guardsim.patrol.scoring import seen_timeline
 from guardsim.sneak import SneakResult
 from guardsim.sneak.gif import path_states
-from guardsim.viewer.layers import DEFAULT_LAPS, IdlenessMap, Intruder, LapViews, Overlays, SafeSpot
+from guardsim.viewer.layers import DEFAULT_LAPS, IdlenessMap, Intruder, LapViews, Overlays, SafeSpot, WatchLayers
 from guardsim.vision.table import ViewTable
 
 __all__ = ["PATROL_LAYERS", "SNEAK_LAYERS", "patrol_overlays", "patrol_routes", "safe_spots", "sneak_overlays"]
@@ -103,6 +104,7 @@ def sneak_overlays(
     target: tuple[float, float] | None = None,
     detection: GuardDetection | None = None,
     safe: Sequence[tuple[float, float]] = (),
+    watch: LevelWatch | None = None,
 ) -> Overlays:
     """The page layers of a sneak check: the lap, the hiding spots, the exposure and time-to-detection
     maps, the loops, the intruder with the guards' awareness meters and its state, and the safe spots at
@@ -129,6 +131,8 @@ def sneak_overlays(
     suspicious = (detection.model if detection is not None else DetectionModel()).suspicious
     intruder = None
     laps = 1
+    guards = result.gains.gain.shape[0] - result.gains.cameras
+    camera_meters = None
     if path is not None:
         cells = [int(cell) for cell in path.cells]
         in_view = [bool(result.seen[(path.start_tick + tick) % result.period, cell]) for tick, cell in enumerate(cells)]
@@ -140,12 +144,24 @@ def sneak_overlays(
             source=source,
             target=target,
             label="intruder" if path.found else "intruder (closest call)",
-            meters=None if grade is None else grade.meters,
+            meters=None if grade is None else grade.meters[:, :guards],
             states=() if grade is None else path_states(grade.meters, grade.in_view, grade.detected_at, suspicious),
             suspicious=suspicious,
             detected_at=None if grade is None else grade.detected_at,
         )
         laps = -(-(path.start_tick + len(cells)) // result.period)
+        if grade is not None and result.gains.cameras:
+            camera_meters = grade.meters[:, guards:]
+    watch_layers = None
+    if watch is not None and (watch.cameras or watch.dark):
+        watch_layers = WatchLayers(
+            light=watch.light.reshape(grid.shape) if watch.dark else None,
+            cameras=[
+                (sight.camera.position, sight.headings, sight.camera.fov_degrees, sight.view_range)
+                for sight in watch.cameras
+            ],
+            meters=camera_meters,
+        )
     return Overlays(
         idleness=heat,
         laps=LapViews(result.period, result.seen, laps=laps),
@@ -154,5 +170,6 @@ def sneak_overlays(
         exposure=IdlenessMap(exposure, unit="of the lap in view", label="exposure", top=1.0),
         detection_time=detection_time,
         safe=safe_spots(grid, result, safe),
-        layers=SNEAK_LAYERS,
+        layers=SNEAK_LAYERS if watch_layers is None else (*SNEAK_LAYERS, "light", "cameras"),
+        watch=watch_layers,
     )

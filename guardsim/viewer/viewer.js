@@ -340,7 +340,7 @@
 
     const extra =
       typeof GuardsimLayers !== "undefined" &&
-      (data.laps || data.idleness || data.routes || data.intruder || data.exposure || data.detection_time || data.safe || data.alert)
+      (data.laps || data.idleness || data.routes || data.intruder || data.exposure || data.detection_time || data.safe || data.alert || data.watch)
         ? GuardsimLayers.make({ data, context, scale, px, py, decode, ramp, cellImage, centre, kinds })
         : null;
     const total = extra ? extra.total(steps, hash.laps) : steps;
