@@ -1,0 +1,34 @@
+"""Design questions about a level: how hard it is (:func:`report`), what an edit changed (:func:`diff`),
+and the analysis both read (:func:`analyse`), which ``guardsim watch`` recomputes on each save.
+
+- :mod:`~guardsim.design.analysis`: the level, its patrol, exposure and the sneak check of each pair.
+- :mod:`~guardsim.design.measures`: path-distance risk, distinct ways through, patrol readability.
+- :mod:`~guardsim.design.report`: the difficulty report and its 0-100 score.
+
+See ``docs/design.md``.
+"""
+
+from __future__ import annotations
+
+from guardsim.design.analysis import Analysis, PairResult, analyse, default_pairs
+from guardsim.design.measures import GuardReadability, distinct_ways, path_distance_risk, readability
+from guardsim.design.report import WEIGHTS, LevelReport, PairReport, formula, report, report_data, report_of, score_of
+
+__all__ = [
+    "WEIGHTS",
+    "Analysis",
+    "GuardReadability",
+    "LevelReport",
+    "PairReport",
+    "PairResult",
+    "analyse",
+    "default_pairs",
+    "distinct_ways",
+    "formula",
+    "path_distance_risk",
+    "readability",
+    "report",
+    "report_data",
+    "report_of",
+    "score_of",
+]
