@@ -136,9 +136,22 @@ def _capture_rate(analysis: Analysis, episodes: int, seed: int) -> float:
     return sum(outcome.captured_at is not None for outcome in outcomes) / episodes
 
 
-def report_of(analysis: Analysis, *, alert: int = 0, seed: int = 0, ways: bool = True) -> LevelReport:
-    """The report of an analysis already made (:func:`~guardsim.design.analysis.analyse`)."""
+def report_of(
+    analysis: Analysis,
+    *,
+    alert: int = 0,
+    seed: int = 0,
+    ways: bool = True,
+    progress: Callable[[str], None] | None = None,
+) -> LevelReport:
+    """The report of an analysis already made (:func:`~guardsim.design.analysis.analyse`); ``ways=False``
+    leaves the distinct ways uncounted (and out of the score)."""
+    tell = progress or (lambda line: None)
+    if ways and analysis.pairs:
+        tell("counting the distinct ways through")
     pairs = tuple(_pair_report(analysis, pair, ways) for pair in analysis.pairs)
+    if alert > 0:
+        tell(f"running {alert} seeded alert episode(s)")
     goal = analysis.goal
     floor = int(goal.sum())
     never = float((analysis.safe.sum()) / floor) if floor else 0.0
@@ -199,7 +212,7 @@ def report(
     ('unseen', 22)
     """
     analysis = analyse(level, patrol=patrol, guards=guards, pairs=pairs, seed=seed, progress=progress)
-    return report_of(analysis, alert=alert, seed=seed)
+    return report_of(analysis, alert=alert, seed=seed, progress=progress)
 
 
 def report_data(found: LevelReport) -> dict[str, Any]:
