@@ -4,6 +4,7 @@ and the analysis both read (:func:`analyse`), which ``guardsim watch`` recompute
 - :mod:`~guardsim.design.analysis`: the level, its patrol, exposure and the sneak check of each pair.
 - :mod:`~guardsim.design.measures`: path-distance risk, distinct ways through, patrol readability.
 - :mod:`~guardsim.design.report`: the difficulty report and its 0-100 score.
+- :mod:`~guardsim.design.diff`: two versions compared, and the margins of ``check --baseline``.
 
 See ``docs/design.md``.
 """
@@ -11,11 +12,19 @@ See ``docs/design.md``.
 from __future__ import annotations
 
 from guardsim.design.analysis import Analysis, PairResult, analyse, default_pairs
+from guardsim.design.diff import MARGINS, LevelDiff, PairChange, baseline_verdicts, diff, diff_data, parse_margins
 from guardsim.design.measures import GuardReadability, distinct_ways, path_distance_risk, readability
 from guardsim.design.report import WEIGHTS, LevelReport, PairReport, formula, report, report_data, report_of, score_of
 
 __all__ = [
+    "MARGINS",
     "WEIGHTS",
+    "LevelDiff",
+    "PairChange",
+    "baseline_verdicts",
+    "diff",
+    "diff_data",
+    "parse_margins",
     "Analysis",
     "GuardReadability",
     "LevelReport",

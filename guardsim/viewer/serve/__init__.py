@@ -8,7 +8,7 @@ live page, a local server that re-analyses a level on each save and pushes the r
 
 from __future__ import annotations
 
-from guardsim.viewer.serve.page import live_page, static_page
+from guardsim.viewer.serve.page import diff_table, live_page, static_page
 from guardsim.viewer.serve.payload import analysis_payload
 
-__all__ = ["analysis_payload", "live_page", "static_page"]
+__all__ = ["analysis_payload", "diff_table", "live_page", "static_page"]

@@ -13,7 +13,7 @@ from typing import Any
 
 from guardsim.viewer.serve.payload import palette
 
-__all__ = ["live_page", "static_page"]
+__all__ = ["diff_table", "live_page", "static_page"]
 
 
 def _block(data: Any) -> str:
@@ -47,3 +47,40 @@ def static_page(title: str, payloads: list[dict[str, Any]], diff_html: str | Non
 def live_page(title: str) -> str:
     """The page ``guardsim watch`` serves: it draws each analysis the server sends."""
     return _page(title, [], None, True, "waiting for the first analysis")
+
+
+def _value(value: Any) -> str:
+    if value is None:
+        return "-"
+    if isinstance(value, float):
+        return f"{value:g}"
+    return html.escape(str(value))
+
+
+def diff_table(data: dict[str, Any]) -> str:
+    """The diff page's table (diff.json's figures, before and after) as HTML."""
+    rows = [
+        ("difficulty score", data["score"]),
+        ("steps to cover", data["cover_steps"]),
+        ("worst idleness", data["worst_idleness"]),
+        ("mean idleness", data["mean_idleness"]),
+        ("safe spots", data["safe_spots"]),
+    ]
+    out = ["<h2>What the edit changed</h2>"]
+    out.append(f"<p>cells: {data['cells_added']} added, {data['cells_removed']} removed; safe spots: "
+               f"{len(data['safe_gained'])} gained, <span id=\"safe-lost\">{len(data['safe_lost'])}</span> lost</p>")
+    out.append("<table><tr><th>measure</th><th>before</th><th>after</th></tr>")
+    out += [f"<tr><td>{name}</td><td>{_value(a)}</td><td>{_value(b)}</td></tr>" for name, (a, b) in rows]
+    out.append("</table><table><tr><th>from</th><th>to</th><th>outcome</th><th>ticks</th><th>slack</th>"
+               "<th>risk</th><th>peak awareness</th><th>hiding gained</th><th>hiding lost</th></tr>")
+    for pair in data["pairs"]:
+        cells = [
+            " -> ".join(_value(v) for v in pair[key]) for key in ("outcome", "ticks", "slack", "risk", "peak_awareness")
+        ]
+        where = [",".join(f"{v:g}" for v in pair[key]) for key in ("from", "to")]
+        out.append(
+            "<tr>" + "".join(f"<td>{c}</td>" for c in [*where, *cells])
+            + f"<td>{len(pair['hiding_gained'])}</td><td>{len(pair['hiding_lost'])}</td></tr>"
+        )
+    out.append("</table>")
+    return "\n".join(out)
