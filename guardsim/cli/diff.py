@@ -14,7 +14,9 @@ __all__ = ["diff"]
 
 
 def _pair(values: list) -> str:
-    return " -> ".join("-" if value is None else f"{value:g}" if isinstance(value, float) else str(value) for value in values)
+    return " -> ".join(
+        "-" if value is None else f"{value:g}" if isinstance(value, float) else str(value) for value in values
+    )
 
 
 @click.command()
@@ -22,7 +24,13 @@ def _pair(values: list) -> str:
 @click.argument("new_path", metavar="NEW")
 @click.option("--patrol-old", type=str, help="The old version's patrol.json (give --patrol-new too).")
 @click.option("--patrol-new", type=str, help="The new version's patrol.json.")
-@click.option("--guards", type=click.IntRange(min=1, max=64), default=1, show_default=True, help="Team size of the loop patrols made without patrol files.")
+@click.option(
+    "--guards",
+    type=click.IntRange(min=1, max=64),
+    default=1,
+    show_default=True,
+    help="Team size of the loop patrols made without patrol files.",
+)
 @pair_options
 @click.option("--seed", type=click.IntRange(min=0), default=0, show_default=True)
 @click.option("--png", "png_path", type=str, help="Write the picture: before, after and their difference.")
@@ -62,13 +70,22 @@ def diff(
     new = load(new_path, max_cells, max_vertices, max_file_bytes, map_import)
     compile_ahead("sneak")
     found = compare(
-        old, new, patrol_old=patrol_old, patrol_new=patrol_new, guards=guards, pairs=pairs, seed=seed, progress=progress_line
+        old,
+        new,
+        patrol_old=patrol_old,
+        patrol_new=patrol_new,
+        guards=guards,
+        pairs=pairs,
+        seed=seed,
+        progress=progress_line,
     )
     data = diff_data(found)
     click.echo(f"  cells: {data['cells_added']} added, {data['cells_removed']} removed")
     click.echo(f"  steps to cover: {_pair(data['cover_steps'])}")
     click.echo(f"  idleness: worst {_pair(data['worst_idleness'])}, mean {_pair(data['mean_idleness'])}")
-    click.echo(f"  safe spots: {_pair(data['safe_spots'])} ({len(data['safe_gained'])} gained, {len(data['safe_lost'])} lost)")
+    click.echo(
+        f"  safe spots: {_pair(data['safe_spots'])} ({len(data['safe_gained'])} gained, {len(data['safe_lost'])} lost)"
+    )
     for pair in data["pairs"]:
         where = f"{pair['from'][0]:g},{pair['from'][1]:g} -> {pair['to'][0]:g},{pair['to'][1]:g}"
         click.echo(

@@ -16,9 +16,17 @@ __all__ = ["report"]
 @click.command()
 @click.argument("level_path", metavar="LEVEL")
 @click.option("--patrol", "patrol_path", type=str, help="patrol.json [default: the loop patrol of --guards guards].")
-@click.option("--guards", type=click.IntRange(min=1, max=64), default=1, show_default=True, help="Team size of the loop patrol made without --patrol.")
+@click.option(
+    "--guards",
+    type=click.IntRange(min=1, max=64),
+    default=1,
+    show_default=True,
+    help="Team size of the loop patrol made without --patrol.",
+)
 @pair_options
-@click.option("--alert", "alert", type=click.IntRange(min=0), default=0, help="Run N seeded alert episodes for the capture rate.")
+@click.option(
+    "--alert", "alert", type=click.IntRange(min=0), default=0, help="Run N seeded alert episodes for the capture rate."
+)
 @click.option("--seed", type=click.IntRange(min=0), default=0, show_default=True)
 @click.option("--html", "html_path", type=str, help="Write the report as a page (the level, the paths, the formula).")
 @click.option("--json", "json_path", type=str, help="Write report.json.")

@@ -249,4 +249,3 @@ def analyse(
 
 def _loop_name(guards: int, planner: str) -> str:
     return f"loop of {guards} guard(s)" + ("" if planner == "auto" else f" ({planner})")
-

@@ -136,7 +136,9 @@ def diff(
     changes = []
     for index, (first, second) in enumerate(zip(old_report.pairs, new_report.pairs)):
         hiding_a, hiding_b = _hiding(before, index), _hiding(after, index)
-        changes.append(PairChange(first, second, tuple(sorted(hiding_b - hiding_a)), tuple(sorted(hiding_a - hiding_b))))
+        changes.append(
+            PairChange(first, second, tuple(sorted(hiding_b - hiding_a)), tuple(sorted(hiding_a - hiding_b)))
+        )
     return LevelDiff(
         before,
         after,
@@ -279,4 +281,3 @@ def baseline_verdicts(found: LevelDiff, margins: dict[str, int]) -> list[tuple[s
         grown = (second - first) if first is not None and second is not None else (0 if first == second else 10**9)
         verdict("cover", max(0, grown), f"{first} -> {second} steps")
     return out
-

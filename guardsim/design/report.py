@@ -130,7 +130,12 @@ def _capture_rate(analysis: Analysis, episodes: int, seed: int) -> float:
     from guardsim.alert import run_alerts
 
     runs = run_alerts(
-        analysis.scene, analysis.patrol, episodes=episodes, seed=seed, table=analysis.table, detection=analysis.detection
+        analysis.scene,
+        analysis.patrol,
+        episodes=episodes,
+        seed=seed,
+        table=analysis.table,
+        detection=analysis.detection,
     )
     outcomes = [episode.result() for episode in runs["ripple"]]
     return sum(outcome.captured_at is not None for outcome in outcomes) / episodes

@@ -67,19 +67,24 @@ def diff_table(data: dict[str, Any]) -> str:
         ("safe spots", data["safe_spots"]),
     ]
     out = ["<h2>What the edit changed</h2>"]
-    out.append(f"<p>cells: {data['cells_added']} added, {data['cells_removed']} removed; safe spots: "
-               f"{len(data['safe_gained'])} gained, <span id=\"safe-lost\">{len(data['safe_lost'])}</span> lost</p>")
+    out.append(
+        f"<p>cells: {data['cells_added']} added, {data['cells_removed']} removed; safe spots: "
+        f'{len(data["safe_gained"])} gained, <span id="safe-lost">{len(data["safe_lost"])}</span> lost</p>'
+    )
     out.append("<table><tr><th>measure</th><th>before</th><th>after</th></tr>")
     out += [f"<tr><td>{name}</td><td>{_value(a)}</td><td>{_value(b)}</td></tr>" for name, (a, b) in rows]
-    out.append("</table><table><tr><th>from</th><th>to</th><th>outcome</th><th>ticks</th><th>slack</th>"
-               "<th>risk</th><th>peak awareness</th><th>hiding gained</th><th>hiding lost</th></tr>")
+    out.append(
+        "</table><table><tr><th>from</th><th>to</th><th>outcome</th><th>ticks</th><th>slack</th>"
+        "<th>risk</th><th>peak awareness</th><th>hiding gained</th><th>hiding lost</th></tr>"
+    )
     for pair in data["pairs"]:
         cells = [
             " -> ".join(_value(v) for v in pair[key]) for key in ("outcome", "ticks", "slack", "risk", "peak_awareness")
         ]
         where = [",".join(f"{v:g}" for v in pair[key]) for key in ("from", "to")]
         out.append(
-            "<tr>" + "".join(f"<td>{c}</td>" for c in [*where, *cells])
+            "<tr>"
+            + "".join(f"<td>{c}</td>" for c in [*where, *cells])
             + f"<td>{len(pair['hiding_gained'])}</td><td>{len(pair['hiding_lost'])}</td></tr>"
         )
     out.append("</table>")

@@ -80,4 +80,7 @@ def analysis_payload(analysis: Analysis, report: dict[str, Any] | None = None) -
 
 def palette() -> dict[str, Any]:
     """The colours the page draws with (the pictures' palette)."""
-    return {"colours": {name: list(value) for name, value in COLOURS.items()}, "guards": [list(c) for c in GUARD_COLOURS]}
+    return {
+        "colours": {name: list(value) for name, value in COLOURS.items()},
+        "guards": [list(c) for c in GUARD_COLOURS],
+    }
