@@ -67,8 +67,8 @@ def report(
     data = report_data(found)
     for pair in data["pairs"]:
         where = f"{pair['from'][0]:g},{pair['from'][1]:g} -> {pair['to'][0]:g},{pair['to'][1]:g}"
-        if pair["outcome"] == "unreachable":
-            click.echo(f"  {where}: unreachable ({pair.get('note', '')})")
+        if pair["outcome"] in ("unreachable", "unchecked"):
+            click.echo(f"  {where}: {pair['outcome']} ({pair.get('note', '')})")
             continue
         click.echo(
             f"  {where}: {pair['outcome']}, {pair['ticks']} ticks; slack {pair['slack']}/{pair['period']}; "

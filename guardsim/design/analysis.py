@@ -17,7 +17,7 @@ from typing import NamedTuple
 import numpy as np
 
 from guardsim.detection import GuardDetection, PatrolGains, exposure_map, patrol_gains, time_to_detection
-from guardsim.errors import PatrolError
+from guardsim.errors import LimitError, PatrolError
 from guardsim.kernels.distances import FAR, distances_from
 from guardsim.level import Level
 from guardsim.patrol import Patrol, PatrolScore, PatrolSetup, plan_loop, read_patrol, score_patrol
@@ -31,8 +31,9 @@ __all__ = ["Analysis", "PairResult", "analyse", "default_pairs", "geometry_key",
 Point = tuple[float, float]
 
 #: The sneak outcomes, hardest last: an unseen path exists; only an undetected one (seen briefly, no meter
-#: fills); none (the closest call is detected); the goal cannot be reached at all.
-OUTCOMES = ("unseen", "undetected", "detected", "unreachable")
+#: fills); none (the closest call is detected); the goal cannot be reached at all; the search was over a
+#: size limit (:data:`guardsim.sneak.MAX_SNEAK_NODES`), so the pair was not checked.
+OUTCOMES = ("unseen", "undetected", "detected", "unreachable", "unchecked")
 
 
 class PairResult(NamedTuple):
@@ -47,11 +48,13 @@ class PairResult(NamedTuple):
     """The undetected sneak check (:func:`guardsim.sneak.sneak_check`); ``None`` when unreachable."""
     note: str = ""
     """Why the pair could not be checked, for a designer."""
+    checked: bool = True
+    """False when the search was over a size limit (the note says which)."""
 
     @property
     def outcome(self) -> str:
         """One of :data:`OUTCOMES`."""
-        return outcome_of(self.sneak)
+        return outcome_of(self.sneak) if self.checked else "unchecked"
 
 
 def outcome_of(result: SneakResult | None) -> str:
@@ -158,7 +161,10 @@ def _pair(
     labels = scene.grid.component_labels
     if labels[start] != labels[goal]:
         return PairResult(source, target, start, goal, None, f"{where}: the goal cannot be reached from the entry")
-    result = sneak_check(scene.grid, table, patrol, start, goal, detection=detection, undetected=True)
+    try:
+        result = sneak_check(scene.grid, table, patrol, start, goal, detection=detection, undetected=True)
+    except LimitError as error:
+        return PairResult(source, target, start, goal, None, f"{where}: not checked: {error}", checked=False)
     return PairResult(source, target, start, goal, result)
 
 

@@ -49,7 +49,8 @@ class PairReport(NamedTuple):
     source: Point
     target: Point
     outcome: str
-    """``unseen``, ``undetected``, ``detected`` or ``unreachable`` (see :data:`guardsim.design.analysis.OUTCOMES`)."""
+    """``unseen``, ``undetected``, ``detected``, ``unreachable`` or ``unchecked`` (see
+    :data:`guardsim.design.analysis.OUTCOMES`)."""
     ticks: int | None
     """Ticks of the best path (the fastest undetected one, else the closest call)."""
     slack: int
@@ -113,7 +114,7 @@ def _pair_report(analysis: Analysis, pair: PairResult, ways: bool) -> PairReport
     result = pair.sneak
     period = analysis.patrol.ticks
     if result is None or result.path is None or result.grade is None:
-        return PairReport(pair.source, pair.target, "unreachable", None, 0, period, None, None, None, 0, pair.note)
+        return PairReport(pair.source, pair.target, pair.outcome, None, 0, period, None, None, None, 0, pair.note)
     path, grade = result.path, result.grade
     reach = analysis.detection.view_range
     reach = reach if np.isfinite(reach) else 8 * analysis.scene.grid.cell_size
@@ -163,7 +164,7 @@ def report_of(
     guards = tuple(readability(analysis.patrol))
     capture = _capture_rate(analysis, alert, seed) if alert > 0 else None
     parts: dict[str, float] = {}
-    checked = [pair for pair in pairs if pair.outcome != "unreachable"]
+    checked = [pair for pair in pairs if pair.outcome not in ("unreachable", "unchecked")]
     if checked:
         parts["caught"] = float(np.mean([pair.outcome == "detected" for pair in checked]))
         parts["tight"] = float(np.mean([1 - pair.slack / pair.period for pair in checked]))

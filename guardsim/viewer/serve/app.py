@@ -82,6 +82,8 @@ class LiveAnalyser:
         self._analysis: dict[str, Any] | None = None
         self._failure: dict[str, Any] | None = None
         self._waiters: set[asyncio.Event] = set()
+        self._delivered: dict[asyncio.Event, int] = {}
+        """The version each page's stream has sent."""
         self._lock = threading.Lock()
 
     # --- what the pages are sent ---
@@ -103,6 +105,21 @@ class LiveAnalyser:
 
     def unsubscribe(self, event: asyncio.Event) -> None:
         self._waiters.discard(event)
+        self._delivered.pop(event, None)
+
+    def delivered(self, event: asyncio.Event, version: int) -> None:
+        """A page's stream has sent everything up to ``version``."""
+        self._delivered[event] = version
+
+    async def _deliver(self) -> None:
+        """Publish, then wait (a moment at most) until every page's stream has sent it: the compiled
+        searches of the next step hold the interpreter, and the page should not wait for them."""
+        self._publish()
+        target = self.version
+        loop = asyncio.get_running_loop()
+        deadline = loop.time() + 1.0
+        while loop.time() < deadline and any(self._delivered.get(e, -1) < target for e in self._waiters):
+            await asyncio.sleep(0.002)
 
     def _publish(self) -> None:
         self.version += 1
@@ -168,7 +185,10 @@ class LiveAnalyser:
         def publish(payload: dict[str, Any]) -> None:
             with self._lock:
                 self._analysis, self._failure = payload, None
-            loop.call_soon_threadsafe(self._publish)
+            if payload["phase"] == "analysis":
+                asyncio.run_coroutine_threadsafe(self._deliver(), loop).result()
+            else:
+                loop.call_soon_threadsafe(self._publish)
             if payload["phase"] == "analysis":
                 reused = f", reused {' and '.join(payload['reused'])}" if payload["reused"] else ""
                 self.echo(f"analysis {payload['number']}: {payload['seconds']:.2f} s{reused}")
@@ -217,6 +237,8 @@ def _app(analyser: LiveAnalyser, title: str, stop: asyncio.Event) -> Any:
                         changed.clear()
                         for name, data in analyser.messages():
                             yield f"event: {name}\ndata: {data}\n\n"
+                        # Reached once the last message is sent (the next one is asked for).
+                        analyser.delivered(changed, sent)
                     with contextlib.suppress(asyncio.TimeoutError):
                         await asyncio.wait_for(changed.wait(), KEEPALIVE_SECONDS)
                         continue

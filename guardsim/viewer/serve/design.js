@@ -83,7 +83,8 @@ function drawDifference(canvas, a, b) {
 function reportHtml(p) {
   const r = p.report;
   if (!r) return "";
-  let h = `<h2>Difficulty <span id="score">${r.score}</span>/100</h2><p id="formula"><code>${esc(r.formula)}</code></p>`;
+  const pending = r.provisional ? " (counting the ways through)" : "";
+  let h = `<h2>Difficulty <span id="score">${r.score}</span>/100${pending}</h2><p id="formula"><code>${esc(r.formula)}</code></p>`;
   h += "<table><tr><th>part</th><th>weight</th><th>value (0 easy, 1 hard)</th></tr>";
   for (const [name, value] of Object.entries(r.parts)) h += `<tr><td>${name}</td><td>${r.weights[name]}</td><td>${value.toFixed(3)}</td></tr>`;
   h += "</table><table><tr><th>from</th><th>to</th><th>outcome</th><th>ticks</th><th>slack</th><th>peak awareness</th><th>path-distance risk</th><th>ways</th></tr>";
@@ -128,6 +129,8 @@ function showLive(p) {
   status.textContent = `analysis ${p.number} of ${p.file}: took ${p.seconds.toFixed(2)} s${reused}`;
   status.dataset.number = p.number;
   status.dataset.phase = p.phase;
+  // When this analysis was drawn (ms since the epoch): the latency benchmark reads it.
+  status.dataset.shownAt = Date.now();
 }
 
 if (LIVE) {
