@@ -59,6 +59,7 @@ _SOURCES = {
     "sneak_check": "guardsim.sneak",
     **dict.fromkeys(("AlertEpisode", "AlertRules", "alert_episode", "run_alerts"), "guardsim.alert"),
     **dict.fromkeys(("ContinuousSimulation", "GuardMotion"), "guardsim.motion"),
+    **dict.fromkeys(("analyse", "report", "diff"), "guardsim.design"),
 }
 
 __all__ = ["__version__", *_SOURCES]
@@ -83,6 +84,9 @@ if TYPE_CHECKING:
     from guardsim.alert import AlertRules as AlertRules
     from guardsim.alert import alert_episode as alert_episode
     from guardsim.alert import run_alerts as run_alerts
+    from guardsim.design import analyse as analyse
+    from guardsim.design import diff as diff
+    from guardsim.design import report as report
     from guardsim.detection import AwarenessMeter as AwarenessMeter
     from guardsim.detection import DetectionModel as DetectionModel
     from guardsim.detection import GuardDetection as GuardDetection

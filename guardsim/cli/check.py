@@ -115,6 +115,20 @@ def _each_point(_ctx: click.Context, param: click.Parameter, values: tuple[str, 
     type=click.IntRange(min=1),
     help="Longest joint lap of the patrol and the level's camera swings, in ticks [default: 10000].",
 )
+@click.option(
+    "--baseline",
+    "baseline_path",
+    type=str,
+    help="An earlier version of LEVEL: fail when LEVEL is worse than it by more than the --max-worse margins.",
+)
+@click.option(
+    "--max-worse",
+    "max_worse",
+    multiple=True,
+    metavar="NAME=N",
+    help="A --baseline margin (outcome, safe, hiding, score, slack, idleness, cover); repeatable "
+    "[default: outcome=0 safe=0 score=10].",
+)
 @click.option("--seed", type=click.IntRange(min=0), default=0, show_default=True)
 @detection_options
 @vision_options
@@ -138,6 +152,8 @@ def check(
     max_slack: int | None,
     checks_path: str | None,
     max_lap: int | None,
+    baseline_path: str | None,
+    max_worse: tuple[str, ...],
     seed: int,
     detection_overrides: DetectionOverrides,
     los: str,
@@ -186,14 +202,21 @@ def check(
         changes["max_lap"] = max_lap
     rules = dataclasses.replace(rules, **changes)  # type: ignore[arg-type]
     rules.validate()
-    if rules.count == 0:
+    if max_worse and baseline_path is None:
+        raise GuardsimError("--max-worse sets the margins of --baseline: give --baseline OLD")
+    if rules.count == 0 and baseline_path is None:
         raise GuardsimError(
             f"{level_path}: no rule to check: give --max-cover-steps, --max-idleness, --no-unreachable, --safe, "
-            "--sneak or --checks"
+            "--sneak, --checks or --baseline"
         )
     level = detection_overrides.apply(load(level_path, max_cells, max_vertices, max_file_bytes, map_import))
     scene = build_scene(level, los, fov, view_range)
-    results = run_checks(scene, rules, seed=seed)
+    results = run_checks(scene, rules, seed=seed) if rules.count else []
+    if baseline_path is not None:
+        from guardsim.cli.baseline import baseline_results
+
+        old = detection_overrides.apply(load(baseline_path, max_cells, max_vertices, max_file_bytes, map_import))
+        results += baseline_results(old, level, rules, max_worse, seed=seed)
     broken = [result for result in results if not result.holds]
     for result in broken:
         click.echo(f"{level_path}: broken: {result.rule}: {result.message}")

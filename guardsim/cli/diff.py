@@ -1,0 +1,119 @@
+"""``guardsim diff``: what an edit changed, as numbers and a picture."""
+
+from __future__ import annotations
+
+import json
+
+import click
+
+from guardsim.cli.common import limit_options, load, reports_errors
+from guardsim.cli.design_common import pair_options, pairs_of, progress_line
+from guardsim.cli.map_options import MapImport, map_options
+
+__all__ = ["diff"]
+
+
+def _pair(values: list) -> str:
+    return " -> ".join(
+        "-" if value is None else f"{value:g}" if isinstance(value, float) else str(value) for value in values
+    )
+
+
+@click.command()
+@click.argument("old_path", metavar="OLD")
+@click.argument("new_path", metavar="NEW")
+@click.option("--patrol-old", type=str, help="The old version's patrol.json (give --patrol-new too).")
+@click.option("--patrol-new", type=str, help="The new version's patrol.json.")
+@click.option(
+    "--guards",
+    type=click.IntRange(min=1, max=64),
+    default=1,
+    show_default=True,
+    help="Team size of the loop patrols made without patrol files.",
+)
+@pair_options
+@click.option("--seed", type=click.IntRange(min=0), default=0, show_default=True)
+@click.option("--png", "png_path", type=str, help="Write the picture: before, after and their difference.")
+@click.option("--html", "html_path", type=str, help="Write a page: both versions drawn, the difference and the table.")
+@click.option("--json", "json_path", type=str, help="Write diff.json.")
+@map_options
+@limit_options
+@reports_errors
+def diff(
+    old_path: str,
+    new_path: str,
+    map_import: MapImport,
+    patrol_old: str | None,
+    patrol_new: str | None,
+    guards: int,
+    sources: tuple[tuple[float, float], ...],
+    targets: tuple[tuple[float, float], ...],
+    seed: int,
+    png_path: str | None,
+    html_path: str | None,
+    json_path: str | None,
+    max_cells: int,
+    max_vertices: int,
+    max_file_bytes: int,
+) -> None:
+    """Compare two versions of a level: cells added and removed, steps to cover, idleness, each entry-goal
+    pair's sneak outcome, ticks, slack, risk and peak awareness, safe and hiding spots gained and lost,
+    and the difficulty score (docs/design.md). Exit status 0 either way (check --baseline gates a build).
+    """
+    from guardsim.design import diff as compare
+    from guardsim.design import diff_data
+    from guardsim.files.output import atomic_path, write_text_atomic
+    from guardsim.kernels.ahead import compile_ahead
+
+    pairs = pairs_of(sources, targets)
+    old = load(old_path, max_cells, max_vertices, max_file_bytes, map_import)
+    new = load(new_path, max_cells, max_vertices, max_file_bytes, map_import)
+    compile_ahead("sneak")
+    found = compare(
+        old,
+        new,
+        patrol_old=patrol_old,
+        patrol_new=patrol_new,
+        guards=guards,
+        pairs=pairs,
+        seed=seed,
+        progress=progress_line,
+    )
+    data = diff_data(found)
+    click.echo(f"  cells: {data['cells_added']} added, {data['cells_removed']} removed")
+    click.echo(f"  steps to cover: {_pair(data['cover_steps'])}")
+    click.echo(f"  idleness: worst {_pair(data['worst_idleness'])}, mean {_pair(data['mean_idleness'])}")
+    click.echo(
+        f"  safe spots: {_pair(data['safe_spots'])} ({len(data['safe_gained'])} gained, {len(data['safe_lost'])} lost)"
+    )
+    for pair in data["pairs"]:
+        where = f"{pair['from'][0]:g},{pair['from'][1]:g} -> {pair['to'][0]:g},{pair['to'][1]:g}"
+        click.echo(
+            f"  {where}: {_pair(pair['outcome'])}; ticks {_pair(pair['ticks'])}; slack {_pair(pair['slack'])}; "
+            f"risk {_pair(pair['risk'])}; peak awareness {_pair(pair['peak_awareness'])}; "
+            f"hiding spots {len(pair['hiding_gained'])} gained, {len(pair['hiding_lost'])} lost"
+        )
+    click.echo(f"{old.name}: difficulty {_pair(data['score'])}")
+    written = []
+    if json_path is not None:
+        write_text_atomic(json_path, json.dumps(data, indent=1) + "\n")
+        written.append(json_path)
+    if png_path is not None:
+        import imageio.v3 as iio
+
+        from guardsim.render.diff import diff_picture
+
+        with atomic_path(png_path) as temporary:
+            iio.imwrite(temporary, diff_picture(found), extension=".png")
+        written.append(png_path)
+    if html_path is not None:
+        from guardsim.viewer.serve import analysis_payload, diff_table, static_page
+
+        payloads = [
+            analysis_payload(found.old, data["old_report"]),
+            analysis_payload(found.new, data["new_report"]),
+        ]
+        write_text_atomic(html_path, static_page(f"{old.name}: what the edit changed", payloads, diff_table(data)))
+        written.append(html_path)
+    if written:
+        click.echo(f"-> {', '.join(written)}")

@@ -1,0 +1,202 @@
+"""report, diff and check --baseline on two versions of a small level (tests/design_levels.py): a moved
+wall opens a side passage round a posted guard. Exact outcomes, the picture decoded, exit codes."""
+
+from __future__ import annotations
+
+import itertools
+import json
+import re
+import shutil
+from pathlib import Path
+
+import imageio.v3 as iio
+import numpy as np
+import pytest
+from click.testing import CliRunner
+
+import guardsim
+from guardsim.cli import main
+from guardsim.design import analyse, distinct_ways, path_distance_risk, report_of
+from guardsim.design.diff import LevelDiff
+from guardsim.level import parse_level
+from guardsim.patrol import parse_patrol
+from guardsim.render.diff import DIFF_COLOURS, diff_picture, panel_geometry
+from tests.design_levels import ENTRY, GOAL, NEW, OLD, POST, write_versions
+
+PAIR = [(ENTRY, GOAL)]
+PAIR_ARGS = ["--from", "0.5,6.5", "--to", "19.5,6.5"]
+
+
+@pytest.fixture(scope="module")
+def versions(tmp_path_factory) -> tuple[Path, Path, Path]:
+    return write_versions(tmp_path_factory.mktemp("design"))
+
+
+@pytest.fixture(scope="module")
+def found() -> LevelDiff:
+    old, new = parse_level(OLD), parse_level(NEW)
+    patrol_old = parse_patrol(POST, guardsim.Scene.from_level(old).grid)
+    patrol_new = parse_patrol(POST, guardsim.Scene.from_level(new).grid)
+    return guardsim.diff(old, new, patrol_old=patrol_old, patrol_new=patrol_new, pairs=PAIR)
+
+
+def test_the_wall_closes_the_way_and_moving_it_opens_a_side_passage(found: LevelDiff) -> None:
+    """Before: no undetected way (the closest call is caught in the hall), no way through; after: an
+    unseen path round the guard, at least one way through, and a lower score."""
+    before, after = found.pairs[0].before, found.pairs[0].after
+    assert (before.outcome, before.ways, before.peak) == ("detected", 0, 1.0)
+    assert after.outcome == "unseen" and after.ways >= 1 and after.peak == 0.0
+    assert found.old_report.parts["caught"] == 1.0 and found.new_report.parts["caught"] == 0.0
+    assert found.old_report.score > found.new_report.score
+    # The unseen path keeps out of the guard's sight: its path-distance risk is below the caught path's.
+    assert after.path_risk is not None and before.path_risk is not None and after.path_risk < before.path_risk
+
+
+def test_safe_spots_lost_are_the_cells_the_guard_now_sees_through_the_gap(found: LevelDiff) -> None:
+    """Every safe spot lost was never in view before and is in view after; the corridor beyond reach stays safe."""
+    assert found.aligned and found.cells_added > 0 and found.cells_removed == 0
+    assert (15.5, 2.5) in found.safe_lost
+    grid = found.new.scene.grid
+    for point in found.safe_lost:
+        cell = grid.flat(*grid.cell_of(point))
+        assert found.old.exposure[cell] == 0 and found.new.exposure[cell] > 0
+    assert (10.5, 1.5) not in found.safe_lost and found.new.safe[grid.flat(10, 1)]
+
+
+def test_the_picture_shows_the_lost_safe_spots(found: LevelDiff) -> None:
+    """Decoded picture: three panels; at each lost safe spot the difference panel has the lost colour,
+    and at a wall cell the wall colour."""
+    image = diff_picture(found)
+    scale, corners = panel_geometry(found)
+    assert len(corners) == 3
+    left, top = corners[2]
+    assert image.shape == (top + 9 * scale + 8, left + 20 * scale + 8, 3)
+    grid = found.new.scene.grid
+    for point in found.safe_lost:
+        col, row = grid.cell_of(point)
+        y, x = top + row * scale + scale // 2, left + col * scale + scale // 2
+        assert tuple(image[y, x]) == DIFF_COLOURS["safe_lost"]
+    assert tuple(image[top + 3 * scale + scale // 2, left + 5 * scale + scale // 2]) == guardsim.render.COLOURS["wall"]
+
+
+def test_diff_command_prints_writes_and_draws(versions, tmp_path: Path) -> None:
+    old, new, post = versions
+    png, page, data = tmp_path / "d.png", tmp_path / "d.html", tmp_path / "d.json"
+    args = ["diff", str(old), str(new), "--patrol-old", str(post), "--patrol-new", str(post), *PAIR_ARGS]
+    result = CliRunner().invoke(main, [*args, "--png", str(png), "--html", str(page), "--json", str(data)])
+    assert result.exit_code == 0, result.output
+    assert "0.5,6.5 -> 19.5,6.5: detected -> unseen" in result.output
+    written = json.loads(data.read_text())
+    assert written["pairs"][0]["outcome"] == ["detected", "unseen"] and [15.5, 2.5] in written["safe_lost"]
+    assert iio.imread(png).ndim == 3
+    block = re.search(r'<script id="diff-data" type="application/json">(.*?)</script>', page.read_text(), re.S)
+    assert block is not None
+    assert f'id="safe-lost">{len(written["safe_lost"])}</span> lost' in json.loads(block.group(1))
+
+
+def test_diff_needs_both_patrols_or_neither(versions) -> None:
+    old, new, post = versions
+    result = CliRunner().invoke(main, ["diff", str(old), str(new), "--patrol-old", str(post)])
+    assert result.exit_code == 2 and "--patrol-new" in result.output
+
+
+def test_check_baseline_fails_on_the_moved_wall_and_passes_on_a_copy(versions, tmp_path: Path) -> None:
+    """One line per broken margin (outcome and safe spots), exit 1; an unchanged copy: exit 0."""
+    old, new, post = versions
+    copy = tmp_path / "copy.json"
+    shutil.copy(old, copy)
+    runner = CliRunner()
+    args = ["--baseline", str(old), "--patrol", str(post), "--sneak", "0.5,6.5", "19.5,6.5", "--expect", "caught"]
+    result = runner.invoke(main, ["check", str(new), *args])
+    assert result.exit_code == 1, result.output
+    broken = [line for line in result.stdout.splitlines() if "broken: baseline" in line]
+    assert [line.split("broken: ")[1].split(":")[0] for line in broken] == [
+        "baseline outcome",
+        "baseline safe",
+        "baseline score",
+    ]
+    assert "detected -> unseen" in broken[0]
+    relaxed = runner.invoke(
+        main, ["check", str(new), "--baseline", str(old), "--patrol", str(post), "--max-worse", "safe=10"]
+    )
+    assert "broken: baseline safe" not in relaxed.stdout
+    result = runner.invoke(main, ["check", str(copy), *args])
+    assert result.exit_code == 0, result.output
+
+
+def test_check_baseline_margin_errors_are_one_line(versions) -> None:
+    old, new, _ = versions
+    result = CliRunner().invoke(main, ["check", str(new), "--baseline", str(old), "--max-worse", "safety=1"])
+    assert result.exit_code == 2
+    assert result.output.strip().count("\n") == 0 and "unknown margin 'safety'" in result.output
+    result = CliRunner().invoke(main, ["check", str(new), "--max-worse", "safe=1"])
+    assert result.exit_code == 2 and "give --baseline OLD" in result.output
+
+
+def test_report_command_gives_the_score_with_its_formula(versions, tmp_path: Path) -> None:
+    old, _, post = versions
+    out, page = tmp_path / "r.json", tmp_path / "r.html"
+    args = ["report", str(old), "--patrol", str(post), *PAIR_ARGS, "--json", str(out), "--html", str(page)]
+    result = CliRunner().invoke(main, args)
+    assert result.exit_code == 0, result.output
+    data = json.loads(out.read_text())
+    assert data["pairs"][0]["outcome"] == "detected" and data["formula"].startswith("score = 100 x (25 caught")
+    weights, parts = data["weights"], data["parts"]
+    assert data["score"] == round(100 * sum(weights[k] * parts[k] for k in parts) / sum(weights.values()))
+    assert f"difficulty {data['score']}/100" in result.output
+    assert data["formula"] in page.read_text()
+
+
+def test_report_input_errors_are_one_line(versions) -> None:
+    old, _, _ = versions
+    result = CliRunner().invoke(main, ["report", str(old), "--from", "0.5,6.5"])
+    assert result.exit_code == 2 and "each --from needs its --to" in result.output
+    result = CliRunner().invoke(main, ["report", str(old), "--patrol", str(old)])
+    errors = [line for line in result.output.splitlines() if line.startswith("guardsim: error:")]
+    assert result.exit_code == 2 and len(errors) == 1 and "Traceback" not in result.output
+
+
+def test_capture_rate_counts_captured_episodes() -> None:
+    """With --alert N the capture part is the share of N seeded episodes captured, in [0, 1], and the
+    same seed gives the same rate."""
+    analysis = analyse(
+        parse_level(OLD), patrol=parse_patrol(POST, guardsim.Scene.from_level(parse_level(OLD)).grid), pairs=PAIR
+    )
+    first = report_of(analysis, alert=3, seed=4, ways=False)
+    again = report_of(analysis, alert=3, seed=4, ways=False)
+    assert first.capture_rate is not None and 0.0 <= first.capture_rate <= 1.0
+    assert first.capture_rate == again.capture_rate and first.parts["capture"] == first.capture_rate
+    assert first.capture_rate * 3 == round(first.capture_rate * 3)
+
+
+def test_ways_share_no_corridor(found: LevelDiff) -> None:
+    """Each way after the first avoids every earlier way's cells and their 4-neighbours (away from the
+    endpoints), and every way is a walk of 4-neighbours or waits from entry to goal."""
+    analysis = found.new
+    pair = analysis.pairs[0]
+    grid = analysis.scene.grid
+    ways = distinct_ways(grid, analysis.gains, pair.source_cell, pair.target_cell)
+    assert ways
+    for way in ways:
+        assert way[0] == pair.source_cell and way[-1] == pair.target_cell
+        for a, b in itertools.pairwise(way):
+            assert a == b or b in grid.neighbours[a]
+
+
+def test_path_distance_risk_is_zero_out_of_reach_and_one_on_the_guard() -> None:
+    grid = guardsim.Scene.from_level(parse_level(OLD)).grid
+    guard = np.array([[grid.flat(13, 6)]])
+    assert path_distance_risk(grid, guard, 0, np.array([grid.flat(13, 6)] * 3), reach=5.5) == 1.0
+    assert path_distance_risk(grid, guard, 0, np.array([grid.flat(0, 6), grid.flat(0, 7)]), reach=5.5) == 0.0
+
+
+@pytest.mark.slow
+def test_report_ranks_the_shipped_levels() -> None:
+    """One loop guard on each shipped level: every score in 0..100, the two open levels (Square, Passages)
+    no harder than the two with fewest ways through (MGS Docks, King Snurre)."""
+    scores = {
+        name: guardsim.report(guardsim.load_level(f"levels/{name}.json")).score
+        for name in ("square", "passages", "mgs_docks", "king_snurre")
+    }
+    assert all(0 <= score <= 100 for score in scores.values())
+    assert max(scores["square"], scores["passages"]) <= min(scores["mgs_docks"], scores["king_snurre"])

@@ -1,0 +1,145 @@
+"""``guardsim watch`` against real headless Chromium: the test rewrites the level while the page is open
+and reads what the page shows over DevTools. Also: a port in use, a file that disappears and comes back,
+a client that disconnects, Ctrl-C. Servers listen on 127.0.0.1 only."""
+
+from __future__ import annotations
+
+import json
+import os
+import signal
+import socket
+import subprocess
+import sys
+import time
+import urllib.request
+from pathlib import Path
+
+import pytest
+from click.testing import CliRunner
+
+from guardsim.cli import main
+from tests.design_levels import NEW, OLD, POST
+from tests.devtools import CHROMIUM, LivePage
+
+pytest.importorskip("starlette")
+pytest.importorskip("watchfiles")
+
+REPO = Path(__file__).resolve().parent.parent
+STATUS = "document.getElementById('status').dataset"
+ERROR = "document.getElementById('error').textContent"
+OUTCOME = "Array.from(document.querySelectorAll('td.outcome')).map(e => e.textContent).join()"
+
+
+def free_port() -> int:
+    with socket.socket() as probe:
+        probe.bind(("127.0.0.1", 0))
+        return int(probe.getsockname()[1])
+
+
+def save(path: Path, data: object) -> None:
+    """Write as an editor does: to a temporary file, renamed over the level."""
+    temporary = path.with_name(path.name + ".tmp~")
+    temporary.write_text(data if isinstance(data, str) else json.dumps(data), encoding="utf-8")
+    os.replace(temporary, path)
+
+
+class Watch:
+    """``guardsim watch`` as a real process; its output lines collected."""
+
+    def __init__(self, folder: Path, *args: str) -> None:
+        self.port = free_port()
+        self.out = folder / "watch.out"
+        env = {**os.environ, "PYTHONPATH": str(REPO)}
+        command = [sys.executable, "-m", "guardsim.cli", "watch", *args, "--port", str(self.port)]
+        with self.out.open("w") as sink:
+            self.process = subprocess.Popen(command, cwd=folder, stdout=sink, stderr=subprocess.STDOUT, env=env)
+        self.url = f"http://127.0.0.1:{self.port}/"
+
+    def lines(self) -> list[str]:
+        return self.out.read_text().splitlines()
+
+    def wait_line(self, text: str, count: int = 1, timeout: float = 60.0) -> None:
+        deadline = time.monotonic() + timeout
+        while sum(text in line for line in self.lines()) < count:
+            assert self.process.poll() is None, self.out.read_text()
+            assert time.monotonic() < deadline, self.out.read_text()
+            time.sleep(0.02)
+
+    def stop(self) -> int:
+        self.process.send_signal(signal.SIGINT)
+        return self.process.wait(timeout=30)
+
+
+@pytest.fixture
+def level(tmp_path: Path) -> Path:
+    path = tmp_path / "live.json"
+    save(path, OLD)
+    (tmp_path / "post.json").write_text(json.dumps(POST))
+    return path
+
+
+@pytest.mark.skipif(CHROMIUM is None, reason="no chromium on PATH: apt-get install -y chromium")
+def test_the_page_shows_each_new_analysis_and_a_bad_save_keeps_the_last(level: Path, tmp_path: Path) -> None:
+    """Saved old -> new -> half-written -> old: the page shows analyses 1, 2, the error line with analysis
+    2 still drawn, then 3, each without a reload; the sneak outcome on the page follows the edit."""
+    watch = Watch(tmp_path, level.name, "--patrol", "post.json", "--from", "0.5,6.5", "--to", "19.5,6.5")
+    page = None
+    try:
+        watch.wait_line("serving http://127.0.0.1:")
+        page = LivePage(watch.url, tmp_path / "profile")
+        assert page.wait_for(f"{STATUS}.number == '1' && {OUTCOME}") == "detected"
+        page.evaluate("window.loaded = 'this page'")
+        save(level, NEW)
+        assert page.wait_for(f"{STATUS}.number == '2' && {OUTCOME}") == "unseen"
+        save(level, '{"name": "Side passage", "outer": [[0, 0], [20')
+        error = page.wait_for(ERROR)
+        assert "live.json" in error and "JSON" in error and "\n" not in error
+        assert page.evaluate(f"{STATUS}.number") == "2" and page.evaluate(OUTCOME) == "unseen"
+        assert page.evaluate("document.getElementById('level').width") > 0
+        save(level, OLD)
+        assert page.wait_for(f"{STATUS}.number == '3' && {OUTCOME}") == "detected"
+        assert page.evaluate(ERROR) == ""
+        # The same page all along: no reload happened.
+        assert page.evaluate("window.loaded") == "this page"
+        # The report arrives with the ways counted, and the score with its formula.
+        page.wait_for(f"{STATUS}.phase == 'report'")
+        assert page.evaluate("document.getElementById('formula').textContent").startswith("score = 100 x (")
+    finally:
+        if page is not None:
+            page.close()
+        assert watch.stop() == 0
+    assert "stopped after 3 analyses" in watch.out.read_text()
+
+
+def test_port_in_use_is_one_line(level: Path) -> None:
+    with socket.socket() as taken:
+        taken.bind(("127.0.0.1", 0))
+        taken.listen()
+        port = taken.getsockname()[1]
+        done = CliRunner().invoke(main, ["watch", str(level), "--port", str(port)])
+    assert done.exit_code == 2
+    assert done.output == f"guardsim: error: port {port} on 127.0.0.1 is in use: give another with --port N\n"
+
+
+@pytest.mark.slow
+def test_a_vanishing_file_a_disconnecting_client_and_ctrl_c(level: Path, tmp_path: Path) -> None:
+    """The file removed: one error line, the server stays up; back again: a new analysis. A client that
+    reads half an event and hangs up: no traceback. Ctrl-C: exit 0 and a last line."""
+    watch = Watch(tmp_path, level.name, "--patrol", "post.json")
+    try:
+        watch.wait_line("analysis 1:")
+        level.unlink()
+        watch.wait_line("error: ")
+        assert any("live.json" in line and "error:" in line for line in watch.lines())
+        save(level, NEW)
+        watch.wait_line("analysis 2:")
+        with urllib.request.urlopen(watch.url + "events", timeout=10) as stream:
+            assert stream.read(20).startswith(b"event: analysis")
+        save(level, OLD)
+        watch.wait_line("analysis 3:")
+        with urllib.request.urlopen(watch.url, timeout=10) as answer:
+            assert b"live analysis" in answer.read()
+    finally:
+        status = watch.stop()
+    text = watch.out.read_text()
+    assert status == 0 and "Traceback" not in text and text.splitlines()[-1] == "guardsim: stopped after 3 analyses"
