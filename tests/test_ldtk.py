@@ -1,8 +1,8 @@
 """LDtk projects: LDtk's own samples land with walls exactly on their wall IntGrid cells, entities become
 guard spawns and player starts, ``--level`` picks a level, and every malformed project is one line.
 
-The samples are LDtk's (MIT) in ``tests/data/maps/ldtk`` (see SOURCES.md there); the small projects
-written here are our own.
+The samples are LDtk's (MIT) in ``../shared/maps/corpus/ldtk`` (see tests/data/maps/ldtk/SOURCES.md); the
+small projects written here are our own.
 """
 
 from __future__ import annotations
@@ -20,18 +20,14 @@ import shapely
 from guardsim.errors import LevelError
 from guardsim.importers import FORMATS, ImportOptions, import_map, load_any
 from guardsim.importers.ldtk import import_ldtk, is_ldtk_json
-from tests.common import assert_one_line_error, run
+from tests.common import CORPUS, assert_one_line_error, needs_shared, run
 
-LDTK_DIR = Path(__file__).resolve().parent / "data" / "maps" / "ldtk"
+LDTK_DIR = CORPUS / "ldtk"
 TOP_DOWN = LDTK_DIR / "Typical_TopDown_example.ldtk"
 ENTITIES = LDTK_DIR / "Entities.ldtk"
 SEPARATE = LDTK_DIR / "SeparateLevelFiles.ldtk"
-# LDtk's own sample projects (tests/data/maps/ldtk/SOURCES.md) are third-party data fetched for testing and
-# kept out of the repository; the tests that read them run where they are present.
-needs_samples = pytest.mark.skipif(
-    not all(path.exists() for path in (TOP_DOWN, ENTITIES, SEPARATE)),
-    reason="LDtk's sample projects are not in tests/data/maps/ldtk (see SOURCES.md there)",
-)
+# LDtk's own sample projects (tests/data/maps/ldtk/SOURCES.md) are third-party data kept beside the clone.
+needs_samples = needs_shared(SEPARATE)
 
 #: (project, level, IntGrid layer holding the walls) for every level of the kept samples.
 SAMPLE_LEVELS = [

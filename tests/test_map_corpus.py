@@ -1,9 +1,9 @@
-"""The corpus of real game maps kept in the project (``tests/data/maps``), each checked tile by tile.
+"""The corpus of real game maps beside the project (``../shared/maps/corpus``), each checked tile by tile.
 
-Every map under ``tests/data/maps/tiled`` is listed in :data:`MAPS` with what its own layers mark: which
+Every map under ``../shared/maps/corpus/tiled`` is listed in :data:`MAPS` with what its own layers mark: which
 tile layers are the floor, which layers, tile properties, tile collision shapes and objects are walls,
 how many spawn and player objects it holds; or the phrase of the one-line refusal it must get. The
-sources, commits and licences are in ``tests/data/maps/SOURCES.md``.
+sources, commits and licences are in ``tests/data/maps/SOURCES.md`` and the corpus's own SOURCES.md.
 
 The maps are read here independently of guardsim's importer (ElementTree and json only: :func:`read_map`
 and :func:`read_marks`), and for each map that imports, the guard's grid (``Scene.from_level(level).grid``)
@@ -45,13 +45,15 @@ from shapely import affinity
 from guardsim.errors import LevelError
 from guardsim.importers import ImportedLevel, import_map
 from guardsim.scene import Scene
+from tests.common import CORPUS as SHARED_CORPUS
+from tests.common import needs_shared
 
 ROOT = Path(__file__).resolve().parents[1]
-CORPUS = ROOT / "tests" / "data" / "maps" / "tiled"
+CORPUS = SHARED_CORPUS / "tiled"
 DOC = ROOT / "docs" / "maps.md"
 Cell = tuple[int, int]
-# The map files are third-party data (tests/data/maps/SOURCES.md): a checkout without them skips this file.
-pytestmark = pytest.mark.skipif(not CORPUS.is_dir(), reason=f"the corpus of real maps is not at {CORPUS}")
+# The map files are third-party data kept beside the clone (../shared/maps/corpus/SOURCES.md).
+pytestmark = needs_shared(CORPUS)
 
 # --------------------------------------------------------------------------------------------------
 # What each map marks, read from its layers and tilesets.
@@ -676,7 +678,7 @@ def test_every_map_in_the_corpus_is_listed_with_its_licence() -> None:
         assert (CORPUS / marks.source / "LICENSE").is_file(), marks.source
     sources = (CORPUS.parent / "SOURCES.md").read_text(encoding="utf-8")
     missing = [name for name in MAPS if f"`{name}`" not in sources]
-    assert not missing, f"tests/data/maps/SOURCES.md does not list {missing}"
+    assert not missing, f"{CORPUS.parent}/SOURCES.md does not list {missing}"
 
 
 @pytest.mark.parametrize("name", REFUSED, ids=REFUSED)
