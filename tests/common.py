@@ -36,6 +36,8 @@ def needs_shared(path: Path) -> pytest.MarkDecorator:
     """Skip where ``path`` is missing, unless ``GUARDSIM_REQUIRE_SHARED`` is set (CI): then the test runs and fails."""
     missing = not path.exists() and not os.environ.get("GUARDSIM_REQUIRE_SHARED")
     return pytest.mark.skipif(missing, reason=f"the shared data is not at {path} (set GUARDSIM_SHARED)")
+
+
 LEVELS = sorted((REPO / "levels").glob("*.json"))
 
 #: An empty 4 x 4 room.
