@@ -94,6 +94,72 @@ def import_map(
     LevelError
         For an unknown file type or a malformed map, naming the file and the line or field.
     """
+    imported = _import_map(
+        path,
+        cell_size=cell_size,
+        threshold=threshold,
+        spawn_tiles=spawn_tiles,
+        wall_layers=wall_layers,
+        floor_layers=floor_layers,
+        wall_tiles=wall_tiles,
+        wall_properties=wall_properties,
+        wall_classes=wall_classes,
+        view=view,
+        wall_values=wall_values,
+        level=level,
+        max_cells=max_cells,
+        max_vertices=max_vertices,
+        max_file_bytes=max_file_bytes,
+    )
+    _check_guard_fits(imported)
+    return imported
+
+
+#: Grids up to this many cells are built to check that the guard fits somewhere (a second at most); larger
+#: levels are checked on their geometry alone (some point of the free area clears the guard's radius).
+FIT_CHECK_CELLS = 40_000
+
+
+def _check_guard_fits(imported: ImportedLevel) -> None:
+    """Refuse a level no guard can stand in (a map narrower than the guard): every command would refuse it.
+
+    The same rule as ``guardsim validate``: a cell whose centre clears the guard's radius.
+    """
+    level = imported.level
+    radius = level.guard.radius
+    fits = not level.free_area().buffer(-radius).is_empty
+    rows, cols = level.grid_shape()
+    if fits and rows * cols <= FIT_CHECK_CELLS:
+        from guardsim.grid import build_grid
+        from guardsim.world import World
+
+        fits = bool(build_grid(level, World(level)).traversable.any())
+    if not fits:
+        left, top, right, bottom = level.bounds
+        raise LevelError(
+            f"{level.source}: no cell where the guard (radius {radius:g}) fits in the imported level "
+            f"({right - left:g} x {bottom - top:g} world units, cell size {level.cell_size:g}): nothing to cover"
+        )
+
+
+def _import_map(
+    path: str | os.PathLike[str],
+    *,
+    cell_size: float | None,
+    threshold: int,
+    spawn_tiles: Iterable[int],
+    wall_layers: Iterable[str],
+    floor_layers: Iterable[str],
+    wall_tiles: Iterable[int],
+    wall_properties: Iterable[str],
+    wall_classes: Iterable[str],
+    view: str,
+    wall_values: Iterable[int | str],
+    level: str | None,
+    max_cells: int,
+    max_vertices: int,
+    max_file_bytes: int,
+) -> ImportedLevel:
     suffix = Path(path).suffix.lower()
     limits = {"max_cells": max_cells, "max_vertices": max_vertices, "max_file_bytes": max_file_bytes}
     size = 1.0 if cell_size is None else cell_size

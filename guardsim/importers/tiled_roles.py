@@ -53,6 +53,7 @@ from dataclasses import dataclass, field
 
 import numpy as np
 
+from guardsim.files.reading import quoted
 from guardsim.importers.imported import listed
 from guardsim.importers.source import excerpt
 from guardsim.importers.tiled_data import ObjectLayer, Properties, TiledMap, TiledObject, TileLayer
@@ -314,15 +315,23 @@ def _unmatched_overrides(tiled: TiledMap, options: RoleOptions) -> list[str]:
     things += [(item.kind, item.properties) for layer in tiled.object_layers for item in layer.objects]
     warnings = []
     for name, value in options.wall_properties:
-        shown = name if value is None else f"{name}={value}"
+        # Quoted and cut short: an option may be as long as the shell takes, a warning is one short line.
+        shown = _option(name if value is None else f"{name}={value}")
         if not any(name in properties for _, properties in things):
-            warnings.append(f"--wall-property {shown}: no tile or object has a property {name!r}: no walls from it")
+            warnings.append(
+                f"--wall-property {shown}: no tile or object has a property {quoted(name)}: no walls from it"
+            )
         elif not any(wall_mark(properties, [(name, value)]) for _, properties in things):
-            warnings.append(f"--wall-property {shown}: no tile or object's {name!r} matches: no walls from it")
+            warnings.append(f"--wall-property {shown}: no tile or object's {quoted(name)} matches: no walls from it")
     for kind in options.wall_classes:
         if not any(own.strip().lower() == kind.strip().lower() for own, _ in things):
-            warnings.append(f"--wall-class {kind}: no tile or object has this class: no walls from it")
+            warnings.append(f"--wall-class {_option(kind)}: no tile or object has this class: no walls from it")
     return warnings
+
+
+def _option(text: str) -> str:
+    """An option's value as typed when short and printable, else quoted and cut short."""
+    return text if len(text) <= 40 and text.isprintable() else quoted(text)
 
 
 def _void_tile(tiled: TiledMap, found: Guesses) -> int:
