@@ -179,6 +179,11 @@ def check(
     rules = dataclasses.replace(rules, **changes)  # type: ignore[arg-type]
     rules.validate()
     if rules.count == 0:
+        if checks_path:
+            raise GuardsimError(
+                f"{checks_path}: no rule to check in the checks file (max_cover_steps, max_idleness, "
+                "no_unreachable, safe or sneak), nor on the command line"
+            )
         raise GuardsimError(
             f"{level_path}: no rule to check: give --max-cover-steps, --max-idleness, --no-unreachable, --safe, "
             "--sneak or --checks"

@@ -160,14 +160,40 @@ def _import_map(
     max_vertices: int,
     max_file_bytes: int,
 ) -> ImportedLevel:
+    spawn_tiles, wall_tiles, wall_values = tuple(spawn_tiles), tuple(wall_tiles), tuple(wall_values)
+    wall_layers, floor_layers = tuple(wall_layers), tuple(floor_layers)
+    wall_properties, wall_classes = tuple(wall_properties), tuple(wall_classes)
     suffix = Path(path).suffix.lower()
+    ldtk = suffix == ".ldtk" or (suffix == ".json" and is_ldtk_file(path, max_file_bytes=max_file_bytes))
+    tiled = not ldtk and suffix in (".tmx", ".tmj", ".json")
+    # An option the map's reader does not read would be ignored without a word: say so instead.
+    misplaced = [
+        (name, "LDtk projects")
+        for name, given in (("--wall-value", wall_values), ("--level", level is not None))
+        if given and not ldtk
+    ] + [
+        (name, "Tiled maps")
+        for name, given in (
+            ("--spawn-tile", spawn_tiles),
+            ("--wall-tile", wall_tiles),
+            ("--wall-property", wall_properties),
+            ("--wall-class", wall_classes),
+            ("--wall-layer", wall_layers),
+            ("--floor-layer", floor_layers),
+        )
+        if given and not tiled and suffix in FORMATS
+    ]
+    if misplaced:
+        name, kind = misplaced[0]
+        what = "an LDtk project" if ldtk else f"a {FORMATS.get(suffix, 'map')}"
+        raise LevelError(f"{display_name(path)}: {name} is for {kind}, and this is {what}")
     limits = {"max_cells": max_cells, "max_vertices": max_vertices, "max_file_bytes": max_file_bytes}
     size = 1.0 if cell_size is None else cell_size
     if not 0 < size < float("inf"):
         raise LevelError(f"{display_name(path)}: cell size must be a positive number, not {size:g}")
     if suffix == ".map":
         return import_movingai(path, cell_size=size, **limits)
-    if suffix == ".ldtk" or (suffix == ".json" and is_ldtk_file(path, max_file_bytes=max_file_bytes)):
+    if ldtk:
         return import_ldtk(path, cell_size=size, wall_values=wall_values, level=level, **limits)
     if suffix in (".tmx", ".tmj", ".json"):
         return import_tiled(

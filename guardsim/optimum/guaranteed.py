@@ -30,7 +30,14 @@ from guardsim.grid import CoverageGrid
 from guardsim.kernels.steps import cell_of_state, heading_of_state, state_of
 from guardsim.vision.table import ViewTable
 
-__all__ = ["DEFAULT_MAX_PAIRS", "GuaranteedResult", "guaranteed_data", "guaranteed_search", "search_region", "smallest_team"]
+__all__ = [
+    "DEFAULT_MAX_PAIRS",
+    "GuaranteedResult",
+    "guaranteed_data",
+    "guaranteed_search",
+    "search_region",
+    "smallest_team",
+]
 
 #: Most (guards, set) pairs the search stores before it stops unproved.
 DEFAULT_MAX_PAIRS = 500_000

@@ -190,6 +190,8 @@ def parse_checks(data: Any, *, source: str = "<checks>", base: Path | None = Non
     """
     check(data, "checks", source=source, error=CheckError)
     patrol = data.get("patrol")
+    if patrol is not None and not patrol.strip():
+        raise CheckError(f"{source}: patrol: expected a patrol file name, got an empty text")
     if patrol is not None and base is not None and not Path(patrol).is_absolute():
         patrol = str(base / patrol)
     if patrol is not None and not os.path.lexists(patrol):
