@@ -135,6 +135,10 @@ def _check_guard_fits(imported: ImportedLevel) -> None:
 
         fits = bool(build_grid(level, World(level)).traversable.any())
     if not fits:
+        # The reader may know why (every floor tile carries a collision shape): its warning is the reason.
+        known = next((warning for warning in imported.warnings if "fits on no cell" in warning), None)
+        if known is not None:
+            raise LevelError(f"{level.source}: {known}")
         left, top, right, bottom = level.bounds
         raise LevelError(
             f"{level.source}: no cell where the guard (radius {radius:g}) fits in the imported level "

@@ -40,6 +40,7 @@ from guardsim.importers.source import display_name
 from guardsim.importers.tiled_checks import check_floor_is_ground, check_view, look_warnings
 from guardsim.importers.tiled_data import TileLayer
 from guardsim.importers.tiled_geometry import TileGeometry, blocked_mask
+from guardsim.importers.tiled_heights import walker_layers
 from guardsim.importers.tiled_read import read_tiled
 from guardsim.importers.tiled_roles import Guesses, RoleOptions, assign_roles, names, parse_wall_property
 from guardsim.importers.tiled_spawns import keep_spawn_areas, player_starts, spawn_points, usable_starts
@@ -120,8 +121,14 @@ def import_tiled(
     changes: list[str] = [view_note] if view_note else []
     warnings = list(roles.warnings) + list(tiled.warnings)
 
+    # The tiles a walker meets: the top-most at its height decides each cell (tiled_heights).
+    walked, heights_phrase = walker_layers(tiled, roles)
+    if heights_phrase:
+        changes.append(heights_phrase)
     wall_tiles_found = [
-        (layer, gids) for layer in tiled.tile_layers if (gids := _wall_gids_in(layer, roles)) is None or gids.size
+        (layer, gids)
+        for original, layer in zip(tiled.tile_layers, walked, strict=True)
+        if (gids := _wall_gids_in(layer, roles, original)) is None or gids.size
     ]
     # Image-collection tiles bigger or smaller than a map tile stand on their cell at their own size.
     wall_boxes = [
@@ -141,7 +148,7 @@ def import_tiled(
     # Collision shapes drawn in a layer that opts out are not walls (unless the tile marks itself).
     shape_walls = [
         shape
-        for layer in tiled.tile_layers
+        for layer in walked
         for shape in geometry.tile_shapes(
             layer, roles.shaped_gids & roles.marked_gids if _layer_opts_out(layer) else roles.shaped_gids
         )
@@ -329,18 +336,22 @@ def _not_void(layer: TileLayer, void_gid: int) -> np.ndarray | None:
     return np.setdiff1d(np.unique(layer.gids), [void_gid])
 
 
-def _wall_gids_in(layer: TileLayer, roles: Guesses) -> np.ndarray | None:
-    """The wall tile ids drawn in this layer; ``None`` means every tile of it."""
+def _wall_gids_in(layer: TileLayer, roles: Guesses, original: TileLayer | None = None) -> np.ndarray | None:
+    """The wall tile ids drawn in this layer; ``None`` means every tile of it. ``original`` is the map's
+    layer ``layer`` was cut from (the tiles a walker meets), for its role."""
 
     drawn = np.unique(layer.gids)
+    original = layer if original is None else original
     if _layer_opts_out(layer):
         # A tile's own mark beats its layer's opt-out (as a game's physics reads it), nothing else does.
         return np.intersect1d(drawn, np.fromiter(roles.marked_gids, dtype=np.int64))
-    if layer in roles.wall_tile_layers:
-        if not roles.unmarked_gids or not np.isin(drawn, list(roles.unmarked_gids)).any():
+    if any(original is wall for wall in roles.wall_tile_layers):
+        # Every tile of a wall layer but those whose own properties opt them out, and those with collision
+        # shapes: they block where their shapes are (rule 4), not as whole tiles.
+        out = roles.unmarked_gids | roles.shaped_gids
+        if not out or not np.isin(drawn, list(out)).any():
             return None
-        # Every tile of a wall layer but those whose own properties opt them out.
-        return np.setdiff1d(drawn[drawn != 0], np.fromiter(roles.unmarked_gids, dtype=np.int64))
+        return np.setdiff1d(drawn[drawn != 0], np.fromiter(out, dtype=np.int64))
     return np.intersect1d(drawn, np.fromiter(roles.wall_gids, dtype=np.int64))
 
 

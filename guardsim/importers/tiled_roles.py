@@ -238,7 +238,9 @@ def assign_roles(tiled: TiledMap, options: RoleOptions) -> Guesses:
             found.marked_gids.add(gid)
         elif mark is False:
             found.unmarked_gids.add(gid)
-        if info.shapes and (mark is not False):
+        # A tile's collision shapes block even when its property says it does not collide as a whole
+        # tile: the game's physics blocks on the shapes it is given.
+        if info.shapes:
             found.shaped_gids.add(gid)
         elif _tile_says_wall(info.kind, info.properties, options):
             found.wall_gids.add(gid)
