@@ -729,9 +729,10 @@ def test_the_grid_has_walls_exactly_where_the_map_marks_them(name: str) -> None:
         assert not blocked, f"walls where the map marks none: {sample(blocked)}"
     left_out = set().union(*dropped) if dropped else set()
     if left_out:
-        # Only whole parts, only when the map has guard spawns elsewhere: the importer keeps the parts
-        # the guards start in, and says so.
-        assert result.imported.level.starts and "left out" in result.imported.summary(), sample(left_out)
+        # Only whole parts, only when the map has guard spawns or player starts elsewhere: the importer
+        # keeps the parts the guards and the player start in, and says so.
+        anchored = result.imported.level.starts or result.imported.player_starts
+        assert anchored and "left out" in result.imported.summary(), sample(left_out)
     assert len(walked) >= 0.2 * len(read.open), "the guard has only a sliver of the open floor"
     if not read.marked:
         assert any(text.startswith("no walls found") for text in result.imported.warnings)

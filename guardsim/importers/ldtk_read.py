@@ -251,7 +251,8 @@ def _external_level(
             f"{where}.externalRelPath", f"level file {excerpt(relative)} cannot be read: {why}"
         ) from None
     if not found:
-        raise fields.error(f"{where}.externalRelPath", f"level file {excerpt(level_source)} not found")
+        shown = level_source if len(level_source) <= 300 else excerpt(level_source)
+        raise fields.error(f"{where}.externalRelPath", f"level file {shown} not found")
     data = parse_json_bytes(read_capped_bytes(level_path, max_file_bytes=max_file_bytes, kind="map"), level_source)
     level_fields = _Fields(level_source)
     data = level_fields.obj(data, "")

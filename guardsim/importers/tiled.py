@@ -43,7 +43,13 @@ from guardsim.importers.tiled_geometry import TileGeometry, blocked_mask
 from guardsim.importers.tiled_heights import walker_layers
 from guardsim.importers.tiled_read import read_tiled
 from guardsim.importers.tiled_roles import Guesses, RoleOptions, assign_roles, names, parse_wall_property
-from guardsim.importers.tiled_spawns import keep_spawn_areas, player_starts, spawn_points, usable_starts
+from guardsim.importers.tiled_spawns import (
+    keep_spawn_areas,
+    player_starts,
+    spawn_points,
+    unguarded_players,
+    usable_starts,
+)
 from guardsim.level import (
     DEFAULT_MAX_CELLS,
     DEFAULT_MAX_FILE_BYTES,
@@ -219,8 +225,14 @@ def import_tiled(
 
     # Parts holding a guard spawn are kept, and so are parts where the player starts (found on the
     # uncropped level: a player start is an anchor too, never dropped with its part).
-    anchors = [*starts, *player_starts(level, roles, geometry)[0]] if starts else starts
-    level, left_out = keep_spawn_areas(level, anchors, source=source, max_cells=max_cells, max_vertices=max_vertices)
+    # With no guard spawn, the parts where the player starts are kept: the guard starts where the player
+    # is, not on the ground round a house the player never leaves.
+    before = player_starts(level, roles, geometry)[0]
+    anchors = [*starts, *before]
+    what = "spawn" if not before else "player start" if not starts else "spawn or player start"
+    level, left_out = keep_spawn_areas(
+        level, anchors, source=source, max_cells=max_cells, max_vertices=max_vertices, what=what
+    )
     if left_out:
         changes.append(left_out)
     check_floor_is_ground(source, level, roles, roles.void_gid)
@@ -229,6 +241,9 @@ def import_tiled(
     players, player_phrase = player_starts(level, roles, geometry)
     if player_phrase:
         changes.append(player_phrase)
+    lonely = unguarded_players(level, starts, players)
+    if lonely:
+        warnings.append(lonely)
     # The level keeps the player starts a player can stand on: sneak's and alert's default --from.
     area = level.free_area()
     standing = [point for point in players if shapely.contains_xy(area, *point)]

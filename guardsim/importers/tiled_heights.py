@@ -73,9 +73,7 @@ def walker_layers(tiled: TiledMap, roles: Guesses) -> tuple[list[TileLayer], str
         above += int(high.sum())
         covered += int((~high & ~keep).sum())
         keeps[index] = keep
-    out = [
-        layer if keep.all() else _kept(layer, keep) for layer, keep in zip(layers, keeps, strict=True)
-    ]
+    out = [layer if keep.all() else _kept(layer, keep) for layer, keep in zip(layers, keeps, strict=True)]
     parts = []
     if above:
         parts.append(f"{counted(above, 'tile')} above the walker's height (z) never block")

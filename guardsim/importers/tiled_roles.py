@@ -140,6 +140,20 @@ class Guesses:
     """How the walls were found, one phrase per kind of evidence."""
 
 
+#: A layer named floor that paints fewer cells than this share of the layer painting most is not the
+#: whole floor.
+FLOOR_MIN_SHARE = 0.25
+#: Words naming a layer painted behind the level, and the share of the map rectangle past which a layer
+#: is taken as such a backdrop: neither is the layer a small floor layer is joined with.
+BACKDROP_WORDS = frozenset(["background", "backdrop", "sky", "bg"])
+BACKDROP_SHARE = 0.9
+
+
+def _cells(layer: TileLayer) -> np.ndarray:
+    """The layer's painted cells, one number each."""
+    return np.unique((layer.rows.astype(np.int64) << 32) + layer.cols.astype(np.int64))
+
+
 def _layer_named(layer: TileLayer | ObjectLayer, names: Sequence[str]) -> bool:
     return layer.name in names or "/".join(layer.path) in names
 
@@ -195,7 +209,24 @@ def _object_player(item: TiledObject, tiled: TiledMap) -> bool:
         return True
     tile = tiled.tiles.get(item.gid) if item.gid else None
     kinds = (item.name, item.kind, tile.kind if tile is not None else "")
-    return any(says(kind, PLAYER_WORDS) for kind in kinds)
+    return any(says(kind, PLAYER_WORDS) for kind in kinds) or any(_bare_start(kind) for kind in kinds)
+
+
+#: Words that, with ``start`` and nothing else, name where the player starts: ``Start Position``, class
+#: ``start``. A guard's start says so (``guard start``, ``spawn``), or lies in a layer named for guards.
+_START_ONLY = frozenset(["start", "starts", "starting", "position", "pos", "point", "location", "spot", "place"])
+
+
+def _bare_start(name: str) -> bool:
+    found = words(name)
+    return "start" in found and found <= _START_ONLY
+
+
+def _says_player(item: TiledObject, tiled: TiledMap) -> bool:
+    """Whether the object names the player outright (not only ``start``)."""
+    tile = tiled.tiles.get(item.gid) if item.gid else None
+    kinds = (item.name, item.kind, tile.kind if tile is not None else "")
+    return any(says(kind, PLAYER_WORDS) for kind in kinds) or any(says(key, PLAYER_WORDS) for key in item.properties)
 
 
 def _object_spawn(layer: ObjectLayer, item: TiledObject) -> bool:
@@ -266,9 +297,31 @@ def assign_roles(tiled: TiledMap, options: RoleOptions) -> Guesses:
             and not flag(layer.properties, "spawner", "guard_spawn")
         ]
         named = [layer for layer in candidates if any(says(part, FLOOR_WORDS) for part in layer.path)]
+        # Backdrops (a layer named so, or painting nearly the whole map rectangle) are never that layer.
+        area = max(1, tiled.size[0] * tiled.size[1])
+        painting = [
+            layer
+            for layer in candidates
+            if not any(says(part, BACKDROP_WORDS) for part in layer.path) and _cells(layer).size < BACKDROP_SHARE * area
+        ]
+        widest = max(painting, key=lambda layer: _cells(layer).size, default=None)
+        if named and widest is not None and not any(widest is layer for layer in named):
+            # A layer named floor that paints a small part of what is painted (decorative "floor squares"
+            # over a dungeon whose ground is a layer called "corridors") is not the whole floor: the
+            # layer painting most cells is floor too.
+            share = np.unique(np.concatenate([_cells(layer) for layer in named])).size
+            if share < FLOOR_MIN_SHARE * _cells(widest).size:
+                found.floor_layers = [
+                    layer for layer in tiled.tile_layers if layer is widest or any(layer is other for other in named)
+                ]
+                found.floor_rule = (
+                    f"named floor or ground, and {widest.name!r}, which paints {_cells(widest).size} cells "
+                    f"where they paint {share}"
+                )
+                named = []
         if named:
             found.floor_layers, found.floor_rule = named, "named floor or ground"
-        else:
+        elif not found.floor_layers:
             # Upper layers draw on the ground (furniture, wall faces); a tile of theirs over no ground is
             # not floor, so the ground is the lowest layer alone.
             found.floor_layers = candidates[:1]
@@ -287,7 +340,8 @@ def assign_roles(tiled: TiledMap, options: RoleOptions) -> Guesses:
                 if item.closed:
                     found.boundary_objects.append((layer, item))
                 continue
-            if _object_player(item, tiled):
+            guard_layer = any(says(part, SPAWN_WORDS - {"start", "starts"}) for part in layer.path)
+            if _object_player(item, tiled) and not (guard_layer and not _says_player(item, tiled)):
                 found.player_objects.append((layer, item))
                 continue
             if _object_spawn(layer, item):
