@@ -83,7 +83,7 @@ def test_sample_walls_are_exactly_the_wall_cells(project: Path, level: str, laye
     whole = (0, 0, walls.shape[1], walls.shape[0])
     if project == ENTITIES:  # parts left out: the level is cropped to the whole cells around those kept
         left, top, right, bottom = imported.level.bounds
-        assert 0 <= left and 0 <= top and right <= whole[2] and bottom <= whole[3]
+        assert left >= 0 and top >= 0 and right <= whole[2] and bottom <= whole[3]
         assert (left, top, right, bottom) != whole and "cropped to the parts kept" in imported.summary()
     else:
         assert imported.level.bounds == whole
