@@ -45,8 +45,19 @@ def _write(path: Path, data: Any) -> Path:
 # --- patrol and check: teams up to the allowed 64 ------------------------------------------------------
 
 
-def test_a_team_larger_than_the_lap_is_ticks_gets_a_patrol(level: Path, tmp_path: Path) -> None:
+def test_a_team_larger_than_the_lap_is_ticks_gets_a_loop_each() -> None:
     # The split team cut a 20-tick lap into 32 stretches, the last ones empty: IndexError.
+    from guardsim.level import parse_level
+    from guardsim.patrol import patrol_setup, plan_loop
+    from guardsim.scene import Scene
+
+    setup = patrol_setup(Scene.from_level(parse_level(PILLAR)), 32, seed=0)
+    plan, _ = plan_loop(setup, 32)
+    assert plan.patrol.states.shape[0] == 32 and plan.patrol.period >= 1
+
+
+@pytest.mark.slow
+def test_patrol_with_a_team_larger_than_the_lap_is_ticks(level: Path, tmp_path: Path) -> None:
     result = run("patrol", level, "--out", tmp_path / "out", "--guards", "32")
     assert result.exit_code == 0, result.output
     data = json.loads((tmp_path / "out" / "patrol.json").read_text(encoding="utf-8"))
@@ -200,6 +211,7 @@ def test_a_sneak_json_route_is_read_as_its_grid_cells_centres(tmp_path: Path) ->
     assert read_route_points(str(plain)) == [(2.5, 2.5), (3.5, 2.5)]
 
 
+@pytest.mark.slow
 def test_alert_walks_the_documented_sneak_route_at_cell_size_half(tmp_path: Path) -> None:
     half = _write(tmp_path / "half.json", {**PILLAR, "name": "half", "cell_size": 0.5})
     assert run("patrol", half, "--out", tmp_path / "p").exit_code == 0
@@ -234,6 +246,21 @@ def test_an_unsettled_smallest_team_keeps_the_proved_answer() -> None:
     assert data["proved"] is True and data["smallest_team"] is None and data["smallest_team_settled"] is False
 
 
+def test_validate_fix_of_more_holes_than_it_repairs_refuses_in_one_line(
+    tmp_path: Path, monkeypatch: pytest.MonkeyPatch
+) -> None:
+    import guardsim.validate.repair as repair
+
+    monkeypatch.setattr(repair, "MAX_REPAIR_HOLES", 3)
+    holes = [[[1 + 2 * i, 1], [2 + 2 * i, 1], [2 + 2 * i, 2], [1 + 2 * i, 2]] for i in range(4)]
+    path = _write(tmp_path / "holes.json", {"outer": [[0, 0], [10, 0], [10, 4], [0, 4]], "holes": holes})
+    fixed = tmp_path / "fixed.json"
+    line = assert_one_line_error(run("validate", path, "--fix", fixed), path)
+    assert "--fix repairs levels of at most 3 holes and this one has 4" in line
+    assert not fixed.exists()
+
+
+@pytest.mark.slow
 def test_validate_fix_of_24000_holes_refuses_in_one_line(tmp_path: Path) -> None:
     holes = [
         [[1 + 2.5 * i, 1 + 2.5 * j], [2 + 2.5 * i, 1 + 2.5 * j], [2 + 2.5 * i, 2 + 2.5 * j], [1 + 2.5 * i, 2 + 2.5 * j]]

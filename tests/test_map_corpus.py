@@ -19,7 +19,7 @@ must agree with that reading cell by cell (one tile is one cell):
 A map the importer reads wrong is marked ``xfail(strict=True)`` with what is wrong (:data:`WRONG`, and
 :data:`MISSED_PLAYER` for player starts), so fixing the importer turns it into a failure to remove the
 mark. ``docs/maps.md`` holds the table of outcomes;
-``GUARDSIM_UPDATE_MAPS_DOC=1 python -m pytest tests/test_map_corpus.py -n 0`` rewrites it.
+``GUARDSIM_UPDATE_MAPS_DOC=1 python -m pytest -m slow tests/test_map_corpus.py -n 0 -k docs`` rewrites it.
 """
 
 from __future__ import annotations
@@ -701,13 +701,22 @@ def test_a_side_view_is_refused_saying_how_to_import_it_anyway(name: str) -> Non
     assert import_map(CORPUS / name, view="top-down").level.free_area().area > 0
 
 
+#: Maps whose import and independent reading take seconds (rs-tiled's template sample: 7 627 tile
+#: collision shapes): their tests, and the table's that imports every map, run in the slow tier.
+HEAVY = frozenset(["rs-tiled/assets/templates/example.tmx"])
+
+
 def _walls_cases() -> list[Any]:
     return [
         pytest.param(name, id=name, marks=pytest.mark.xfail(strict=True, reason=WRONG[name]))
         if name in WRONG
-        else pytest.param(name, id=name)
+        else pytest.param(name, id=name, marks=[pytest.mark.slow] if name in HEAVY else [])
         for name in IMPORTED
     ]
+
+
+def _imported_cases() -> list[Any]:
+    return [pytest.param(name, id=name, marks=[pytest.mark.slow] if name in HEAVY else []) for name in IMPORTED]
 
 
 @pytest.mark.parametrize("name", _walls_cases())
@@ -738,7 +747,7 @@ def test_the_grid_has_walls_exactly_where_the_map_marks_them(name: str) -> None:
         assert any(text.startswith("no walls found") for text in result.imported.warnings)
 
 
-@pytest.mark.parametrize("name", IMPORTED, ids=IMPORTED)
+@pytest.mark.parametrize("name", _imported_cases())
 def test_spawns_and_player_starts_are_the_maps_own(name: str) -> None:
     marks, imported = MAPS[name], outcome(name).imported
     assert len(imported.level.starts) <= marks.spawns, "guard starts the map does not place"
@@ -786,6 +795,7 @@ def doc_table() -> str:
     return "\n".join([*rows, *wrong, "", END])
 
 
+@pytest.mark.slow
 def test_docs_maps_md_holds_the_current_table() -> None:
     text = DOC.read_text(encoding="utf-8")
     start = text.index(COLUMNS)

@@ -14,6 +14,8 @@ import os
 from collections.abc import Iterable
 from pathlib import Path
 
+import shapely
+
 from guardsim.errors import LevelError
 from guardsim.importers.image import DEFAULT_THRESHOLD, import_image
 from guardsim.importers.imported import ImportedLevel
@@ -127,7 +129,7 @@ def _check_guard_fits(imported: ImportedLevel) -> None:
     """
     level = imported.level
     radius = level.guard.radius
-    fits = not level.free_area().buffer(-radius).is_empty
+    fits = not shapely.buffer(level.free_area(), -radius).is_empty
     rows, cols = level.grid_shape()
     if fits and rows * cols <= FIT_CHECK_CELLS:
         from guardsim.grid import build_grid

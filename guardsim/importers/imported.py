@@ -123,7 +123,7 @@ def level_name(text: str) -> str:
     """A map's name (file stem, LDtk level identifier...) as a level name: control characters made spaces
     and cut to the level format's :data:`MAX_NAME_CHARS`, since a map may legally name things longer.
 
-    >>> len(level_name("L" * 300)), level_name("a\tb")
+    >>> len(level_name("L" * 300)), level_name("a" + chr(9) + "b")
     (200, 'a b')
     """
     clean = "".join(" " if ord(char) < 32 or ord(char) == 127 else char for char in text)
