@@ -7,6 +7,8 @@ its level, and imported as its game plays it.
 * ``forest_paths.tmj``: a path one tile wide between trees, and on it, in a hidden layer named
   ``Collision``, tiles whose collision shape is a thin rail: walls where the shapes are, not whole tiles.
 * ``house_lawn.tmj``: a house on a wider lawn, the player inside, no guard spawn.
+* ``forest_narrows.tmj``: a path two tiles wide narrowed by half-tile shapes to a gap the guard passes,
+  which the grid at cell size 1 cuts.
 * ``dungeon_corridors.tmj``: the ground on a layer called ``corridors``, two decorative tiles on a layer
   called ``floor squares``.
 """
@@ -73,3 +75,16 @@ def test_a_small_layer_named_floor_is_not_the_whole_floor() -> None:
     cells, imported = walkable(CASES / "dungeon_corridors.tmj")
     assert cells == {(col, row) for col in range(1, 11) for row in range(1, 7)}
     assert "floor from 'corridors', 'floor squares'" in imported.summary()  # type: ignore[attr-defined]
+
+
+def test_a_grid_that_cuts_a_passage_the_guard_fits_says_which_cell_size_keeps_it() -> None:
+    # forest_narrows.tmj: half-tile shapes above and below leave a one-tile gap the guard's circle
+    # passes, but no cell centre there at cell size 1 (nor 0.5) clears its radius.
+    path = CASES / "forest_narrows.tmj"
+    cells, imported = walkable(path)
+    warning = next(w for w in imported.warnings if "guard's grid falls into" in w)  # type: ignore[attr-defined]
+    assert "falls into 2 parts where its circle can move in 1" in warning and "--cell-size 0.25" in warning
+    finer = import_map(path, cell_size=0.25)
+    assert not [w for w in finer.warnings if "guard's grid falls into" in w]
+    grid = Scene.from_level(finer.level).grid
+    assert int(grid.component_labels.max()) == 0, "one part at cell size 0.25"
