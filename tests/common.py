@@ -5,6 +5,7 @@ from __future__ import annotations
 import copy
 import csv
 import json
+import os
 import sys
 from collections.abc import Callable
 from pathlib import Path
@@ -24,6 +25,19 @@ from guardsim.trace import Trace
 from guardsim.vision.rules import VisionFunction
 
 REPO = Path(__file__).resolve().parent.parent
+#: The shared data beside the clone (real maps, never committed): ``../shared`` as CI lays it out, or where
+#: ``GUARDSIM_SHARED`` points (a worktree kept elsewhere than beside the shared folder).
+SHARED = Path(os.environ.get("GUARDSIM_SHARED") or REPO.parent / "shared")
+#: The corpus of real Tiled maps and LDtk projects (../shared/maps/corpus/SOURCES.md).
+CORPUS = SHARED / "maps" / "corpus"
+
+
+def needs_shared(path: Path) -> pytest.MarkDecorator:
+    """Skip where ``path`` is missing, unless ``GUARDSIM_REQUIRE_SHARED`` is set (CI): then the test runs and fails."""
+    missing = not path.exists() and not os.environ.get("GUARDSIM_REQUIRE_SHARED")
+    return pytest.mark.skipif(missing, reason=f"the shared data is not at {path} (set GUARDSIM_SHARED)")
+
+
 LEVELS = sorted((REPO / "levels").glob("*.json"))
 
 #: An empty 4 x 4 room.

@@ -48,8 +48,19 @@ KINDS: dict[str, tuple[str, ...]] = {
     "reference": ("regress",),
     "trace": ("regress", "view"),
     "bench-folder": ("bench",),
-    "option": ("play", "bench", "validate", "render", "bounds", "regress", "patrol", "sneak", "check", "optimum",
-               "alert"),
+    "option": (
+        "play",
+        "bench",
+        "validate",
+        "render",
+        "bounds",
+        "regress",
+        "patrol",
+        "sneak",
+        "check",
+        "optimum",
+        "alert",
+    ),
     "patrol": ("evaluate", "sneak", "check", "alert"),
     "checks": ("check",),
     "intruder-route": ("alert",),
@@ -622,7 +633,9 @@ def png_case(rng: np.random.Generator) -> Case:
     if roll < 0.05:
         content, note = special_file(rng)
     elif roll < 0.15:
-        size = int(rng.choice([100, 1000]))  # 300^2 noise imports in 12-15 s (noted in docs/robustness.md); 100^2 keeps the meaning
+        size = int(
+            rng.choice([100, 1000])
+        )  # 300^2 noise imports in 12-15 s (noted in docs/robustness.md); 100^2 keeps the meaning
         content, note = _png_of((rng.random((size, size)) < 0.5).astype(np.uint8) * 255), f"{size}^2 noise"
     else:
         content, note = mutate_png(base, rng)

@@ -1,8 +1,8 @@
 """LDtk projects: LDtk's own samples land with walls exactly on their wall IntGrid cells, entities become
 guard spawns and player starts, ``--level`` picks a level, and every malformed project is one line.
 
-The samples are LDtk's (MIT) in ``tests/data/maps/ldtk`` (see SOURCES.md there); the small projects
-written here are our own.
+The samples are LDtk's (MIT) in ``../shared/maps/corpus/ldtk`` (see tests/data/maps/ldtk/SOURCES.md); the
+small projects written here are our own.
 """
 
 from __future__ import annotations
@@ -20,18 +20,14 @@ import shapely
 from guardsim.errors import LevelError
 from guardsim.importers import FORMATS, ImportOptions, import_map, load_any
 from guardsim.importers.ldtk import import_ldtk, is_ldtk_json
-from tests.common import assert_one_line_error, run
+from tests.common import CORPUS, assert_one_line_error, needs_shared, run
 
-LDTK_DIR = Path(__file__).resolve().parent / "data" / "maps" / "ldtk"
+LDTK_DIR = CORPUS / "ldtk"
 TOP_DOWN = LDTK_DIR / "Typical_TopDown_example.ldtk"
 ENTITIES = LDTK_DIR / "Entities.ldtk"
 SEPARATE = LDTK_DIR / "SeparateLevelFiles.ldtk"
-# LDtk's own sample projects (tests/data/maps/ldtk/SOURCES.md) are third-party data fetched for testing and
-# kept out of the repository; the tests that read them run where they are present.
-needs_samples = pytest.mark.skipif(
-    not all(path.exists() for path in (TOP_DOWN, ENTITIES, SEPARATE)),
-    reason="LDtk's sample projects are not in tests/data/maps/ldtk (see SOURCES.md there)",
-)
+# LDtk's own sample projects (tests/data/maps/ldtk/SOURCES.md) are third-party data kept beside the clone.
+needs_samples = needs_shared(SEPARATE)
 
 #: (project, level, IntGrid layer holding the walls) for every level of the kept samples.
 SAMPLE_LEVELS = [
@@ -84,7 +80,13 @@ def test_sample_walls_are_exactly_the_wall_cells(project: Path, level: str, laye
     imported = import_ldtk(project, level=level)
     found, _, _ = layer_json(project, level, layer)
     assert imported.map_size == (found["pxWid"] // 16, found["pxHei"] // 16) == walls.shape[::-1]
-    assert imported.level.bounds == (0, 0, walls.shape[1], walls.shape[0])
+    whole = (0, 0, walls.shape[1], walls.shape[0])
+    if project == ENTITIES:  # parts left out: the level is cropped to the whole cells around those kept
+        left, top, right, bottom = imported.level.bounds
+        assert left >= 0 and top >= 0 and right <= whole[2] and bottom <= whole[3]
+        assert (left, top, right, bottom) != whole and "cropped to the parts kept" in imported.summary()
+    else:
+        assert imported.level.bounds == whole
     free = free_cells(imported.level, walls.shape)
     assert not (free & walls).any(), "a wall cell is free"
     left_out = ~free & ~walls

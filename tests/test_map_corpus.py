@@ -1,9 +1,9 @@
-"""The corpus of real game maps kept in the project (``tests/data/maps``), each checked tile by tile.
+"""The corpus of real game maps beside the project (``../shared/maps/corpus``), each checked tile by tile.
 
-Every map under ``tests/data/maps/tiled`` is listed in :data:`MAPS` with what its own layers mark: which
+Every map under ``../shared/maps/corpus/tiled`` is listed in :data:`MAPS` with what its own layers mark: which
 tile layers are the floor, which layers, tile properties, tile collision shapes and objects are walls,
 how many spawn and player objects it holds; or the phrase of the one-line refusal it must get. The
-sources, commits and licences are in ``tests/data/maps/SOURCES.md``.
+sources, commits and licences are in ``tests/data/maps/SOURCES.md`` and the corpus's own SOURCES.md.
 
 The maps are read here independently of guardsim's importer (ElementTree and json only: :func:`read_map`
 and :func:`read_marks`), and for each map that imports, the guard's grid (``Scene.from_level(level).grid``)
@@ -19,7 +19,7 @@ must agree with that reading cell by cell (one tile is one cell):
 A map the importer reads wrong is marked ``xfail(strict=True)`` with what is wrong (:data:`WRONG`, and
 :data:`MISSED_PLAYER` for player starts), so fixing the importer turns it into a failure to remove the
 mark. ``docs/maps.md`` holds the table of outcomes;
-``GUARDSIM_UPDATE_MAPS_DOC=1 python -m pytest tests/test_map_corpus.py -n 0`` rewrites it.
+``GUARDSIM_UPDATE_MAPS_DOC=1 python -m pytest -m slow tests/test_map_corpus.py -n 0 -k docs`` rewrites it.
 """
 
 from __future__ import annotations
@@ -45,13 +45,15 @@ from shapely import affinity
 from guardsim.errors import LevelError
 from guardsim.importers import ImportedLevel, import_map
 from guardsim.scene import Scene
+from tests.common import CORPUS as SHARED_CORPUS
+from tests.common import needs_shared
 
 ROOT = Path(__file__).resolve().parents[1]
-CORPUS = ROOT / "tests" / "data" / "maps" / "tiled"
+CORPUS = SHARED_CORPUS / "tiled"
 DOC = ROOT / "docs" / "maps.md"
 Cell = tuple[int, int]
-# The map files are third-party data (tests/data/maps/SOURCES.md): a checkout without them skips this file.
-pytestmark = pytest.mark.skipif(not CORPUS.is_dir(), reason=f"the corpus of real maps is not at {CORPUS}")
+# The map files are third-party data kept beside the clone (../shared/maps/corpus/SOURCES.md).
+pytestmark = needs_shared(CORPUS)
 
 # --------------------------------------------------------------------------------------------------
 # What each map marks, read from its layers and tilesets.
@@ -676,7 +678,7 @@ def test_every_map_in_the_corpus_is_listed_with_its_licence() -> None:
         assert (CORPUS / marks.source / "LICENSE").is_file(), marks.source
     sources = (CORPUS.parent / "SOURCES.md").read_text(encoding="utf-8")
     missing = [name for name in MAPS if f"`{name}`" not in sources]
-    assert not missing, f"tests/data/maps/SOURCES.md does not list {missing}"
+    assert not missing, f"{CORPUS.parent}/SOURCES.md does not list {missing}"
 
 
 @pytest.mark.parametrize("name", REFUSED, ids=REFUSED)
@@ -699,13 +701,22 @@ def test_a_side_view_is_refused_saying_how_to_import_it_anyway(name: str) -> Non
     assert import_map(CORPUS / name, view="top-down").level.free_area().area > 0
 
 
+#: Maps whose import and independent reading take seconds (rs-tiled's template sample: 7 627 tile
+#: collision shapes): their tests, and the table's that imports every map, run in the slow tier.
+HEAVY = frozenset(["rs-tiled/assets/templates/example.tmx"])
+
+
 def _walls_cases() -> list[Any]:
     return [
         pytest.param(name, id=name, marks=pytest.mark.xfail(strict=True, reason=WRONG[name]))
         if name in WRONG
-        else pytest.param(name, id=name)
+        else pytest.param(name, id=name, marks=[pytest.mark.slow] if name in HEAVY else [])
         for name in IMPORTED
     ]
+
+
+def _imported_cases() -> list[Any]:
+    return [pytest.param(name, id=name, marks=[pytest.mark.slow] if name in HEAVY else []) for name in IMPORTED]
 
 
 @pytest.mark.parametrize("name", _walls_cases())
@@ -727,15 +738,16 @@ def test_the_grid_has_walls_exactly_where_the_map_marks_them(name: str) -> None:
         assert not blocked, f"walls where the map marks none: {sample(blocked)}"
     left_out = set().union(*dropped) if dropped else set()
     if left_out:
-        # Only whole parts, only when the map has guard spawns elsewhere: the importer keeps the parts
-        # the guards start in, and says so.
-        assert result.imported.level.starts and "left out" in result.imported.summary(), sample(left_out)
+        # Only whole parts, only when the map has guard spawns or player starts elsewhere: the importer
+        # keeps the parts the guards and the player start in, and says so.
+        anchored = result.imported.level.starts or result.imported.player_starts
+        assert anchored and "left out" in result.imported.summary(), sample(left_out)
     assert len(walked) >= 0.2 * len(read.open), "the guard has only a sliver of the open floor"
     if not read.marked:
         assert any(text.startswith("no walls found") for text in result.imported.warnings)
 
 
-@pytest.mark.parametrize("name", IMPORTED, ids=IMPORTED)
+@pytest.mark.parametrize("name", _imported_cases())
 def test_spawns_and_player_starts_are_the_maps_own(name: str) -> None:
     marks, imported = MAPS[name], outcome(name).imported
     assert len(imported.level.starts) <= marks.spawns, "guard starts the map does not place"
@@ -783,6 +795,7 @@ def doc_table() -> str:
     return "\n".join([*rows, *wrong, "", END])
 
 
+@pytest.mark.slow
 def test_docs_maps_md_holds_the_current_table() -> None:
     text = DOC.read_text(encoding="utf-8")
     start = text.index(COLUMNS)

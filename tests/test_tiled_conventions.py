@@ -18,6 +18,7 @@ import pytest
 import shapely
 from shapely.geometry.base import BaseGeometry
 
+from guardsim.errors import LevelError
 from guardsim.importers import ImportOptions, import_map, load_any
 from guardsim.importers.tiled_roles import truth, wall_mark, words
 from guardsim.level import Level
@@ -375,8 +376,9 @@ def test_a_floor_where_the_guard_fits_on_no_cell_is_said(tmp_path: Path, fmt: st
     """As bevy_ecs_tiled's samples draw theirs: every tile carries a collision shape, leaving slivers."""
     slab = Tileset(2, "slab", [Tile(0, shapes=[(0.0, 0.0, float(TILE), TILE - 2.0)])])
     covered = {(col, row): 2 for col in range(SIZE) for row in range(SIZE)}
-    imported = import_map(write(tmp_path, fmt, [slab], [FLOOR, TileLayer("Decor", covered)]))
-    assert [w for w in imported.warnings if "fits on no cell" in w], imported.warnings
+    # A level no guard can stand in is refused (every command would refuse it), saying why.
+    with pytest.raises(LevelError, match="fits on no cell of the free area: every floor tile"):
+        import_map(write(tmp_path, fmt, [slab], [FLOOR, TileLayer("Decor", covered)]))
     # A floor with room says nothing of the kind.
     roomy = import_map(write(tmp_path, fmt, [slab], [FLOOR, TileLayer("Decor", {(0, 0): 2})]))
     assert not [w for w in roomy.warnings if "fits on no cell" in w]

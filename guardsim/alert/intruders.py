@@ -174,6 +174,18 @@ def read_route_points(path: str) -> list[tuple[float, float]]:
         points = points.get("positions") or points.get("cells")
     if not isinstance(points, list) or not points:
         raise GuardsimError(f"{path}: a route file is a list of [x, y] points (or a sneak.json with a path)")
+    # A sneak.json's path is [col, row] cells of the grid at its origin and cell size: their centres.
+    size, origin = 1.0, (0.0, 0.0)
+    cells = isinstance(data, dict) and isinstance(data.get("path"), list) and "cell_size" in data
+    if cells:
+        try:
+            size = finite_number(data["cell_size"])
+            raw = data.get("origin", [0, 0])
+            if not (isinstance(raw, list) and len(raw) == 2) or size <= 0:
+                raise NumberError("not an origin")
+            origin = (finite_number(raw[0]), finite_number(raw[1]))
+        except NumberError:
+            raise GuardsimError(f"{path}: cell_size and origin: not a positive size and an [x, y] origin") from None
     out = []
     for index, point in enumerate(points):
         try:
@@ -181,6 +193,7 @@ def read_route_points(path: str) -> list[tuple[float, float]]:
                 raise NumberError("not a pair")
             x, y = (finite_number(value) for value in point)
         except NumberError:
-            raise GuardsimError(f"{path}: point {index}: not an [x, y] pair of finite numbers") from None
-        out.append((x, y))
+            what = "a [col, row] pair of whole numbers" if cells else "an [x, y] pair of finite numbers"
+            raise GuardsimError(f"{path}: point {index}: not {what}") from None
+        out.append((origin[0] + (x + 0.5) * size, origin[1] + (y + 0.5) * size) if cells else (x, y))
     return out

@@ -205,6 +205,11 @@ def check(
     if max_worse and baseline_path is None:
         raise GuardsimError("--max-worse sets the margins of --baseline: give --baseline OLD")
     if rules.count == 0 and baseline_path is None:
+        if checks_path:
+            raise GuardsimError(
+                f"{checks_path}: no rule to check in the checks file (max_cover_steps, max_idleness, "
+                "no_unreachable, safe or sneak), nor on the command line"
+            )
         raise GuardsimError(
             f"{level_path}: no rule to check: give --max-cover-steps, --max-idleness, --no-unreachable, --safe, "
             "--sneak, --checks or --baseline"

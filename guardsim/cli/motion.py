@@ -13,6 +13,7 @@ from guardsim.motion.parameters import DEFAULT_MOVE_SPEED, DEFAULT_TICK_HZ, DEFA
 from guardsim.scene import Scene
 
 __all__ = [
+    "MAX_TICK_HZ",
     "MOTIONS",
     "check_motion",
     "check_speed_up",
@@ -36,10 +37,16 @@ _MOTION_HELP = (
 )
 
 
+#: Most physics ticks per second on the command line: a game's physics runs at 30 to 240; past this a
+#: 20-second episode is hours of stepping (100 000 Hz was killed after a minute of silence).
+MAX_TICK_HZ = 1000.0
+
+
 def _speed_options(command: F, options: tuple[tuple[str, str], ...]) -> F:
     positive = FiniteFloatRange(min=0, min_open=True)
+    ticks = FiniteFloatRange(min=0, min_open=True, max=MAX_TICK_HZ)
     for name, help_text in reversed(options):
-        command = click.option(name, type=positive, help=help_text)(command)
+        command = click.option(name, type=ticks if name == "--tick-hz" else positive, help=help_text)(command)
     return command
 
 

@@ -34,6 +34,9 @@ __all__ = ["DEFAULT_MAX_EXPANSIONS", "optimum"]
 DEFAULT_MAX_EXPANSIONS = 2_000_000
 #: Seconds between two progress lines on stderr.
 PROGRESS_SECONDS = 10.0
+#: Seconds before the guaranteed search's first progress line, and between two (its pairs are stored
+#: in Python, some thousands a second: the 500 000-pair cap is half a minute).
+PAIRS_PROGRESS_SECONDS = 2.0
 
 
 class _Progress:
@@ -50,6 +53,24 @@ class _Progress:
         click.echo(
             f"guardsim: optimum: {where.expansions} expansions, {where.nodes} nodes, "
             f"optimum between {where.lower_bound} and {where.best} steps ({where.seconds:.0f} s)",
+            err=True,
+        )
+
+
+class _PairsProgress:
+    """Where the guaranteed search is, on stderr every :data:`PAIRS_PROGRESS_SECONDS` (quiet before)."""
+
+    def __init__(self) -> None:
+        self._began = time.perf_counter()
+        self._next = self._began + PAIRS_PROGRESS_SECONDS
+
+    def __call__(self, pairs: int, tick: int) -> None:
+        now = time.perf_counter()
+        if now < self._next:
+            return
+        self._next = now + PAIRS_PROGRESS_SECONDS
+        click.echo(
+            f"guardsim: optimum: guaranteed search at tick {tick}, {pairs} pairs stored ({now - self._began:.0f} s)",
             err=True,
         )
 
@@ -312,18 +333,20 @@ def _guaranteed(
         region = search_region(grid, centre, radius)
         where = f"within {radius} steps of cell [{centre[0]}, {centre[1]}]"
     table = view_table(grid, scene.vision())
-    result = guaranteed_search(grid, table, teams, region)
+    told = _PairsProgress()
+    result = guaranteed_search(grid, table, teams, region, progress=told)
     team = None
     if result.proved and result.impossible:
-        team = smallest_team(grid, table, teams[0], region)
+        team = smallest_team(grid, table, teams[0], region, progress=told)
     if not result.proved:
         verdict = f"not settled: {result.pairs} (guards, set) pairs stored"
     elif result.impossible:
-        smallest = (
-            "more than 4 guards"
-            if team is None
-            else f"{team[0]} guards (from the first start) can, in {team[1].steps} ticks"
-        )
+        if team is None:
+            smallest = "more than 4 guards"
+        elif not team[1].proved:
+            smallest = f"whether {team[0]} guards can is not settled ({team[1].pairs} pairs stored)"
+        else:
+            smallest = f"{team[0]} guards (from the first start) can, in {team[1].steps} ticks"
         verdict = f"impossible: {count} guard{'s' if count > 1 else ''} can never be certain; {smallest}"
     else:
         verdict = f"certain after {result.steps} ticks"

@@ -22,6 +22,8 @@ __all__ = ["output_folder", "patrol"]
 
 def output_folder(path: str) -> Path:
     """The ``--out`` folder, made if missing; one error line when it cannot be."""
+    if not path.strip():
+        raise GuardsimError("--out: expected a folder name, got an empty text")
     folder = Path(path)
     try:
         folder.mkdir(parents=True, exist_ok=True)

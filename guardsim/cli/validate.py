@@ -24,6 +24,8 @@ __all__ = ["validate"]
 
 #: Warnings of one kind printed per level before the rest are summed up in one line.
 WARNINGS_PER_KIND = 5
+#: Repairs listed one per line; the rest are counted in one.
+SHOWN_REPAIRS = 200
 
 
 @click.command()
@@ -84,10 +86,16 @@ def validate(
             invalid.append(path)
             continue
         if fix_path is not None:
-            with captured_warnings():  # GEOS overflows on absurd coordinates; the check below says what is wrong
-                data, repairs = repair_level_data(data)
-            for repair in repairs:
+            try:
+                with captured_warnings():  # GEOS overflows on absurd coordinates; the check below says what is wrong
+                    data, repairs = repair_level_data(data)
+            except GuardsimError as error:
+                click.echo(f"guardsim: error: {path}: {error}", err=True)
+                sys.exit(2)
+            for repair in repairs[:SHOWN_REPAIRS]:
                 click.echo(f"{path}: repaired {repair}")
+            if len(repairs) > SHOWN_REPAIRS:
+                click.echo(f"{path}: repaired {len(repairs) - SHOWN_REPAIRS} more rings the same ways")
         level, problems = check_level_data(data, source=path, max_cells=max_cells, max_vertices=max_vertices)
         scene = None
         if level is not None:

@@ -37,6 +37,7 @@ __all__ = [
     "MAX_MAGNITUDE",
     "NumberError",
     "captured_warnings",
+    "data_depth",
     "display_path",
     "excerpt",
     "finite_number",
@@ -202,6 +203,24 @@ def json_depth(text: str) -> int:
     steps[(codes == ord("[")) | (codes == ord("{"))] = 1
     steps[(codes == ord("]")) | (codes == ord("}"))] = -1
     return int(np.cumsum(steps).max(initial=0))
+
+
+def data_depth(data: Any) -> int:
+    """The deepest nesting of lists and dicts in parsed ``data`` (TOML's, whose parser takes no limit),
+    walked without recursion.
+
+    >>> data_depth({"a": [[1], {"b": 2}]})
+    3
+    """
+    deepest, stack = 0, [(data, 1)]
+    while stack:
+        value, depth = stack.pop()
+        children = value.values() if isinstance(value, dict) else value if isinstance(value, list) else None
+        if children is None:
+            continue
+        deepest = max(deepest, depth)
+        stack.extend((child, depth + 1) for child in children)
+    return deepest
 
 
 class _BadToken(ValueError):

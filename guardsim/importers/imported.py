@@ -115,6 +115,21 @@ def counted(number: int, noun: str) -> str:
     return f"{number} {noun}{'' if number == 1 else 's'}"
 
 
+#: Longest level name (the level format's limit).
+MAX_NAME_CHARS = 200
+
+
+def level_name(text: str) -> str:
+    """A map's name (file stem, LDtk level identifier...) as a level name: control characters made spaces
+    and cut to the level format's :data:`MAX_NAME_CHARS`, since a map may legally name things longer.
+
+    >>> len(level_name("L" * 300)), level_name("a" + chr(9) + "b")
+    (200, 'a b')
+    """
+    clean = "".join(" " if ord(char) < 32 or ord(char) == 127 else char for char in text)
+    return clean if len(clean) <= MAX_NAME_CHARS else clean[: MAX_NAME_CHARS - 4] + " ..."
+
+
 def level_from_walls(
     walls: Sequence[shapely.Geometry],
     bounds: tuple[float, float, float, float],
@@ -135,7 +150,7 @@ def level_from_walls(
     min_x, min_y, max_x, max_y = bounds
     rings, report = hole_rings(walls, box(*bounds), cut_step=cut_step)
     data: dict[str, Any] = {
-        "name": name,
+        "name": level_name(name),
         "cell_size": cell_size,
         "outer": [[min_x, min_y], [max_x, min_y], [max_x, max_y], [min_x, max_y]],
         "holes": [[list(point) for point in ring] for ring in rings],

@@ -32,6 +32,7 @@ import shapely
 from shapely.geometry import Polygon, box
 
 from guardsim.errors import LevelError
+from guardsim.files.reading import quoted
 from guardsim.importers.imported import (
     ImportedLevel,
     counted,
@@ -105,13 +106,13 @@ def import_ldtk(
     cells = width * height / cell_size**2
     if cells > max_cells:
         raise LevelError(
-            f"{source}: level {ldtk.identifier!r} spans {width:g} x {height:g} cells of {unit} pixels = {cells:.0f} "
+            f"{source}: level {quoted(ldtk.identifier, 60)} spans {width:g} x {height:g} cells of {unit} pixels = {cells:.0f} "
             f"cells at cell size {cell_size:g}, over the limit of {max_cells} (raise it with --max-cells)"
         )
     vertices = 4 + sum(raster_vertex_count(mask) for _, _, mask in masks)
     if vertices > max_vertices:
         raise LevelError(
-            f"{source}: the walls of level {ldtk.identifier!r} need about {vertices} vertices, over the limit of "
+            f"{source}: the walls of level {quoted(ldtk.identifier, 60)} need about {vertices} vertices, over the limit of "
             f"{max_vertices} (raise it with --max-vertices)"
         )
     bounds = (0.0, 0.0, width, height)
@@ -121,7 +122,7 @@ def import_ldtk(
         for piece in _cell_walls(mask, layer.offset[0] / unit, layer.offset[1] / unit, layer.grid / unit)
     ]
     if walls and _covered(masks, bounds, walls, unit):
-        raise LevelError(f"{source}: the walls cover the whole of level {ldtk.identifier!r}: no free area")
+        raise LevelError(f"{source}: the walls cover the whole of level {quoted(ldtk.identifier, 60)}: no free area")
     changes.append(_walls_phrase(masks, bool(wanted)))
     changes += _layer_notes(ldtk)
     if not masks:
@@ -147,7 +148,7 @@ def import_ldtk(
     area = built.free_area() if players else None
     standing = [point for point, _ in players if shapely.contains_xy(area, *point)]
     if players:
-        where = [f"({x:g}, {y:g}) from {label!r}" + ("" if (x, y) in standing else ", not on the free area")
+        where = [f"({x:g}, {y:g}) from {quoted(label, 60)}" + ("" if (x, y) in standing else ", not on the free area")
                  for (x, y), label in players]  # fmt: skip
         changes.append(
             f"{counted(len(players), 'player start')} {listed(where, 3)} (the intruder's, not a guard spawn)"
@@ -234,7 +235,7 @@ def _walls_phrase(masks: list[tuple[Layer, dict[int, str], np.ndarray]], given: 
         return "walls from no IntGrid cells"
     how = "--wall-value" if given else "named like walls"
     parts = [
-        f"{layer.identifier!r} values {listed(labels.values(), 4)} ({counted(int(mask.sum()), 'cell')})"
+        f"{quoted(layer.identifier, 60)} values {listed(labels.values(), 4)} ({counted(int(mask.sum()), 'cell')})"
         for layer, labels, mask in masks
     ]
     return f"walls from IntGrid {listed(parts, 3)} ({how})"
@@ -256,7 +257,7 @@ def _layer_notes(ldtk: LdtkLevel) -> list[str]:
         else:
             unread.append(repr(layer.identifier))
     notes = [
-        f"auto-layer{'s' if len(drawn) > 1 else ''} {listed(drawn, 4)} drawn from IntGrid {source!r}: its values are read"
+        f"auto-layer{'s' if len(drawn) > 1 else ''} {listed(drawn, 4)} drawn from IntGrid {quoted(source, 60)}: its values are read"
         for source, drawn in through.items()
     ]
     if unread:
@@ -268,12 +269,12 @@ def _no_walls(ldtk: LdtkLevel, int_grids: list[Layer], chosen: list[tuple[Layer,
     """The warning for a level with no wall cell, saying what to pass."""
     hint = "pass --wall-value N or NAME for the IntGrid values that are walls"
     if not int_grids:
-        return f"no walls found: level {ldtk.identifier!r} has no IntGrid layer, so it is one open room"
+        return f"no walls found: level {quoted(ldtk.identifier, 60)} has no IntGrid layer, so it is one open room"
     labels = [label for _, values in chosen for label in values.values()]
     if labels:
-        return f"no walls found: the wall values {listed(labels, 4)} are painted nowhere in level {ldtk.identifier!r}"
+        return f"no walls found: the wall values {listed(labels, 4)} are painted nowhere in level {quoted(ldtk.identifier, 60)}"
     defined = [
-        f"{layer.identifier!r} has {listed([value.label() for value in layer.definition.values], 5)}"
+        f"{quoted(layer.identifier, 60)} has {listed([value.label() for value in layer.definition.values], 5)}"
         for layer in int_grids
         if layer.definition and layer.definition.values
     ]
@@ -323,4 +324,6 @@ def _labels(points: list[tuple[tuple[float, float], str]]) -> str:
     kinds: dict[str, int] = {}
     for _, label in points:
         kinds[label] = kinds.get(label, 0) + 1
-    return "entities " + listed([f"{label!r}" + (f" x {count}" if count > 1 else "") for label, count in kinds.items()])
+    return "entities " + listed(
+        [f"{quoted(label, 60)}" + (f" x {count}" if count > 1 else "") for label, count in kinds.items()]
+    )

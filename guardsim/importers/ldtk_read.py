@@ -18,7 +18,7 @@ from typing import Any
 import numpy as np
 
 from guardsim.errors import LevelError
-from guardsim.files.reading import json_type
+from guardsim.files.reading import json_type, quoted
 from guardsim.importers.imported import listed
 from guardsim.importers.source import display_name, excerpt, parse_json_bytes, read_capped_bytes
 
@@ -55,7 +55,7 @@ class ValueDef:
 
     def label(self) -> str:
         """``1 'walls'``, or ``2`` for an unnamed value."""
-        return f"{self.value} {self.identifier!r}" if self.identifier else str(self.value)
+        return f"{self.value} {quoted(self.identifier, 60)}" if self.identifier else str(self.value)
 
 
 @dataclass(frozen=True)
@@ -196,7 +196,7 @@ def read_ldtk(
         chosen = 0
         if len(levels) > 1:
             notes.append(
-                f"imported the first of {len(levels)} levels, {names[0]!r} (others: {listed(map(repr, names[1:]))}; "
+                f"imported the first of {len(levels)} levels, {quoted(names[0], 60)} (others: {listed(quoted(name, 60) for name in names[1:])}; "
                 "choose one with --level NAME)"
             )
     else:
@@ -219,7 +219,7 @@ def read_ldtk(
         if layer.kind in LAYER_TYPES:
             layers.append(layer)
         else:
-            notes.append(f"ignored layer {layer.identifier!r} of unknown type {excerpt(layer.kind)}")
+            notes.append(f"ignored layer {quoted(layer.identifier, 60)} of unknown type {excerpt(layer.kind)}")
     others = tuple(name for index, name in enumerate(names) if index != chosen)
     return LdtkLevel(
         names[chosen], width, height, tuple(layers), definitions, default_grid, others, tuple(notes),
@@ -250,8 +250,16 @@ def _external_level(
         raise fields.error(f"{where}.externalRelPath", f"must be relative to the project, not {excerpt(relative)}")
     level_path = Path(path).parent / relative
     level_source = display_name(level_path)
-    if not level_path.is_file():
-        raise fields.error(f"{where}.externalRelPath", f"level file {level_source} not found")
+    try:
+        found = level_path.is_file()
+    except OSError as failure:  # a name longer than the system takes, a loop of links...
+        why = failure.strerror or type(failure).__name__
+        raise fields.error(
+            f"{where}.externalRelPath", f"level file {excerpt(relative)} cannot be read: {why}"
+        ) from None
+    if not found:
+        shown = level_source if len(level_source) <= 300 else excerpt(level_source)
+        raise fields.error(f"{where}.externalRelPath", f"level file {shown} not found")
     data = parse_json_bytes(read_capped_bytes(level_path, max_file_bytes=max_file_bytes, kind="map"), level_source)
     level_fields = _Fields(level_source)
     data = level_fields.obj(data, "")

@@ -40,9 +40,16 @@ from guardsim.importers.source import display_name
 from guardsim.importers.tiled_checks import check_floor_is_ground, check_view, look_warnings
 from guardsim.importers.tiled_data import TileLayer
 from guardsim.importers.tiled_geometry import TileGeometry, blocked_mask
+from guardsim.importers.tiled_heights import walker_layers
 from guardsim.importers.tiled_read import read_tiled
 from guardsim.importers.tiled_roles import Guesses, RoleOptions, assign_roles, names, parse_wall_property
-from guardsim.importers.tiled_spawns import keep_spawn_areas, player_starts, spawn_points, usable_starts
+from guardsim.importers.tiled_spawns import (
+    keep_spawn_areas,
+    player_starts,
+    spawn_points,
+    unguarded_players,
+    usable_starts,
+)
 from guardsim.importers.watchers import tiled_watchers, with_watchers
 from guardsim.level import (
     DEFAULT_MAX_CELLS,
@@ -121,8 +128,14 @@ def import_tiled(
     changes: list[str] = [view_note] if view_note else []
     warnings = list(roles.warnings) + list(tiled.warnings)
 
+    # The tiles a walker meets: the top-most at its height decides each cell (tiled_heights).
+    walked, heights_phrase = walker_layers(tiled, roles)
+    if heights_phrase:
+        changes.append(heights_phrase)
     wall_tiles_found = [
-        (layer, gids) for layer in tiled.tile_layers if (gids := _wall_gids_in(layer, roles)) is None or gids.size
+        (layer, gids)
+        for original, layer in zip(tiled.tile_layers, walked, strict=True)
+        if (gids := _wall_gids_in(layer, roles, original)) is None or gids.size
     ]
     # Image-collection tiles bigger or smaller than a map tile stand on their cell at their own size.
     wall_boxes = [
@@ -142,7 +155,7 @@ def import_tiled(
     # Collision shapes drawn in a layer that opts out are not walls (unless the tile marks itself).
     shape_walls = [
         shape
-        for layer in tiled.tile_layers
+        for layer in walked
         for shape in geometry.tile_shapes(
             layer, roles.shaped_gids & roles.marked_gids if _layer_opts_out(layer) else roles.shaped_gids
         )
@@ -213,8 +226,14 @@ def import_tiled(
 
     # Parts holding a guard spawn are kept, and so are parts where the player starts (found on the
     # uncropped level: a player start is an anchor too, never dropped with its part).
-    anchors = [*starts, *player_starts(level, roles, geometry)[0]] if starts else starts
-    level, left_out = keep_spawn_areas(level, anchors, source=source, max_cells=max_cells, max_vertices=max_vertices)
+    # With no guard spawn, the parts where the player starts are kept: the guard starts where the player
+    # is, not on the ground round a house the player never leaves.
+    before = player_starts(level, roles, geometry)[0]
+    anchors = [*starts, *before]
+    what = "spawn" if not before else "player start" if not starts else "spawn or player start"
+    level, left_out = keep_spawn_areas(
+        level, anchors, source=source, max_cells=max_cells, max_vertices=max_vertices, what=what
+    )
     if left_out:
         changes.append(left_out)
     check_floor_is_ground(source, level, roles, roles.void_gid)
@@ -223,6 +242,9 @@ def import_tiled(
     players, player_phrase = player_starts(level, roles, geometry)
     if player_phrase:
         changes.append(player_phrase)
+    lonely = unguarded_players(level, starts, players)
+    if lonely:
+        warnings.append(lonely)
     # The level keeps the player starts a player can stand on: sneak's and alert's default --from.
     area = level.free_area()
     standing = [point for point in players if shapely.contains_xy(area, *point)]
@@ -334,18 +356,22 @@ def _not_void(layer: TileLayer, void_gid: int) -> np.ndarray | None:
     return np.setdiff1d(np.unique(layer.gids), [void_gid])
 
 
-def _wall_gids_in(layer: TileLayer, roles: Guesses) -> np.ndarray | None:
-    """The wall tile ids drawn in this layer; ``None`` means every tile of it."""
+def _wall_gids_in(layer: TileLayer, roles: Guesses, original: TileLayer | None = None) -> np.ndarray | None:
+    """The wall tile ids drawn in this layer; ``None`` means every tile of it. ``original`` is the map's
+    layer ``layer`` was cut from (the tiles a walker meets), for its role."""
 
     drawn = np.unique(layer.gids)
+    original = layer if original is None else original
     if _layer_opts_out(layer):
         # A tile's own mark beats its layer's opt-out (as a game's physics reads it), nothing else does.
         return np.intersect1d(drawn, np.fromiter(roles.marked_gids, dtype=np.int64))
-    if layer in roles.wall_tile_layers:
-        if not roles.unmarked_gids or not np.isin(drawn, list(roles.unmarked_gids)).any():
+    if any(original is wall for wall in roles.wall_tile_layers):
+        # Every tile of a wall layer but those whose own properties opt them out, and those with collision
+        # shapes: they block where their shapes are (rule 4), not as whole tiles.
+        out = roles.unmarked_gids | roles.shaped_gids
+        if not out or not np.isin(drawn, list(out)).any():
             return None
-        # Every tile of a wall layer but those whose own properties opt them out.
-        return np.setdiff1d(drawn[drawn != 0], np.fromiter(roles.unmarked_gids, dtype=np.int64))
+        return np.setdiff1d(drawn[drawn != 0], np.fromiter(out, dtype=np.int64))
     return np.intersect1d(drawn, np.fromiter(roles.wall_gids, dtype=np.int64))
 
 

@@ -53,6 +53,7 @@ from dataclasses import dataclass, field
 
 import numpy as np
 
+from guardsim.files.reading import quoted
 from guardsim.importers.imported import listed
 from guardsim.importers.source import excerpt
 from guardsim.importers.tiled_data import ObjectLayer, Properties, TiledMap, TiledObject, TileLayer
@@ -139,6 +140,20 @@ class Guesses:
     """How the walls were found, one phrase per kind of evidence."""
 
 
+#: A layer named floor that paints fewer cells than this share of the layer painting most is not the
+#: whole floor.
+FLOOR_MIN_SHARE = 0.25
+#: Words naming a layer painted behind the level, and the share of the map rectangle past which a layer
+#: is taken as such a backdrop: neither is the layer a small floor layer is joined with.
+BACKDROP_WORDS = frozenset(["background", "backdrop", "sky", "bg"])
+BACKDROP_SHARE = 0.9
+
+
+def _cells(layer: TileLayer) -> np.ndarray:
+    """The layer's painted cells, one number each."""
+    return np.unique((layer.rows.astype(np.int64) << 32) + layer.cols.astype(np.int64))
+
+
 def _layer_named(layer: TileLayer | ObjectLayer, names: Sequence[str]) -> bool:
     return layer.name in names or "/".join(layer.path) in names
 
@@ -194,7 +209,24 @@ def _object_player(item: TiledObject, tiled: TiledMap) -> bool:
         return True
     tile = tiled.tiles.get(item.gid) if item.gid else None
     kinds = (item.name, item.kind, tile.kind if tile is not None else "")
-    return any(says(kind, PLAYER_WORDS) for kind in kinds)
+    return any(says(kind, PLAYER_WORDS) for kind in kinds) or any(_bare_start(kind) for kind in kinds)
+
+
+#: Words that, with ``start`` and nothing else, name where the player starts: ``Start Position``, class
+#: ``start``. A guard's start says so (``guard start``, ``spawn``), or lies in a layer named for guards.
+_START_ONLY = frozenset(["start", "starts", "starting", "position", "pos", "point", "location", "spot", "place"])
+
+
+def _bare_start(name: str) -> bool:
+    found = words(name)
+    return "start" in found and found <= _START_ONLY
+
+
+def _says_player(item: TiledObject, tiled: TiledMap) -> bool:
+    """Whether the object names the player outright (not only ``start``)."""
+    tile = tiled.tiles.get(item.gid) if item.gid else None
+    kinds = (item.name, item.kind, tile.kind if tile is not None else "")
+    return any(says(kind, PLAYER_WORDS) for kind in kinds) or any(says(key, PLAYER_WORDS) for key in item.properties)
 
 
 def _object_spawn(layer: ObjectLayer, item: TiledObject) -> bool:
@@ -237,7 +269,9 @@ def assign_roles(tiled: TiledMap, options: RoleOptions) -> Guesses:
             found.marked_gids.add(gid)
         elif mark is False:
             found.unmarked_gids.add(gid)
-        if info.shapes and (mark is not False):
+        # A tile's collision shapes block even when its property says it does not collide as a whole
+        # tile: the game's physics blocks on the shapes it is given.
+        if info.shapes:
             found.shaped_gids.add(gid)
         elif _tile_says_wall(info.kind, info.properties, options):
             found.wall_gids.add(gid)
@@ -263,9 +297,31 @@ def assign_roles(tiled: TiledMap, options: RoleOptions) -> Guesses:
             and not flag(layer.properties, "spawner", "guard_spawn")
         ]
         named = [layer for layer in candidates if any(says(part, FLOOR_WORDS) for part in layer.path)]
+        # Backdrops (a layer named so, or painting nearly the whole map rectangle) are never that layer.
+        area = max(1, tiled.size[0] * tiled.size[1])
+        painting = [
+            layer
+            for layer in candidates
+            if not any(says(part, BACKDROP_WORDS) for part in layer.path) and _cells(layer).size < BACKDROP_SHARE * area
+        ]
+        widest = max(painting, key=lambda layer: _cells(layer).size, default=None)
+        if named and widest is not None and not any(widest is layer for layer in named):
+            # A layer named floor that paints a small part of what is painted (decorative "floor squares"
+            # over a dungeon whose ground is a layer called "corridors") is not the whole floor: the
+            # layer painting most cells is floor too.
+            share = np.unique(np.concatenate([_cells(layer) for layer in named])).size
+            if share < FLOOR_MIN_SHARE * _cells(widest).size:
+                found.floor_layers = [
+                    layer for layer in tiled.tile_layers if layer is widest or any(layer is other for other in named)
+                ]
+                found.floor_rule = (
+                    f"named floor or ground, and {widest.name!r}, which paints {_cells(widest).size} cells "
+                    f"where they paint {share}"
+                )
+                named = []
         if named:
             found.floor_layers, found.floor_rule = named, "named floor or ground"
-        else:
+        elif not found.floor_layers:
             # Upper layers draw on the ground (furniture, wall faces); a tile of theirs over no ground is
             # not floor, so the ground is the lowest layer alone.
             found.floor_layers = candidates[:1]
@@ -284,7 +340,8 @@ def assign_roles(tiled: TiledMap, options: RoleOptions) -> Guesses:
                 if item.closed:
                     found.boundary_objects.append((layer, item))
                 continue
-            if _object_player(item, tiled):
+            guard_layer = any(says(part, SPAWN_WORDS - {"start", "starts"}) for part in layer.path)
+            if _object_player(item, tiled) and not (guard_layer and not _says_player(item, tiled)):
                 found.player_objects.append((layer, item))
                 continue
             if _object_spawn(layer, item):
@@ -314,15 +371,23 @@ def _unmatched_overrides(tiled: TiledMap, options: RoleOptions) -> list[str]:
     things += [(item.kind, item.properties) for layer in tiled.object_layers for item in layer.objects]
     warnings = []
     for name, value in options.wall_properties:
-        shown = name if value is None else f"{name}={value}"
+        # Quoted and cut short: an option may be as long as the shell takes, a warning is one short line.
+        shown = _option(name if value is None else f"{name}={value}")
         if not any(name in properties for _, properties in things):
-            warnings.append(f"--wall-property {shown}: no tile or object has a property {name!r}: no walls from it")
+            warnings.append(
+                f"--wall-property {shown}: no tile or object has a property {quoted(name)}: no walls from it"
+            )
         elif not any(wall_mark(properties, [(name, value)]) for _, properties in things):
-            warnings.append(f"--wall-property {shown}: no tile or object's {name!r} matches: no walls from it")
+            warnings.append(f"--wall-property {shown}: no tile or object's {quoted(name)} matches: no walls from it")
     for kind in options.wall_classes:
         if not any(own.strip().lower() == kind.strip().lower() for own, _ in things):
-            warnings.append(f"--wall-class {kind}: no tile or object has this class: no walls from it")
+            warnings.append(f"--wall-class {_option(kind)}: no tile or object has this class: no walls from it")
     return warnings
+
+
+def _option(text: str) -> str:
+    """An option's value as typed when short and printable, else quoted and cut short."""
+    return text if len(text) <= 40 and text.isprintable() else quoted(text)
 
 
 def _void_tile(tiled: TiledMap, found: Guesses) -> int:

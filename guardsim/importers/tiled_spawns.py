@@ -16,10 +16,10 @@ from guardsim.importers.imported import counted, level_from_walls, listed
 from guardsim.importers.tiled_data import TiledMap
 from guardsim.importers.tiled_geometry import TileGeometry
 from guardsim.importers.tiled_roles import Guesses
-from guardsim.level import Level, level_to_data
+from guardsim.level import Level
 from guardsim.world import World
 
-__all__ = ["keep_spawn_areas", "player_starts", "spawn_points", "usable_starts"]
+__all__ = ["keep_spawn_areas", "player_starts", "spawn_points", "unguarded_players", "usable_starts"]
 
 
 def _centre(outline: np.ndarray, closed: bool) -> tuple[float, float]:
@@ -94,9 +94,16 @@ def usable_starts(
 
 
 def keep_spawn_areas(
-    level: Level, starts: list[tuple[float, float]], *, source: str, max_cells: int, max_vertices: int
+    level: Level,
+    starts: list[tuple[float, float]],
+    *,
+    source: str,
+    max_cells: int,
+    max_vertices: int,
+    what: str = "spawn",
 ) -> tuple[Level, str]:
-    """The level without the parts of its free area that hold no start (when there are starts)."""
+    """The level without the parts of its free area that hold no start (when there are starts), cropped
+    to the whole tiles around the parts kept; ``what`` names the starts in the summary phrase."""
     parts = list(shapely.get_parts(cast(BaseGeometry, level.free_area())))
     if not starts or len(parts) < 2:
         return level, ""
@@ -105,17 +112,56 @@ def keep_spawn_areas(
     if not drop:
         return level, ""
     area = sum(part.area for part in drop)
-    data = level_to_data(level)
-    data["holes"] = [list(map(list, ring)) for ring in level.holes]
-    walls = [Polygon(ring) for ring in level.holes] + drop
+    kept = shapely.union_all([part for part in parts if not any(part is other for other in drop)])
+    # The picture and the grid hold what is kept, not the map's whole rectangle (whole tiles, so that
+    # cells stay on the map's tile grid).
+    left, top, right, bottom = kept.bounds
+    bounds = (
+        max(level.bounds[0], float(math.floor(left))),
+        max(level.bounds[1], float(math.floor(top))),
+        min(level.bounds[2], float(math.ceil(right))),
+        min(level.bounds[3], float(math.ceil(bottom))),
+    )
+    frame = shapely.box(*bounds)
+    walls = [
+        piece
+        for wall in [Polygon(ring) for ring in level.holes] + drop
+        if not (piece := shapely.intersection(wall, frame)).is_empty and piece.area > 0
+    ]
     new_level, _ = level_from_walls(
         walls,
-        level.bounds,
+        bounds,
         name=level.name,
         source=source,
         cell_size=level.cell_size,
         max_cells=max_cells,
         max_vertices=max_vertices,
     )
-    phrase = f"left out {counted(len(drop), 'free part')} holding no spawn ({area:g} square tiles)"
+    phrase = f"left out {counted(len(drop), 'free part')} holding no {what} ({area:g} square tiles)"
+    if bounds != tuple(level.bounds):
+        phrase += (
+            f"; cropped to the parts kept: {bounds[2] - bounds[0]:g} x {bounds[3] - bounds[1]:g} tiles "
+            f"from ({bounds[0]:g}, {bounds[1]:g})"
+        )
     return new_level, phrase
+
+
+def unguarded_players(level: Level, starts: list[tuple[float, float]], players: list[tuple[float, float]]) -> str:
+    """A warning when a player start stands in a free part no guard spawn is in ("" otherwise): no guard
+    ever walks where the player is, so every sneak there is unseen."""
+    if not starts or not players:
+        return ""
+    parts = list(shapely.get_parts(cast(BaseGeometry, level.free_area())))
+    lonely = [
+        point
+        for point in players
+        for part in parts
+        if part.intersects(ShapelyPoint(point)) and not any(part.intersects(ShapelyPoint(s)) for s in starts)
+    ]
+    if not lonely:
+        return ""
+    x, y = lonely[0]
+    return (
+        f"the player start ({x:g}, {y:g}) is in a free part no guard spawn is in: no guard can reach the player "
+        "there (add a spawn in that part, or join the parts)"
+    )

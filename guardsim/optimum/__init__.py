@@ -154,6 +154,7 @@ def solve(
     seed: int = 0,
     improve: bool = True,
     pattern: bool = True,
+    first_walk: bool = True,
 ) -> OptimumResult:
     """The fewest steps after which a guard from ``(start, heading)`` has seen every cell reachable from it.
 
@@ -186,6 +187,11 @@ def solve(
     pattern
         Whether a long search (:data:`IMPROVE_AFTER` expansions unproved) builds a pattern database
         (:mod:`guardsim.search.pattern`, 2-10 s) and starts again with it in its estimate.
+    first_walk
+        Whether the search starts from a short first walk (the beam and the weighted searches, seconds
+        to tens of seconds on levels of a few hundred cells); without, from the greedy walk. A caller
+        that wants only a lower bound within a small budget (``guardsim bounds``) spends it all on the
+        optimal search instead: the bound does not depend on the first walk.
 
     Returns
     -------
@@ -206,7 +212,7 @@ def solve(
     # A short first walk keeps every node whose f reaches it out of memory; the beam finds one in
     # bounded work on small levels (the greedy walk is the fallback, and the first walk on large and tiny ones).
     greedy, greedy_steps = np.zeros(0, dtype=np.int64), -1
-    if BEAM_MIN_POSITIONS <= graph.positions <= BEAM_MAX_POSITIONS:
+    if first_walk and BEAM_MIN_POSITIONS <= graph.positions <= BEAM_MAX_POSITIONS:
         greedy, greedy_steps = beam_route(graph, heuristic, INCUMBENT_BEAM)
     if greedy_steps < 0:
         greedy, greedy_steps = greedy_walk(graph.successors, graph.views, graph.full, graph.start)
@@ -223,7 +229,7 @@ def solve(
     def tell_pattern(_picks: int, value: int, best: int, where: tuple[int, int, int]) -> None:
         tell(best, max(where[0], value), *where[1:])
 
-    if weight == 1.0:
+    if weight == 1.0 and first_walk:
         greedy, greedy_steps = _weighted_walks(
             graph, heuristic, greedy, int(greedy_steps), began, time_limit, lambda best, floor: tell(best, floor)
         )

@@ -20,20 +20,28 @@ from __future__ import annotations
 
 import itertools
 import time
-from collections.abc import Sequence
+from collections.abc import Callable, Sequence
 from typing import Any, NamedTuple
 
 import numpy as np
 
-from guardsim.errors import LimitError
 from guardsim.grid import CoverageGrid
 from guardsim.kernels.steps import cell_of_state, heading_of_state, state_of
 from guardsim.vision.table import ViewTable
 
-__all__ = ["DEFAULT_MAX_PAIRS", "GuaranteedResult", "guaranteed_data", "guaranteed_search", "search_region", "smallest_team"]
+__all__ = [
+    "DEFAULT_MAX_PAIRS",
+    "GuaranteedResult",
+    "guaranteed_data",
+    "guaranteed_search",
+    "search_region",
+    "smallest_team",
+]
 
 #: Most (guards, set) pairs the search stores before it stops unproved.
 DEFAULT_MAX_PAIRS = 500_000
+#: Pairs stored between two calls of the search's ``progress``.
+PROGRESS_PAIRS = 4096
 #: Earlier sets of the same guards a new set is checked against for dominance.
 _DOMINANCE_CHECKS = 32
 
@@ -124,6 +132,7 @@ def guaranteed_search(
     region: np.ndarray,
     *,
     max_pairs: int = DEFAULT_MAX_PAIRS,
+    progress: Callable[[int, int], None] | None = None,
 ) -> GuaranteedResult:
     """The fewest ticks after which guards from ``starts`` (``((col, row), heading)`` each) are certain
     to have seen an intruder that started anywhere in ``region`` (``bool (cells,)``).
@@ -144,6 +153,8 @@ def guaranteed_search(
     >>> result = guaranteed_search(scene.grid, table, [((2, 0), 0)], everywhere)
     >>> result.proved, result.steps, result.impossible, [step[:2] for step in result.paths[0]]
     (True, 3, False, [(2, 0), (3, 0), (2, 0), (1, 0)])
+
+    ``progress(pairs stored, tick)`` is called every :data:`PROGRESS_PAIRS` pairs stored.
     """
     began = time.perf_counter()
     if not starts:
@@ -161,7 +172,9 @@ def guaranteed_search(
         return _answer(grid, rules, parents, (first, contaminated), began, starts)
     seen_sets: dict[tuple[int, ...], list[int]] = {first: [contaminated]}
     layer = [(first, contaminated)]
+    tick = 0
     while layer:
+        tick += 1
         following: list[tuple[tuple[int, ...], int]] = []
         for guards, cells in layer:
             grown = rules.spread(cells)
@@ -178,6 +191,8 @@ def guaranteed_search(
                     continue  # these guards were here no later with no more to clear
                 earlier.append(after)
                 parents[key] = (guards, cells)
+                if progress is not None and len(parents) % PROGRESS_PAIRS == 0:
+                    progress(len(parents), tick)
                 if after == 0:
                     return _answer(grid, rules, parents, key, began, starts)
                 following.append(key)
@@ -240,14 +255,14 @@ def smallest_team(
     *,
     most: int = 4,
     max_pairs: int = DEFAULT_MAX_PAIRS,
+    progress: Callable[[int, int], None] | None = None,
 ) -> tuple[int, GuaranteedResult] | None:
     """The fewest guards, all starting at ``start``, that can become certain (with their search), or
-    ``None`` when ``most`` cannot. Raises :class:`LimitError` when a team's search is not settled."""
+    ``None`` when ``most`` cannot. When a team's search stops at ``max_pairs`` unsettled, that team and
+    its unproved result (``proved`` false): the smallest team is that many guards or more, unknown."""
     for guards in range(1, most + 1):
-        result = guaranteed_search(grid, table, [start] * guards, region, max_pairs=max_pairs)
-        if not result.proved:
-            raise LimitError(f"the guaranteed search for {guards} guards stored {max_pairs} pairs without an answer")
-        if not result.impossible:
+        result = guaranteed_search(grid, table, [start] * guards, region, max_pairs=max_pairs, progress=progress)
+        if not result.proved or not result.impossible:
             return guards, result
     return None
 
@@ -273,7 +288,8 @@ def guaranteed_data(
         "proved": result.proved,
         "steps": result.steps,
         "impossible": result.impossible,
-        "smallest_team": None if smallest_team is None else smallest_team[0],
+        "smallest_team": None if smallest_team is None or not smallest_team[1].proved else smallest_team[0],
+        "smallest_team_settled": smallest_team is None or smallest_team[1].proved,
         "paths": [[list(step) for step in path] for path in result.paths],
         "pairs": result.pairs,
         "seconds": round(result.seconds, 3),

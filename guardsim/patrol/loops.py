@@ -249,7 +249,9 @@ def _split(builder: LoopBuilder, lap: np.ndarray, guards: int) -> np.ndarray:
         bounds = [round(part * period / guards) for part in range(guards + 1)]
         laps = []
         for part in range(guards):
-            stretch = turned[bounds[part] : max(bounds[part + 1], bounds[part] + 1)]
+            # More guards than ticks: the last cuts round up to the lap's end; each keeps one state.
+            first = min(bounds[part], period - 1)
+            stretch = turned[first : max(bounds[part + 1], first + 1)]
             part_goal = builder.goal & builder.seen_by(stretch)
             sub = LoopBuilder(builder.grid, builder.table, part_goal, fields=builder.fields)
             laps.append(sub.loop(sub.cover_viewpoints()) if part_goal.any() else stretch[:1])

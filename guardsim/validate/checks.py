@@ -33,7 +33,7 @@ import numpy as np
 from guardsim.detection import NEVER_DETECTED, GuardDetection, time_to_detection
 from guardsim.detection.watch import MAX_JOINT_LAP, LevelWatch, lap_gains, level_watch
 from guardsim.errors import CheckError
-from guardsim.files.reading import display_path, parse_json, read_text_file
+from guardsim.files.reading import DEFAULT_MAX_DEPTH, data_depth, display_path, parse_json, read_text_file
 from guardsim.files.schema import check
 from guardsim.patrol import Patrol, patrol_setup, plan_loop, read_patrol, score_patrol
 from guardsim.scene import Scene
@@ -162,9 +162,17 @@ def _toml(text: str, source: str) -> Any:
         import tomllib
 
         try:
-            return tomllib.loads(text)
+            data = tomllib.loads(text)
         except tomllib.TOMLDecodeError as error:
             raise CheckError(f"{source}: not valid TOML: {error}") from None
+        except RecursionError:  # tomllib parses nested arrays and inline tables recursively, with no limit
+            raise CheckError(f"{source}: not valid TOML for guardsim: nested past Python's stack") from None
+        depth = data_depth(data)
+        if depth > DEFAULT_MAX_DEPTH:
+            raise CheckError(
+                f"{source}: not valid TOML for guardsim: nested {depth} deep, over the limit of {DEFAULT_MAX_DEPTH}"
+            )
+        return data
     raise CheckError(f"{source}: TOML checks files need Python 3.11 or later; write the rules as JSON")
 
 
@@ -185,6 +193,8 @@ def parse_checks(data: Any, *, source: str = "<checks>", base: Path | None = Non
     """
     check(data, "checks", source=source, error=CheckError)
     patrol = data.get("patrol")
+    if patrol is not None and not patrol.strip():
+        raise CheckError(f"{source}: patrol: expected a patrol file name, got an empty text")
     if patrol is not None and base is not None and not Path(patrol).is_absolute():
         patrol = str(base / patrol)
     if patrol is not None and not os.path.lexists(patrol):

@@ -24,17 +24,26 @@ from typing import Any, NamedTuple
 import shapely
 from shapely.geometry import LinearRing, Polygon
 
+from guardsim.errors import LevelError
 from guardsim.files.reading import NumberError, finite_number
 from guardsim.importers.walls import hole_rings
 from guardsim.level import compact_numbers
 
-__all__ = ["MAX_PAIRS", "Repair", "repair_level_data"]
+__all__ = ["MAX_PAIRS", "MAX_REPAIR_HOLES", "Repair", "RepairRefused", "repair_level_data"]
 
 #: Most pairs of touching or overlapping holes the merge examines; past it, no hole is merged.
 MAX_PAIRS = 20_000
+#: Most holes a level may have for ``--fix``: the repairs are per ring in Python (about a millisecond
+#: each), so 24 000 holes took a minute on a loaded machine. Levels that large come from importers,
+#: which write clean rings; a hand-made one is repaired in its editor.
+MAX_REPAIR_HOLES = 10_000
 
 Point = tuple[float, float]
 Ring = list[Point]
+
+
+class RepairRefused(LevelError):
+    """A level too large to repair (more than :data:`MAX_REPAIR_HOLES` holes)."""
 
 
 class Repair(NamedTuple):
@@ -66,6 +75,11 @@ def repair_level_data(data: Any) -> tuple[Any, list[Repair]]:
     repairs: list[Repair] = []
     outer = _read_ring(fixed.get("outer"))
     holes_data = fixed.get("holes", [])
+    if isinstance(holes_data, list) and len(holes_data) > MAX_REPAIR_HOLES:
+        raise RepairRefused(
+            f"--fix repairs levels of at most {MAX_REPAIR_HOLES} holes and this one has {len(holes_data)}: "
+            "repair it where it was made (guardsim validate without --fix lists its problems)"
+        )
     read = [_read_ring(hole) for hole in holes_data] if isinstance(holes_data, list) else [None]
     if outer is None or len(_cleaned(outer, "outer", [])) < 3 or any(hole is None for hole in read):
         return fixed, []  # not rings of [x, y] numbers: the loader says what is wrong
