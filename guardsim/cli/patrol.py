@@ -44,7 +44,7 @@ def output_folder(path: str) -> Path:
     type=click.Choice(["auto", "cover", *PLANNERS]),
     default="auto",
     show_default=True,
-    help="loop: viewpoints from the set cover, from that planner's coverage walk, or the best of cover, tour and frontier (auto).",
+    help="loop: viewpoints from the set cover, from that planner's coverage walk, or the best of cover, tour and frontier (auto; of cover and frontier above 10 000 reachable cells).",
 )
 @click.option("--motion", type=click.Choice(["grid", "continuous"]), default="grid", show_default=True)
 @click.option("--seed", type=click.IntRange(min=0), default=0, show_default=True, help="Start and random choices.")

@@ -24,7 +24,8 @@ from __future__ import annotations
 import numpy as np
 
 from guardsim.grid import CoverageGrid, cell_of_state, heading_of_state, state_of
-from guardsim.kernels.distances import FAR, distance_fields, distances_from
+from guardsim.kernels.distances import FAR, distance_fields
+from guardsim.kernels.laps import add_sights, leg_states
 from guardsim.kernels.tours import improve_tour, nearest_neighbour_tour
 from guardsim.patrol.model import Patrol
 from guardsim.patrol.scoring import PatrolScore, score_patrol, score_rank
@@ -33,6 +34,8 @@ from guardsim.planners.viewpoint_cover import greedy_cover
 from guardsim.vision.table import ViewTable
 
 __all__ = ["LoopBuilder", "closed_tour", "team_loops"]
+
+_NO_LEG = np.zeros(0, dtype=np.int64)
 
 # The dummy last node's way out: dearer than any tour, so it stays last. Far below int64's range.
 _NEVER_LEAVE = 10**12
@@ -77,16 +80,25 @@ class LoopBuilder:
     """
 
     def __init__(
-        self, grid: CoverageGrid, table: ViewTable, goal: np.ndarray, *, fields: dict[int, np.ndarray] | None = None
+        self,
+        grid: CoverageGrid,
+        table: ViewTable,
+        goal: np.ndarray,
+        *,
+        legs: dict[tuple[int, int], np.ndarray] | None = None,
+        thin: bool = False,
     ) -> None:
         self.grid = grid
         self.table = table
         self.goal = np.ascontiguousarray(goal, dtype=bool)
         self.neighbours = np.ascontiguousarray(grid.neighbours, dtype=np.int64)
-        self.fields: dict[int, np.ndarray] = {} if fields is None else fields
-        """Breadth-first fields by target cell, shareable between builders of one level."""
-        # Pruning walks the same legs hundreds of times (a lap per dropped viewpoint): keep each leg once.
-        self._legs: dict[tuple[int, int], tuple[int, ...]] = {}
+        self.thin = thin
+        """Whether viewpoints are cut to an irredundant cover of the goal before they are ordered (for
+        large levels: quicker, and shorter loops from long walks; see :func:`guardsim.patrol.plan.is_large`)."""
+        # Ordering again and pruning ask for the same legs many times: keep each leg once (a leg does
+        # not depend on the goal, so builders of one level share them).
+        self._legs: dict[tuple[int, int], np.ndarray] = {} if legs is None else legs
+        self._scratch: tuple[np.ndarray, np.ndarray] | None = None
 
     # -- viewpoints --------------------------------------------------------------------------------
 
@@ -119,6 +131,11 @@ class LoopBuilder:
         viewpoints = np.asarray(viewpoints, dtype=np.int64)
         if viewpoints.size == 0:
             return self.post()
+        if self.thin:
+            # Ordering costs the square of the viewpoints (a cost matrix, then 2-opt): a long walk's
+            # thousands of arrivals are first cut to those whose own views still see the goal (not the
+            # legs between them, which ordering changes), and only those are ordered.
+            viewpoints = self._irredundant(viewpoints)
         order = self._prune(viewpoints[self.order(viewpoints)])
         # Ordering again may shorten the lap, but the paths change, and with them the cells seen on the
         # way that pruning counted on: keep the new order only when its lap still sees the goal.
@@ -146,13 +163,15 @@ class LoopBuilder:
     def walk(self, order: np.ndarray) -> np.ndarray:
         """The lap through the viewpoints ``order`` and back to the first: a state per tick, not repeating
         the first at the end. One viewpoint is a post."""
-        lap = [int(order[0])]
-        for target in [*order[1:].tolist(), int(order[0])]:
-            if target != lap[-1]:
-                lap.extend(self.path(lap[-1], int(target)))
-        if len(lap) > 1:
-            lap.pop()
-        return np.asarray(lap, dtype=np.int64)
+        first = int(order[0])
+        pieces = [np.array([first], dtype=np.int64)]
+        last = first
+        for target in [*order[1:].tolist(), first]:
+            if target != last:
+                pieces.append(self._leg(last, target))
+                last = target
+        lap = np.concatenate(pieces)
+        return lap[:-1] if lap.size > 1 else lap
 
     def path(self, start: int, target: int) -> list[int]:
         """The states after each tick from state ``start`` to arriving in state ``target``.
@@ -160,33 +179,23 @@ class LoopBuilder:
         A shortest walk to the cell behind ``target`` and the step into it; where several steps are
         equally short the guard keeps its heading, then prefers right, down, left, up.
         """
+        return self._leg(start, target).tolist()
+
+    def _leg(self, start: int, target: int) -> np.ndarray:
         leg = self._legs.get((start, target))
         if leg is None:
-            leg = self._legs[(start, target)] = tuple(self._path(start, target))
-        return list(leg)
-
-    def _path(self, start: int, target: int) -> list[int]:
-        entry = int(self.table.entry[target])
-        if entry < 0:
-            raise ValueError(f"state {target} cannot be arrived in")
-        field = self._field(entry)
-        cell, heading = int(cell_of_state(start)), int(heading_of_state(start))
-        if field[cell] >= FAR:
-            raise ValueError(f"cell {cell} cannot reach cell {entry}")
-        states: list[int] = []
-        while cell != entry:
-            here = int(field[cell])
-            options = [heading, 0, 1, 2, 3]
-            for direction in options:
-                other = int(self.neighbours[cell, direction])
-                if other >= 0 and int(field[other]) == here - 1:
-                    cell, heading = other, direction
-                    break
-            else:
+            entry = int(self.table.entry[target])
+            if entry < 0:
+                raise ValueError(f"state {target} cannot be arrived in")
+            if self._scratch is None:
+                self._scratch = (np.full(self.goal.size, FAR, dtype=np.int32), np.empty(self.goal.size, dtype=np.int64))
+            distance, queue = self._scratch
+            cell, heading = int(cell_of_state(start)), int(heading_of_state(start))
+            leg = leg_states(self.neighbours, cell, heading, entry, int(target), int(FAR), distance, queue)
+            if leg.size == 0:
                 raise ValueError(f"cell {cell} cannot reach cell {entry}")
-            states.append(state_of(cell, heading))
-        states.append(int(target))
-        return states
+            self._legs[(start, target)] = leg
+        return leg
 
     def lap_sees_goal(self, lap: np.ndarray) -> bool:
         """Whether the states of ``lap`` together see every goal cell."""
@@ -200,20 +209,65 @@ class LoopBuilder:
         return closed_tour(cost)
 
     def _prune(self, order: np.ndarray) -> np.ndarray:
-        """Drop viewpoints (latest first) while the lap without them still sees the goal."""
-        keep = list(order.tolist())
-        for state in reversed(order.tolist()):
-            if len(keep) <= 1:
-                break
-            trial = [other for other in keep if other != state]
-            if self.lap_sees_goal(self.walk(np.asarray(trial, dtype=np.int64))):
-                keep = trial
-        return np.asarray(keep, dtype=np.int64)
+        """Drop viewpoints (latest first) while the lap without them still sees the goal.
 
-    def _field(self, cell: int) -> np.ndarray:
-        if cell not in self.fields:
-            self.fields[cell] = distances_from(self.neighbours, np.array([cell], dtype=np.int64))
-        return self.fields[cell]
+        The lap is the cycle of legs between consecutive viewpoints; dropping one swaps its two legs for
+        the leg that skips it, so a trial counts the sights of those three legs only (the cells seen,
+        per cell, by the lap's states; the lap sees the goal while no goal cell's count is zero).
+        """
+        keep = [int(state) for state in order.tolist()]
+        if len(keep) <= 1:
+            return np.asarray(keep, dtype=np.int64)
+        after = {state: keep[(index + 1) % len(keep)] for index, state in enumerate(keep)}
+        before = {following: state for state, following in after.items()}
+        count = np.zeros(self.goal.size, dtype=np.int32)
+        table = self.table
+        missing = int(self.goal.sum())
+        for state in keep:
+            missing += add_sights(table.sight_start, table.sight, self._cycle_leg(state, after[state]), 1, count, self.goal)
+        left = len(keep)
+        for state in reversed(keep):
+            if left <= 1:
+                break
+            previous, following = before[state], after[state]
+            if left == 2:
+                # The lap without it is a post: one state, no legs.
+                if not self.lap_sees_goal(np.array([following], dtype=np.int64)):
+                    continue
+            else:
+                legs = (self._cycle_leg(previous, state), self._cycle_leg(state, following))
+                skip = self._cycle_leg(previous, following)
+                change = add_sights(table.sight_start, table.sight, skip, 1, count, self.goal)
+                for leg in legs:
+                    change += add_sights(table.sight_start, table.sight, leg, -1, count, self.goal)
+                if missing + change > 0:
+                    for leg in legs:
+                        add_sights(table.sight_start, table.sight, leg, 1, count, self.goal)
+                    add_sights(table.sight_start, table.sight, skip, -1, count, self.goal)
+                    continue
+                missing += change
+            after[previous], before[following] = following, previous
+            del after[state], before[state]
+            left -= 1
+        return np.asarray([state for state in keep if state in after], dtype=np.int64)
+
+    def _irredundant(self, viewpoints: np.ndarray) -> np.ndarray:
+        """``viewpoints`` without those (latest first) whose cells the others' views see anyway."""
+        table = self.table
+        count = np.zeros(self.goal.size, dtype=np.int32)
+        missing = int(self.goal.sum()) + add_sights(table.sight_start, table.sight, viewpoints, 1, count, self.goal)
+        keep = np.ones(viewpoints.size, dtype=bool)
+        for index in range(viewpoints.size - 1, 0, -1):
+            alone = viewpoints[index : index + 1]
+            if missing + add_sights(table.sight_start, table.sight, alone, -1, count, self.goal) > 0:
+                add_sights(table.sight_start, table.sight, alone, 1, count, self.goal)
+            else:
+                keep[index] = False
+        return viewpoints[keep]
+
+    def _cycle_leg(self, start: int, target: int) -> np.ndarray:
+        """The leg of a lap from viewpoint ``start`` to the next, ``target`` (none between equal states)."""
+        return _NO_LEG if start == target else self._leg(start, target)
 
     def seen_by(self, states: np.ndarray) -> np.ndarray:
         """``bool (cells,)``: the cells any of ``states`` sees."""
@@ -249,11 +303,11 @@ def _split(builder: LoopBuilder, lap: np.ndarray, guards: int) -> np.ndarray:
         bounds = [round(part * period / guards) for part in range(guards + 1)]
         laps = []
         for part in range(guards):
-            # More guards than ticks: the last cuts round up to the lap's end; each keeps one state.
-            first = min(bounds[part], period - 1)
-            stretch = turned[first : max(bounds[part + 1], first + 1)]
+            # More guards than ticks: the last stretches would be empty; each gets at least one tick.
+            begin = min(bounds[part], period - 1)
+            stretch = turned[begin : max(bounds[part + 1], begin + 1)]
             part_goal = builder.goal & builder.seen_by(stretch)
-            sub = LoopBuilder(builder.grid, builder.table, part_goal, fields=builder.fields)
+            sub = LoopBuilder(builder.grid, builder.table, part_goal, legs=builder._legs, thin=builder.thin)
             laps.append(sub.loop(sub.cover_viewpoints()) if part_goal.any() else stretch[:1])
         if best is None or max(part.size for part in laps) < max(part.size for part in best):
             best = laps
@@ -298,7 +352,7 @@ def _regions(builder: LoopBuilder, guards: int, rounds: int = 10) -> np.ndarray:
         if not part_goal.any():
             laps.append(builder.walk(builder.cycle(builder.cover_viewpoints()))[:1])
             continue
-        sub = LoopBuilder(builder.grid, builder.table, part_goal, fields=builder.fields)
+        sub = LoopBuilder(builder.grid, builder.table, part_goal, legs=builder._legs, thin=builder.thin)
         laps.append(sub.loop(sub.cover_viewpoints()))
     return _padded(laps)
 

@@ -7,6 +7,7 @@ on the last ``laps`` (a loop is scored exactly, over its lap in steady state).
 
 from __future__ import annotations
 
+from collections.abc import Callable
 from typing import NamedTuple
 
 import numpy as np
@@ -23,8 +24,12 @@ from guardsim.vision.table import ViewTable, view_table
 __all__ = [
     "DEFAULT_LAPS",
     "DEFAULT_WARMUP_LAPS",
+    "LARGE_GOAL",
     "PatrolPlan",
     "PatrolSetup",
+    "Progress",
+    "auto_sources",
+    "is_large",
     "patrol_setup",
     "plan_loop",
     "plan_patrol",
@@ -72,19 +77,47 @@ def patrol_setup(scene: Scene, guards: int = 1, *, seed: int = 0) -> PatrolSetup
 
 #: Where ``auto`` takes a loop's viewpoints from; the loop with the lowest worst idleness wins.
 AUTO_SOURCES = ("cover", "tour", "frontier")
+#: Goal cells above which a level is large. There the tour planner's full search (every seed, then
+#: polishing) grows too fast (10 s of a 128 x 128 maze's 12 s patrol, minutes on a 256 x 256 city), so
+#: ``auto`` takes :data:`LARGE_SOURCES`, and the viewpoints of a loop are cut to an irredundant cover of the
+#: goal before they are ordered (:attr:`~guardsim.patrol.loops.LoopBuilder.thin`), which keeps ordering
+#: small and makes the frontier walk's loop about as short as the full tour's. The shipped levels are far
+#: below it, and are patrolled as before.
+LARGE_GOAL = 10_000
+LARGE_SOURCES = ("cover", "frontier")
+
+#: ``progress(what, done, total)``: a stage of a long job, ``done`` of ``total`` of its steps.
+Progress = Callable[[str, int, int], None]
 
 
-def plan_loop(setup: PatrolSetup, guards: int, *, planner: str = "auto") -> tuple[PatrolPlan, dict[str, PatrolScore]]:
+def is_large(setup: PatrolSetup) -> bool:
+    """Whether the level has more than :data:`LARGE_GOAL` goal cells."""
+    return int(setup.goal.sum()) > LARGE_GOAL
+
+
+def auto_sources(setup: PatrolSetup) -> tuple[str, ...]:
+    """The sources ``auto`` tries on this level: :data:`AUTO_SOURCES`, or :data:`LARGE_SOURCES` on a large one."""
+    return LARGE_SOURCES if is_large(setup) else AUTO_SOURCES
+
+
+def plan_loop(
+    setup: PatrolSetup, guards: int, *, planner: str = "auto", progress: Progress | None = None
+) -> tuple[PatrolPlan, dict[str, PatrolScore]]:
     """The loop patrol: viewpoints from the set cover (``cover``), from a planner's coverage walk (a name
-    of :data:`guardsim.planners.PLANNERS`), or the best of :data:`AUTO_SOURCES` (``auto``).
+    of :data:`guardsim.planners.PLANNERS`), or the best of :func:`auto_sources` (``auto``).
 
     Also returns the score of each team strategy tried (``single`` for one guard, else ``shared`` and
-    ``split``).
+    ``split``). ``progress`` hears of each source as it starts.
     """
     if planner == "auto":
-        plans = [plan_loop(setup, guards, planner=source) for source in AUTO_SOURCES]
+        sources = auto_sources(setup)
+        plans = []
+        for number, source in enumerate(sources):
+            if progress is not None:
+                progress(f"loop from {source} viewpoints", number, len(sources))
+            plans.append(plan_loop(setup, guards, planner=source, progress=progress))
         return min(plans, key=lambda plan: score_rank(plan[0].score))
-    builder = LoopBuilder(setup.scene.grid, setup.table, setup.goal)
+    builder = LoopBuilder(setup.scene.grid, setup.table, setup.goal, thin=is_large(setup))
     if planner == "cover":
         viewpoints = builder.cover_viewpoints()
     else:

@@ -57,40 +57,83 @@ def seen_timeline(table: ViewTable, states: np.ndarray, cells: int) -> np.ndarra
 
 
 @jit
-def _idleness(timeline: np.ndarray, goal: np.ndarray, warmup: int, total: int, worst: np.ndarray) -> float:
-    """Walk ``total`` ticks of ``timeline`` (repeated), scoring from ``warmup`` on; returns the idleness sum."""
-    period = timeline.shape[0]
-    cells = timeline.shape[1]
-    last = np.zeros(cells, dtype=np.int64)
-    summed = 0.0
+def _idleness(
+    sight_start: np.ndarray,
+    sight: np.ndarray,
+    states: np.ndarray,
+    goal: np.ndarray,
+    warmup: int,
+    total: int,
+    worst: np.ndarray,
+    last: np.ndarray,
+) -> int:
+    """Walk ``total`` ticks of ``states`` (guards, ticks; repeated), scoring from ``warmup`` on; returns the
+    idleness summed over goal cells and scored ticks, and fills ``worst`` (each cell's largest idleness).
+
+    Every cell counts as seen at tick 0. A cell's idleness is settled when it is next seen (and at the
+    end), a whole run of unseen ticks at once, so the work is the sights looked up, not ticks x cells.
+    """
+    period = states.shape[1]
+    summed = 0
+    for cell in range(last.shape[0]):
+        last[cell] = 0
     for tick in range(total):
         row = tick % period
-        for cell in range(cells):
-            if timeline[row, cell]:
-                last[cell] = tick
-            if tick >= warmup and goal[cell]:
-                idle = tick - last[cell]
-                summed += idle
-                if idle > worst[cell]:
-                    worst[cell] = idle
+        for guard in range(states.shape[0]):
+            state = states[guard, row]
+            for index in range(sight_start[state], sight_start[state + 1]):
+                cell = sight[index]
+                if last[cell] != tick:
+                    if goal[cell]:
+                        summed += _settle(cell, last[cell], tick - 1, warmup, worst)
+                    last[cell] = tick
+    for cell in range(last.shape[0]):
+        if goal[cell]:
+            summed += _settle(cell, last[cell], total - 1, warmup, worst)
     return summed
+
+
+@jit
+def _settle(cell: int, seen: int, high: int, warmup: int, worst: np.ndarray) -> int:
+    """Ticks ``seen + 1 .. high`` unseen, idle 1, 2, ...: their idleness summed (those from ``warmup`` on),
+    and the cell's worst raised to the last of them."""
+    low = max(seen + 1, warmup)
+    if high < low:
+        return 0
+    if high - seen > worst[cell]:
+        worst[cell] = high - seen
+    return (low - seen + high - seen) * (high - low + 1) // 2
 
 
 def score_timeline(timeline: np.ndarray, goal: np.ndarray, *, periodic: bool, warmup: int = 0) -> PatrolScore:
     """Score a seen timeline (see :func:`seen_timeline`); ``periodic``: it is one lap, repeated for ever."""
+    # A timeline is a view table whose tick t is a state seeing the cells seen at t, walked by one guard.
+    timeline = np.asarray(timeline, dtype=bool)
+    ticks, cells = np.nonzero(timeline)
+    sight_start = np.zeros(timeline.shape[0] + 1, dtype=np.int64)
+    np.cumsum(np.bincount(ticks, minlength=timeline.shape[0]), out=sight_start[1:])
+    steps = np.arange(timeline.shape[0], dtype=np.int64)[None, :]
+    return _score(sight_start, cells.astype(np.int32), steps, goal, periodic=periodic, warmup=warmup)
+
+
+def _score(
+    sight_start: np.ndarray, sight: np.ndarray, states: np.ndarray, goal: np.ndarray, *, periodic: bool, warmup: int
+) -> PatrolScore:
     goal = np.ascontiguousarray(goal, dtype=np.bool_)
-    ticks = timeline.shape[0]
+    states = np.ascontiguousarray(states, dtype=np.int64)
+    ticks = states.shape[1]
     worst = np.zeros(goal.size, dtype=np.int64)
+    last = np.empty(goal.size, dtype=np.int64)
     if periodic:
         # After one lap every cell seen in the lap has been seen, so the second lap is the steady state.
-        summed = _idleness(timeline, goal, ticks, 2 * ticks, worst)
-        never = goal & ~timeline.any(axis=0)
+        summed = _idleness(sight_start, sight, states, goal, ticks, 2 * ticks, worst, last)
+        never = goal & (last < ticks)
         worst[never] = NEVER
         scored = ticks
     else:
         if not 0 <= warmup < ticks:
             raise ValueError(f"warm-up of {warmup} ticks leaves nothing of {ticks} ticks to score")
-        summed = _idleness(timeline, goal, warmup, ticks, worst)
+        summed = _idleness(sight_start, sight, states, goal, warmup, ticks, worst, last)
         never = np.zeros_like(goal)
         scored = ticks - warmup
     worst[~goal] = -2
@@ -120,8 +163,7 @@ def score_patrol(table: ViewTable, patrol: Patrol, goal: np.ndarray, *, warmup: 
     >>> score.worst_idleness, score.mean_idleness
     (0, 0.0)
     """
-    timeline = seen_timeline(table, patrol.states, goal.size)
-    return score_timeline(timeline, goal, periodic=patrol.period is not None, warmup=warmup)
+    return _score(table.sight_start, table.sight, patrol.states, goal, periodic=patrol.period is not None, warmup=warmup)
 
 
 def score_rank(score: PatrolScore) -> tuple[float, float]:
