@@ -55,12 +55,22 @@ class AlertRules:
     """Seconds per tick."""
     intruder_speed: float = 1.0
     """Cells the intruder may move per tick (the guard moves one); fractions accumulate."""
+    chase_speed: float = 1.5
+    """Cells a chasing guard runs per tick (walking: one); on the grid, chase tick ``k`` (from 1) takes
+    ``floor(k * chase_speed) - floor((k - 1) * chase_speed)`` steps."""
+    give_up_losses: int = 3
+    """Times a guard may lose sight of the intruder it chases; at the last loss it searches and does not
+    chase again."""
 
     def __post_init__(self) -> None:
         for name in ("capture_radius", "search_seconds", "radio_delay", "intruder_speed"):
             value = getattr(self, name)
             if not (math.isfinite(value) and value >= 0):
                 raise ValueError(f"alert: {name} must be a finite number >= 0, not {value!r}")
+        if not (math.isfinite(self.chase_speed) and self.chase_speed > 0):
+            raise ValueError(f"alert: chase_speed must be a finite number > 0, not {self.chase_speed!r}")
+        if not (isinstance(self.give_up_losses, int) and self.give_up_losses >= 1):
+            raise ValueError(f"alert: give_up_losses must be a whole number >= 1, not {self.give_up_losses!r}")
         if not (math.isfinite(self.dt) and self.dt > 0):
             raise ValueError(f"alert: dt must be a finite number > 0, not {self.dt!r}")
 
@@ -74,7 +84,15 @@ class AlertRules:
         guard = level.guard
         radius = guard.capture_radius if guard.capture_radius is not None else level.cell_size
         cells_per_tick = 1.0 if intruder_speed is None else intruder_speed * dt / level.cell_size
-        return cls(radius, guard.search_seconds, guard.radio_delay, dt, cells_per_tick)
+        return cls(
+            radius,
+            guard.search_seconds,
+            guard.radio_delay,
+            dt,
+            cells_per_tick,
+            chase_speed=guard.chase_speed,
+            give_up_losses=guard.give_up_losses,
+        )
 
     @property
     def search_ticks(self) -> int:

@@ -81,6 +81,12 @@ class GuardSpec:
     """Alert: seconds a guard searches after losing sight of the intruder before it gives up."""
     radio_delay: float = 2.0
     """Alert: seconds before a guard's detection reaches its teammates."""
+    chase_speed: float = 1.5
+    """Alert: how much faster than walking a guard runs when it chases (on the grid, 1.5 is an extra step
+    on alternate ticks)."""
+    give_up_losses: int = 3
+    """Alert: times a guard may lose sight of the intruder it chases; at the last loss it gives the chase
+    up to a search and does not chase that intruder again."""
 
 
 #: Largest tile side in pixels a level may record (``Level.tile_pixels``).

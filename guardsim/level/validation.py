@@ -38,7 +38,7 @@ PAIRS_PER_VERTEX = 2
 _TOP_KEYS = {"name", "cell_size", "outer", "holes", "guard", "starts", "player_starts", "tile_pixels"}
 _MOTION_KEYS = ("move_speed", "turn_speed", "tick_hz")
 _DETECTION_KEYS = ("detect_near", "detect_far", "forget", "suspicious")
-_ALERT_KEYS = ("capture_radius", "search_seconds", "radio_delay")
+_ALERT_KEYS = ("capture_radius", "search_seconds", "radio_delay", "chase_speed", "give_up_losses")
 _GUARD_KEYS = {"view_range", "fov_degrees", "radius", "start", "heading", *_MOTION_KEYS, *_DETECTION_KEYS, *_ALERT_KEYS}
 
 
@@ -286,12 +286,22 @@ def _guard(value: Any, problems: list[Problem]) -> GuardSpec | None:
         for key in _MOTION_KEYS
         if value.get(key) is not None
     }
-    detection: dict[str, float] = {}
+    detection: dict[str, Any] = {}
     for key in (*_DETECTION_KEYS, *_ALERT_KEYS):
         number = None
         if key in value:
             upper = 1 if key == "suspicious" else None
-            number = _number(value, key, 0.0, problems, where=f"guard.{key}", minimum=0, maximum=upper)
+            if key in ("chase_speed", "give_up_losses"):
+                # A guard must move when it chases, and lose sight at least once before giving up.
+                number = _number(value, key, 1.0, problems, where=f"guard.{key}", positive=True)
+                if key == "give_up_losses" and number is not None:
+                    if number != int(number):
+                        problems.append(Problem(f"guard.{key}", f"must be a whole number of losses, not {number!r}"))
+                        number = None
+                    else:
+                        number = int(number)
+            else:
+                number = _number(value, key, 0.0, problems, where=f"guard.{key}", minimum=0, maximum=upper)
         if number is not None:
             detection[key] = number
     if len(problems) > count or view_range is None or fov is None or radius is None:

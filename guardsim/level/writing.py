@@ -29,7 +29,8 @@ def level_to_data(level: Level) -> dict[str, Any]:
         if getattr(level.guard, key) is not None:
             guard[key] = getattr(level.guard, key)
     defaults = GuardSpec()
-    for key in ("detect_near", "detect_far", "forget", "suspicious", "capture_radius", "search_seconds", "radio_delay"):
+    for key in ("detect_near", "detect_far", "forget", "suspicious", "capture_radius", "search_seconds", "radio_delay",
+                "chase_speed", "give_up_losses"):
         if getattr(level.guard, key) != getattr(defaults, key):
             guard[key] = getattr(level.guard, key)
     data: dict[str, Any] = {
