@@ -22,11 +22,15 @@ from pathlib import Path
 
 REPO = Path(__file__).resolve().parent.parent
 sys.path.insert(0, str(REPO))
-MAPS = REPO.parent / "shared" / "maps" / "movingai"
+# ../shared beside the clone (CI), or beside the folder of worktrees.
+MAPS = next(
+    (base / "shared" / "maps" / "movingai" for base in (REPO.parent, REPO.parent.parent) if (base / "shared").is_dir()),
+    REPO.parent / "shared" / "maps" / "movingai",
+)
 SHIPPED = {p.stem: p for p in sorted((REPO / "levels").glob("*.json"))}
 
 
-def _level(name_or_path: str):  # type: ignore[no-untyped-def]
+def _level(name_or_path: str):  # type: ignore[no-untyped-def,unused-ignore]
     from guardsim.importers import import_map
     from guardsim.level import load_level
 
@@ -38,7 +42,7 @@ def _level(name_or_path: str):  # type: ignore[no-untyped-def]
     return load_level(path) if path.suffix == ".json" else import_map(path).level
 
 
-def _count(traces: list[dict], traversable) -> tuple[Counter[str], int, int]:  # type: ignore[no-untyped-def]
+def _count(traces: list[dict], traversable) -> tuple[Counter[str], int, int]:  # type: ignore[no-untyped-def,unused-ignore]
     from guardsim.alert.invariants import check_alert_trace
 
     kinds: Counter[str] = Counter()

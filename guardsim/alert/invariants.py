@@ -10,7 +10,9 @@ the files ``guardsim alert --out`` writes) and the level's grid, and lists every
   :data:`MAX_TOGETHER_TICKS` consecutive ticks, except ticks where both chase an intruder in view or
   either stands in a corridor one cell wide (a cell with two traversable neighbours, on opposite sides).
 - ``moonwalk``: a guard that stepped during a tick faces another way than the step's (grid motion: a
-  step of two cells straight, a run, counts as one step that way).
+  step of two cells straight, a run, counts as one step that way). In continuous motion (a trace with
+  ``poses``), a body that moved during a tick more than 90 degrees away from its heading both at the
+  start and at the end of the tick (walking backwards or sideways; turning is at the turn speed).
 - ``radio``: a ``joined`` event at a tick when, the tick before, no guard was chasing or searching, the
   intruder had left, or the search area was empty.
 - ``wrong_way``: a guard that starts searching walks away from the last known cell on the side
@@ -92,7 +94,10 @@ def check_alert_trace(data: dict[str, Any], traversable: np.ndarray) -> list[Vio
     guards = len(paths)
     for guard in range(guards):
         out.extend(_jitter(paths[guard], guard))
-        out.extend(_moonwalk(paths[guard], headings[guard], guard))
+        if "poses" in data:
+            out.extend(_moonwalk_poses(data["poses"][guard], guard))
+        else:
+            out.extend(_moonwalk(paths[guard], headings[guard], guard))
     out.extend(_stacked(paths, states, traversable))
     out.extend(_radio(data, states))
     out.extend(_wrong_way(data, paths, states, traversable))
@@ -134,6 +139,20 @@ def _moonwalk(path: Sequence[Any], headings: Sequence[int], guard: int) -> list[
             continue  # no step, or two steps round a corner (continuous motion's cell crossings)
         step = (int(np.sign(dx)), int(np.sign(dy)))
         if _DIRECTIONS.index(step) != int(headings[tick]) % 4:
+            out.append(Violation("moonwalk", tick, (guard,), 1))
+    return out
+
+
+def _moonwalk_poses(poses: Sequence[Sequence[float]], guard: int) -> list[Violation]:
+    out = []
+    for tick in range(1, len(poses)):
+        _, x0, y0, before = poses[tick - 1]
+        _, x1, y1, after = poses[tick]
+        if np.hypot(x1 - x0, y1 - y0) < 1e-6:
+            continue
+        travel = np.degrees(np.arctan2(y1 - y0, x1 - x0))
+        off = [abs((travel - heading + 180.0) % 360.0 - 180.0) for heading in (before, after)]
+        if min(off) > 90.0 + 1e-6:
             out.append(Violation("moonwalk", tick, (guard,), 1))
     return out
 
