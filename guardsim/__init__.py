@@ -52,7 +52,10 @@ _SOURCES = {
     "Trace": "guardsim.trace",
     **dict.fromkeys(("AwarenessMeter", "DetectionModel", "GuardDetection"), "guardsim.detection"),
     "sneak_check": "guardsim.sneak",
-    **dict.fromkeys(("AlertEpisode", "AlertRules", "alert_episode", "run_alerts"), "guardsim.alert"),
+    **dict.fromkeys(
+        ("AlertEpisode", "AlertRules", "GameGuards", "alert_episode", "check_alert_trace", "run_alerts"),
+        "guardsim.alert",
+    ),
     **dict.fromkeys(("ContinuousSimulation", "GuardMotion"), "guardsim.motion"),
 }
 
@@ -76,7 +79,9 @@ def __dir__() -> list[str]:
 if TYPE_CHECKING:
     from guardsim.alert import AlertEpisode as AlertEpisode
     from guardsim.alert import AlertRules as AlertRules
+    from guardsim.alert import GameGuards as GameGuards
     from guardsim.alert import alert_episode as alert_episode
+    from guardsim.alert import check_alert_trace as check_alert_trace
     from guardsim.alert import run_alerts as run_alerts
     from guardsim.detection import AwarenessMeter as AwarenessMeter
     from guardsim.detection import DetectionModel as DetectionModel
