@@ -47,6 +47,7 @@ clock stands still.
 from __future__ import annotations
 
 import math
+from collections.abc import Sequence
 from typing import Any
 
 import numpy as np
@@ -59,6 +60,7 @@ from guardsim.alert.search import Contamination, make_search
 from guardsim.detection import AwarenessMeter, GuardDetection
 from guardsim.grid import CoverageGrid
 from guardsim.kernels.distances import FAR, distances_from
+from guardsim.kernels.noise import heard_within
 from guardsim.kernels.steps import cell_of_state, heading_of_state, state_of
 from guardsim.patrol.model import Patrol
 from guardsim.vision.table import ViewTable
@@ -94,6 +96,8 @@ class AlertEpisode:
     ``movement``: where the guards are and what they see (:mod:`guardsim.alert.movement`); the grid's by
     default.
 
+    ``distractions``: noises made away from the intruder, ``(tick, cell, radius in world units)``.
+
     The per-tick record (:attr:`record`) is what :func:`guardsim.alert.trace.alert_trace_data` writes.
     """
 
@@ -111,6 +115,7 @@ class AlertEpisode:
         max_ticks: int = 600,
         spotted: bool = False,
         movement: Movement | None = None,
+        distractions: Sequence[tuple[int, int, float]] = (),
     ) -> None:
         if patrol.period is None:
             raise ValueError("an alert episode needs a repeating patrol (its period is null)")
@@ -154,6 +159,11 @@ class AlertEpisode:
         self._together = np.zeros((guards, guards), dtype=np.int64)
         """Consecutive ticks each pair of guards has been within one cell (outside corridors)."""
         self._corridor = corridor_cells(grid.traversable).ravel()
+        self._distractions = sorted((int(t), int(c), float(r)) for t, c, r in distractions)
+        self.noises: list[tuple[int, int, float, str]] = []
+        """Every noise made: ``(tick, cell, radius in world units, "step" or "throw")``."""
+        self._heard = [False] * guards
+        """Per guard: it is investigating a noise."""
         self._left_route = False
         self._stats: dict[str, Any] = {"detected": None, "captured": None, "lost": None, "reacquired": None}
         self._stats.update({"gave_up": None, "back": None, "detections": 0, "searching": 0})
@@ -168,6 +178,7 @@ class AlertEpisode:
             "contaminated": [],
             "last_known": [],
             "contaminated_cells": [],
+            "heard": [],
         }
         if isinstance(self.movement, ContinuousMovement):
             self.record.update({"poses": [], "awareness_peak": []})
@@ -194,9 +205,12 @@ class AlertEpisode:
         self.intruder.advance(self.tick, self.cells, chased, alarmed)
         if self.intruder.gone and not any(e.event == "arrived" for e in self.events):
             self.events.append(AlertEvent(self.tick, -1, "arrived"))
+        made = len(self.noises)
+        self._make_noises()
         self._move_guards()
         self.movement.follow(self.cells, self.headings)
         self._look_and_update()
+        self._hear(self.noises[made:])
         self._record()
         self._finish()
         if self.done:
@@ -595,6 +609,33 @@ class AlertEpisode:
                     self.outcome, self.done = "captured", True
                     break
 
+    def _make_noises(self) -> None:
+        """This tick's noises: the intruder's steps where they landed, and the distractions due."""
+        rules = self.rules
+        for cell, gait in getattr(self.intruder, "landed", []):
+            radius = rules.sneak_noise if gait == "sneak" else rules.walk_noise
+            if radius > 0:
+                self.noises.append((self.tick, int(cell), radius, "step"))
+        while self._distractions and self._distractions[0][0] <= self.tick:
+            tick, cell, radius = self._distractions.pop(0)
+            if tick == self.tick and radius > 0:
+                self.noises.append((tick, cell, radius, "throw"))
+
+    def _hear(self, noises: list[tuple[int, int, float, str]]) -> None:
+        """Guards within a noise's reach (along the grid) that are not chasing or searching investigate
+        the cell they heard; their meters are untouched."""
+        self._heard = [heard and self.modes[g] == "investigate" for g, heard in enumerate(self._heard)]
+        for _, cell, radius, _ in noises:
+            hears = heard_within(self.neighbours, cell, radius, self.rules.cell_size, np.array(self.cells))
+            for guard in np.flatnonzero(hears).tolist():
+                if self.modes[guard] in ("chase", "search"):
+                    continue  # already alarmed: it hunts by sight and the radio
+                self.modes[guard], self._noticed[guard], self._look[guard] = "investigate", cell, 0
+                self._rejoin[guard] = None
+                self._heard[guard] = True
+                self._left_route = True
+                self.events.append(AlertEvent(self.tick, guard, "heard"))
+
     def _saw_at(self, cell: int) -> None:
         """The intruder is seen at ``cell``: the last known cell and its direction of travel."""
         before = self.last_known
@@ -657,6 +698,7 @@ class AlertEpisode:
         record["contaminated"].append(self.contamination.count)
         record["contaminated_cells"].append(np.flatnonzero(self.contamination.cells).astype(np.int32))
         record["last_known"].append(self.last_known)
+        record["heard"].append(list(self._heard))
 
     def _count_together(self) -> None:
         cols = self.grid.shape[1]

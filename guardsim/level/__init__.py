@@ -16,9 +16,11 @@ from guardsim.errors import LevelError
 from guardsim.level.limits import DEFAULT_MAX_CELLS, DEFAULT_MAX_FILE_BYTES, DEFAULT_MAX_VERTICES
 from guardsim.level.loading import load_level, read_level_json, read_limited_bytes
 from guardsim.level.model import (
+    GAITS,
     HEADINGS,
     MAX_TILE_PIXELS,
     GuardSpec,
+    IntruderSpec,
     Level,
     Point,
     Problem,
@@ -37,9 +39,11 @@ __all__ = [
     "DEFAULT_MAX_CELLS",
     "DEFAULT_MAX_FILE_BYTES",
     "DEFAULT_MAX_VERTICES",
+    "GAITS",
     "HEADINGS",
     "MAX_TILE_PIXELS",
     "GuardSpec",
+    "IntruderSpec",
     "Level",
     "LevelError",
     "Point",

@@ -14,9 +14,11 @@ import shapely
 from shapely.geometry import Polygon
 
 __all__ = [
+    "GAITS",
     "HEADINGS",
     "MAX_TILE_PIXELS",
     "GuardSpec",
+    "IntruderSpec",
     "Level",
     "Point",
     "Problem",
@@ -89,6 +91,22 @@ class GuardSpec:
     up to a search and does not chase that intruder again."""
 
 
+#: The intruder's gaits: a walking step takes one tick, a sneaking step ``sneak_ticks``.
+GAITS = ("walk", "sneak")
+
+
+@dataclass(frozen=True)
+class IntruderSpec:
+    """The intruder's ears keys: how loud its steps are (the level's ``intruder`` object)."""
+
+    walk_noise: float = 0.0
+    """Radius in world units of a walking step's noise (0: silent)."""
+    sneak_ticks: int = 2
+    """Ticks a sneaking step takes (in its first cell for all but the last)."""
+    sneak_noise: float = 0.0
+    """Radius in world units of a sneaking step's noise."""
+
+
 #: Largest tile side in pixels a level may record (``Level.tile_pixels``).
 MAX_TILE_PIXELS = 4096
 
@@ -105,6 +123,8 @@ class Level:
     """Walls inside the outer ring, each a closed ring."""
     guard: GuardSpec = field(default_factory=GuardSpec)
     starts: tuple[Point, ...] = ()
+    intruder: IntruderSpec = field(default_factory=IntruderSpec)
+    """The intruder's noise keys (hearing guards)."""
     """Designer-marked spawn points (optional)."""
     player_starts: tuple[Point, ...] = ()
     """Where the player (the intruder of ``sneak`` and ``alert``) starts, when the designer marks it."""

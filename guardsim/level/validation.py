@@ -25,7 +25,17 @@ from guardsim.files.reading import (
 )
 from guardsim.level.geometry import MAX_OVERLAPS_LISTED, check_geometry
 from guardsim.level.limits import DEFAULT_MAX_CELLS, DEFAULT_MAX_VERTICES
-from guardsim.level.model import HEADINGS, MAX_TILE_PIXELS, GuardSpec, Level, Point, Problem, Ring, grid_shape_of
+from guardsim.level.model import (
+    HEADINGS,
+    MAX_TILE_PIXELS,
+    GuardSpec,
+    IntruderSpec,
+    Level,
+    Point,
+    Problem,
+    Ring,
+    grid_shape_of,
+)
 
 __all__ = ["MAX_OVERLAPS_LISTED", "check_level_data", "parse_level"]
 
@@ -35,7 +45,8 @@ MAX_NAME_CHARS = 200
 #: level is refused instead of checked pair by pair.
 PAIRS_PER_VERTEX = 2
 
-_TOP_KEYS = {"name", "cell_size", "outer", "holes", "guard", "starts", "player_starts", "tile_pixels"}
+_TOP_KEYS = {"name", "cell_size", "outer", "holes", "guard", "starts", "player_starts", "tile_pixels", "intruder"}
+_INTRUDER_KEYS = ("walk_noise", "sneak_ticks", "sneak_noise")
 _MOTION_KEYS = ("move_speed", "turn_speed", "tick_hz")
 _DETECTION_KEYS = ("detect_near", "detect_far", "forget", "suspicious")
 _ALERT_KEYS = ("capture_radius", "search_seconds", "radio_delay", "chase_speed", "give_up_losses")
@@ -127,6 +138,7 @@ def _check(data: Any, source: str, max_cells: int, max_vertices: int) -> tuple[L
     starts = _points(data.get("starts", []), "starts", problems)
     players = _points(data.get("player_starts", []), "player_starts", problems)
     tile_pixels = _tile_pixels(data.get("tile_pixels"), problems)
+    intruder = _intruder(data.get("intruder", {}), problems)
 
     if outer is not None and cell_size is not None:
         xs = [p[0] for p in outer]
@@ -147,6 +159,8 @@ def _check(data: Any, source: str, max_cells: int, max_vertices: int) -> tuple[L
         )
     if problems or outer is None or cell_size is None or guard is None or starts is None or players is None:
         return None, problems
+    if intruder is None:
+        return None, problems
     level = Level(
         name=name,
         cell_size=cell_size,
@@ -157,8 +171,29 @@ def _check(data: Any, source: str, max_cells: int, max_vertices: int) -> tuple[L
         player_starts=tuple(players),
         source=source,
         tile_pixels=tile_pixels,
+        intruder=intruder,
     )
     return level, problems
+
+
+def _intruder(value: Any, problems: list[Problem]) -> IntruderSpec | None:
+    """``intruder``: its noise keys (radii >= 0 world units; ``sneak_ticks`` a whole number >= 1)."""
+    if not isinstance(value, dict):
+        problems.append(Problem("intruder", f"must be an object, not {json_type(value)}"))
+        return None
+    count = len(problems)
+    for key in sorted(set(value) - set(_INTRUDER_KEYS), key=str):
+        where = f"intruder.{key}" if str(key).isprintable() and len(str(key)) <= 40 else f"intruder.{quoted(key)}"
+        problems.append(Problem(where, "unknown key", f"known keys: {', '.join(_INTRUDER_KEYS)}"))
+    defaults = IntruderSpec()
+    walk = _number(value, "walk_noise", defaults.walk_noise, problems, where="intruder.walk_noise", minimum=0)
+    sneak = _number(value, "sneak_noise", defaults.sneak_noise, problems, where="intruder.sneak_noise", minimum=0)
+    ticks = _number(value, "sneak_ticks", defaults.sneak_ticks, problems, where="intruder.sneak_ticks", minimum=1)
+    if ticks is not None and ticks != int(ticks):
+        problems.append(Problem("intruder.sneak_ticks", f"must be a whole number of ticks, not {ticks!r}"))
+    if len(problems) > count or walk is None or sneak is None or ticks is None:
+        return None
+    return IntruderSpec(walk_noise=walk, sneak_ticks=int(ticks), sneak_noise=sneak)
 
 
 def _tile_pixels(value: Any, problems: list[Problem]) -> tuple[int, int] | None:

@@ -9,7 +9,7 @@ from __future__ import annotations
 import json
 from typing import Any
 
-from guardsim.level.model import GuardSpec, Level
+from guardsim.level.model import GuardSpec, IntruderSpec, Level
 
 __all__ = ["compact_numbers", "level_json_text", "level_to_data"]
 
@@ -29,8 +29,17 @@ def level_to_data(level: Level) -> dict[str, Any]:
         if getattr(level.guard, key) is not None:
             guard[key] = getattr(level.guard, key)
     defaults = GuardSpec()
-    for key in ("detect_near", "detect_far", "forget", "suspicious", "capture_radius", "search_seconds", "radio_delay",
-                "chase_speed", "give_up_losses"):
+    for key in (
+        "detect_near",
+        "detect_far",
+        "forget",
+        "suspicious",
+        "capture_radius",
+        "search_seconds",
+        "radio_delay",
+        "chase_speed",
+        "give_up_losses",
+    ):
         if getattr(level.guard, key) != getattr(defaults, key):
             guard[key] = getattr(level.guard, key)
     data: dict[str, Any] = {
@@ -46,6 +55,13 @@ def level_to_data(level: Level) -> dict[str, Any]:
         data["player_starts"] = [list(p) for p in level.player_starts]
     if level.tile_pixels is not None:
         data["tile_pixels"] = list(level.tile_pixels)
+    intruder = {
+        key: getattr(level.intruder, key)
+        for key in ("walk_noise", "sneak_ticks", "sneak_noise")
+        if getattr(level.intruder, key) != getattr(IntruderSpec(), key)
+    }
+    if intruder:
+        data["intruder"] = intruder
     return data
 
 
