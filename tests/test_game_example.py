@@ -94,3 +94,27 @@ def test_the_frame_api_refuses_a_player_off_the_floor() -> None:
         guards.frame((28.5, 2.5), -1.0)
     with pytest.raises(GuardsimError, match=r"^player: "):
         GameGuards(scene, post, player=(0.5, 0.5))
+
+
+def test_the_players_noise_comes_from_its_speed() -> None:
+    """A post guard facing west in a 10 x 3 room; the player walks east behind it (a cell a tick: walking,
+    walk_noise 4) and is heard; at half that pace (sneaking, sneak_noise 0) it is not."""
+    import guardsim
+    from guardsim.alert import GameGuards
+    from guardsim.patrol.model import Patrol
+
+    level = guardsim.parse_level(
+        {"outer": [[0, 0], [10, 0], [10, 3], [0, 3]], "guard": {"view_range": 3},
+         "intruder": {"walk_noise": 4, "sneak_noise": 0, "sneak_ticks": 2}}
+    )  # fmt: skip
+    scene = guardsim.Scene.from_level(level)
+    post = Patrol(np.array([[scene.grid.flat(3, 1) * 4 + 2]]), period=1, strategy="loop")
+    heard = {}
+    for pace, seconds in (("walk", 0.5), ("sneak", 1.0)):  # a grid tick is 0.5 s
+        guards = GameGuards(scene, post, player=(5.5, 1.5))
+        events = []
+        for column in range(6, 10):
+            for _ in range(int(seconds * 60)):
+                events += [e.event for e in guards.frame((column + 0.5, 1.5), 1 / 60).events]
+        heard[pace] = "heard" in events
+    assert heard == {"walk": True, "sneak": False}

@@ -6,10 +6,13 @@ player the game moves, a frame at a time.
 in world coordinates and the frame's seconds; the guards decide a grid tick at a time (a tick is one
 cell at the guard's walking speed, :func:`guardsim.detection.grid_tick_seconds`), so most frames only
 carry time forward and move the guards' drawn poses between their last two ticks. A frame that
-completes a tick places the player in the cell under its position and steps the episode. With ears
-(``walk_noise`` or ``sneak_noise`` of the level's ``intruder`` keys above 0) the player's steps make noise
-by its speed over the tick: at most the walking speed of the level's intruder a sneaking step, faster a
-walking one.
+completes a tick places the player in the cell under its position and steps the episode.
+
+**Noise from speed.** With ears (the level's ``intruder`` keys ``walk_noise`` or ``sneak_noise`` above 0),
+a tick in which the player changed cells makes one noise in the cell it is in: ``sneak_noise`` when it
+moved at most ``1 / sneak_ticks`` cells a tick over the tick's cells (4-connected steps between the
+tick's first and last cell) since its last change of cell, the sneaking pace, else ``walk_noise`` (the
+first step counts the ticks from the start as at least ``sneak_ticks``). Standing still is silent.
 
 See ``docs/alert.md`` (the game's own player) and ``examples/game/``.
 """
@@ -36,8 +39,12 @@ __all__ = ["GameGuards", "GuardsFrame", "PlayerIntruder"]
 class PlayerIntruder(Intruder):
     """An intruder the caller places (:meth:`place`); it never moves by itself and never leaves."""
 
-    def __init__(self, neighbours: np.ndarray, cell: int) -> None:
-        super().__init__("player", neighbours, cell)
+    def __init__(self, neighbours: np.ndarray, cell: int, *, columns: int = 1, sneak_ticks: int = 2) -> None:
+        super().__init__("player", neighbours, cell, sneak_ticks=sneak_ticks)
+        self._columns = columns
+        self._tick_start = int(cell)
+        # Standing at its start before its first step: that step is judged as if it had stood still since.
+        self._ticks_since_move = sneak_ticks
 
     def place(self, cell: int, columns: int) -> None:
         """Put the player in flat ``cell``; its heading becomes the main direction of the move."""
@@ -49,7 +56,17 @@ class PlayerIntruder(Intruder):
         self.cell = int(cell)
 
     def advance(self, tick: int, guard_cells: Sequence[int], chased: bool, alarmed: bool) -> None:
-        """The game moved it already."""
+        """The game moved it already: this tick's step, if it changed cells, lands where it is, in the gait
+        its pace gives (see the module)."""
+        self.landed = []
+        if self._tick_start != self.cell:
+            (row, col), (to_row, to_col) = divmod(self._tick_start, self._columns), divmod(self.cell, self._columns)
+            steps = abs(to_row - row) + abs(to_col - col)
+            sneaking = steps * self.sneak_ticks <= max(1, self._ticks_since_move)
+            self.landed = [(self.cell, "sneak" if sneaking else "walk")]
+            self._ticks_since_move = 0
+        self._ticks_since_move += 1
+        self._tick_start = self.cell
 
 
 class GuardsFrame(NamedTuple):
@@ -116,7 +133,12 @@ class GameGuards:
         self.tick_seconds = grid_tick_seconds(level)
         table = view_table(self.grid, scene.vision())
         detection = GuardDetection.of_level(level)
-        self.player = PlayerIntruder(self.grid.neighbours, self.cell_of(player, "player"))
+        self.player = PlayerIntruder(
+            self.grid.neighbours,
+            self.cell_of(player, "player"),
+            columns=self.grid.shape[1],
+            sneak_ticks=self.rules.sneak_ticks,
+        )
         movement = make_movement(motion, scene, table, detection, dt=self.rules.dt, guards=patrol.guards)
         self.episode = AlertEpisode(
             self.grid,
