@@ -57,7 +57,10 @@ _SOURCES = {
     **dict.fromkeys(("visibility", "meter_gain"), "guardsim.kernels.meter"),
     "level_watch": "guardsim.detection.watch",
     "sneak_check": "guardsim.sneak",
-    **dict.fromkeys(("AlertEpisode", "AlertRules", "alert_episode", "run_alerts"), "guardsim.alert"),
+    **dict.fromkeys(
+        ("AlertEpisode", "AlertRules", "GameGuards", "alert_episode", "check_alert_trace", "run_alerts"),
+        "guardsim.alert",
+    ),
     **dict.fromkeys(("ContinuousSimulation", "GuardMotion"), "guardsim.motion"),
     **dict.fromkeys(("analyse", "report", "diff"), "guardsim.design"),
 }
@@ -82,7 +85,9 @@ def __dir__() -> list[str]:
 if TYPE_CHECKING:
     from guardsim.alert import AlertEpisode as AlertEpisode
     from guardsim.alert import AlertRules as AlertRules
+    from guardsim.alert import GameGuards as GameGuards
     from guardsim.alert import alert_episode as alert_episode
+    from guardsim.alert import check_alert_trace as check_alert_trace
     from guardsim.alert import run_alerts as run_alerts
     from guardsim.design import analyse as analyse
     from guardsim.design import diff as diff

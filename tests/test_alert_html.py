@@ -33,7 +33,7 @@ from tests.pages import page_json
 from tests.test_alert import ROOM, ring_patrol, setup, write_patrol
 from tests.test_browser import CHROMIUM, chromium, dump, element, geometry
 
-ENTRY, GOAL = (10, 6), (11, 0)
+ENTRY, GOAL = (4, 0), (7, 6)
 
 
 class Episode:
@@ -44,7 +44,7 @@ class Episode:
         scene, table = setup()
         patrol = write_patrol(folder, scene.grid)
         self.page, self.trace_path = folder / "alert.html", folder / "trace.json"
-        args = ["--intruder", "route", "--from", "10.5,6.5", "--to", "11.5,0.5", "--spotted"]
+        args = ["--intruder", "route", "--from", "4.5,0.5", "--to", "7.5,6.5", "--spotted"]
         outputs = ["--html", str(self.page), "--trace", str(self.trace_path)]
         result = CliRunner().invoke(main, ["alert", str(level), "--patrol", str(patrol), *args, *outputs])
         assert result.exit_code == 0, result.output

@@ -24,6 +24,7 @@ from guardsim.alert.movement import ContinuousMovement
 from guardsim.cli import main
 from guardsim.kernels.meter import DETECTED
 from guardsim.motion import GuardMotion, pose_visible_cells
+from guardsim.motion.parameters import STEER_DEGREES
 from tests.common import write_level
 from tests.test_alert import ROOM, ring_patrol, setup, write_patrol
 
@@ -80,7 +81,8 @@ def test_same_seed_same_episode(case: str) -> None:
 @pytest.mark.parametrize("case", list(CASES), ids=list(CASES))
 def test_invariants_by_replay(case: str) -> None:
     """Replayed: a guard detects (and chases) only in a tick its meter filled; every physics tick's body
-    lies clear of the walls in the real pymunk space, and moves and turns no faster than the guard can."""
+    lies clear of the walls in the real pymunk space, moves and turns no faster than the guard can (running
+    when it chases), and walks the way it faces."""
     episode = continuous_episode(case)
     scene, _ = setup()
     world, radius = scene.world, scene.level.guard.radius
@@ -102,10 +104,18 @@ def test_invariants_by_replay(case: str) -> None:
     for guard_poses in poses:
         for t, x, y, _ in guard_poses.tolist():
             assert world.fits((x, y), radius), (t, x, y)
-        steps = np.hypot(*np.diff(guard_poses[:, 1:3], axis=0).T)
-        assert steps.max() <= motion.step_length + 1e-9
+        moves = np.diff(guard_poses[:, 1:3], axis=0)
+        steps = np.hypot(*moves.T)
+        # A chasing (or cutting-off) guard runs at chase_speed times walking.
+        assert steps.max() <= motion.step_length * episode.rules.chase_speed + 1e-9
         turns = np.abs((np.diff(guard_poses[:, 3]) + 180.0) % 360.0 - 180.0)
         assert turns.max() <= motion.turn_step + 1e-9
+        # A body walks the way it faces (within the steering slack): no walking backwards or sideways.
+        moving = steps > 1e-9
+        travel = np.degrees(np.arctan2(moves[moving, 1], moves[moving, 0]))
+        facing = guard_poses[1:, 3][moving]
+        off = np.abs((travel - facing + 180.0) % 360.0 - 180.0)
+        assert off.size == 0 or off.max() <= STEER_DEGREES + motion.turn_step + 1e-6
 
 
 @pytest.mark.parametrize("case", list(CASES), ids=list(CASES))

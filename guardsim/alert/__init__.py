@@ -6,6 +6,8 @@
 - :mod:`~guardsim.alert.movement`: where the guards are and what they see: grid or continuous motion.
 - :mod:`~guardsim.alert.episode`: the tick loop.
 - :mod:`~guardsim.alert.run`: one episode from given points or many from seeded starts, traces, summaries.
+- :mod:`~guardsim.alert.player`: the game's own player as the intruder, a frame at a time.
+- :mod:`~guardsim.alert.invariants`: what a designer expects of game guards, checked on traces.
 
 See ``docs/alert.md``.
 """
@@ -14,7 +16,9 @@ from __future__ import annotations
 
 from guardsim.alert.episode import AlertEpisode
 from guardsim.alert.intruders import Intruder, make_intruder
+from guardsim.alert.invariants import Violation, check_alert_trace
 from guardsim.alert.model import EVENTS, GUARD_STATES, INTRUDERS, OUTCOMES, AlertEvent, AlertOutcome, AlertRules
+from guardsim.alert.player import GameGuards, GuardsFrame, PlayerIntruder
 from guardsim.alert.run import DEFAULT_MAX_SECONDS, AlertSummary, alert_episode, alert_trace_data, run_alerts, summarise
 from guardsim.alert.search import SEARCHES, Contamination, make_search
 
@@ -31,9 +35,14 @@ __all__ = [
     "AlertRules",
     "AlertSummary",
     "Contamination",
+    "GameGuards",
+    "GuardsFrame",
     "Intruder",
+    "PlayerIntruder",
+    "Violation",
     "alert_episode",
     "alert_trace_data",
+    "check_alert_trace",
     "make_intruder",
     "make_search",
     "run_alerts",

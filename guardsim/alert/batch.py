@@ -67,6 +67,10 @@ class AlertTask(NamedTuple):
     """Send back the episode's trace as JSON text (for ``--out``)."""
     motion: GuardMotion | None = None
     """Continuous motion at these speeds; ``None``: grid motion."""
+    gaits: tuple[str, ...] | None = None
+    """A route intruder's gait into each cell of ``route``; ``None``: it walks."""
+    distractions: tuple[tuple[int, int, float], ...] = ()
+    """Noises away from the intruder: ``(tick, cell, radius)``."""
 
     @property
     def key(self) -> tuple[str, int]:
@@ -145,6 +149,8 @@ def _run(task: AlertTask, scene: Scene, table: ViewTable) -> TaskResult:
         detection=task.detection,
         spotted=task.spotted,
         motion=task.motion or "grid",
+        gaits=task.gaits,
+        distractions=task.distractions,
     )
     episode.run()
     text = None
@@ -186,6 +192,8 @@ def tasks_of(
     spotted: bool,
     trace: bool,
     motion: GuardMotion | None = None,
+    gaits: Sequence[str] | None = None,
+    distractions: Sequence[tuple[int, int, float]] = (),
 ) -> list[AlertTask]:
     """Every episode of every strategy, strategy by strategy, in episode order; ``motion``: continuous
     motion at these speeds (``None``: grid)."""
@@ -211,6 +219,8 @@ def tasks_of(
                     spotted=spotted,
                     trace=trace,
                     motion=motion,
+                    gaits=None if gaits is None else tuple(gaits),
+                    distractions=tuple(distractions),
                 )
             )
     return tasks

@@ -6,8 +6,35 @@ reaches the other guards ``radio_delay`` later; the contaminated set spreads by 
 and loses every cell in view; a chasing guard within ``capture_radius`` captures.
 
 **Rejoining the route.** A guard entering ``return`` at tick ``t`` picks the smallest ``k >= 1`` such that
-it can walk to where its patrol puts it at tick ``t + k`` in at most ``k`` steps, walks there (waiting if
-early) and is exactly on its route, at the phase it would have reached had it never left, from then on.
+it can walk to where its patrol puts it at tick ``t + k`` in at most ``k - 1`` steps (the tick to spare
+turns it to the route's heading: a guard never takes a heading in the tick it steps another way), walks
+there (waiting if early) and is exactly on its route, at the phase it would have reached had it never
+left, from then on. A guard kept from its rejoining cell (see personal space) plans again.
+
+**Game-guard rules** (what :mod:`guardsim.alert.invariants` checks on traces):
+
+- *Running.* A chasing guard runs at ``chase_speed`` times walking: on the grid, chase tick ``k`` (from 1)
+  takes ``floor(k * chase_speed) - floor((k - 1) * chase_speed)`` steps (1.5: one and two steps in turn),
+  an extra step only straight on (a runner does not turn within a tick); in continuous motion the body
+  walks that much faster.
+- *Cutting off.* While a chasing guard sees the intruder, the chaser nearest it (in steps) follows it;
+  every other chasing or searching guard runs for the first cell of the intruder's likely escape (from
+  the last known cell away from the lead, straight on where it can) that it reaches no later than the
+  intruder, or follows when it is within two cells of it.
+- *Giving up.* The ``give_up_losses``-th time a guard loses sight of the intruder it chases, it
+  searches and never chases that intruder again (it may still grow suspicious and investigate).
+- *Searching.* Each searcher commits to one cell its strategy's field wants looked at (the field's
+  bottom), the one with the fewest steps plus :data:`LEAN_COST` per cell behind the last known cell
+  (against the intruder's last seen direction of travel) plus :data:`CLAIM_COST` within
+  :data:`CLAIM_CELLS` of another searcher's cell, and keeps it until it is seen. A cell it can see by
+  turning where it stands, it turns to look at rather than walks to.
+- *Personal space.* A guard that is not chasing does not step within one cell (the same cell or a
+  4-neighbour) of another guard unless one of the two cells is a corridor one cell wide; it takes the
+  next best step or turns. Two guards that have stayed within one cell for :data:`STEP_ASIDE_TICKS`
+  ticks anyway (one came to the other) part: the one not patrolling (or the higher numbered) steps
+  away, and returns to its route if it was on it.
+- *Radio.* A detection reaches the teammates ``radio_delay`` later only if by then some guard is still
+  chasing or searching, the intruder has not left and the search area is not empty.
 
 **Motion.** Where a guard is and what it sees is the movement's (:mod:`guardsim.alert.movement`): on the
 grid, or as a body in the physics world. The decisions above are the same in both, a grid tick at a
@@ -20,23 +47,45 @@ clock stands still.
 from __future__ import annotations
 
 import math
+from collections.abc import Sequence
 from typing import Any
 
 import numpy as np
 
 from guardsim.alert.intruders import Intruder
+from guardsim.alert.invariants import corridor_cells
 from guardsim.alert.model import AlertEvent, AlertOutcome, AlertRules
 from guardsim.alert.movement import ContinuousMovement, GridMovement, Movement
 from guardsim.alert.search import Contamination, make_search
 from guardsim.detection import AwarenessMeter, GuardDetection
 from guardsim.detection.watch import CameraAlarms, LevelWatch
 from guardsim.grid import CoverageGrid
-from guardsim.kernels.distances import distances_from
-from guardsim.kernels.steps import cell_of_state, greedy_step, heading_of_state
+from guardsim.kernels.distances import FAR, distances_from
+from guardsim.kernels.noise import heard_within
+from guardsim.kernels.steps import cell_of_state, heading_of_state, state_of
 from guardsim.patrol.model import Patrol
 from guardsim.vision.table import ViewTable
 
-__all__ = ["AlertEpisode"]
+__all__ = ["CLAIM_CELLS", "CLAIM_COST", "ESCAPE_CELLS", "LEAN_COST", "STEP_ASIDE_TICKS", "AlertEpisode"]
+
+#: Extra cost, in steps, of a search cell per cell it lies behind the last known cell.
+LEAN_COST = 2.0
+#: Extra cost, in steps, of a search cell within :data:`CLAIM_CELLS` of another searcher's cell.
+CLAIM_COST = 8.0
+#: Steps (4-connected) within which another searcher's cell makes a search cell cost more.
+CLAIM_CELLS = 3
+#: Ticks two guards may stay within one cell of each other before one steps aside.
+STEP_ASIDE_TICKS = 5
+#: Cells of the intruder's likely escape a cutting-off guard considers.
+ESCAPE_CELLS = 32
+
+#: Heading numbers' steps (column, row): right, down, left, up.
+_STEPS = ((1, 0), (0, 1), (-1, 0), (0, -1))
+
+
+def _contains(sorted_cells: np.ndarray, cell: int) -> bool:
+    index = int(np.searchsorted(sorted_cells, cell))
+    return index < sorted_cells.size and int(sorted_cells[index]) == cell
 
 
 class AlertEpisode:
@@ -47,6 +96,8 @@ class AlertEpisode:
 
     ``movement``: where the guards are and what they see (:mod:`guardsim.alert.movement`); the grid's by
     default.
+
+    ``distractions``: noises made away from the intruder, ``(tick, cell, radius in world units)``.
 
     The per-tick record (:attr:`record`) is what :func:`guardsim.alert.trace.alert_trace_data` writes.
     """
@@ -66,6 +117,7 @@ class AlertEpisode:
         spotted: bool = False,
         movement: Movement | None = None,
         watch: LevelWatch | None = None,
+        distractions: Sequence[tuple[int, int, float]] = (),
     ) -> None:
         if patrol.period is None:
             raise ValueError("an alert episode needs a repeating patrol (its period is null)")
@@ -99,6 +151,24 @@ class AlertEpisode:
         self._rejoin: list[tuple[int, int, int, np.ndarray] | None] = [None] * guards
         """Per guard in ``return``: the tick it decided, the tick and cell it rejoins at, the field there."""
         self._radio_at = -1
+        self.travel = -1
+        """Heading number of the intruder's last seen direction of travel (-1: not known)."""
+        self._losses = [0] * guards
+        self._done_chasing = [False] * guards
+        """Per guard: it lost the intruder ``give_up_losses`` times and chases it no more."""
+        self._running = [0] * guards
+        """Per guard: ticks it has run (chasing or cutting off) since it last started."""
+        self._target = [-1] * guards
+        """Per searcher: the cell it is committed to look at (-1: none)."""
+        self._target_field: list[np.ndarray | None] = [None] * guards
+        self._together = np.zeros((guards, guards), dtype=np.int64)
+        """Consecutive ticks each pair of guards has been within one cell (outside corridors)."""
+        self._corridor = corridor_cells(grid.traversable).ravel()
+        self._distractions = sorted((int(t), int(c), float(r)) for t, c, r in distractions)
+        self.noises: list[tuple[int, int, float, str]] = []
+        """Every noise made: ``(tick, cell, radius in world units, "step" or "throw")``."""
+        self._heard = [False] * guards
+        """Per guard: it is investigating a noise."""
         self._left_route = False
         self._stats: dict[str, Any] = {"detected": None, "captured": None, "lost": None, "reacquired": None}
         self._stats.update({"gave_up": None, "back": None, "detections": 0, "searching": 0})
@@ -113,6 +183,7 @@ class AlertEpisode:
             "contaminated": [],
             "last_known": [],
             "contaminated_cells": [],
+            "heard": [],
         }
         if isinstance(self.movement, ContinuousMovement):
             self.record.update({"poses": [], "awareness_peak": []})
@@ -139,9 +210,12 @@ class AlertEpisode:
         self.intruder.advance(self.tick, self.cells, chased, alarmed)
         if self.intruder.gone and not any(e.event == "arrived" for e in self.events):
             self.events.append(AlertEvent(self.tick, -1, "arrived"))
+        made = len(self.noises)
+        self._make_noises()
         self._move_guards()
         self.movement.follow(self.cells, self.headings)
         self._look_and_update()
+        self._hear(self.noises[made:])
         self._record()
         self._finish()
         if self.done:
@@ -160,60 +234,273 @@ class AlertEpisode:
 
     def _move_guards(self) -> None:
         tick = self.tick
-        chase_field: np.ndarray | None = None
-        deciding = [self.movement.ready(g) for g in range(len(self.modes))]
+        guards = len(self.modes)
+        deciding = [self.movement.ready(g) for g in range(guards)]
         searchers = {g: self.cells[g] for g, mode in enumerate(self.modes) if mode == "search" and deciding[g]}
         fields = self.search.fields(searchers) if searchers else {}
+        lead, cutters = self._chase_roles()
+        chase_field: np.ndarray | None = None
         for guard, mode in enumerate(self.modes):
             if not deciding[guard]:
                 continue
             self._clock[guard] += 1
+            running = mode == "chase" or guard in cutters
+            if not running and self._running[guard]:
+                self._running[guard] = 0
+                self.movement.pace(guard, 1.0)
+            if mode != "chase" and self._crowded_for(guard) and self._step_aside(guard):
+                if mode in ("patrol", "return"):
+                    self._enter_return(guard)
+                self._target[guard] = -1
+                continue
             if mode == "patrol":
                 state = self.patrol.state(guard, self._clock[guard] + self.phase)
                 self.cells[guard], self.headings[guard] = int(cell_of_state(state)), int(heading_of_state(state))
             elif mode == "suspicious":
                 self.headings[guard] = self._facing(self.cells[guard], self._noticed[guard], self.headings[guard])
             elif mode == "investigate":
-                if self.cells[guard] == self._noticed[guard]:
-                    self._look[guard] += 1
+                stepped = False
+                if self.cells[guard] != self._noticed[guard]:
+                    stepped = self._walk(guard, distances_from(self.neighbours, np.array([self._noticed[guard]])))
+                else:
                     self.headings[guard] = (self.headings[guard] + 1) % 4
+                if not stepped:
+                    self._look[guard] += 1
                     if self._look[guard] >= 4:
                         self._enter_return(guard)
+            elif mode == "search" and (
+                fields.get(guard) is None or tick - self._since[guard] >= self.rules.search_ticks
+            ):
+                self.events.append(AlertEvent(tick, guard, "gave_up"))
+                if self._stats["gave_up"] is None:
+                    self._stats["gave_up"] = tick
+                self._target[guard] = -1
+                self._enter_return(guard)
+            elif running:
+                if guard == lead or guard not in cutters:
+                    if chase_field is None:
+                        chase_field = distances_from(self.neighbours, np.array([self.last_known]))
+                    field = chase_field
                 else:
-                    self._walk(guard, distances_from(self.neighbours, np.array([self._noticed[guard]])))
-            elif mode == "chase":
-                if chase_field is None:
-                    chase_field = distances_from(self.neighbours, np.array([self.last_known]))
-                self._walk(guard, chase_field)
+                    field = self._cut_off_field(guard, lead)
+                self._run(guard, field)
             elif mode == "search":
-                field = fields.get(guard)
-                if field is None or tick - self._since[guard] >= self.rules.search_ticks:
-                    self.events.append(AlertEvent(tick, guard, "gave_up"))
-                    if self._stats["gave_up"] is None:
-                        self._stats["gave_up"] = tick
-                    self._enter_return(guard)
-                else:
-                    self._walk(guard, field)
+                self._search_step(guard, fields[guard])  # type: ignore[arg-type]
             if self.modes[guard] == "return":
                 self._walk_back(guard)
 
-    def _walk(self, guard: int, field: np.ndarray) -> None:
-        """One step down ``field``; at its bottom, turn in place to look around."""
-        cell = self.cells[guard]
-        direction = greedy_step(field, self.neighbours[cell], self.headings[guard])
-        if direction >= 0 and field[self.neighbours[cell, direction]] < field[cell]:
-            self.cells[guard] = int(self.neighbours[cell, direction])
-            self.headings[guard] = direction
-        else:
+    def _chase_roles(self) -> tuple[int, set[int]]:
+        """The lead chaser (-1: none sees the intruder) and the guards cutting it off (see the module)."""
+        if self.last_known < 0:
+            return -1, set()
+        seeing = [g for g, mode in enumerate(self.modes) if mode == "chase" and self.in_sight[g]]
+        if not seeing:
+            return -1, set()
+        field = distances_from(self.neighbours, np.array([self.last_known]))
+        lead = min(seeing, key=lambda g: (int(field[self.cells[g]]), g))
+        alarmed = {g for g, mode in enumerate(self.modes) if mode in ("chase", "search") and g != lead}
+        return lead, alarmed
+
+    def _run_steps(self, guard: int) -> int:
+        """Steps ``guard`` runs this tick (see the module); one a decision in continuous motion."""
+        self._running[guard] += 1
+        if self._running[guard] == 1:
+            self.movement.pace(guard, self.rules.chase_speed)
+        if self.movement.name != "grid":
+            return 1
+        k, speed = self._running[guard], self.rules.chase_speed
+        return math.floor(k * speed + 1e-9) - math.floor((k - 1) * speed + 1e-9)
+
+    def _run(self, guard: int, field: np.ndarray) -> None:
+        steps = self._run_steps(guard)
+        if steps <= 0:
+            return
+        if not self._walk(guard, field):
+            return
+        for _ in range(steps - 1):
+            cell, heading = self.cells[guard], self.headings[guard]
+            ahead = int(self.neighbours[cell, heading])
+            # An extra step only straight on, and only downhill: a runner does not turn within a tick.
+            if ahead < 0 or field[ahead] >= field[cell] or self._best_direction(guard, field) != heading:
+                return
+            self.cells[guard] = ahead
+
+    def _cut_off_field(self, guard: int, lead: int) -> np.ndarray:
+        """The field to the first cell of the intruder's likely escape that ``guard`` reaches no later than
+        the intruder (its last cell when there is none); to the intruder itself when within two cells."""
+        known = self.last_known
+        own = distances_from(self.neighbours, np.array([self.cells[guard]]))
+        if own[known] <= 2:
+            return distances_from(self.neighbours, np.array([known]))
+        away = distances_from(self.neighbours, np.array([self.cells[lead]]))
+        path, here, heading = [known], known, self.travel
+        seen = {known}
+        for _ in range(ESCAPE_CELLS):
+            best, best_key = -1, (0, 0)
+            for direction in range(4):
+                there = int(self.neighbours[here, direction])
+                if there < 0 or there in seen or away[there] < away[here]:
+                    continue
+                key = (int(away[there]), 1 if direction == heading else 0)
+                if best < 0 or key > best_key:
+                    best, best_key = there, key
+                    best_direction = direction
+            if best < 0:
+                break
+            path.append(best)
+            seen.add(best)
+            here, heading = best, best_direction
+        run, walk = self.rules.chase_speed, max(self.rules.intruder_speed, 1e-9)
+        target = path[-1]
+        for index, cell in enumerate(path):
+            if own[cell] < FAR and own[cell] / run <= index / walk:
+                target = cell
+                break
+        return distances_from(self.neighbours, np.array([target]))
+
+    def _search_step(self, guard: int, field: np.ndarray) -> None:
+        """One tick of ``guard``'s search: to its committed cell, or turn to look at it (see the module)."""
+        if self.search.name == "last-known":
+            self._walk(guard, field)
+            return
+        target = self._target[guard]
+        keep = target >= 0 and (
+            field[target] == 0 or (self.search.name != "diffuse" and self.contamination.cells[target])
+        )
+        if not keep:
+            target = self._choose_target(guard, field)
+            self._target[guard] = target
+            self._target_field[guard] = None if target < 0 else distances_from(self.neighbours, np.array([target]))
+        target_field = self._target_field[guard]
+        if target < 0 or target_field is None:
             self.headings[guard] = (self.headings[guard] + 1) % 4
+            return
+        cell = self.cells[guard]
+        for heading in (self.headings[guard], *range(4)):
+            if _contains(self.table.sees(state_of(cell, heading)), target):
+                if heading != self.headings[guard]:
+                    self.headings[guard] = heading
+                    return
+                break
+        self._walk(guard, target_field)
+
+    def _choose_target(self, guard: int, field: np.ndarray) -> int:
+        goal = np.flatnonzero(field == 0)
+        if goal.size == 0:
+            return -1
+        steps = distances_from(self.neighbours, np.array([self.cells[guard]]))[goal].astype(np.float64)
+        steps[steps >= FAR] = np.inf
+        cols = self.grid.shape[1]
+        rows, columns = np.divmod(goal, cols)
+        if self.travel >= 0 and self.last_known >= 0:
+            known_row, known_col = divmod(self.last_known, cols)
+            dx, dy = _STEPS[self.travel]
+            ahead = (columns - known_col) * dx + (rows - known_row) * dy
+            steps += LEAN_COST * np.maximum(0, -ahead)
+        for other, claimed in enumerate(self._target):
+            if other == guard or claimed < 0 or self.modes[other] != "search":
+                continue
+            claimed_row, claimed_col = divmod(claimed, cols)
+            near = np.abs(rows - claimed_row) + np.abs(columns - claimed_col) <= CLAIM_CELLS
+            steps[near] += CLAIM_COST
+        if not np.isfinite(steps).any():
+            return -1
+        return int(goal[int(np.argmin(steps))])
+
+    def _best_direction(self, guard: int, field: np.ndarray) -> int:
+        cell, heading = self.cells[guard], self.headings[guard]
+        best, best_value = -1, 0
+        for choice in range(5):
+            direction = heading if choice == 0 else choice - 1
+            there = int(self.neighbours[cell, direction])
+            if there >= 0 and (best < 0 or field[there] < best_value):
+                best, best_value = direction, field[there]
+        return best
+
+    def _walk(self, guard: int, field: np.ndarray) -> bool:
+        """One step down ``field`` (the greedy step: ties keep the heading, then right, down, left, up),
+        keeping personal space unless chasing; at its bottom, turn in place to look around. Whether it
+        stepped."""
+        cell, heading = self.cells[guard], self.headings[guard]
+        here = field[cell]
+        options = [
+            direction
+            for direction in (heading, 0, 1, 2, 3)
+            if self.neighbours[cell, direction] >= 0 and field[self.neighbours[cell, direction]] < here
+        ]
+        options = sorted(dict.fromkeys(options), key=lambda d: (field[self.neighbours[cell, d]], d != heading, d))
+        chasing = self.modes[guard] == "chase"
+        for direction in options:
+            there = int(self.neighbours[cell, direction])
+            if chasing or not self._crowds(guard, there):
+                self.cells[guard], self.headings[guard] = there, direction
+                return True
+        # Kept from every step down (or at the bottom): turn in place, toward the way it wants to go.
+        self.headings[guard] = options[0] if options and options[0] != heading else (heading + 1) % 4
+        return False
+
+    def _crowds(self, guard: int, cell: int) -> bool:
+        """Whether ``cell`` lies within one cell of another guard (outside corridors one cell wide)."""
+        if self._corridor[cell] or self._corridor[self.cells[guard]]:
+            return False
+        cols = self.grid.shape[1]
+        row, col = divmod(cell, cols)
+        for other, there in enumerate(self.cells):
+            if other != guard and there >= 0:
+                other_row, other_col = divmod(there, cols)
+                if abs(row - other_row) + abs(col - other_col) <= 1 and not self._corridor[there]:
+                    return True
+        return False
+
+    def _crowded_for(self, guard: int) -> bool:
+        """Whether ``guard`` must step aside: it has stayed within one cell of another guard for
+        :data:`STEP_ASIDE_TICKS` ticks and it is the one to yield (not patrolling while the other is, or
+        the higher numbered)."""
+        for other in range(len(self.modes)):
+            if other == guard or self._together[guard, other] < STEP_ASIDE_TICKS:
+                continue
+            patrolling = self.modes[guard] == "patrol", self.modes[other] == "patrol"
+            if patrolling[0] != patrolling[1]:
+                if not patrolling[0]:
+                    return True
+            elif guard > other or self.modes[other] == "chase":
+                return True
+        return False
+
+    def _step_aside(self, guard: int) -> bool:
+        """Step to the neighbour farthest (fewest-cells sense) from the nearest other guard, if that is
+        farther than where it stands; whether it stepped."""
+        cols = self.grid.shape[1]
+
+        def room(cell: int) -> int:
+            row, col = divmod(cell, cols)
+            gaps = [
+                abs(row - there // cols) + abs(col - there % cols)
+                for other, there in enumerate(self.cells)
+                if other != guard and there >= 0
+            ]
+            return min(gaps, default=FAR)
+
+        cell = self.cells[guard]
+        best, best_room = -1, room(cell)
+        for direction in range(4):
+            there = int(self.neighbours[cell, direction])
+            if there >= 0 and room(there) > best_room:
+                best, best_room = direction, room(there)
+        if best < 0:
+            return False
+        self.cells[guard], self.headings[guard] = int(self.neighbours[cell, best]), best
+        self._together[guard, :] = 0
+        self._together[:, guard] = 0
+        return True
 
     def _enter_return(self, guard: int) -> None:
         self.modes[guard] = "return"
         here, clock = self.cells[guard], self._clock[guard]
         steps = distances_from(self.neighbours, np.array([here]))
-        for k in range(1, 2 * self.patrol.ticks + self.grid.size + 1):
+        for k in range(1, 2 * self.patrol.ticks + self.grid.size + 2):
             cell = int(cell_of_state(self.patrol.state(guard, clock + k + self.phase)))
-            if steps[cell] <= k:
+            if steps[cell] <= k - 1:
                 self._rejoin[guard] = (
                     clock,
                     clock + k,
@@ -231,14 +518,17 @@ class AlertEpisode:
         clock = self._clock[guard]
         if clock <= entered:  # the first step back comes the tick after the decision
             return
-        if self.cells[guard] != cell:
-            self._walk(guard, field)
         if clock >= rejoin_tick:
+            if self.cells[guard] != cell:  # kept from it (personal space): plan again from here
+                self._enter_return(guard)
+                return
             state = self.patrol.state(guard, clock + self.phase)
             self.cells[guard], self.headings[guard] = int(cell_of_state(state)), int(heading_of_state(state))
             self.modes[guard] = "patrol"
             self._rejoin[guard] = None
             self.events.append(AlertEvent(self.tick, guard, "back_on_route"))
+        elif self.cells[guard] != cell:
+            self._walk(guard, field)
 
     def _facing(self, cell: int, target: int, heading: int) -> int:
         """The heading that looks most directly toward ``target`` (``heading`` when there is none)."""
@@ -269,13 +559,16 @@ class AlertEpisode:
             self._radio_at = tick
         for guard, mode in enumerate(self.modes):
             meter, seen = self.meters[guard], self.in_sight[guard]
-            if look.spotted[guard]:
-                self.last_known = intruder
+            if look.spotted[guard] and not self._done_chasing[guard]:
+                self._saw_at(intruder)
                 if mode != "chase":
                     self._enter_chase(guard, chasing_before)
             elif mode == "chase":
                 self.modes[guard] = "search"
                 self._since[guard] = tick
+                self._target[guard] = -1
+                self._losses[guard] += 1
+                self._done_chasing[guard] = self._losses[guard] >= self.rules.give_up_losses
                 self.events.append(AlertEvent(tick, guard, "lost"))
                 if self._stats["lost"] is None:
                     self._stats["lost"] = tick
@@ -296,7 +589,10 @@ class AlertEpisode:
                     self._rising[guard] = 0
             elif mode == "investigate" and seen:
                 self._noticed[guard] = intruder
-        if self._radio_at == tick:
+        # The radio reaches the others only while the alarm is real: someone still chasing or searching,
+        # the intruder still here, somewhere left to search.
+        live = any(mode in ("chase", "search") for mode in self.modes) and not self.intruder.gone
+        if self._radio_at == tick and live and (self.contamination.count > 0 or "chase" in self.modes):
             for guard, mode in enumerate(self.modes):
                 if mode in ("patrol", "suspicious", "investigate", "return"):
                     self.modes[guard], self._since[guard], self._rejoin[guard] = "search", tick, None
@@ -305,7 +601,8 @@ class AlertEpisode:
         if self.last_known >= 0:
             if alarms or any(self.in_sight[g] and self.modes[g] == "chase" for g in range(len(self.modes))):
                 self.contamination.seed(self.last_known)  # in sight: exactly where it is
-                self.search.start(self.last_known)
+                self.search.start(self.last_known, self.travel)
+                self._target = [-1] * len(self.modes)
             else:
                 cleared = self.seen_now
                 if intruder >= 0 and any(self.in_sight):
@@ -323,6 +620,43 @@ class AlertEpisode:
                     self._stats["captured"] = tick
                     self.outcome, self.done = "captured", True
                     break
+
+    def _make_noises(self) -> None:
+        """This tick's noises: the intruder's steps where they landed, and the distractions due."""
+        rules = self.rules
+        for cell, gait in getattr(self.intruder, "landed", []):
+            radius = rules.sneak_noise if gait == "sneak" else rules.walk_noise
+            if radius > 0:
+                self.noises.append((self.tick, int(cell), radius, "step"))
+        while self._distractions and self._distractions[0][0] <= self.tick:
+            tick, cell, radius = self._distractions.pop(0)
+            if tick == self.tick and radius > 0:
+                self.noises.append((tick, cell, radius, "throw"))
+
+    def _hear(self, noises: list[tuple[int, int, float, str]]) -> None:
+        """Guards within a noise's reach (along the grid) that are not chasing or searching investigate
+        the cell they heard; their meters are untouched."""
+        self._heard = [heard and self.modes[g] == "investigate" for g, heard in enumerate(self._heard)]
+        for _, cell, radius, _ in noises:
+            hears = heard_within(self.neighbours, cell, radius, self.rules.cell_size, np.array(self.cells))
+            for guard in np.flatnonzero(hears).tolist():
+                if self.modes[guard] in ("chase", "search"):
+                    continue  # already alarmed: it hunts by sight and the radio
+                self.modes[guard], self._noticed[guard], self._look[guard] = "investigate", cell, 0
+                self._rejoin[guard] = None
+                self._heard[guard] = True
+                self._left_route = True
+                self.events.append(AlertEvent(self.tick, guard, "heard"))
+
+    def _saw_at(self, cell: int) -> None:
+        """The intruder is seen at ``cell``: the last known cell and its direction of travel."""
+        before = self.last_known
+        if before >= 0 and cell != before:
+            cols = self.grid.shape[1]
+            (row, col), (new_row, new_col) = divmod(before, cols), divmod(cell, cols)
+            dx, dy = new_col - col, new_row - row
+            self.travel = (0 if dx > 0 else 2) if abs(dx) >= abs(dy) else (1 if dy > 0 else 3)
+        self.last_known = cell
 
     def _enter_chase(self, guard: int, chasing_before: bool) -> None:
         tick = self.tick
@@ -361,6 +695,7 @@ class AlertEpisode:
             self.done = True
 
     def _record(self) -> None:
+        self._count_together()
         record = self.record
         cells, headings = self.movement.recorded()
         record["cells"].append(cells)
@@ -375,6 +710,21 @@ class AlertEpisode:
         record["contaminated"].append(self.contamination.count)
         record["contaminated_cells"].append(np.flatnonzero(self.contamination.cells).astype(np.int32))
         record["last_known"].append(self.last_known)
+        record["heard"].append(list(self._heard))
+
+    def _count_together(self) -> None:
+        cols = self.grid.shape[1]
+        guards = len(self.modes)
+        for first in range(guards):
+            for second in range(first + 1, guards):
+                a, b = self.cells[first], self.cells[second]
+                near = (
+                    abs(a // cols - b // cols) + abs(a % cols - b % cols) <= 1
+                    and not (self._corridor[a] or self._corridor[b])
+                    and not (self.modes[first] == "chase" and self.modes[second] == "chase")
+                )
+                count = self._together[first, second] + 1 if near else 0
+                self._together[first, second] = self._together[second, first] = count
 
     def result(self) -> AlertOutcome:
         """The episode's outcome so far."""

@@ -1,5 +1,6 @@
 """An alert episode as an animated GIF: the sneak GIF's guards, meters and intruder, plus each guard's
-state as a letter over it, the contaminated set as dots and the last known position as a cross."""
+state as a letter over it (``H`` while it investigates a noise it heard), the contaminated set as dots,
+the last known position as a cross and each noise as a ring of its radius where and when it is made."""
 
 from __future__ import annotations
 
@@ -17,10 +18,13 @@ from guardsim.scene import Scene
 from guardsim.sneak.gif import SneakFrames, write_sneak_gif
 from guardsim.vision.table import ViewTable
 
-__all__ = ["CONTAMINATED_INDEX", "LAST_KNOWN_INDEX", "STATE_LETTERS", "write_alert_gif"]
+__all__ = ["CONTAMINATED_INDEX", "HEARD_LETTER", "LAST_KNOWN_INDEX", "STATE_LETTERS", "write_alert_gif"]
 
 #: The letter drawn over a guard in each state.
 STATE_LETTERS = {"patrol": "P", "suspicious": "?", "investigate": "I", "chase": "!", "search": "S", "return": "R"}
+
+#: The letter over a guard investigating a noise it heard.
+HEARD_LETTER = "H"
 
 #: Contaminated cells: dots in the third guard colour (green). The viewer page draws them alike.
 CONTAMINATED_INDEX = guard_index(2)
@@ -62,9 +66,17 @@ def write_alert_gif(
             x, y, arm = x + layout.left, y + layout.top, max(3.0, layout.scale * 0.6)
             draw.line([x - arm, y - arm, x + arm, y + arm], fill=LAST_KNOWN_INDEX, width=2)
             draw.line([x - arm, y + arm, x + arm, y - arm], fill=LAST_KNOWN_INDEX, width=2)
+        for tick, cell, reach, _ in episode.noises:
+            if tick == step:
+                x, y = drawer.cell_centre(grid.unflat(cell))
+                x, y, ring = x + layout.left, y + layout.top, reach / grid.cell_size * layout.scale
+                draw.ellipse([x - ring, y - ring, x + ring, y + ring], outline=int(Index.OUTLINE), width=2)
         radius = max(MIN_GUARD_RADIUS, 0.45 * layout.scale)
+        heard = record["heard"][step] if "heard" in record else []
         for guard, (x, y) in enumerate(drawer.guard_centres(step)):
             letter = STATE_LETTERS[record["guard_states"][step][guard]]
+            if heard and heard[guard]:
+                letter = HEARD_LETTER
             # Left of the meter bar near the right edge, right of it elsewhere.
             side = x - radius - 9 if x > layout.left + layout.play[0] - 3 * radius - 8 else x + radius + 2
             draw.text((side, y - radius - 13), letter, fill=int(Index.OUTLINE))

@@ -4,6 +4,11 @@ Each moves up to its speed in cells a tick (fractions accumulate), one 4-connect
 before the guards move. ``goal`` is the cell it wants to reach (-1: none); on reaching it the intruder
 leaves the level.
 
+**Gaits.** A walking step takes one of those moves; a sneaking step from ``a`` to ``b`` takes
+``sneak_ticks`` of them, the intruder in ``a`` for all but the last and in ``b`` at the last. Every step
+is recorded where and when it lands (:attr:`Intruder.landed`), for the episode's ears. A ``route``
+intruder walks unless its route gives a step the ``sneak`` gait; the others walk.
+
 - ``route``: walks a given path (or the shortest path to its goal) without stopping, chased or not.
 - ``sneak``: walks the fastest path no guard of the patrol sees (the sneak check's search; the closest
   call when there is none), entering the level at the tick its path starts (outside until then: no
@@ -17,13 +22,14 @@ leaves the level.
 from __future__ import annotations
 
 from collections.abc import Sequence
+from typing import Any, NamedTuple
 
 import numpy as np
 
 from guardsim.kernels.distances import FAR, distances_from
 from guardsim.kernels.steps import greedy_step
 
-__all__ = ["Intruder", "make_intruder", "read_route_points"]
+__all__ = ["Distraction", "Intruder", "RouteFile", "make_intruder", "read_route_file", "read_route_points"]
 
 
 class Intruder:
@@ -39,6 +45,8 @@ class Intruder:
         route: Sequence[int] | None = None,
         speed: float = 1.0,
         wait_until: int = 0,
+        gaits: Sequence[str] | None = None,
+        sneak_ticks: int = 2,
     ) -> None:
         self.kind = kind
         self.neighbours = np.ascontiguousarray(neighbours, dtype=np.int64)
@@ -50,8 +58,17 @@ class Intruder:
         """Whether it reached its goal and left."""
         self._credit = 0.0
         self._route = [int(c) for c in route] if route is not None else None
+        # gaits[i]: the gait of the step into route[i] (the first, the entry, has none).
+        self._gaits = list(gaits) if gaits is not None and route is not None else None
         if self._route is not None and self._route and self._route[0] == self.cell:
             self._route = self._route[1:]
+            if self._gaits is not None:
+                self._gaits = self._gaits[1:]
+        self.sneak_ticks = int(sneak_ticks)
+        self._sneaking = 0
+        """Moves spent so far on the sneaking step under way."""
+        self.landed: list[tuple[int, str]] = []
+        """The steps that landed in the last tick: ``(cell, gait)``."""
         self._wait_until = wait_until
         self.present = wait_until <= 0
         """Whether it is in the level: a ``sneak`` intruder enters at its entry at tick ``wait_until`` (the
@@ -63,6 +80,7 @@ class Intruder:
     def advance(self, tick: int, guard_cells: Sequence[int], chased: bool, alarmed: bool) -> None:
         """Move for tick ``tick``: ``chased`` when some guard chases it, ``alarmed`` when some guard is
         chasing or searching."""
+        self.landed = []
         if self.gone or self.kind == "still":
             return
         if not self.present:
@@ -72,11 +90,17 @@ class Intruder:
         self._credit += self.speed
         while self._credit >= 1.0 - 1e-9 and not self.gone:
             self._credit -= 1.0
+            if self._next_gait() == "sneak" and self._sneaking < self.sneak_ticks - 1:
+                self._sneaking += 1  # still in the cell it sneaks from
+                continue
+            gait = self._next_gait()
             nxt = self._next(tick, guard_cells, chased, alarmed)
+            self._sneaking = 0
             if nxt < 0 or nxt == self.cell:
                 continue
             self.heading = int(np.flatnonzero(self.neighbours[self.cell] == nxt)[0])
             self.cell = nxt
+            self.landed.append((nxt, gait))
             if self.cell == self.goal:
                 self.gone = True
                 self.present = False
@@ -100,8 +124,16 @@ class Intruder:
             self._hide = -1
         return self._towards_goal()
 
+    def _next_gait(self) -> str:
+        """The gait of the next step: a route's own, else walking."""
+        if self.kind == "route" and self._route and self._gaits:
+            return self._gaits[0]
+        return "walk"
+
     def _along_route(self) -> int:
         if self._route:
+            if self._gaits:
+                self._gaits.pop(0)
             return self._route.pop(0)
         return self._towards_goal()
 
@@ -146,6 +178,8 @@ def make_intruder(
     route: Sequence[int] | None = None,
     speed: float = 1.0,
     wait_until: int = 0,
+    gaits: Sequence[str] | None = None,
+    sneak_ticks: int = 2,
 ) -> Intruder:
     """An intruder of ``kind`` at flat ``cell``; ``route`` is the path a ``route`` or ``sneak`` intruder walks.
 
@@ -158,21 +192,47 @@ def make_intruder(
 
     if kind not in INTRUDERS:
         raise ValueError(f"unknown intruder {kind!r}; choose from {', '.join(INTRUDERS)}")
-    return Intruder(kind, neighbours, cell, goal=goal, route=route, speed=speed, wait_until=wait_until)
+    return Intruder(
+        kind, neighbours, cell, goal=goal, route=route, speed=speed, wait_until=wait_until, gaits=gaits,
+        sneak_ticks=sneak_ticks,
+    )  # fmt: skip
 
 
-def read_route_points(path: str) -> list[tuple[float, float]]:
-    """The waypoints of a route intruder's file: a JSON list of ``[x, y]`` world points, or a sneak.json
-    (its ``path``). Every fault is one :class:`~guardsim.errors.GuardsimError` line naming the file and
-    the point, numbers through the one number parser (finite, within float range)."""
+class Distraction(NamedTuple):
+    """A noise the intruder makes away from itself: a thrown bottle, a slammed door."""
+
+    point: tuple[float, float]
+    """Where it lands, world units."""
+    seconds: float
+    """When, seconds from the start of the episode."""
+    noise: float
+    """How far it carries, world units along the grid."""
+
+
+class RouteFile(NamedTuple):
+    """What a route file holds: its waypoints in order, the gait of the step into each, its distractions."""
+
+    points: list[tuple[float, float]]
+    gaits: list[str]
+    """Per point: ``walk`` or ``sneak`` (the first point's is that of no step)."""
+    distractions: list[Distraction]
+
+
+def read_route_file(path: str) -> RouteFile:
+    """A route intruder's file: a JSON list whose items are waypoints, ``[x, y]`` (walked to) or
+    ``{"to": [x, y], "gait": "sneak"}``, and distractions, ``{"throw": [x, y], "at": seconds, "noise":
+    radius}``; or a sneak.json (its ``path``). Every fault is one :class:`~guardsim.errors.GuardsimError`
+    line naming the file and the item, numbers through the one number parser (finite, within float
+    range)."""
     from guardsim.errors import GuardsimError
     from guardsim.files.reading import NumberError, finite_number, read_json_file
+    from guardsim.level.model import GAITS
 
     data = read_json_file(path, max_file_bytes=16 * 2**20, kind="route file", error=GuardsimError)
-    points = data.get("path") if isinstance(data, dict) else data
-    if isinstance(points, dict):
-        points = points.get("positions") or points.get("cells")
-    if not isinstance(points, list) or not points:
+    items = data.get("path") if isinstance(data, dict) else data
+    if isinstance(items, dict):
+        items = items.get("positions") or items.get("cells")
+    if not isinstance(items, list) or not items:
         raise GuardsimError(f"{path}: a route file is a list of [x, y] points (or a sneak.json with a path)")
     # A sneak.json's path is [col, row] cells of the grid at its origin and cell size: their centres.
     size, origin = 1.0, (0.0, 0.0)
@@ -186,14 +246,50 @@ def read_route_points(path: str) -> list[tuple[float, float]]:
             origin = (finite_number(raw[0]), finite_number(raw[1]))
         except NumberError:
             raise GuardsimError(f"{path}: cell_size and origin: not a positive size and an [x, y] origin") from None
-    out = []
-    for index, point in enumerate(points):
+
+    def pair(value: Any, index: int, what: str) -> tuple[float, float]:
         try:
-            if not (isinstance(point, list) and len(point) == 2):
+            if not (isinstance(value, list) and len(value) == 2):
                 raise NumberError("not a pair")
-            x, y = (finite_number(value) for value in point)
+            x, y = (finite_number(v) for v in value)
         except NumberError:
-            what = "a [col, row] pair of whole numbers" if cells else "an [x, y] pair of finite numbers"
-            raise GuardsimError(f"{path}: point {index}: not {what}") from None
-        out.append((origin[0] + (x + 0.5) * size, origin[1] + (y + 0.5) * size) if cells else (x, y))
+            kind = "a [col, row] pair of whole numbers" if cells else "an [x, y] pair of finite numbers"
+            raise GuardsimError(f"{path}: {what} {index}: not {kind}") from None
+        return (origin[0] + (x + 0.5) * size, origin[1] + (y + 0.5) * size) if cells else (x, y)
+
+    out = RouteFile([], [], [])
+    for index, item in enumerate(items):
+        if isinstance(item, dict) and "throw" in item:
+            unknown = sorted(set(item) - {"throw", "at", "noise"}, key=str)
+            if unknown:
+                raise GuardsimError(f"{path}: item {index}: unknown key {unknown[0]!r} (a throw has throw, at, noise)")
+            point = pair(item["throw"], index, "item")
+            numbers = {}
+            for key in ("at", "noise"):
+                try:
+                    numbers[key] = finite_number(item.get(key), minimum=0)
+                except NumberError as error:
+                    raise GuardsimError(f"{path}: item {index}: {key}: {error}") from None
+            out.distractions.append(Distraction(point, numbers["at"], numbers["noise"]))
+            continue
+        gait = "walk"
+        if isinstance(item, dict):
+            unknown = sorted(set(item) - {"to", "gait"}, key=str)
+            if unknown or "to" not in item:
+                raise GuardsimError(f'{path}: item {index}: a waypoint is [x, y] or {{"to": [x, y], "gait": ...}}')
+            gait = item.get("gait", "walk")
+            if gait not in GAITS:
+                raise GuardsimError(
+                    f"{path}: item {index}: gait {gait!r} is not one the level allows ({', '.join(GAITS)})"
+                )
+            item = item["to"]
+        out.points.append(pair(item, index, "point"))
+        out.gaits.append(gait)
+    if not out.points:
+        raise GuardsimError(f"{path}: a route file needs at least one [x, y] point")
     return out
+
+
+def read_route_points(path: str) -> list[tuple[float, float]]:
+    """The waypoints of a route intruder's file (see :func:`read_route_file`)."""
+    return read_route_file(path).points

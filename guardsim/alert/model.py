@@ -10,7 +10,9 @@ A guard is in one of :data:`GUARD_STATES` at every tick::
       |                  |  +--seen again--------+
       +--on the route at its phase--> patrol     +--within capture_radius--> captured (episode ends)
 
-``investigate`` ends with a look around the noticed cell, then ``return``; a teammate's detection,
+``investigate`` ends with a look around the noticed cell, then ``return``. A guard that is not chasing or
+searching and hears a noise (``heard``: :mod:`guardsim.kernels.noise`) investigates the cell it heard,
+its meter untouched. A teammate's detection,
 ``radio_delay`` seconds later, puts a patrolling, suspicious, investigating or returning guard in
 ``search`` from the last known position.
 """
@@ -29,7 +31,7 @@ __all__ = ["EVENTS", "GUARD_STATES", "INTRUDERS", "OUTCOMES", "AlertEvent", "Ale
 GUARD_STATES = ("patrol", "suspicious", "investigate", "chase", "search", "return")
 
 #: What the ``events`` list of an alert trace records.
-EVENTS = ("noticed", "detected", "lost", "joined", "captured", "gave_up", "back_on_route", "arrived", "alarm")
+EVENTS = ("noticed", "detected", "lost", "joined", "captured", "gave_up", "back_on_route", "arrived", "alarm", "heard")
 
 #: The intruder kinds, by the name ``guardsim alert --intruder`` takes.
 INTRUDERS = ("route", "sneak", "evader", "still")
@@ -55,12 +57,36 @@ class AlertRules:
     """Seconds per tick."""
     intruder_speed: float = 1.0
     """Cells the intruder may move per tick (the guard moves one); fractions accumulate."""
+    chase_speed: float = 1.5
+    """Cells a chasing guard runs per tick (walking: one); on the grid, chase tick ``k`` (from 1) takes
+    ``floor(k * chase_speed) - floor((k - 1) * chase_speed)`` steps."""
+    give_up_losses: int = 3
+    """Times a guard may lose sight of the intruder it chases; at the last loss it searches and does not
+    chase again."""
+    walk_noise: float = 0.0
+    """World units a walking step's noise carries along the grid (0: silent)."""
+    sneak_noise: float = 0.0
+    """World units a sneaking step's noise carries."""
+    sneak_ticks: int = 2
+    """Ticks a sneaking step takes."""
+    cell_size: float = 1.0
+    """World units per cell (noise radii are in world units)."""
 
     def __post_init__(self) -> None:
         for name in ("capture_radius", "search_seconds", "radio_delay", "intruder_speed"):
             value = getattr(self, name)
             if not (math.isfinite(value) and value >= 0):
                 raise ValueError(f"alert: {name} must be a finite number >= 0, not {value!r}")
+        if not (math.isfinite(self.chase_speed) and self.chase_speed > 0):
+            raise ValueError(f"alert: chase_speed must be a finite number > 0, not {self.chase_speed!r}")
+        if not (isinstance(self.give_up_losses, int) and self.give_up_losses >= 1):
+            raise ValueError(f"alert: give_up_losses must be a whole number >= 1, not {self.give_up_losses!r}")
+        for name in ("walk_noise", "sneak_noise"):
+            value = getattr(self, name)
+            if not (math.isfinite(value) and value >= 0):
+                raise ValueError(f"alert: {name} must be a finite number >= 0, not {value!r}")
+        if not (isinstance(self.sneak_ticks, int) and self.sneak_ticks >= 1):
+            raise ValueError(f"alert: sneak_ticks must be a whole number >= 1, not {self.sneak_ticks!r}")
         if not (math.isfinite(self.dt) and self.dt > 0):
             raise ValueError(f"alert: dt must be a finite number > 0, not {self.dt!r}")
 
@@ -74,7 +100,19 @@ class AlertRules:
         guard = level.guard
         radius = guard.capture_radius if guard.capture_radius is not None else level.cell_size
         cells_per_tick = 1.0 if intruder_speed is None else intruder_speed * dt / level.cell_size
-        return cls(radius, guard.search_seconds, guard.radio_delay, dt, cells_per_tick)
+        return cls(
+            radius,
+            guard.search_seconds,
+            guard.radio_delay,
+            dt,
+            cells_per_tick,
+            chase_speed=guard.chase_speed,
+            give_up_losses=guard.give_up_losses,
+            walk_noise=level.intruder.walk_noise,
+            sneak_noise=level.intruder.sneak_noise,
+            sneak_ticks=level.intruder.sneak_ticks,
+            cell_size=level.cell_size,
+        )
 
     @property
     def search_ticks(self) -> int:

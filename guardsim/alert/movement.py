@@ -70,6 +70,9 @@ class Movement(Protocol):
     def distance(self, guard: int, cell: int) -> float:
         """World units from ``guard`` to the centre of ``cell``."""
 
+    def pace(self, guard: int, factor: float) -> None:
+        """``guard`` walks at ``factor`` times its walking speed from now on (a chase runs)."""
+
     def sees_at_start(self, guard: int, cell: int) -> bool:
         """Whether ``guard`` sees ``cell`` from where it starts."""
 
@@ -120,6 +123,9 @@ class GridMovement:
 
     def sees_at_start(self, guard: int, cell: int) -> bool:
         return _contains(self.table.sees(state_of(self.cells[guard], self.headings[guard])), cell)
+
+    def pace(self, guard: int, factor: float) -> None:
+        pass  # on the grid a running guard takes extra steps (the episode's decision)
 
     def recorded(self) -> tuple[list[int], list[int]]:
         return list(self.cells), list(self.headings)
@@ -279,6 +285,9 @@ class ContinuousMovement:
         x, y = self.followers[guard].position
         centre = self.grid.centre(*self.grid.unflat(cell))
         return math.hypot(centre[0] - x, centre[1] - y)
+
+    def pace(self, guard: int, factor: float) -> None:
+        self.followers[guard].set_pace(factor)
 
     def sees_at_start(self, guard: int, cell: int) -> bool:
         follower = self.followers[guard]

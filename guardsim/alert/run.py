@@ -62,6 +62,8 @@ def alert_episode(
     detection: GuardDetection | None = None,
     spotted: bool = False,
     motion: str | GuardMotion = "grid",
+    gaits: Sequence[str] | None = None,
+    distractions: Sequence[tuple[int, int, float]] = (),
 ) -> AlertEpisode:
     """An alert episode ready to :meth:`~AlertEpisode.step`: ``patrol``'s guards from lap tick ``phase``
     against an ``intruder`` entering at flat cell ``source`` and heading for ``target`` (-1: none).
@@ -75,6 +77,10 @@ def alert_episode(
     ``target``; a ``sneak`` intruder plans the fastest unseen path of the patrol's lap (the closest call
     when there is none) and enters the level at the tick that path starts (outside until then, unseen
     and out of reach), or at once when ``spotted``.
+
+    ``gaits``: a route intruder's gait (``walk`` or ``sneak``) into each cell of ``route``;
+    ``distractions``: noises away from the intruder, ``(tick, cell, radius in world units)``, that the
+    guards who hear them investigate (see :class:`AlertEpisode`).
     """
     grid = scene.grid
     table = table if table is not None else view_table(grid, scene.vision())
@@ -97,8 +103,9 @@ def alert_episode(
         # Spotted, it is already in the level (seen at its entry); else it enters when its path starts.
         wait = 0 if spotted else (path.start_tick - phase) % int(patrol.period or 1)
     runner = make_intruder(
-        intruder, grid.neighbours, source, goal=target, route=route, speed=rules.intruder_speed, wait_until=wait
-    )
+        intruder, grid.neighbours, source, goal=target, route=route, speed=rules.intruder_speed, wait_until=wait,
+        gaits=gaits if intruder == "route" else None, sneak_ticks=rules.sneak_ticks,
+    )  # fmt: skip
     max_ticks = max(1, int(max_seconds / rules.dt + 1e-9))
     movement = make_movement(motion, scene, table, detection, dt=rules.dt, guards=patrol.guards)
     level = scene.level
@@ -116,13 +123,16 @@ def alert_episode(
         spotted=spotted,
         movement=movement,
         watch=watch,
+        distractions=distractions,
     )
 
 
 def alert_trace_data(episode: AlertEpisode, scene: Scene, *, search: str, intruder: str) -> dict[str, Any]:
     """The episode's trace as JSON data: per tick each guard's cell, heading, state and meter, the
     intruder's cell and position, the contaminated count, and the events. In continuous motion the
-    cell is the one the body is in and the heading the nearest heading number, and the trace adds
+    cell is the one the body is in and the heading the nearest heading number. ``noises``: every noise
+    made (tick, world position, radius, ``step`` or ``throw``); ``heard``: per guard and tick, whether it
+    is investigating a noise. In continuous motion the trace adds
     ``motion``, the speeds, ``poses`` (per guard, ``[t, x, y, heading_degrees]`` at the end of each
     tick) and ``awareness_peak`` (per guard, the highest meter level during each tick)."""
     grid = scene.grid
@@ -153,6 +163,11 @@ def alert_trace_data(episode: AlertEpisode, scene: Scene, *, search: str, intrud
         "contaminated": record["contaminated"],
         "last_known": [None if cell < 0 else cell_pair(cell) for cell in record["last_known"]],
         "events": [{"tick": e.tick, "guard": e.guard, "event": e.event} for e in episode.events],
+        "noises": [
+            {"tick": tick, "position": list(grid.centre(*grid.unflat(cell))), "radius": radius, "source": source}
+            for tick, cell, radius, source in episode.noises
+        ],
+        "heard": [[tick[g] for tick in record["heard"]] for g in range(guards)],
     }
     movement = episode.movement
     if isinstance(movement, ContinuousMovement):
@@ -298,11 +313,14 @@ def run_alerts(
     route: Sequence[int] | None = None,
     table: ViewTable | None = None,
     motion: str | GuardMotion = "grid",
+    gaits: Sequence[str] | None = None,
+    distractions: Sequence[tuple[int, int, float]] = (),
 ) -> dict[str, list[AlertEpisode]]:
     """Episodes ``0 .. episodes - 1`` of each search strategy, the same starts for every strategy
     (:func:`plan_starts`), run here one after the other. With ``spotted``, a drawn entry lies in some
     guard's view at the start and that guard detects the intruder at tick 0 (see :class:`AlertEpisode`).
-    ``route``: a route intruder's path (from ``source``); ``motion``: :func:`alert_episode`'s.
+    ``route``: a route intruder's path (from ``source``); ``motion``, ``gaits`` and ``distractions``:
+    :func:`alert_episode`'s.
     :mod:`guardsim.alert.batch` runs the same episodes on worker processes or a Dask cluster."""
     table = table if table is not None else view_table(scene.grid, scene.vision())
     starts = plan_starts(
@@ -328,6 +346,8 @@ def run_alerts(
                 detection=detection,
                 spotted=spotted,
                 motion=motion,
+                gaits=gaits,
+                distractions=distractions,
             )
             episode.run()
             runs.append(episode)

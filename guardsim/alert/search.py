@@ -3,18 +3,22 @@
 Every strategy sees the same picture: the *contaminated* set (cells the intruder may be in now: the last
 known cell, grown each tick by the intruder's reach and cleared by every guard's sight; kept by the
 episode, :class:`Contamination`), the last known cell and the searching guards' cells. Each tick it gives
-each searching guard a distance field to walk down (the greedy step every guardsim walker takes), or
-``None`` when that guard's search is over. A guard standing at the bottom of its field turns in place to
-look around.
+each searching guard a distance field to walk down, or ``None`` when that guard's search is over. The
+cells at the bottom of a field (distance 0) are where the strategy wants that guard to look; the episode
+commits each searcher to one of them, leaning the way the intruder was last seen going and away from
+the other searchers' choices (see :mod:`guardsim.alert.episode`). The strategies are told that
+direction of travel when a search starts (``diffuse`` spreads its mass that way).
 
 - ``ripple``: RippleFront over the contaminated set: the distance to the nearest cell the intruder may be
   in, one compiled fill per tick (a 60 x 60 level: about 20 microseconds).
-- ``diffuse``: a probability grid seeded at the last known cell, diffusing each tick and losing the mass
-  in view (Stealth-Simulator's grid search); a guard heads for the cell with the most probability per
-  step of distance.
+- ``diffuse``: a probability grid seeded at the last known cell, diffusing each tick (more of it along
+  the intruder's last seen direction of travel: :data:`LEAN`) and losing the mass in view
+  (Stealth-Simulator's grid search); a guard heads for the cell with the most probability per step of
+  distance.
 - ``team``: the contaminated set split into one part per searcher (grown from centres spread over the
   set); each walks RippleFront over its own part.
-- ``last-known``: walk to the last known cell, look around once, give up (what most games ship).
+- ``last-known``: walk to the last known cell, look around once, give up (what most games ship); a
+  second guard that finds a teammate already there looks around from within two cells of it.
 """
 
 from __future__ import annotations
@@ -32,6 +36,14 @@ SEARCHES = ("ripple", "diffuse", "team", "last-known")
 
 #: Ticks a ``last-known`` guard turns in place at the last known cell (a full turn) before giving up.
 LOOK_AROUND_TICKS = 4
+
+#: ``diffuse``: how much the spread leans along the intruder's last seen direction of travel: a cell
+#: passes ``rate * (1 + LEAN * cos(angle)) / 4`` of its mass to the neighbour at that angle from the
+#: direction (the four shares add up to ``rate``).
+LEAN = 0.6
+
+#: Heading numbers' steps (column, row): right, down, left, up.
+DIRECTIONS = ((1, 0), (0, 1), (-1, 0), (0, -1))
 
 
 class Contamination:
@@ -78,8 +90,9 @@ class SearchStrategy(Protocol):
 
     name: str
 
-    def start(self, last_known: int) -> None:
-        """A search starts (or restarts after a loss of sight) from the last known cell."""
+    def start(self, last_known: int, travel: int = -1) -> None:
+        """A search starts (or restarts after a loss of sight) from the last known cell; ``travel`` is the
+        heading number of the intruder's last seen direction of travel (-1: not known)."""
 
     def observe(self, contaminated: Contamination, seen: np.ndarray) -> None:
         """The tick's picture after spreading and clearing; ``seen`` is every guard's view (flat cells)."""
@@ -95,9 +108,11 @@ class _Base:
         self.neighbours = np.ascontiguousarray(neighbours, dtype=np.int64)
         self.contaminated = np.zeros(self.neighbours.shape[0], dtype=bool)
         self.last_known = -1
+        self.travel = -1
 
-    def start(self, last_known: int) -> None:
+    def start(self, last_known: int, travel: int = -1) -> None:
         self.last_known = int(last_known)
+        self.travel = int(travel)
         self.contaminated = np.zeros(self.neighbours.shape[0], dtype=bool)
         self.contaminated[last_known] = True
 
@@ -175,18 +190,27 @@ class DiffuseSearch(_Base):
         self.mass = np.zeros(self.neighbours.shape[0], dtype=np.float64)
         self._degree = (self.neighbours >= 0).sum(axis=1)
         self._padded = np.zeros(self.neighbours.shape[0] + 1, dtype=np.float64)
+        self._share = np.full(4, 0.25)
 
-    def start(self, last_known: int) -> None:
-        super().start(last_known)
+    def start(self, last_known: int, travel: int = -1) -> None:
+        super().start(last_known, travel)
         self.mass[:] = 0.0
         self.mass[last_known] = 1.0
+        # share[d]: the part of ``rate`` a cell passes to its neighbour in direction d.
+        self._share = np.full(4, 0.25)
+        if travel >= 0:
+            self._share = np.array([(1.0 + LEAN * _cos(travel, d)) / 4.0 for d in range(4)])
 
     def observe(self, contaminated: Contamination, seen: np.ndarray) -> None:
         super().observe(contaminated, seen)
         padded = self._padded
         padded[:-1] = self.mass
-        inflow = padded[self.neighbours].sum(axis=1)
-        self.mass += (self.rate / 4.0) * (inflow - self._degree * self.mass)
+        share = self._share
+        has = self.neighbours >= 0
+        # A cell receives from its neighbour in direction d what that neighbour sends the opposite way.
+        inflow = (padded[self.neighbours] * share[[2, 3, 0, 1]]).sum(axis=1)
+        outflow = (has * share).sum(axis=1) * self.mass
+        self.mass += self.rate * (inflow - outflow)
         self.mass[seen] = 0.0
         total = self.mass.sum()
         if total > 0:
@@ -214,19 +238,29 @@ class LastKnownSearch(_Base):
         self._looked: dict[int, int] = {}
         self._field: np.ndarray | None = None
 
-    def start(self, last_known: int) -> None:
-        super().start(last_known)
+    def start(self, last_known: int, travel: int = -1) -> None:
+        super().start(last_known, travel)
         self._looked = {}
         self._field = distances_from(self.neighbours, np.array([last_known], dtype=np.int64))
 
     def fields(self, searchers: dict[int, int]) -> dict[int, np.ndarray | None]:
         out: dict[int, np.ndarray | None] = {}
+        there = [g for g, c in searchers.items() if c == self.last_known]
         for guard, cell in searchers.items():
-            if cell == self.last_known:
+            if cell == self.last_known or (there and self._within_two(cell) and guard not in there):
                 self._looked[guard] = self._looked.get(guard, 0) + 1
             done = self._looked.get(guard, 0) > LOOK_AROUND_TICKS
             out[guard] = None if done or self._field is None else self._field
         return out
+
+    def _within_two(self, cell: int) -> bool:
+        return self._field is not None and int(self._field[cell]) <= 2
+
+
+def _cos(travel: int, direction: int) -> float:
+    """Cosine of the angle between two heading numbers."""
+    (ax, ay), (bx, by) = DIRECTIONS[travel], DIRECTIONS[direction]
+    return float(ax * bx + ay * by)
 
 
 def make_search(name: str, neighbours: np.ndarray) -> SearchStrategy:

@@ -13,7 +13,7 @@ from typing import TYPE_CHECKING, Any, TypeVar
 
 import click
 
-from guardsim.alert.intruders import read_route_points
+from guardsim.alert.intruders import read_route_file
 from guardsim.cli.alert_batch import episode_trace, run_first, run_options, run_pending
 from guardsim.cli.common import (
     DetectionOverrides,
@@ -76,7 +76,12 @@ def _motion_options(command: F) -> F:
     help="Where the intruder enters (world units) [one episode: default the level's first player start].",
 )
 @click.option("--to", "target", callback=parse_point, metavar="X,Y", help="Where the intruder is going.")
-@click.option("--route", "route_path", help="A route intruder's waypoints: JSON [[x, y], ...] of cell centres.")
+@click.option(
+    "--route",
+    "route_path",
+    help='A route intruder\'s waypoints: JSON [[x, y], ...] of cell centres; a waypoint {"to": [x, y], "gait": '
+    '"sneak"} sneaks there; an item {"throw": [x, y], "at": seconds, "noise": radius} is a distraction.',
+)
 @click.option(
     "--search",
     type=click.Choice(_SEARCHES),
@@ -90,6 +95,15 @@ def _motion_options(command: F) -> F:
 @click.option(
     "--intruder-speed", type=FiniteFloatRange(min=0, max=1e6), help="World units per second [default: the guard's]."
 )
+@click.option(
+    "--walk-noise",
+    type=FiniteFloatRange(min=0, max=1e6),
+    help="World units a walking step carries [level's intruder key].",
+)
+@click.option(
+    "--sneak-noise", type=FiniteFloatRange(min=0, max=1e6), help="World units a sneaking step carries [level's key]."
+)
+@click.option("--sneak-ticks", type=click.IntRange(min=1, max=1000), help="Ticks a sneaking step takes [level's key].")
 @click.option(
     "--spotted",
     is_flag=True,
@@ -131,6 +145,9 @@ def alert(
     seed: int,
     max_seconds: float,
     intruder_speed: float | None,
+    walk_noise: float | None,
+    sneak_noise: float | None,
+    sneak_ticks: int | None,
     spotted: bool,
     out_dir: str | None,
     trace_path: str | None,
@@ -176,6 +193,10 @@ def alert(
     if workers is not None and scheduler is not None and scheduler != "local":
         raise GuardsimError("--workers and --scheduler exclude each other: the scheduler's workers run the episodes")
     level = detection_overrides.apply(load(level_path, max_cells, max_vertices, max_file_bytes, map_import))
+    given: dict[str, Any] = {"walk_noise": walk_noise, "sneak_noise": sneak_noise, "sneak_ticks": sneak_ticks}
+    ears = {key: value for key, value in given.items() if value is not None}
+    if ears:
+        level = dataclasses.replace(level, intruder=dataclasses.replace(level.intruder, **ears))
     from guardsim.kernels.ahead import compile_ahead
 
     compile_ahead("alert")
@@ -190,12 +211,17 @@ def alert(
     walking = motion_of(scene, move_speed, turn_speed, tick_hz) if motion == "continuous" else None
     start = sneak_cell(grid, source, "--from") if source is not None else None
     goal = sneak_cell(grid, target, "--to") if target is not None else None
-    route = None
+    route = gaits = None
+    distractions: list[tuple[int, int, float]] = []
     if route_path is not None:
         if intruder != "route":
             raise GuardsimError("--route is the path of a route intruder: give --intruder route")
-        points = read_route_points(route_path)
+        route_file = read_route_file(route_path)
+        points, gaits = route_file.points, route_file.gaits
         route = [sneak_cell(grid, point, f"{route_path}: point") for point in points]
+        for throw in route_file.distractions:
+            cell = sneak_cell(grid, throw.point, f"{route_path}: throw")
+            distractions.append((round(throw.seconds / rules.dt), cell, throw.noise))
         for index, (before, after) in enumerate(itertools.pairwise(route)):
             if after != before and after not in grid.neighbours[before].tolist():
                 raise GuardsimError(f"{route_path}: point {index + 1} is not a 4-neighbour of point {index}")
@@ -222,7 +248,7 @@ def alert(
     tasks = tasks_of(
         scene.level, scene.rule.value, patrol, starts, searches=searches, intruder=intruder, route=route,
         max_seconds=max_seconds, rules=rules, detection=detection, spotted=spotted, trace=out_dir is not None,
-        motion=walking,
+        motion=walking, gaits=gaits, distractions=distractions,
     )  # fmt: skip
     folder = output_folder(out_dir) if out_dir is not None else None
     outcomes: dict[tuple[str, int], AlertOutcome] = {}
@@ -232,7 +258,7 @@ def alert(
         moving = {} if walking is None else {"motion": dataclasses.asdict(walking)}
         options = run_options(level_path, patrol_path, route_path, source, target, searches, scene, rules, detection,
                               intruder=intruder, episodes=episodes, seed=seed, max_seconds=max_seconds, spotted=spotted,
-                              **moving)  # fmt: skip
+                              **moving, **ears)  # fmt: skip
         check_run_options(folder, options)
         if resuming:
             for task in tasks:

@@ -37,7 +37,8 @@ def run_first(scene: Scene, table: ViewTable, task: AlertTask) -> AlertEpisode:
     episode = alert_episode(
         scene, task.patrol, intruder=task.intruder, source=task.source, target=task.target, route=task.route,
         search=task.search, phase=task.phase, max_seconds=task.max_seconds, table=table, rules=task.rules,
-        detection=task.detection, spotted=task.spotted, motion=task.motion or "grid",
+        detection=task.detection, spotted=task.spotted, motion=task.motion or "grid", gaits=task.gaits,
+        distractions=task.distractions,
     )  # fmt: skip
     episode.run()
     return episode

@@ -20,5 +20,6 @@ compiler; each module imports numba itself.
   bound and macro moves, shared with its beam seed;
 - :mod:`~guardsim.kernels.targets`, :mod:`~guardsim.kernels.screen` and :mod:`~guardsim.kernels.fill`:
   a cone's cells, the wall screen and the compiled vision fill;
-- :mod:`~guardsim.kernels.arrays`: copying into a slice by a plain loop.
+- :mod:`~guardsim.kernels.arrays`: copying into a slice by a plain loop;
+- :mod:`~guardsim.kernels.noise`: how far a noise carries along the grid (hearing).
 """

@@ -16,10 +16,12 @@ from guardsim.errors import LevelError
 from guardsim.level.limits import DEFAULT_MAX_CELLS, DEFAULT_MAX_FILE_BYTES, DEFAULT_MAX_VERTICES
 from guardsim.level.loading import load_level, read_level_json, read_limited_bytes
 from guardsim.level.model import (
+    GAITS,
     HEADINGS,
     MAX_TILE_PIXELS,
     Camera,
     GuardSpec,
+    IntruderSpec,
     Level,
     Light,
     Point,
@@ -39,10 +41,12 @@ __all__ = [
     "DEFAULT_MAX_CELLS",
     "DEFAULT_MAX_FILE_BYTES",
     "DEFAULT_MAX_VERTICES",
+    "GAITS",
     "HEADINGS",
     "MAX_TILE_PIXELS",
     "Camera",
     "GuardSpec",
+    "IntruderSpec",
     "Level",
     "LevelError",
     "Light",

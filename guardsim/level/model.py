@@ -14,10 +14,12 @@ import shapely
 from shapely.geometry import Polygon
 
 __all__ = [
+    "GAITS",
     "HEADINGS",
     "MAX_TILE_PIXELS",
     "Camera",
     "GuardSpec",
+    "IntruderSpec",
     "Level",
     "Light",
     "Point",
@@ -85,6 +87,12 @@ class GuardSpec:
     """Alert: seconds before a guard's detection reaches its teammates."""
     dark_sight: float = 1.0
     """World units within which the guard notices an intruder as in full light, however dark its cell."""
+    chase_speed: float = 1.5
+    """Alert: how much faster than walking a guard runs when it chases (on the grid, 1.5 is an extra step
+    on alternate ticks)."""
+    give_up_losses: int = 3
+    """Alert: times a guard may lose sight of the intruder it chases; at the last loss it gives the chase
+    up to a search and does not chase that intruder again."""
 
 
 @dataclass(frozen=True)
@@ -138,6 +146,22 @@ class Light:
     """Light at its own position, in (0, 1]."""
 
 
+#: The intruder's gaits: a walking step takes one tick, a sneaking step ``sneak_ticks``.
+GAITS = ("walk", "sneak")
+
+
+@dataclass(frozen=True)
+class IntruderSpec:
+    """The intruder's ears keys: how loud its steps are (the level's ``intruder`` object)."""
+
+    walk_noise: float = 0.0
+    """Radius in world units of a walking step's noise (0: silent)."""
+    sneak_ticks: int = 2
+    """Ticks a sneaking step takes (in its first cell for all but the last)."""
+    sneak_noise: float = 0.0
+    """Radius in world units of a sneaking step's noise."""
+
+
 #: Largest tile side in pixels a level may record (``Level.tile_pixels``).
 MAX_TILE_PIXELS = 4096
 
@@ -154,6 +178,8 @@ class Level:
     """Walls inside the outer ring, each a closed ring."""
     guard: GuardSpec = field(default_factory=GuardSpec)
     starts: tuple[Point, ...] = ()
+    intruder: IntruderSpec = field(default_factory=IntruderSpec)
+    """The intruder's noise keys (hearing guards)."""
     """Designer-marked spawn points (optional)."""
     player_starts: tuple[Point, ...] = ()
     """Where the player (the intruder of ``sneak`` and ``alert``) starts, when the designer marks it."""

@@ -25,7 +25,17 @@ from guardsim.files.reading import (
 )
 from guardsim.level.geometry import MAX_OVERLAPS_LISTED, check_geometry
 from guardsim.level.limits import DEFAULT_MAX_CELLS, DEFAULT_MAX_VERTICES
-from guardsim.level.model import HEADINGS, MAX_TILE_PIXELS, GuardSpec, Level, Point, Problem, Ring, grid_shape_of
+from guardsim.level.model import (
+    HEADINGS,
+    MAX_TILE_PIXELS,
+    GuardSpec,
+    IntruderSpec,
+    Level,
+    Point,
+    Problem,
+    Ring,
+    grid_shape_of,
+)
 from guardsim.level.watchers import check_placements, parse_ambient, parse_cameras, parse_lights
 
 __all__ = ["MAX_OVERLAPS_LISTED", "check_level_data", "parse_level"]
@@ -38,11 +48,12 @@ PAIRS_PER_VERTEX = 2
 
 _TOP_KEYS = {
     "name", "cell_size", "outer", "holes", "guard", "starts", "player_starts", "tile_pixels",
-    "cameras", "ambient_light", "lights",
+    "cameras", "ambient_light", "lights", "intruder",
 }  # fmt: skip
+_INTRUDER_KEYS = ("walk_noise", "sneak_ticks", "sneak_noise")
 _MOTION_KEYS = ("move_speed", "turn_speed", "tick_hz")
 _DETECTION_KEYS = ("detect_near", "detect_far", "forget", "suspicious")
-_ALERT_KEYS = ("capture_radius", "search_seconds", "radio_delay")
+_ALERT_KEYS = ("capture_radius", "search_seconds", "radio_delay", "chase_speed", "give_up_losses")
 _GUARD_KEYS = {
     "view_range", "fov_degrees", "radius", "start", "heading", *_MOTION_KEYS, *_DETECTION_KEYS, *_ALERT_KEYS,
     "dark_sight",
@@ -137,6 +148,7 @@ def _check(data: Any, source: str, max_cells: int, max_vertices: int) -> tuple[L
     cameras = parse_cameras(data.get("cameras"), problems)
     lights = parse_lights(data.get("lights"), problems)
     ambient = parse_ambient(data, problems)
+    intruder = _intruder(data.get("intruder", {}), problems)
 
     if outer is not None and cell_size is not None:
         xs = [p[0] for p in outer]
@@ -159,7 +171,7 @@ def _check(data: Any, source: str, max_cells: int, max_vertices: int) -> tuple[L
             check_placements(outer, [hole for hole in holes if hole is not None], cameras, lights, problems)
     if problems or outer is None or cell_size is None or guard is None or starts is None or players is None:
         return None, problems
-    if cameras is None or lights is None or ambient is None:
+    if cameras is None or lights is None or ambient is None or intruder is None:
         return None, problems
     level = Level(
         name=name,
@@ -174,8 +186,29 @@ def _check(data: Any, source: str, max_cells: int, max_vertices: int) -> tuple[L
         cameras=tuple(cameras),
         ambient_light=ambient,
         lights=tuple(lights),
+        intruder=intruder,
     )
     return level, problems
+
+
+def _intruder(value: Any, problems: list[Problem]) -> IntruderSpec | None:
+    """``intruder``: its noise keys (radii >= 0 world units; ``sneak_ticks`` a whole number >= 1)."""
+    if not isinstance(value, dict):
+        problems.append(Problem("intruder", f"must be an object, not {json_type(value)}"))
+        return None
+    count = len(problems)
+    for key in sorted(set(value) - set(_INTRUDER_KEYS), key=str):
+        where = f"intruder.{key}" if str(key).isprintable() and len(str(key)) <= 40 else f"intruder.{quoted(key)}"
+        problems.append(Problem(where, "unknown key", f"known keys: {', '.join(_INTRUDER_KEYS)}"))
+    defaults = IntruderSpec()
+    walk = _number(value, "walk_noise", defaults.walk_noise, problems, where="intruder.walk_noise", minimum=0)
+    sneak = _number(value, "sneak_noise", defaults.sneak_noise, problems, where="intruder.sneak_noise", minimum=0)
+    ticks = _number(value, "sneak_ticks", defaults.sneak_ticks, problems, where="intruder.sneak_ticks", minimum=1)
+    if ticks is not None and ticks != int(ticks):
+        problems.append(Problem("intruder.sneak_ticks", f"must be a whole number of ticks, not {ticks!r}"))
+    if len(problems) > count or walk is None or sneak is None or ticks is None:
+        return None
+    return IntruderSpec(walk_noise=walk, sneak_ticks=int(ticks), sneak_noise=sneak)
 
 
 def _tile_pixels(value: Any, problems: list[Problem]) -> tuple[int, int] | None:
@@ -303,12 +336,22 @@ def _guard(value: Any, problems: list[Problem]) -> GuardSpec | None:
         for key in _MOTION_KEYS
         if value.get(key) is not None
     }
-    detection: dict[str, float] = {}
+    detection: dict[str, Any] = {}
     for key in (*_DETECTION_KEYS, *_ALERT_KEYS, "dark_sight"):
         number = None
         if key in value:
             upper = 1 if key == "suspicious" else None
-            number = _number(value, key, 0.0, problems, where=f"guard.{key}", minimum=0, maximum=upper)
+            if key in ("chase_speed", "give_up_losses"):
+                # A guard must move when it chases, and lose sight at least once before giving up.
+                number = _number(value, key, 1.0, problems, where=f"guard.{key}", positive=True)
+                if key == "give_up_losses" and number is not None:
+                    if number != int(number):
+                        problems.append(Problem(f"guard.{key}", f"must be a whole number of losses, not {number!r}"))
+                        number = None
+                    else:
+                        number = int(number)
+            else:
+                number = _number(value, key, 0.0, problems, where=f"guard.{key}", minimum=0, maximum=upper)
         if number is not None:
             detection[key] = number
     if len(problems) > count or view_range is None or fov is None or radius is None:

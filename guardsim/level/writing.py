@@ -9,7 +9,7 @@ from __future__ import annotations
 import json
 from typing import Any
 
-from guardsim.level.model import Camera, GuardSpec, Level
+from guardsim.level.model import Camera, GuardSpec, IntruderSpec, Level
 
 __all__ = ["compact_numbers", "level_json_text", "level_to_data"]
 
@@ -31,7 +31,7 @@ def level_to_data(level: Level) -> dict[str, Any]:
     defaults = GuardSpec()
     for key in (
         "detect_near", "detect_far", "forget", "suspicious", "capture_radius", "search_seconds", "radio_delay",
-        "dark_sight",
+        "chase_speed", "give_up_losses", "dark_sight",
     ):  # fmt: skip
         if getattr(level.guard, key) != getattr(defaults, key):
             guard[key] = getattr(level.guard, key)
@@ -57,6 +57,13 @@ def level_to_data(level: Level) -> dict[str, Any]:
             {"position": list(light.position), "radius": light.radius, "intensity": light.intensity}
             for light in level.lights
         ]
+    intruder = {
+        key: getattr(level.intruder, key)
+        for key in ("walk_noise", "sneak_ticks", "sneak_noise")
+        if getattr(level.intruder, key) != getattr(IntruderSpec(), key)
+    }
+    if intruder:
+        data["intruder"] = intruder
     return data
 
 

@@ -50,6 +50,10 @@ class Follower:
         """A heading to turn to in place before walking on (``None``: walk)."""
         self._set(position, heading)
 
+    def set_pace(self, factor: float) -> None:
+        """Walk at ``factor`` times the motion's walking speed from now on (1: walking; a chase runs)."""
+        self._step = self.motion.step_length * factor
+
     def _set(self, position: tuple[float, float], heading: float) -> None:
         body = self.body
         body.position = position
