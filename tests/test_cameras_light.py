@@ -678,3 +678,25 @@ def test_a_dark_corner_in_a_guards_view_is_a_hiding_spot() -> None:
     (dark_lasts, dark_exposure), (lit_lasts, lit_exposure) = found
     assert dark_lasts == -1 and dark_exposure == 0.0
     assert lit_lasts > 0 and lit_exposure == 1.0
+
+
+@pytest.mark.slow
+def test_the_patrol_page_carries_the_light_and_the_cameras(tmp_path: Path) -> None:
+    """patrol --html on a level with a camera and darkness: the page's data has both layers, shown on
+    opening, the light as light_map gives it; a level without them has neither."""
+    from tests.pages import page_json
+
+    result = CliRunner().invoke(main, ["patrol", str(DOORWAY), "--out", str(tmp_path / "dark"), "--html"])
+    assert result.exit_code == 0, result.output
+    data = page_json((tmp_path / "dark" / "patrol.html").read_text())
+    scene = Scene.from_level(level_from(json.loads(DOORWAY.read_text())))
+    light = np.frombuffer(base64.b64decode(data["watch"]["light"]), dtype="<f4")
+    assert np.allclose(light, light_map(scene).ravel(), atol=1e-6)
+    assert len(data["watch"]["cameras"]) == 1 and {"light", "cameras"} <= set(data["default_layers"])
+    plain = {
+        k: v for k, v in json.loads(DOORWAY.read_text()).items() if k not in ("cameras", "lights", "ambient_light")
+    }
+    result = CliRunner().invoke(
+        main, ["patrol", str(write_level(tmp_path, plain)), "--out", str(tmp_path / "plain"), "--html"]
+    )
+    assert "watch" not in page_json((tmp_path / "plain" / "patrol.html").read_text())
