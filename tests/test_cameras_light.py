@@ -700,3 +700,28 @@ def test_the_patrol_page_carries_the_light_and_the_cameras(tmp_path: Path) -> No
         main, ["patrol", str(write_level(tmp_path, plain)), "--out", str(tmp_path / "plain"), "--html"]
     )
     assert "watch" not in page_json((tmp_path / "plain" / "patrol.html").read_text())
+
+
+def test_point_sight_by_the_bresenham_rule_is_the_line_of_cells() -> None:
+    """With --los bresenham a camera or lamp sees from the cell holding it (a floor cell on a cell's side),
+    a target when every cell of the Bresenham line to it is floor."""
+    from guardsim.vision.bresenham import bresenham_line
+    from guardsim.vision.point import PointSight
+
+    scene = scene_from(TINY_LEVELS["square-with-hole"])
+    grid = scene.grid
+    sight = PointSight(scene.world, grid, rule="bresenham", reach=4.0)
+    floor = grid.traversable
+    for eye in [(0.5, 0.5), (2.0, 3.0), (4.0, 2.5), (6.0, 6.0), (3.0, 0.0)]:
+        cells, _ = sight.cells(eye, 4.0)
+        col, row = sight.eye_cell(eye)
+        assert floor[row, col]
+        expected = []
+        for cell in np.flatnonzero(floor.ravel()).tolist():
+            c, r = grid.unflat(cell)
+            centre = grid.centre(c, r)
+            if math.hypot(centre[0] - eye[0], centre[1] - eye[1]) > 4.0 + 1e-9:
+                continue
+            if all(floor[y, x] for x, y in bresenham_line(col, row, c, r)):
+                expected.append(cell)
+        assert cells.tolist() == expected, eye

@@ -20,5 +20,7 @@ compiler; each module imports numba itself.
   bound and macro moves, shared with its beam seed;
 - :mod:`~guardsim.kernels.targets`, :mod:`~guardsim.kernels.screen` and :mod:`~guardsim.kernels.fill`:
   a cone's cells, the wall screen and the compiled vision fill;
-- :mod:`~guardsim.kernels.arrays`: copying into a slice by a plain loop.
+- :mod:`~guardsim.kernels.arrays`: copying into a slice by a plain loop;
+- :mod:`~guardsim.kernels.meter`: the awareness meter's rules (a tick's gain, visibility in the light, the
+  meter after a tick), for plain Python and compiled code alike.
 """
