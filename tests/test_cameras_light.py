@@ -725,3 +725,19 @@ def test_point_sight_by_the_bresenham_rule_is_the_line_of_cells() -> None:
             if all(floor[y, x] for x, y in bresenham_line(col, row, c, r)):
                 expected.append(cell)
         assert cells.tolist() == expected, eye
+
+
+def test_a_swing_too_long_for_any_lap_is_one_line_and_exit_2(tmp_path: Path) -> None:
+    """A valid but absurd turn speed makes a swing of 1e302 s: refused before a heading is listed."""
+    data = json.loads(DOORWAY.read_text())
+    data["cameras"][0]["turn_speed"] = 1e-300
+    path = write_level(tmp_path, data)
+    result = CliRunner().invoke(
+        main, ["sneak", str(path), "--patrol", str(_post(tmp_path)), "--to", "14.5,6.5", "--undetected"]
+    )
+    assert result.exit_code == 2 and "cameras[0]'s swing of 8e+301 s is over 10000000 ticks" in result.output
+    data["cameras"][0]["turn_speed"] = 0.01  # 8001 s, 16 002 ticks: over the joint lap's limit
+    result = CliRunner().invoke(
+        main, ["sneak", str(write_level(tmp_path, data)), "--patrol", str(_post(tmp_path)), "--to", "14.5,6.5"]
+    )
+    assert result.exit_code == 2 and "cameras[0]'s swing is 16002 ticks, over the limit of 10000" in result.output

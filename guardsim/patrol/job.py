@@ -411,4 +411,4 @@ def _level_watch(scene: Scene) -> LevelWatch | None:
 
     if not scene.level.cameras and scene.level.lit:
         return None
-    return level_watch(scene, grid_tick_seconds(scene.level))
+    return level_watch(scene, grid_tick_seconds(scene.level), gains=False)
