@@ -412,17 +412,26 @@ def test_the_dark_side_passage_gets_past_the_doorway_camera(tmp_path: Path) -> N
 
 
 def test_a_joint_lap_past_the_limit_is_one_line_and_exit_2(tmp_path: Path) -> None:
-    post = _post(tmp_path)
-    result = CliRunner().invoke(
-        main, ["sneak", str(DOORWAY), "--patrol", str(post), "--to", "14.5,6.5", "--max-lap", "5"]
-    )
+    """A 3-tick patrol (the guard waits, steps out and back) and the 10-tick swing: a joint lap of 30."""
+    patrol = json.loads(_post(tmp_path).read_text())
+    patrol["period"] = 3
+    patrol["guards"] = [{"loop": [[12, 3], [12, 3], [13, 3], [12, 3]], "headings": [2, 2, 0, 2]}]
+    path = tmp_path / "three.json"
+    path.write_text(json.dumps(patrol))
+    base = ["sneak", str(DOORWAY), "--patrol", str(path), "--to", "14.5,6.5"]
+    result = CliRunner().invoke(main, [*base, "--max-lap", "20"])
     assert result.exit_code == 2
-    assert "over the limit of 5 (raise it with --max-lap)" in result.output
-    assert len(result.output.strip().splitlines()) == 2  # the player start's line, then the error
-    checked = CliRunner().invoke(
-        main, ["check", str(DOORWAY), "--patrol", str(post), "--safe", "9.5,0.5", "--max-lap", "5"]
+    assert (
+        "the joint lap of the patrol's 3 ticks and the cameras' swings (10 ticks) is 30 ticks, over the limit of 20 "
+        "(raise it with --max-lap)" in result.output
     )
-    assert checked.exit_code == 2 and "is 10 ticks, over the limit of 5" in checked.output
+    assert len(result.output.strip().splitlines()) == 2  # the player start's line, then the error
+    raised = CliRunner().invoke(main, [*base, "--max-lap", "30"])
+    assert raised.exit_code == 0 and "slack" in raised.output
+    checked = CliRunner().invoke(
+        main, ["check", str(DOORWAY), "--patrol", str(path), "--safe", "9.5,0.5", "--max-lap", "20"]
+    )
+    assert checked.exit_code == 2 and "is 30 ticks, over the limit of 20" in checked.output
 
 
 # --- Alert: camera alarms and dark cells ---
