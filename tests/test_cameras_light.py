@@ -412,17 +412,26 @@ def test_the_dark_side_passage_gets_past_the_doorway_camera(tmp_path: Path) -> N
 
 
 def test_a_joint_lap_past_the_limit_is_one_line_and_exit_2(tmp_path: Path) -> None:
-    post = _post(tmp_path)
-    result = CliRunner().invoke(
-        main, ["sneak", str(DOORWAY), "--patrol", str(post), "--to", "14.5,6.5", "--max-lap", "5"]
-    )
+    """A 3-tick patrol (the guard waits, steps out and back) and the 10-tick swing: a joint lap of 30."""
+    patrol = json.loads(_post(tmp_path).read_text())
+    patrol["period"] = 3
+    patrol["guards"] = [{"loop": [[12, 3], [12, 3], [13, 3], [12, 3]], "headings": [2, 2, 0, 2]}]
+    path = tmp_path / "three.json"
+    path.write_text(json.dumps(patrol))
+    base = ["sneak", str(DOORWAY), "--patrol", str(path), "--to", "14.5,6.5"]
+    result = CliRunner().invoke(main, [*base, "--max-lap", "20"])
     assert result.exit_code == 2
-    assert "over the limit of 5 (raise it with --max-lap)" in result.output
-    assert len(result.output.strip().splitlines()) == 2  # the player start's line, then the error
-    checked = CliRunner().invoke(
-        main, ["check", str(DOORWAY), "--patrol", str(post), "--safe", "9.5,0.5", "--max-lap", "5"]
+    assert (
+        "the joint lap of the patrol's 3 ticks and the cameras' swings (10 ticks) is 30 ticks, over the limit of 20 "
+        "(raise it with --max-lap)" in result.output
     )
-    assert checked.exit_code == 2 and "is 10 ticks, over the limit of 5" in checked.output
+    assert len(result.output.strip().splitlines()) == 2  # the player start's line, then the error
+    raised = CliRunner().invoke(main, [*base, "--max-lap", "30"])
+    assert raised.exit_code == 0 and "slack" in raised.output
+    checked = CliRunner().invoke(
+        main, ["check", str(DOORWAY), "--patrol", str(path), "--safe", "9.5,0.5", "--max-lap", "20"]
+    )
+    assert checked.exit_code == 2 and "is 30 ticks, over the limit of 20" in checked.output
 
 
 # --- Alert: camera alarms and dark cells ---
@@ -469,7 +478,7 @@ def test_a_dark_cell_hides_an_intruder_a_guard_looks_at() -> None:
 
 # --- Importers: Tiled objects and LDtk entities ---
 
-CAMERAS_TMX = REPO / "tests" / "data" / "maps" / "tiled" / "cameras.tmx"
+CAMERAS_TMX = REPO / "tests" / "data" / "watchers" / "cameras.tmx"
 TILED = shutil.which("tiled")
 
 
@@ -678,3 +687,66 @@ def test_a_dark_corner_in_a_guards_view_is_a_hiding_spot() -> None:
     (dark_lasts, dark_exposure), (lit_lasts, lit_exposure) = found
     assert dark_lasts == -1 and dark_exposure == 0.0
     assert lit_lasts > 0 and lit_exposure == 1.0
+
+
+@pytest.mark.slow
+def test_the_patrol_page_carries_the_light_and_the_cameras(tmp_path: Path) -> None:
+    """patrol --html on a level with a camera and darkness: the page's data has both layers, shown on
+    opening, the light as light_map gives it; a level without them has neither."""
+    from tests.pages import page_json
+
+    result = CliRunner().invoke(main, ["patrol", str(DOORWAY), "--out", str(tmp_path / "dark"), "--html"])
+    assert result.exit_code == 0, result.output
+    data = page_json((tmp_path / "dark" / "patrol.html").read_text())
+    scene = Scene.from_level(level_from(json.loads(DOORWAY.read_text())))
+    light = np.frombuffer(base64.b64decode(data["watch"]["light"]), dtype="<f4")
+    assert np.allclose(light, light_map(scene).ravel(), atol=1e-6)
+    assert len(data["watch"]["cameras"]) == 1 and {"light", "cameras"} <= set(data["default_layers"])
+    plain = {
+        k: v for k, v in json.loads(DOORWAY.read_text()).items() if k not in ("cameras", "lights", "ambient_light")
+    }
+    result = CliRunner().invoke(
+        main, ["patrol", str(write_level(tmp_path, plain)), "--out", str(tmp_path / "plain"), "--html"]
+    )
+    assert "watch" not in page_json((tmp_path / "plain" / "patrol.html").read_text())
+
+
+def test_point_sight_by_the_bresenham_rule_is_the_line_of_cells() -> None:
+    """With --los bresenham a camera or lamp sees from the cell holding it (a floor cell on a cell's side),
+    a target when every cell of the Bresenham line to it is floor."""
+    from guardsim.vision.bresenham import bresenham_line
+    from guardsim.vision.point import PointSight
+
+    scene = scene_from(TINY_LEVELS["square-with-hole"])
+    grid = scene.grid
+    sight = PointSight(scene.world, grid, rule="bresenham", reach=4.0)
+    floor = grid.traversable
+    for eye in [(0.5, 0.5), (2.0, 3.0), (4.0, 2.5), (6.0, 6.0), (3.0, 0.0)]:
+        cells, _ = sight.cells(eye, 4.0)
+        col, row = sight.eye_cell(eye)
+        assert floor[row, col]
+        expected = []
+        for cell in np.flatnonzero(floor.ravel()).tolist():
+            c, r = grid.unflat(cell)
+            centre = grid.centre(c, r)
+            if math.hypot(centre[0] - eye[0], centre[1] - eye[1]) > 4.0 + 1e-9:
+                continue
+            if all(floor[y, x] for x, y in bresenham_line(col, row, c, r)):
+                expected.append(cell)
+        assert cells.tolist() == expected, eye
+
+
+def test_a_swing_too_long_for_any_lap_is_one_line_and_exit_2(tmp_path: Path) -> None:
+    """A valid but absurd turn speed makes a swing of 1e302 s: refused before a heading is listed."""
+    data = json.loads(DOORWAY.read_text())
+    data["cameras"][0]["turn_speed"] = 1e-300
+    path = write_level(tmp_path, data)
+    result = CliRunner().invoke(
+        main, ["sneak", str(path), "--patrol", str(_post(tmp_path)), "--to", "14.5,6.5", "--undetected"]
+    )
+    assert result.exit_code == 2 and "cameras[0]'s swing of 8e+301 s is over 10000000 ticks" in result.output
+    data["cameras"][0]["turn_speed"] = 0.01  # 8001 s, 16 002 ticks: over the joint lap's limit
+    result = CliRunner().invoke(
+        main, ["sneak", str(write_level(tmp_path, data)), "--patrol", str(_post(tmp_path)), "--to", "14.5,6.5"]
+    )
+    assert result.exit_code == 2 and "cameras[0]'s swing is 16002 ticks, over the limit of 10000" in result.output

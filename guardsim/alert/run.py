@@ -109,7 +109,7 @@ def alert_episode(
     max_ticks = max(1, int(max_seconds / rules.dt + 1e-9))
     movement = make_movement(motion, scene, table, detection, dt=rules.dt, guards=patrol.guards)
     level = scene.level
-    watch = level_watch(scene, detection.dt) if level.cameras or not level.lit else None
+    watch = level_watch(scene, detection.dt, gains=False) if level.cameras or not level.lit else None
     return AlertEpisode(
         grid,
         table,

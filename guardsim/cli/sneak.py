@@ -150,12 +150,13 @@ def sneak(
         sneak_cell(grid, point, "--safe")
     table = view_table(grid, scene.vision())
     detection = GuardDetection.of_level(scene.level)
-    watch = level_watch(scene, detection.dt) if level.cameras or not level.lit else None
+    limit = MAX_JOINT_LAP if max_lap is None else max_lap
+    watch = level_watch(scene, detection.dt, max_lap=limit) if level.cameras or not level.lit else None
     for note in () if watch is None else watch.notes:
         click.echo(f"guardsim: warning: {note}", err=True)
     result = sneak_check(
         grid, table, patrol, start, goal, detection=detection, undetected=undetected, watch=watch,
-        max_lap=MAX_JOINT_LAP if max_lap is None else max_lap,
+        max_lap=limit,
     )  # fmt: skip
     if result.lap is not None:
         patrol = result.lap

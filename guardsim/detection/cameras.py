@@ -15,11 +15,16 @@ from typing import NamedTuple
 
 import numpy as np
 
+from guardsim.errors import LimitError
 from guardsim.kernels.meter import meter_gain, visibility
 from guardsim.level import Camera, GuardSpec
 from guardsim.vision.point import PointSight
 
-__all__ = ["CameraSight", "camera_gains", "camera_heading", "camera_sight", "camera_ticks"]
+__all__ = ["MAX_SWING_TICKS", "CameraSight", "camera_gains", "camera_heading", "camera_sight", "camera_ticks"]
+
+#: Longest swing, in ticks, a camera may have: past it no joint lap could be searched anyway, and its
+#: headings alone would fill memory (a turn speed of 1e-300 degrees a second is a valid number).
+MAX_SWING_TICKS = 10_000_000
 
 # Cells exactly on the cone's edge are in, as in a guard's cone.
 _EDGE_TOLERANCE = 1e-9
@@ -38,6 +43,11 @@ def camera_ticks(camera: Camera, dt: float, *, name: str = "camera") -> tuple[in
     if camera.sweep <= 0:
         return 1, None
     exact = camera.period_seconds / dt
+    if not math.isfinite(exact) or exact > MAX_SWING_TICKS:
+        raise LimitError(
+            f"{name}'s swing of {camera.period_seconds:.4g} s is over {MAX_SWING_TICKS} ticks of {dt:g} s: "
+            "turn faster, sweep less or pause less"
+        )
     ticks = max(1, math.floor(exact + 0.5))
     if ticks * dt / 2 - camera.pause <= 0:
         # The pauses alone fill the rounded period: one more tick leaves the camera time to turn.

@@ -15,7 +15,7 @@ from typing import NamedTuple
 
 import numpy as np
 
-from guardsim.detection.cameras import CameraSight, camera_gains, camera_sight
+from guardsim.detection.cameras import CameraSight, camera_gains, camera_sight, camera_ticks
 from guardsim.detection.exposure import PatrolGains, patrol_gains
 from guardsim.detection.light import light_values, scene_sight
 from guardsim.detection.model import AwarenessMeter, DetectionModel, GuardDetection
@@ -25,10 +25,12 @@ from guardsim.kernels.meter import DETECTED
 from guardsim.scene import Scene
 from guardsim.vision.table import ViewTable
 
-__all__ = ["MAX_JOINT_LAP", "CameraAlarms", "LevelWatch", "joint_lap", "lap_gains", "level_watch"]
+__all__ = ["MAX_GAIN_ENTRIES", "MAX_JOINT_LAP", "CameraAlarms", "LevelWatch", "joint_lap", "lap_gains", "level_watch"]
 
 #: Longest joint lap (patrol lap and camera swings), in ticks, before the exact checks refuse a level.
 MAX_JOINT_LAP = 10_000
+#: Most (tick, cell) gains one camera's swing may hold (8 bytes each): as many as the sneak search's nodes.
+MAX_GAIN_ENTRIES = 20_000_000
 
 
 class LevelWatch(NamedTuple):
@@ -39,7 +41,7 @@ class LevelWatch(NamedTuple):
     cameras: tuple[CameraSight, ...]
     """Each camera's swing and sight."""
     gains: tuple[np.ndarray, ...]
-    """Each camera's ``float64 (ticks, cells)`` gains over its own swing."""
+    """Each camera's ``float64 (ticks, cells)`` gains over its own swing (empty when not computed)."""
     notes: tuple[str, ...]
     """One line per camera whose period was rounded to whole ticks."""
 
@@ -54,23 +56,43 @@ class LevelWatch(NamedTuple):
         return bool((self.light < 1.0).any())
 
 
-def level_watch(scene: Scene, dt: float) -> LevelWatch:
-    """The light and cameras of ``scene``'s level with ticks of ``dt`` seconds."""
+def level_watch(scene: Scene, dt: float, *, max_lap: int = MAX_JOINT_LAP, gains: bool = True) -> LevelWatch:
+    """The light and cameras of ``scene``'s level with ticks of ``dt`` seconds; ``gains=False`` leaves the
+    cameras' gains out (pictures and game-time alarms read only their sight).
+
+    Raises
+    ------
+    LimitError
+        When a camera's swing alone is over ``max_lap`` ticks (no joint lap could hold it), or its gains
+        over :data:`MAX_GAIN_ENTRIES` (swing ticks times cells).
+    """
     level = scene.level
     sight = scene_sight(scene)
     light = light_values(level, sight) if sight is not None else np.ones(scene.grid.size, dtype=np.float64)
     light = light.astype(np.float64)
     cameras = []
-    gains = []
+    tables: list[np.ndarray] = []
     notes = []
     for index, camera in enumerate(level.cameras):
         assert sight is not None  # scene_sight gives one whenever the level has a camera
+        ticks, _ = camera_ticks(camera, dt, name=f"cameras[{index}]")
+        if ticks > max_lap:
+            raise LimitError(
+                f"cameras[{index}]'s swing is {ticks} ticks, over the limit of {max_lap} for the joint lap "
+                "(raise it with --max-lap)"
+            )
+        if gains and ticks * scene.grid.size > MAX_GAIN_ENTRIES:
+            raise LimitError(
+                f"cameras[{index}]'s swing of {ticks} ticks over {scene.grid.size} cells is over "
+                f"{MAX_GAIN_ENTRIES} (tick, cell) gains: shorten its swing or use a larger cell_size"
+            )
         watch = camera_sight(camera, level.guard, sight, dt, name=f"cameras[{index}]")
         cameras.append(watch)
-        gains.append(camera_gains(watch, light, dt, scene.grid.size))
+        if gains:
+            tables.append(camera_gains(watch, light, dt, scene.grid.size))
         if watch.note:
             notes.append(watch.note)
-    return LevelWatch(light, tuple(cameras), tuple(gains), tuple(notes))
+    return LevelWatch(light, tuple(cameras), tuple(tables), tuple(notes))
 
 
 def joint_lap(period: int, watch: LevelWatch | None, *, max_lap: int = MAX_JOINT_LAP) -> int:
@@ -110,6 +132,8 @@ def lap_gains(
     light = None if watch is None or not watch.dark else watch.light
     cameras = None
     if watch is not None and watch.cameras:
+        if len(watch.gains) != len(watch.cameras):
+            raise ValueError("lap_gains needs the cameras' gains: build the watch with level_watch(..., gains=True)")
         cameras = np.stack([gain[np.arange(lap) % gain.shape[0]] for gain in watch.gains])
     gains = patrol_gains(
         grid, table, states, detection.model, view_range=detection.view_range, dt=detection.dt,

@@ -22,4 +22,6 @@ compiler; each module imports numba itself.
   a cone's cells, the wall screen and the compiled vision fill;
 - :mod:`~guardsim.kernels.arrays`: copying into a slice by a plain loop;
 - :mod:`~guardsim.kernels.noise`: how far a noise carries along the grid (hearing).
+- :mod:`~guardsim.kernels.meter`: the awareness meter's rules (a tick's gain, visibility in the light, the
+  meter after a tick), for plain Python and compiled code alike.
 """

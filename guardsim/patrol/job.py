@@ -12,7 +12,7 @@ import json
 import math
 from dataclasses import dataclass, field
 from pathlib import Path
-from typing import Any, NamedTuple
+from typing import TYPE_CHECKING, Any, NamedTuple
 
 import numpy as np
 
@@ -23,6 +23,9 @@ from guardsim.level import DEFAULT_MAX_FILE_BYTES
 from guardsim.patrol.model import STRATEGIES
 from guardsim.patrol.scoring import NEVER, PatrolScore
 from guardsim.scene import Scene
+
+if TYPE_CHECKING:
+    from guardsim.detection.watch import LevelWatch
 
 __all__ = ["PatrolJob", "PatrolRun", "check_job", "run_patrol", "tiled_source_of"]
 
@@ -248,6 +251,7 @@ def run_patrol(scene: Scene, folder: Path, job: PatrolJob) -> PatrolRun:
                 idleness=shown.gaps.reshape(scene.grid.shape),
                 never=shown.never.reshape(scene.grid.shape),
                 unit=shown.unit,
+                watch=_level_watch(scene),
             )
             write_viewer(folder / "patrol.html", level, trace, overlays=overlays)
             written.append(str(folder / "patrol.html"))
@@ -398,3 +402,13 @@ class _Shown(NamedTuple):
             never,
             score.never_seen,
         )
+
+
+def _level_watch(scene: Scene) -> LevelWatch | None:
+    """The level's cameras and light for the page, ``None`` on a fully lit level without cameras."""
+    from guardsim.detection import grid_tick_seconds
+    from guardsim.detection.watch import level_watch
+
+    if not scene.level.cameras and scene.level.lit:
+        return None
+    return level_watch(scene, grid_tick_seconds(scene.level), gains=False)

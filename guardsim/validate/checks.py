@@ -382,11 +382,11 @@ def _ticks(ticks: np.ndarray, shown: int = 12) -> str:
     return ", ".join(runs[:shown]) + more
 
 
-def _level_watch(scene: Scene) -> LevelWatch | None:
+def _level_watch(scene: Scene, max_lap: int = MAX_JOINT_LAP) -> LevelWatch | None:
     level = scene.level
     if not level.cameras and level.lit:
         return None
-    return level_watch(scene, GuardDetection.of_level(level).dt)
+    return level_watch(scene, GuardDetection.of_level(level).dt, max_lap=max_lap)
 
 
 def _safe_results(scene: Scene, table: ViewTable, patrol: Patrol, rules: CheckRules) -> list[CheckResult]:
@@ -394,7 +394,7 @@ def _safe_results(scene: Scene, table: ViewTable, patrol: Patrol, rules: CheckRu
     standing there never detected). The lap is the joint lap with the level's cameras."""
     cells = [_cell(scene, rule.point, rule.where, "point") for rule in rules.safe]
     detection = GuardDetection.of_level(scene.level)
-    watch = _level_watch(scene)
+    watch = _level_watch(scene, rules.max_lap)
     gains, _ = lap_gains(scene.grid, table, patrol.states, detection, watch, max_lap=rules.max_lap)
     in_view = gains.gain > 0
     lasts = time_to_detection(gains, scene.grid.traversable) if rules.undetected else None
@@ -443,7 +443,7 @@ def _sneak_results(
         target,
         detection=GuardDetection.of_level(scene.level),
         undetected=rule.undetected,
-        watch=_level_watch(scene),
+        watch=_level_watch(scene, rules.max_lap),
         max_lap=rules.max_lap,
     )
     path, grade = result.path, result.grade

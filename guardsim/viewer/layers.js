@@ -501,7 +501,9 @@ const GuardsimLayers = (function () {
       const found = [];
       if (alert) {
         for (const [at, guard, event] of alert.info.events) {
-          if (at === tick) found.push((guard >= 0 && alert.guards > 1 ? "guard " + (guard + 1) + " " : "") + event.replace(/_/g, " "));
+          // A camera's alarm is numbered after the guards.
+          const who = guard >= alert.guards ? "camera " + (guard - alert.guards + 1) + " " : guard >= 0 && alert.guards > 1 ? "guard " + (guard + 1) + " " : "";
+          if (at === tick) found.push(who + event.replace(/_/g, " "));
         }
       }
       if (!intruder) return [...new Set(found)].join(", ");

@@ -21,7 +21,15 @@ from guardsim.sneak.gif import path_states
 from guardsim.viewer.layers import DEFAULT_LAPS, IdlenessMap, Intruder, LapViews, Overlays, SafeSpot, WatchLayers
 from guardsim.vision.table import ViewTable
 
-__all__ = ["PATROL_LAYERS", "SNEAK_LAYERS", "patrol_overlays", "patrol_routes", "safe_spots", "sneak_overlays"]
+__all__ = [
+    "PATROL_LAYERS",
+    "SNEAK_LAYERS",
+    "patrol_overlays",
+    "patrol_routes",
+    "safe_spots",
+    "sneak_overlays",
+    "watch_layers",
+]
 
 #: Layers a patrol page opens with: the worst-gap heat map under the guards, their loops and cones.
 PATROL_LAYERS = ("idleness", "route", "trail", "cone")
@@ -44,8 +52,9 @@ def patrol_overlays(
     never: np.ndarray | None = None,
     unit: str = "ticks",
     laps: int = DEFAULT_LAPS,
+    watch: LevelWatch | None = None,
 ) -> Overlays:
-    """The page layers of ``patrol`` on ``grid``.
+    """The page layers of ``patrol`` on ``grid`` (with ``watch``, the level's cameras and light too).
 
     Parameters
     ----------
@@ -65,7 +74,8 @@ def patrol_overlays(
         idleness=heat,
         laps=LapViews(patrol.period, seen_timeline(table, patrol.states, grid.size), laps=laps),
         routes=patrol_routes(patrol, grid),
-        layers=PATROL_LAYERS,
+        layers=PATROL_LAYERS if watch is None else (*PATROL_LAYERS, "light", "cameras"),
+        watch=watch_layers(watch, grid),
     )
 
 
@@ -152,16 +162,7 @@ def sneak_overlays(
         laps = -(-(path.start_tick + len(cells)) // result.period)
         if grade is not None and result.gains.cameras:
             camera_meters = grade.meters[:, guards:]
-    watch_layers = None
-    if watch is not None and (watch.cameras or watch.dark):
-        watch_layers = WatchLayers(
-            light=watch.light.reshape(grid.shape) if watch.dark else None,
-            cameras=[
-                (sight.camera.position, sight.headings, sight.camera.fov_degrees, sight.view_range)
-                for sight in watch.cameras
-            ],
-            meters=camera_meters,
-        )
+    layers = watch_layers(watch, grid, camera_meters)
     return Overlays(
         idleness=heat,
         laps=LapViews(result.period, result.seen, laps=laps),
@@ -170,6 +171,21 @@ def sneak_overlays(
         exposure=IdlenessMap(exposure, unit="of the lap in view", label="exposure", top=1.0),
         detection_time=detection_time,
         safe=safe_spots(grid, result, safe),
-        layers=SNEAK_LAYERS if watch_layers is None else (*SNEAK_LAYERS, "light", "cameras"),
-        watch=watch_layers,
+        layers=SNEAK_LAYERS if layers is None else (*SNEAK_LAYERS, "light", "cameras"),
+        watch=layers,
+    )
+
+
+def watch_layers(watch: LevelWatch | None, grid: CoverageGrid, meters: np.ndarray | None = None) -> WatchLayers | None:
+    """The page's light and cameras layers of ``watch`` (``None`` when it has neither), with the cameras'
+    ``meters`` over an intruder's path."""
+    if watch is None or not (watch.cameras or watch.dark):
+        return None
+    return WatchLayers(
+        light=watch.light.reshape(grid.shape) if watch.dark else None,
+        cameras=[
+            (sight.camera.position, sight.headings, sight.camera.fov_degrees, sight.view_range)
+            for sight in watch.cameras
+        ],
+        meters=meters,
     )
