@@ -589,10 +589,11 @@ class AlertEpisode:
                     self._rising[guard] = 0
             elif mode == "investigate" and seen:
                 self._noticed[guard] = intruder
-        # The radio reaches the others only while the alarm is real: someone still chasing or searching,
-        # the intruder still here, somewhere left to search.
+        # The radio reaches the others only while the alarm is real: a camera's alarm this tick, or someone
+        # still chasing or searching with the intruder still here and somewhere left to search.
         live = any(mode in ("chase", "search") for mode in self.modes) and not self.intruder.gone
-        if self._radio_at == tick and live and (self.contamination.count > 0 or "chase" in self.modes):
+        real = bool(alarms) or (live and (self.contamination.count > 0 or "chase" in self.modes))
+        if self._radio_at == tick and real:
             for guard, mode in enumerate(self.modes):
                 if mode in ("patrol", "suspicious", "investigate", "return"):
                     self.modes[guard], self._since[guard], self._rejoin[guard] = "search", tick, None
