@@ -74,7 +74,7 @@ def test_validate_prints_every_problem_of_every_file(tmp_path: Path) -> None:
         f"{two}: cell_size: must be a number, not a string",
         f"{two}: holes[1] point 2 (7, 7): hole point lies outside the outer ring (keep holes inside the outer ring)",
         f"{good}: ok",
-        f"{one}: key 'colour': unknown key (known keys: ambient_light, cameras, cell_size, guard, holes, lights, name, outer, player_starts, starts, tile_pixels)",
+        f"{one}: key 'colour': unknown key (known keys: ambient_light, cameras, cell_size, guard, holes, intruder, lights, name, outer, player_starts, starts, tile_pixels)",
     ]
     assert result.stderr == f"guardsim: error: 2 of 3 level(s) invalid: {two}, {one}\n"
 

@@ -186,10 +186,13 @@ def test_every_known_key_is_in_the_schema() -> None:
             "search_seconds": 20,
             "radio_delay": 1,
             "dark_sight": 1.5,
+            "chase_speed": 2,
+            "give_up_losses": 4,
         },
         cameras=[{"position": [0.5, 0.5], "heading": 90, "sweep": 45}],
         ambient_light=0.5,
         lights=[{"position": [0.5, 0.5], "radius": 3}],
+        intruder={"walk_noise": 3, "sneak_ticks": 2, "sneak_noise": 1},
     )
     assert set(schema["properties"]) == set(full)
     assert set(schema["properties"]["guard"]["properties"]) == set(full["guard"])
