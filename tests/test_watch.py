@@ -71,6 +71,15 @@ class Watch:
         return self.process.wait(timeout=30)
 
 
+def first_analysis(url: str) -> str:
+    """The data of the first analysis event a page connecting now is sent."""
+    with urllib.request.urlopen(url + "events", timeout=10) as stream:
+        for line in stream:
+            if line.startswith(b"data: {"):
+                return line.decode()
+    raise AssertionError("no analysis event")
+
+
 @pytest.fixture
 def level(tmp_path: Path) -> Path:
     path = tmp_path / "live.json"
@@ -140,10 +149,17 @@ def test_a_vanishing_file_a_disconnecting_client_and_ctrl_c(level: Path, tmp_pat
         watch.wait_line("analysis 3:")
         with urllib.request.urlopen(watch.url, timeout=10) as answer:
             assert b"live analysis" in answer.read()
+        # A burst of three saves: one analysis, of the last.
+        for data in (NEW, OLD, NEW):
+            save(level, data)
+        watch.wait_line("analysis 4:")
+        time.sleep(1.5)
+        assert not any("analysis 5:" in line for line in watch.lines())
+        assert '"number":4' in first_analysis(watch.url) and "[14.0,3.0]" in first_analysis(watch.url)
     finally:
         status = watch.stop()
     text = watch.out.read_text()
-    assert status == 0 and "Traceback" not in text and text.splitlines()[-1] == "guardsim: stopped after 3 analyses"
+    assert status == 0 and "Traceback" not in text and text.splitlines()[-1] == "guardsim: stopped after 4 analyses"
 
 
 TILED = shutil.which("tiled")
