@@ -212,10 +212,14 @@ def report(
 
     Examples
     --------
-    >>> import guardsim
-    >>> found = guardsim.report(guardsim.load_level("levels/passages.json"), pairs=[((2.5, 2.5), (57.5, 57.5))])
-    >>> found.pairs[0].outcome, found.score
-    ('unseen', 22)
+    A room with a pillar and one guard on its loop: the player gets round unseen, two ways (either side).
+
+    >>> from guardsim.level import parse_level
+    >>> room = parse_level({"outer": [[0, 0], [16, 0], [16, 10], [0, 10]], "holes": [[[6, 3], [10, 3], [10, 7], [6, 7]]],
+    ...                     "guard": {"start": [8.5, 1.5], "view_range": 4}})
+    >>> found = report(room, pairs=[((0.5, 5.5), (15.5, 5.5))])
+    >>> found.pairs[0].outcome, found.pairs[0].ways, found.score
+    ('unseen', 2, 19)
     """
     analysis = analyse(level, patrol=patrol, guards=guards, pairs=pairs, seed=seed, progress=progress)
     return report_of(analysis, alert=alert, seed=seed, progress=progress)
