@@ -200,3 +200,30 @@ def test_report_ranks_the_shipped_levels() -> None:
     }
     assert all(0 <= score <= 100 for score in scores.values())
     assert max(scores["square"], scores["passages"]) <= min(scores["mgs_docks"], scores["king_snurre"])
+
+
+def test_a_lap_over_the_sneak_limit_is_unchecked_and_its_exposure_counted_in_slices(monkeypatch) -> None:
+    """Over the size limit the pairs are 'unchecked' (no failed analysis), the exposure counted a slice of
+    the lap at a time equals the one from the detection model's gains, and the report leaves the pair's
+    parts out of the score."""
+    import guardsim.design.analysis as analysis_module
+    import guardsim.sneak as sneak_module
+
+    level = parse_level(NEW)
+    post = parse_patrol(
+        {
+            "shape": [9, 20],
+            "guards": [{"loop": [[13, 6], [14, 6], [15, 6], [14, 6], [13, 6]], "headings": [2, 0, 0, 2, 2]}],
+        },
+        guardsim.Scene.from_level(level).grid,
+    )
+    whole = analyse(level, patrol=post, pairs=PAIR)
+    monkeypatch.setattr(analysis_module, "MAX_SNEAK_NODES", 10)
+    monkeypatch.setattr(analysis_module, "EXPOSURE_SLICE", 3)
+    monkeypatch.setattr(sneak_module, "MAX_SNEAK_NODES", 10)
+    sliced = analyse(level, patrol=post, pairs=PAIR)
+    assert sliced.gains is None and whole.gains is not None
+    assert np.array_equal(sliced.exposure, whole.exposure)
+    assert sliced.pairs[0].outcome == "unchecked" and "not checked" in sliced.pairs[0].note
+    found = report_of(sliced)
+    assert "caught" not in found.parts and found.pairs[0].outcome == "unchecked"

@@ -16,13 +16,13 @@ from typing import NamedTuple
 
 import numpy as np
 
-from guardsim.detection import GuardDetection, PatrolGains, exposure_map, patrol_gains, time_to_detection
+from guardsim.detection import GuardDetection, PatrolGains, exposure_map, patrol_gains
 from guardsim.errors import LimitError, PatrolError
 from guardsim.kernels.distances import FAR, distances_from
 from guardsim.level import Level
-from guardsim.patrol import Patrol, PatrolScore, PatrolSetup, plan_loop, read_patrol, score_patrol
+from guardsim.patrol import Patrol, PatrolScore, PatrolSetup, plan_loop, read_patrol, score_patrol, seen_timeline
 from guardsim.scene import Scene
-from guardsim.sneak import SneakResult, sneak_check
+from guardsim.sneak import MAX_SNEAK_NODES, SneakResult, sneak_check
 from guardsim.starts import episode_start, team_starts
 from guardsim.vision.table import ViewTable, view_table
 
@@ -79,11 +79,11 @@ class Analysis(NamedTuple):
     """``bool (cells,)``: the floor the guards patrol (reachable from the guard's start)."""
     idleness: PatrolScore
     detection: GuardDetection
-    gains: PatrolGains
+    gains: PatrolGains | None
+    """The detection model applied to the lap; ``None`` when the lap times the cells is over the sneak
+    check's limit (:data:`guardsim.sneak.MAX_SNEAK_NODES`): its pairs are then ``unchecked``."""
     exposure: np.ndarray
     """``float64 (cells,)``: fraction of the lap each cell is in some guard's view."""
-    lasts: np.ndarray
-    """``int64 (cells,)``: ticks a player standing there lasts (-1 never detected, -2 no floor)."""
     pairs: tuple[PairResult, ...]
     seconds: float
     """Wall time of this analysis."""
@@ -227,9 +227,15 @@ def analyse(
     idleness = score_patrol(table, chosen, goal)
     detection = GuardDetection.of_level(level)
     grid = scene.grid
-    gains = patrol_gains(grid, table, chosen.states, detection.model, view_range=detection.view_range, dt=detection.dt)
-    exposure = exposure_map(gains)
-    lasts = time_to_detection(gains, grid.traversable)
+    if chosen.period * grid.size <= MAX_SNEAK_NODES:
+        found = patrol_gains(
+            grid, table, chosen.states, detection.model, view_range=detection.view_range, dt=detection.dt
+        )
+        gains: PatrolGains | None = found
+        exposure = exposure_map(found)
+    else:
+        # A lap too long to hold as one (ticks, cells) array: the exposure is counted a slice of it at a time.
+        gains, exposure = None, _exposure(table, chosen, grid.size)
     asked = default_pairs(scene, goal) if pairs is None else tuple(pairs)
     results = []
     for source_point, target_point in asked:
@@ -246,11 +252,22 @@ def analyse(
         detection,
         gains,
         exposure,
-        lasts,
         tuple(results),
         time.perf_counter() - began,
         tuple(reused),
     )
+
+
+#: Lap ticks per slice when the exposure of a long lap is counted.
+EXPOSURE_SLICE = 256
+
+
+def _exposure(table: ViewTable, patrol: Patrol, cells: int) -> np.ndarray:
+    """``float64 (cells,)``: the share of the lap each cell is in some guard's view."""
+    counts = np.zeros(cells, dtype=np.int64)
+    for begin in range(0, patrol.ticks, EXPOSURE_SLICE):
+        counts += seen_timeline(table, patrol.states[:, begin : begin + EXPOSURE_SLICE], cells).sum(axis=0)
+    return counts / patrol.ticks
 
 
 def _loop_name(guards: int, planner: str) -> str:

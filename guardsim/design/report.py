@@ -25,6 +25,7 @@ import numpy as np
 
 from guardsim.design.analysis import Analysis, PairResult, Point, analyse
 from guardsim.design.measures import MAX_WAYS, GuardReadability, distinct_ways, path_distance_risk, readability
+from guardsim.grid import cell_of_state
 from guardsim.level import Level
 from guardsim.patrol import Patrol
 
@@ -118,10 +119,12 @@ def _pair_report(analysis: Analysis, pair: PairResult, ways: bool) -> PairReport
     path, grade = result.path, result.grade
     reach = analysis.detection.view_range
     reach = reach if np.isfinite(reach) else 8 * analysis.scene.grid.cell_size
-    risk = path_distance_risk(analysis.scene.grid, analysis.gains.guard_cells, path.start_tick, path.cells, reach)
+    guard_cells = np.asarray(cell_of_state(analysis.patrol.states))
+    risk = path_distance_risk(analysis.scene.grid, guard_cells, path.start_tick, path.cells, reach)
     count = 0
-    if ways and result.found and pair.source_cell is not None and pair.target_cell is not None:
-        count = len(distinct_ways(analysis.scene.grid, analysis.gains, pair.source_cell, pair.target_cell, path.cells))
+    gains = analysis.gains
+    if ways and result.found and gains is not None and pair.source_cell is not None and pair.target_cell is not None:
+        count = len(distinct_ways(analysis.scene.grid, gains, pair.source_cell, pair.target_cell, path.cells))
     return PairReport(
         pair.source, pair.target, pair.outcome, path.ticks, result.slack, period, grade.peak, grade.risk, risk, count
     )
