@@ -147,8 +147,10 @@ class LiveAnalyser:
         level = load_any(self.path)[0]
         self._check(generation)
 
-        def step(_line: str) -> None:
+        def step(line: str) -> None:
             self._check(generation)
+            # A long analysis (a big map) is not silent: each step is a line.
+            self.echo(f"analysing: {line}")
 
         analysis = analyse(
             level,

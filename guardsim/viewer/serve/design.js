@@ -142,7 +142,6 @@ if (LIVE) {
     error.textContent = f.message;
     error.dataset.number = f.number;
   });
-  events.addEventListener("working", (e) => { document.getElementById("status").dataset.working = e.data; });
 } else {
   const diffData = JSON.parse(document.getElementById("diff-data").textContent);
   show(JSON.parse(document.getElementById("payloads").textContent), diffData);
