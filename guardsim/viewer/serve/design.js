@@ -28,6 +28,11 @@ function drawCells(ctx, p, s, colour) {
   ctx.putImageData(image, 0, 0);
 }
 
+function layer() {
+  const choice = document.getElementById("layer");
+  return choice ? choice.value : "exposure";
+}
+
 function drawAnalysis(canvas, p) {
   const s = scaleOf(p), [rows, cols] = p.shape;
   canvas.width = cols * s; canvas.height = rows * s;
@@ -35,8 +40,15 @@ function drawAnalysis(canvas, p) {
   const ctx = canvas.getContext("2d");
   const kinds = bytes(p.kinds), exposure = bytes(p.exposure);
   const hot = [214, 40, 40], safe = [150, 214, 160];
-  drawCells(ctx, p, s, (i) => kinds[i] === 0 ? C.wall : kinds[i] === 2 ? C.unreachable
-    : exposure[i] === 0 ? safe : mix(C.free, hot, exposure[i] / 100));
+  if (layer() === "idleness") {
+    // Each cell's worst gap (ticks unwatched in a row) over the lap: dark blue the longest; never watched, safe green.
+    const gap = new Int32Array(bytes(p.worst_gap).buffer);
+    drawCells(ctx, p, s, (i) => kinds[i] === 0 ? C.wall : kinds[i] === 2 ? C.unreachable
+      : gap[i] < 0 ? safe : mix(C.free, C.unseen, gap[i] / p.period));
+  } else {
+    drawCells(ctx, p, s, (i) => kinds[i] === 0 ? C.wall : kinds[i] === 2 ? C.unreachable
+      : exposure[i] === 0 ? safe : mix(C.free, hot, exposure[i] / 100));
+  }
   const centre = (cell) => [(cell[0] + 0.5) * s, (cell[1] + 0.5) * s];
   const line = (cells, colour, width) => {
     if (cells.length < 2) return;
@@ -107,6 +119,7 @@ function figure(caption, id) {
 }
 
 function show(payloads, diff) {
+  shown = [payloads, diff];
   document.getElementById("views").innerHTML = "";
   if (payloads.length === 2) {
     drawAnalysis(figure("before: " + payloads[0].level, "before"), payloads[0]);
@@ -120,9 +133,9 @@ function show(payloads, diff) {
   document.getElementById("report").innerHTML = reportHtml(p);
 }
 
-let analyses = 0;
+let shown = null;
+document.getElementById("layer").addEventListener("change", () => { if (shown) show(...shown); });
 function showLive(p) {
-  analyses += 1;
   show([p], null);
   const reused = p.reused.length ? `, reused ${p.reused.join(" and ")}` : "";
   const status = document.getElementById("status");
