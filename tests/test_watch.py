@@ -222,3 +222,33 @@ def test_the_page_follows_real_tiled_re_exporting_a_map(tmp_path: Path) -> None:
         if page is not None:
             page.close()
         assert watch.stop() == 0
+
+
+TILESET = """<?xml version="1.0" encoding="UTF-8"?>
+<tileset version="1.8" name="t" tilewidth="16" tileheight="16" tilecount="2" columns="2">
+ <tile id="1"><properties><property name="collision" type="bool" value="true"/></properties></tile>
+</tileset>
+"""
+
+
+@pytest.mark.slow
+def test_a_map_whose_tileset_is_saved_after_it(tmp_path: Path) -> None:
+    """The map is saved first, naming a tileset not there yet: the analysis warns that the tileset was
+    not found (its walls are missing); the tileset's save then brings a new analysis, without the warning."""
+    inline = '<tileset firstgid="1" name="t" tilewidth="16" tileheight="16" tilecount="2" columns="2">'
+    text = ROOM_TMX.replace("PILLAR", "2")
+    start, end = text.index(inline), text.index("</tileset>") + len("</tileset>")
+    (tmp_path / "room.tmx").write_text(text[:start] + '<tileset firstgid="1" source="t.tsx"/>' + text[end:])
+    watch = Watch(tmp_path, "room.tmx")
+    try:
+        watch.wait_line("analysis 1:")
+        assert any("warning: room.tmx:" in line and "'t.tsx' not found" in line for line in watch.lines())
+        save(tmp_path / "t.tsx", TILESET)
+        # The warnings of analysis 2 would come between its line and its report's step.
+        watch.wait_line("counting the distinct ways", count=2)
+        lines = watch.lines()
+        after = lines[next(k for k, line in enumerate(lines) if "analysis 2:" in line) :]
+        assert not any("t.tsx" in line for line in after)
+    finally:
+        assert watch.stop() == 0
+    assert "Traceback" not in watch.out.read_text()

@@ -144,7 +144,9 @@ class LiveAnalyser:
         from guardsim.viewer.serve.payload import analysis_payload
 
         began = time.perf_counter()
-        level = load_any(self.path)[0]
+        level, imported = load_any(self.path)
+        # What the import says is probably not what the author drew (a tileset not saved yet, no walls).
+        warnings = [" ".join(warning.split()) for warning in (imported.warnings if imported is not None else ())]
         self._check(generation)
 
         def step(line: str) -> None:
@@ -164,7 +166,7 @@ class LiveAnalyser:
         )
         self._check(generation)
         number = self.analyses + 1
-        header = {"number": number, "file": os.path.basename(self.path)}
+        header = {"number": number, "file": os.path.basename(self.path), "warnings": warnings}
         fast = report_data(report_of(analysis, ways=False))
         fast["provisional"] = True
         for pair in fast["pairs"]:
@@ -194,6 +196,8 @@ class LiveAnalyser:
             if payload["phase"] == "analysis":
                 reused = f", reused {' and '.join(payload['reused'])}" if payload["reused"] else ""
                 self.echo(f"analysis {payload['number']}: {payload['seconds']:.2f} s{reused}")
+                for warning in payload["warnings"]:
+                    self.echo(f"warning: {payload['file']}: {warning}")
 
         try:
             await asyncio.to_thread(self.analyse_now, generation, publish)

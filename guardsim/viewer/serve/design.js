@@ -142,6 +142,7 @@ function showLive(p) {
   status.textContent = `analysis ${p.number} of ${p.file}: took ${p.seconds.toFixed(2)} s${reused}`;
   status.dataset.number = p.number;
   status.dataset.phase = p.phase;
+  document.getElementById("warnings").textContent = p.warnings.map((w) => `warning: ${w}`).join("\n");
   // When this analysis was drawn (ms since the epoch): the latency benchmark reads it.
   status.dataset.shownAt = Date.now();
 }
