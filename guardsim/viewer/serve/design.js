@@ -59,7 +59,12 @@ function drawAnalysis(canvas, p) {
   p.routes.forEach((route, g) => {
     const colour = g === 0 ? C.guard : PALETTE.guards[(g - 1) % PALETTE.guards.length];
     line(route, rgb(colour), Math.max(1, s / 3));
-    if (route.length) { const [x, y] = centre(route[0]); ctx.fillStyle = rgb(colour); ctx.fillRect(x - s, y - s, 2 * s, 2 * s); }
+    if (route.length) {
+      // The start of the lap: the guard's colour, outlined so that it shows on watched (red) floor.
+      const [x, y] = centre(route[0]);
+      ctx.fillStyle = rgb(colour); ctx.fillRect(x - s / 2, y - s / 2, s, s);
+      ctx.strokeStyle = rgb(C.outline); ctx.lineWidth = Math.max(1, s / 6); ctx.strokeRect(x - s / 2, y - s / 2, s, s);
+    }
   });
   const toCell = (point) => [Math.floor((point[0] - p.origin[0]) / p.cell_size), Math.floor((point[1] - p.origin[1]) / p.cell_size)];
   for (const pair of p.pairs) {
@@ -78,12 +83,16 @@ function drawAnalysis(canvas, p) {
 
 function drawDifference(canvas, a, b) {
   // Exposure after minus before: red where the edit watches more, blue where less; cells added green,
-  // removed purple (on the old grid's cells; the grids must match in shape).
+  // removed purple; safe spots lost yellow, gained teal (the grids must match in shape).
   const s = scaleOf(b), [rows, cols] = b.shape;
   canvas.width = cols * s; canvas.height = rows * s;
   const ctx = canvas.getContext("2d");
   const ka = bytes(a.kinds), kb = bytes(b.kinds), ea = bytes(a.exposure), eb = bytes(b.exposure);
+  // The same colours, in the same order, as the diff picture (guardsim.render.diff).
+  const safeA = (i) => ka[i] === 1 && ea[i] === 0, safeB = (i) => kb[i] === 1 && eb[i] === 0;
   drawCells(ctx, b, s, (i) => {
+    if (safeB(i) && !safeA(i)) return [0, 150, 150];
+    if (safeA(i) && !safeB(i)) return [255, 196, 40];
     if (ka[i] === 0 && kb[i] === 0) return C.wall;
     if (ka[i] === 0) return [60, 170, 80];
     if (kb[i] === 0) return [140, 84, 162];
