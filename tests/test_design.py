@@ -227,3 +227,37 @@ def test_a_lap_over_the_sneak_limit_is_unchecked_and_its_exposure_counted_in_sli
     assert sliced.pairs[0].outcome == "unchecked" and "not checked" in sliced.pairs[0].note
     found = report_of(sliced)
     assert "caught" not in found.parts and found.pairs[0].outcome == "unchecked"
+
+
+@pytest.mark.slow
+@pytest.mark.skipif(shutil.which("chromium") is None, reason="no chromium on PATH: apt-get install -y chromium")
+def test_the_report_and_diff_pages_draw_in_chromium(versions, tmp_path: Path) -> None:
+    """Real headless Chromium: the report page shows the score of report.json and draws the level; the
+    diff page draws both versions and their difference."""
+    import subprocess
+
+    old, new, post = versions
+    runner = CliRunner()
+    data, page, diff_page = tmp_path / "r.json", tmp_path / "r.html", tmp_path / "d.html"
+    args = ["report", str(old), "--patrol", str(post), *PAIR_ARGS, "--json", str(data), "--html", str(page)]
+    assert runner.invoke(main, args).exit_code == 0
+    args = ["diff", str(old), str(new), "--patrol-old", str(post), "--patrol-new", str(post), *PAIR_ARGS]
+    assert runner.invoke(main, [*args, "--html", str(diff_page)]).exit_code == 0
+
+    def dom(path: Path) -> str:
+        done = subprocess.run(
+            ["chromium", "--headless", "--no-sandbox", "--disable-gpu", f"--user-data-dir={tmp_path / 'profile'}",
+             "--virtual-time-budget=3000", "--dump-dom", path.as_uri()],
+            capture_output=True, text=True, timeout=120,
+        )  # fmt: skip
+        assert done.returncode == 0, done.stderr[-2000:]
+        return done.stdout
+
+    shown = dom(page)
+    assert f'<span id="score">{json.loads(data.read_text())["score"]}</span>' in shown
+    assert re.search(r'<canvas id="level" width="(\d+)"', shown) is not None
+    shown = dom(diff_page)
+    for name in ("before", "after", "difference"):
+        found = re.search(rf'<canvas id="{name}" width="(\d+)" height="(\d+)"', shown)
+        assert found is not None and int(found.group(1)) > 0, name
+    assert 'id="safe-lost">4</span>' in shown
