@@ -261,3 +261,19 @@ def test_the_report_and_diff_pages_draw_in_chromium(versions, tmp_path: Path) ->
         found = re.search(rf'<canvas id="{name}" width="(\d+)" height="(\d+)"', shown)
         assert found is not None and int(found.group(1)) > 0, name
     assert 'id="safe-lost">4</span>' in shown
+
+
+def test_an_edit_reuses_the_sight_away_from_it_and_changes_nothing_else() -> None:
+    """Re-analysing the moved wall from the old analysis: the view table is reused away from the edit
+    and equals the one built whole, and every result equals a fresh analysis's."""
+    from guardsim.vision.table import build_view_table
+
+    old, new = parse_level(OLD), parse_level(NEW)
+    post = parse_patrol(POST, guardsim.Scene.from_level(new).grid)
+    fresh = analyse(new, patrol=post, pairs=PAIR)
+    again = analyse(new, patrol=post, pairs=PAIR, reuse=analyse(old, patrol=post, pairs=PAIR))
+    assert again.reused == ("sight away from the edit",) and fresh.reused == ()
+    whole = build_view_table(fresh.scene.grid, fresh.scene.vision())
+    assert all(np.array_equal(a, b) for a, b in zip(again.table, whole))
+    assert np.array_equal(again.exposure, fresh.exposure) and again.pairs[0].outcome == fresh.pairs[0].outcome
+    assert np.array_equal(again.pairs[0].sneak.path.cells, fresh.pairs[0].sneak.path.cells)

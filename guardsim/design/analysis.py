@@ -3,8 +3,9 @@
 :func:`analyse` builds the scene and its view table, reads or plans the patrol, scores its idleness,
 applies the detection model (exposure, time to detection) and runs the sneak check for each entry-goal
 pair. Given the analysis of an earlier version of the level (``reuse``), it keeps what the edit left
-valid: the scene and view table when the walls, the grid and the guards' sight did not change, and the
-planned patrol when, in addition, the guards' start and team did not.
+valid: the scene and view table when the walls, the grid and the guards' sight did not change (else the
+view table of every state out of reach of the edit, :mod:`guardsim.design.reuse`), and the planned
+patrol when, in addition, the guards' start and team did not.
 """
 
 from __future__ import annotations
@@ -16,6 +17,7 @@ from typing import NamedTuple
 
 import numpy as np
 
+from guardsim.design.reuse import reused_view_table
 from guardsim.detection import GuardDetection, PatrolGains, exposure_map, patrol_gains
 from guardsim.errors import LimitError, PatrolError
 from guardsim.kernels.distances import FAR, distances_from
@@ -88,7 +90,7 @@ class Analysis(NamedTuple):
     seconds: float
     """Wall time of this analysis."""
     reused: tuple[str, ...] = ()
-    """What was taken from the earlier analysis (``scene``, ``patrol``)."""
+    """What was taken from the earlier analysis (``scene``, ``patrol``, ``sight away from the edit``)."""
 
     @property
     def safe(self) -> np.ndarray:
@@ -201,7 +203,12 @@ def analyse(
     else:
         tell("building the scene and its view table")
         scene = Scene.from_level(level)
-        table = view_table(scene.grid, scene.vision())
+        kept = None if reuse is None else reused_view_table(reuse.scene, reuse.table, scene)
+        if kept is not None:
+            table = kept
+            reused.append("sight away from the edit")
+        else:
+            table = view_table(scene.grid, scene.vision())
     rng, cell, heading = episode_start(scene, seed=seed)
     goal = scene.grid.component(*cell).ravel()
     if isinstance(patrol, Patrol):
