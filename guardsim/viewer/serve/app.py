@@ -303,15 +303,15 @@ async def _serve(analyser: LiveAnalyser, sock: socket.socket, title: str, open_b
     def analyse() -> None:
         nonlocal work
         analyser.saved()
+        generation = analyser.generation
 
         async def follow(previous: asyncio.Task[None] | None) -> None:
+            # One analysis at a time (each reuses the one before); a newer save supersedes this one.
             if previous is not None:
                 await previous
-            # Only the newest save is analysed: an older one waiting here has been superseded.
             if generation == analyser.generation:
                 await analyser.run()
 
-        generation = analyser.generation + 0
         work = asyncio.create_task(follow(work))
 
     async def watching() -> None:
