@@ -11,10 +11,13 @@ one), then saves the file ``--saves`` times, alternating two edits:
 
 Latency is the time from the save (the rename onto the file, as editors save) until the page has drawn
 the new analysis (the page stamps the time it drew it); the server's own analysis time is shown beside.
-Prints a Markdown table and the median per edit.
+Prints a Markdown table and the median per edit. ``--cpu`` instead times the analysis itself in this
+process (processor seconds, so a busy machine does not change it): what a save costs on an idle machine,
+before the page is sent it.
 
     python benchmarks/watch_latency.py                                   # levels/mgs_docks.json, 60 x 60
     python benchmarks/watch_latency.py ../shared/maps/movingai/Berlin_1_256.map --saves 3 --timeout 600
+    python benchmarks/watch_latency.py --cpu
 """
 
 from __future__ import annotations
@@ -77,13 +80,44 @@ def _edits(path: Path) -> list[tuple[str, str]]:
     return [("walls", "\n".join(toggled) + "\n"), ("walls", text)]
 
 
+def cpu(path: str, saves: int) -> None:
+    """Processor seconds of one analysis (with its first report and the page's JSON) per edit of a level."""
+    import dataclasses
+
+    from guardsim.design import analyse, report_data, report_of
+    from guardsim.importers import load_any
+    from guardsim.viewer.serve import analysis_payload
+
+    level = load_any(path)[0]
+    moved = dataclasses.replace(
+        level, holes=(tuple((x + level.cell_size, y) for x, y in level.holes[0]), *level.holes[1:])
+    )
+    keyed = dataclasses.replace(level, guard=dataclasses.replace(level.guard, detect_far=1.0))
+    base = analyse(level, planner="cover")
+    for kind, edited in (("walls", moved), ("keys", keyed)):
+        spent = []
+        for _ in range(saves):
+            began = time.process_time()
+            analysis = analyse(edited, planner="cover", reuse=base)
+            json.dumps(analysis_payload(analysis, report_data(report_of(analysis, ways=False))))
+            spent.append(time.process_time() - began)
+        reused = " and ".join(analysis.reused) or "nothing"
+        print(
+            f"{level.name}, {kind}: median {statistics.median(spent):.2f} s, least {min(spent):.2f} s of processor time (reused {reused})"
+        )
+
+
 def main() -> None:
     parser = argparse.ArgumentParser(description=__doc__.split("\n")[0])
     parser.add_argument("level", nargs="?", default=str(REPO / "levels/mgs_docks.json"))
     parser.add_argument("--saves", type=int, default=8)
     parser.add_argument("--guards", type=int, default=1)
     parser.add_argument("--timeout", type=float, default=120.0, help="Seconds to wait for one analysis.")
+    parser.add_argument("--cpu", action="store_true", help="Time the analysis alone, in this process.")
     args = parser.parse_args()
+    if args.cpu:
+        cpu(args.level, args.saves)
+        return
     if CHROMIUM is None:
         sys.exit("no chromium on PATH: apt-get install -y chromium")
     folder = Path(tempfile.mkdtemp(prefix="watch-latency-"))

@@ -200,3 +200,80 @@ def test_report_ranks_the_shipped_levels() -> None:
     }
     assert all(0 <= score <= 100 for score in scores.values())
     assert max(scores["square"], scores["passages"]) <= min(scores["mgs_docks"], scores["king_snurre"])
+
+
+def test_a_lap_over_the_sneak_limit_is_unchecked_and_its_exposure_counted_in_slices(monkeypatch) -> None:
+    """Over the size limit the pairs are 'unchecked' (no failed analysis), the exposure counted a slice of
+    the lap at a time equals the one from the detection model's gains, and the report leaves the pair's
+    parts out of the score."""
+    import guardsim.design.analysis as analysis_module
+    import guardsim.sneak as sneak_module
+
+    level = parse_level(NEW)
+    post = parse_patrol(
+        {
+            "shape": [9, 20],
+            "guards": [{"loop": [[13, 6], [14, 6], [15, 6], [14, 6], [13, 6]], "headings": [2, 0, 0, 2, 2]}],
+        },
+        guardsim.Scene.from_level(level).grid,
+    )
+    whole = analyse(level, patrol=post, pairs=PAIR)
+    monkeypatch.setattr(analysis_module, "MAX_SNEAK_NODES", 10)
+    monkeypatch.setattr(analysis_module, "EXPOSURE_SLICE", 3)
+    monkeypatch.setattr(sneak_module, "MAX_SNEAK_NODES", 10)
+    sliced = analyse(level, patrol=post, pairs=PAIR)
+    assert sliced.gains is None and whole.gains is not None
+    assert np.array_equal(sliced.exposure, whole.exposure)
+    assert sliced.pairs[0].outcome == "unchecked" and "not checked" in sliced.pairs[0].note
+    found = report_of(sliced)
+    assert "caught" not in found.parts and found.pairs[0].outcome == "unchecked"
+
+
+@pytest.mark.slow
+@pytest.mark.skipif(shutil.which("chromium") is None, reason="no chromium on PATH: apt-get install -y chromium")
+def test_the_report_and_diff_pages_draw_in_chromium(versions, tmp_path: Path) -> None:
+    """Real headless Chromium: the report page shows the score of report.json and draws the level; the
+    diff page draws both versions and their difference."""
+    import subprocess
+
+    old, new, post = versions
+    runner = CliRunner()
+    data, page, diff_page = tmp_path / "r.json", tmp_path / "r.html", tmp_path / "d.html"
+    args = ["report", str(old), "--patrol", str(post), *PAIR_ARGS, "--json", str(data), "--html", str(page)]
+    assert runner.invoke(main, args).exit_code == 0
+    args = ["diff", str(old), str(new), "--patrol-old", str(post), "--patrol-new", str(post), *PAIR_ARGS]
+    assert runner.invoke(main, [*args, "--html", str(diff_page)]).exit_code == 0
+
+    def dom(path: Path) -> str:
+        done = subprocess.run(
+            ["chromium", "--headless", "--no-sandbox", "--disable-gpu", f"--user-data-dir={tmp_path / 'profile'}",
+             "--virtual-time-budget=3000", "--dump-dom", path.as_uri()],
+            capture_output=True, text=True, timeout=120,
+        )  # fmt: skip
+        assert done.returncode == 0, done.stderr[-2000:]
+        return done.stdout
+
+    shown = dom(page)
+    assert f'<span id="score">{json.loads(data.read_text())["score"]}</span>' in shown
+    assert re.search(r'<canvas id="level" width="(\d+)"', shown) is not None
+    shown = dom(diff_page)
+    for name in ("before", "after", "difference"):
+        found = re.search(rf'<canvas id="{name}" width="(\d+)" height="(\d+)"', shown)
+        assert found is not None and int(found.group(1)) > 0, name
+    assert 'id="safe-lost">4</span>' in shown
+
+
+def test_an_edit_reuses_the_sight_away_from_it_and_changes_nothing_else() -> None:
+    """Re-analysing the moved wall from the old analysis: the view table is reused away from the edit
+    and equals the one built whole, and every result equals a fresh analysis's."""
+    from guardsim.vision.table import build_view_table
+
+    old, new = parse_level(OLD), parse_level(NEW)
+    post = parse_patrol(POST, guardsim.Scene.from_level(new).grid)
+    fresh = analyse(new, patrol=post, pairs=PAIR)
+    again = analyse(new, patrol=post, pairs=PAIR, reuse=analyse(old, patrol=post, pairs=PAIR))
+    assert again.reused == ("sight away from the edit",) and fresh.reused == ()
+    whole = build_view_table(fresh.scene.grid, fresh.scene.vision())
+    assert all(np.array_equal(a, b) for a, b in zip(again.table, whole))
+    assert np.array_equal(again.exposure, fresh.exposure) and again.pairs[0].outcome == fresh.pairs[0].outcome
+    assert np.array_equal(again.pairs[0].sneak.path.cells, fresh.pairs[0].sneak.path.cells)

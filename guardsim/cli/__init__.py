@@ -44,7 +44,11 @@ COMMANDS: dict[str, tuple[str, str, str]] = {
     "play": ("guardsim.cli.play", "play", "Walk a guard over LEVEL until it has seen every reachable cell."),
     "regress": ("guardsim.cli.regress", "regress", "Re-play levels and compare them with stored references."),
     "render": ("guardsim.cli.render", "render", "Draw a level preview as a PNG."),
-    "report": ("guardsim.cli.report", "report", "How hard LEVEL is: sneak measures, patrol readability, a 0-100 score."),
+    "report": (
+        "guardsim.cli.report",
+        "report",
+        "How hard LEVEL is: sneak measures, patrol readability, a 0-100 score.",
+    ),
     "diff": ("guardsim.cli.diff", "diff", "What an edit changed: two versions of a level compared, with a picture."),
     "watch": ("guardsim.cli.watch", "watch", "A live page of LEVEL's analysis, redrawn on each save."),
     "schema": ("guardsim.cli.schema", "schema", "Print the level format's JSON Schema."),

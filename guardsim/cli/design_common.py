@@ -10,7 +10,7 @@ import click
 from guardsim.cli.common import parse_point
 from guardsim.errors import GuardsimError
 
-__all__ = ["pair_options", "pairs_of", "progress_line"]
+__all__ = ["guards_option", "pair_options", "pairs_of", "progress_line"]
 
 F = TypeVar("F", bound=Callable[..., Any])
 Point = tuple[float, float]
@@ -18,6 +18,17 @@ Point = tuple[float, float]
 
 def _each_point(ctx: click.Context, param: click.Parameter, values: tuple[str, ...]) -> tuple[Point, ...]:
     return tuple(point for point in (parse_point(ctx, param, value) for value in values) if point is not None)
+
+
+def guards_option(command: F) -> F:
+    """``--guards K``: the team size of the loop patrol made when no patrol file is given."""
+    return click.option(
+        "--guards",
+        type=click.IntRange(min=1, max=64),
+        default=1,
+        show_default=True,
+        help="Team size of the loop patrol made without a patrol file.",
+    )(command)
 
 
 def pair_options(command: F) -> F:

@@ -7,7 +7,7 @@ import json
 import click
 
 from guardsim.cli.common import limit_options, load, reports_errors
-from guardsim.cli.design_common import pair_options, pairs_of, progress_line
+from guardsim.cli.design_common import guards_option, pair_options, pairs_of, progress_line
 from guardsim.cli.map_options import MapImport, map_options
 
 __all__ = ["diff"]
@@ -24,13 +24,7 @@ def _pair(values: list) -> str:
 @click.argument("new_path", metavar="NEW")
 @click.option("--patrol-old", type=str, help="The old version's patrol.json (give --patrol-new too).")
 @click.option("--patrol-new", type=str, help="The new version's patrol.json.")
-@click.option(
-    "--guards",
-    type=click.IntRange(min=1, max=64),
-    default=1,
-    show_default=True,
-    help="Team size of the loop patrols made without patrol files.",
-)
+@guards_option
 @pair_options
 @click.option("--seed", type=click.IntRange(min=0), default=0, show_default=True)
 @click.option("--png", "png_path", type=str, help="Write the picture: before, after and their difference.")

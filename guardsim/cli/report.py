@@ -7,7 +7,7 @@ import json
 import click
 
 from guardsim.cli.common import limit_options, load, reports_errors
-from guardsim.cli.design_common import pair_options, pairs_of, progress_line
+from guardsim.cli.design_common import guards_option, pair_options, pairs_of, progress_line
 from guardsim.cli.map_options import MapImport, map_options
 
 __all__ = ["report"]
@@ -16,13 +16,7 @@ __all__ = ["report"]
 @click.command()
 @click.argument("level_path", metavar="LEVEL")
 @click.option("--patrol", "patrol_path", type=str, help="patrol.json [default: the loop patrol of --guards guards].")
-@click.option(
-    "--guards",
-    type=click.IntRange(min=1, max=64),
-    default=1,
-    show_default=True,
-    help="Team size of the loop patrol made without --patrol.",
-)
+@guards_option
 @pair_options
 @click.option(
     "--alert", "alert", type=click.IntRange(min=0), default=0, help="Run N seeded alert episodes for the capture rate."

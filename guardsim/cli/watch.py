@@ -5,7 +5,7 @@ from __future__ import annotations
 import click
 
 from guardsim.cli.common import reports_errors
-from guardsim.cli.design_common import pair_options, pairs_of, progress_line
+from guardsim.cli.design_common import guards_option, pair_options, pairs_of, progress_line
 
 __all__ = ["watch"]
 
@@ -18,13 +18,7 @@ __all__ = ["watch"]
     type=str,
     help="patrol.json, re-read on each save [default: the loop patrol of --guards guards].",
 )
-@click.option(
-    "--guards",
-    type=click.IntRange(min=1, max=64),
-    default=1,
-    show_default=True,
-    help="Team size of the loop patrol made without --patrol.",
-)
+@guards_option
 @pair_options
 @click.option(
     "--host", default="127.0.0.1", show_default=True, help="Address to listen on (this machine only by default)."

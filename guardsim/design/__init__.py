@@ -4,6 +4,7 @@ and the analysis both read (:func:`analyse`), which ``guardsim watch`` recompute
 - :mod:`~guardsim.design.analysis`: the level, its patrol, exposure and the sneak check of each pair.
 - :mod:`~guardsim.design.measures`: path-distance risk, distinct ways through, patrol readability.
 - :mod:`~guardsim.design.report`: the difficulty report and its 0-100 score.
+- :mod:`~guardsim.design.reuse`: the view table of an edited level, rebuilt only near the edit.
 - :mod:`~guardsim.design.diff`: two versions compared, and the margins of ``check --baseline``.
 
 See ``docs/design.md``.

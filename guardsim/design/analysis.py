@@ -3,8 +3,9 @@
 :func:`analyse` builds the scene and its view table, reads or plans the patrol, scores its idleness,
 applies the detection model (exposure, time to detection) and runs the sneak check for each entry-goal
 pair. Given the analysis of an earlier version of the level (``reuse``), it keeps what the edit left
-valid: the scene and view table when the walls, the grid and the guards' sight did not change, and the
-planned patrol when, in addition, the guards' start and team did not.
+valid: the scene and view table when the walls, the grid and the guards' sight did not change (else the
+view table of every state out of reach of the edit, :mod:`guardsim.design.reuse`), and the planned
+patrol when, in addition, the guards' start and team did not.
 """
 
 from __future__ import annotations
@@ -16,13 +17,14 @@ from typing import NamedTuple
 
 import numpy as np
 
-from guardsim.detection import GuardDetection, PatrolGains, exposure_map, patrol_gains, time_to_detection
+from guardsim.design.reuse import reused_view_table
+from guardsim.detection import GuardDetection, PatrolGains, exposure_map, patrol_gains
 from guardsim.errors import LimitError, PatrolError
 from guardsim.kernels.distances import FAR, distances_from
 from guardsim.level import Level
-from guardsim.patrol import Patrol, PatrolScore, PatrolSetup, plan_loop, read_patrol, score_patrol
+from guardsim.patrol import Patrol, PatrolScore, PatrolSetup, plan_loop, read_patrol, score_patrol, seen_timeline
 from guardsim.scene import Scene
-from guardsim.sneak import SneakResult, sneak_check
+from guardsim.sneak import MAX_SNEAK_NODES, SneakResult, sneak_check
 from guardsim.starts import episode_start, team_starts
 from guardsim.vision.table import ViewTable, view_table
 
@@ -79,16 +81,16 @@ class Analysis(NamedTuple):
     """``bool (cells,)``: the floor the guards patrol (reachable from the guard's start)."""
     idleness: PatrolScore
     detection: GuardDetection
-    gains: PatrolGains
+    gains: PatrolGains | None
+    """The detection model applied to the lap; ``None`` when the lap times the cells is over the sneak
+    check's limit (:data:`guardsim.sneak.MAX_SNEAK_NODES`): its pairs are then ``unchecked``."""
     exposure: np.ndarray
     """``float64 (cells,)``: fraction of the lap each cell is in some guard's view."""
-    lasts: np.ndarray
-    """``int64 (cells,)``: ticks a player standing there lasts (-1 never detected, -2 no floor)."""
     pairs: tuple[PairResult, ...]
     seconds: float
     """Wall time of this analysis."""
     reused: tuple[str, ...] = ()
-    """What was taken from the earlier analysis (``scene``, ``patrol``)."""
+    """What was taken from the earlier analysis (``scene``, ``patrol``, ``sight away from the edit``)."""
 
     @property
     def safe(self) -> np.ndarray:
@@ -201,7 +203,12 @@ def analyse(
     else:
         tell("building the scene and its view table")
         scene = Scene.from_level(level)
-        table = view_table(scene.grid, scene.vision())
+        kept = None if reuse is None else reused_view_table(reuse.scene, reuse.table, scene)
+        if kept is not None:
+            table = kept
+            reused.append("sight away from the edit")
+        else:
+            table = view_table(scene.grid, scene.vision())
     rng, cell, heading = episode_start(scene, seed=seed)
     goal = scene.grid.component(*cell).ravel()
     if isinstance(patrol, Patrol):
@@ -227,9 +234,15 @@ def analyse(
     idleness = score_patrol(table, chosen, goal)
     detection = GuardDetection.of_level(level)
     grid = scene.grid
-    gains = patrol_gains(grid, table, chosen.states, detection.model, view_range=detection.view_range, dt=detection.dt)
-    exposure = exposure_map(gains)
-    lasts = time_to_detection(gains, grid.traversable)
+    if chosen.period * grid.size <= MAX_SNEAK_NODES:
+        found = patrol_gains(
+            grid, table, chosen.states, detection.model, view_range=detection.view_range, dt=detection.dt
+        )
+        gains: PatrolGains | None = found
+        exposure = exposure_map(found)
+    else:
+        # A lap too long to hold as one (ticks, cells) array: the exposure is counted a slice of it at a time.
+        gains, exposure = None, _exposure(table, chosen, grid.size)
     asked = default_pairs(scene, goal) if pairs is None else tuple(pairs)
     results = []
     for source_point, target_point in asked:
@@ -246,11 +259,22 @@ def analyse(
         detection,
         gains,
         exposure,
-        lasts,
         tuple(results),
         time.perf_counter() - began,
         tuple(reused),
     )
+
+
+#: Lap ticks per slice when the exposure of a long lap is counted.
+EXPOSURE_SLICE = 256
+
+
+def _exposure(table: ViewTable, patrol: Patrol, cells: int) -> np.ndarray:
+    """``float64 (cells,)``: the share of the lap each cell is in some guard's view."""
+    counts = np.zeros(cells, dtype=np.int64)
+    for begin in range(0, patrol.ticks, EXPOSURE_SLICE):
+        counts += seen_timeline(table, patrol.states[:, begin : begin + EXPOSURE_SLICE], cells).sum(axis=0)
+    return counts / patrol.ticks
 
 
 def _loop_name(guards: int, planner: str) -> str:

@@ -101,9 +101,10 @@ def diff(
 
     Examples
     --------
-    >>> import guardsim
-    >>> level = guardsim.load_level("levels/passages.json")
-    >>> same = guardsim.diff(level, level, pairs=[((2.5, 2.5), (57.5, 57.5))])
+    >>> from guardsim.level import parse_level
+    >>> level = parse_level({"outer": [[0, 0], [16, 0], [16, 10], [0, 10]], "holes": [[[6, 3], [10, 3], [10, 7], [6, 7]]],
+    ...                      "guard": {"start": [8.5, 1.5], "view_range": 4}})
+    >>> same = diff(level, level, pairs=[((0.5, 5.5), (15.5, 5.5))])
     >>> same.cells_added, same.cells_removed, same.safe_lost, same.pairs[0].outcome_changed
     (0, 0, (), False)
     """

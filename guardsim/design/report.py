@@ -25,6 +25,7 @@ import numpy as np
 
 from guardsim.design.analysis import Analysis, PairResult, Point, analyse
 from guardsim.design.measures import MAX_WAYS, GuardReadability, distinct_ways, path_distance_risk, readability
+from guardsim.grid import cell_of_state
 from guardsim.level import Level
 from guardsim.patrol import Patrol
 
@@ -118,10 +119,12 @@ def _pair_report(analysis: Analysis, pair: PairResult, ways: bool) -> PairReport
     path, grade = result.path, result.grade
     reach = analysis.detection.view_range
     reach = reach if np.isfinite(reach) else 8 * analysis.scene.grid.cell_size
-    risk = path_distance_risk(analysis.scene.grid, analysis.gains.guard_cells, path.start_tick, path.cells, reach)
+    guard_cells = np.asarray(cell_of_state(analysis.patrol.states))
+    risk = path_distance_risk(analysis.scene.grid, guard_cells, path.start_tick, path.cells, reach)
     count = 0
-    if ways and result.found and pair.source_cell is not None and pair.target_cell is not None:
-        count = len(distinct_ways(analysis.scene.grid, analysis.gains, pair.source_cell, pair.target_cell, path.cells))
+    gains = analysis.gains
+    if ways and result.found and gains is not None and pair.source_cell is not None and pair.target_cell is not None:
+        count = len(distinct_ways(analysis.scene.grid, gains, pair.source_cell, pair.target_cell, path.cells))
     return PairReport(
         pair.source, pair.target, pair.outcome, path.ticks, result.slack, period, grade.peak, grade.risk, risk, count
     )
@@ -212,10 +215,14 @@ def report(
 
     Examples
     --------
-    >>> import guardsim
-    >>> found = guardsim.report(guardsim.load_level("levels/passages.json"), pairs=[((2.5, 2.5), (57.5, 57.5))])
-    >>> found.pairs[0].outcome, found.score
-    ('unseen', 22)
+    A room with a pillar and one guard on its loop: the player gets round unseen, two ways (either side).
+
+    >>> from guardsim.level import parse_level
+    >>> room = parse_level({"outer": [[0, 0], [16, 0], [16, 10], [0, 10]], "holes": [[[6, 3], [10, 3], [10, 7], [6, 7]]],
+    ...                     "guard": {"start": [8.5, 1.5], "view_range": 4}})
+    >>> found = report(room, pairs=[((0.5, 5.5), (15.5, 5.5))])
+    >>> found.pairs[0].outcome, found.pairs[0].ways, found.score
+    ('unseen', 2, 19)
     """
     analysis = analyse(level, patrol=patrol, guards=guards, pairs=pairs, seed=seed, progress=progress)
     return report_of(analysis, alert=alert, seed=seed, progress=progress)

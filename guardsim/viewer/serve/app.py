@@ -144,11 +144,15 @@ class LiveAnalyser:
         from guardsim.viewer.serve.payload import analysis_payload
 
         began = time.perf_counter()
-        level = load_any(self.path)[0]
+        level, imported = load_any(self.path)
+        # What the import says is probably not what the author drew (a tileset not saved yet, no walls).
+        warnings = [" ".join(warning.split()) for warning in (imported.warnings if imported is not None else ())]
         self._check(generation)
 
-        def step(_line: str) -> None:
+        def step(line: str) -> None:
             self._check(generation)
+            # A long analysis (a big map) is not silent: each step is a line.
+            self.echo(f"analysing: {line}")
 
         analysis = analyse(
             level,
@@ -162,7 +166,7 @@ class LiveAnalyser:
         )
         self._check(generation)
         number = self.analyses + 1
-        header = {"number": number, "file": os.path.basename(self.path)}
+        header = {"number": number, "file": os.path.basename(self.path), "warnings": warnings}
         fast = report_data(report_of(analysis, ways=False))
         fast["provisional"] = True
         for pair in fast["pairs"]:
@@ -192,6 +196,8 @@ class LiveAnalyser:
             if payload["phase"] == "analysis":
                 reused = f", reused {' and '.join(payload['reused'])}" if payload["reused"] else ""
                 self.echo(f"analysis {payload['number']}: {payload['seconds']:.2f} s{reused}")
+                for warning in payload["warnings"]:
+                    self.echo(f"warning: {payload['file']}: {warning}")
 
         try:
             await asyncio.to_thread(self.analyse_now, generation, publish)
@@ -297,15 +303,15 @@ async def _serve(analyser: LiveAnalyser, sock: socket.socket, title: str, open_b
     def analyse() -> None:
         nonlocal work
         analyser.saved()
+        generation = analyser.generation
 
         async def follow(previous: asyncio.Task[None] | None) -> None:
+            # One analysis at a time (each reuses the one before); a newer save supersedes this one.
             if previous is not None:
                 await previous
-            # Only the newest save is analysed: an older one waiting here has been superseded.
             if generation == analyser.generation:
                 await analyser.run()
 
-        generation = analyser.generation + 0
         work = asyncio.create_task(follow(work))
 
     async def watching() -> None:

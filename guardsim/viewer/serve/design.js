@@ -28,6 +28,11 @@ function drawCells(ctx, p, s, colour) {
   ctx.putImageData(image, 0, 0);
 }
 
+function layer() {
+  const choice = document.getElementById("layer");
+  return choice ? choice.value : "exposure";
+}
+
 function drawAnalysis(canvas, p) {
   const s = scaleOf(p), [rows, cols] = p.shape;
   canvas.width = cols * s; canvas.height = rows * s;
@@ -35,8 +40,15 @@ function drawAnalysis(canvas, p) {
   const ctx = canvas.getContext("2d");
   const kinds = bytes(p.kinds), exposure = bytes(p.exposure);
   const hot = [214, 40, 40], safe = [150, 214, 160];
-  drawCells(ctx, p, s, (i) => kinds[i] === 0 ? C.wall : kinds[i] === 2 ? C.unreachable
-    : exposure[i] === 0 ? safe : mix(C.free, hot, exposure[i] / 100));
+  if (layer() === "idleness") {
+    // Each cell's worst gap (ticks unwatched in a row) over the lap: dark blue the longest; never watched, safe green.
+    const gap = new Int32Array(bytes(p.worst_gap).buffer);
+    drawCells(ctx, p, s, (i) => kinds[i] === 0 ? C.wall : kinds[i] === 2 ? C.unreachable
+      : gap[i] < 0 ? safe : mix(C.free, C.unseen, gap[i] / p.period));
+  } else {
+    drawCells(ctx, p, s, (i) => kinds[i] === 0 ? C.wall : kinds[i] === 2 ? C.unreachable
+      : exposure[i] === 0 ? safe : mix(C.free, hot, exposure[i] / 100));
+  }
   const centre = (cell) => [(cell[0] + 0.5) * s, (cell[1] + 0.5) * s];
   const line = (cells, colour, width) => {
     if (cells.length < 2) return;
@@ -47,7 +59,12 @@ function drawAnalysis(canvas, p) {
   p.routes.forEach((route, g) => {
     const colour = g === 0 ? C.guard : PALETTE.guards[(g - 1) % PALETTE.guards.length];
     line(route, rgb(colour), Math.max(1, s / 3));
-    if (route.length) { const [x, y] = centre(route[0]); ctx.fillStyle = rgb(colour); ctx.fillRect(x - s, y - s, 2 * s, 2 * s); }
+    if (route.length) {
+      // The start of the lap: the guard's colour, outlined so that it shows on watched (red) floor.
+      const [x, y] = centre(route[0]);
+      ctx.fillStyle = rgb(colour); ctx.fillRect(x - s / 2, y - s / 2, s, s);
+      ctx.strokeStyle = rgb(C.outline); ctx.lineWidth = Math.max(1, s / 6); ctx.strokeRect(x - s / 2, y - s / 2, s, s);
+    }
   });
   const toCell = (point) => [Math.floor((point[0] - p.origin[0]) / p.cell_size), Math.floor((point[1] - p.origin[1]) / p.cell_size)];
   for (const pair of p.pairs) {
@@ -66,12 +83,16 @@ function drawAnalysis(canvas, p) {
 
 function drawDifference(canvas, a, b) {
   // Exposure after minus before: red where the edit watches more, blue where less; cells added green,
-  // removed purple (on the old grid's cells; the grids must match in shape).
+  // removed purple; safe spots lost yellow, gained teal (the grids must match in shape).
   const s = scaleOf(b), [rows, cols] = b.shape;
   canvas.width = cols * s; canvas.height = rows * s;
   const ctx = canvas.getContext("2d");
   const ka = bytes(a.kinds), kb = bytes(b.kinds), ea = bytes(a.exposure), eb = bytes(b.exposure);
+  // The same colours, in the same order, as the diff picture (guardsim.render.diff).
+  const safeA = (i) => ka[i] === 1 && ea[i] === 0, safeB = (i) => kb[i] === 1 && eb[i] === 0;
   drawCells(ctx, b, s, (i) => {
+    if (safeB(i) && !safeA(i)) return [0, 150, 150];
+    if (safeA(i) && !safeB(i)) return [255, 196, 40];
     if (ka[i] === 0 && kb[i] === 0) return C.wall;
     if (ka[i] === 0) return [60, 170, 80];
     if (kb[i] === 0) return [140, 84, 162];
@@ -107,6 +128,7 @@ function figure(caption, id) {
 }
 
 function show(payloads, diff) {
+  shown = [payloads, diff];
   document.getElementById("views").innerHTML = "";
   if (payloads.length === 2) {
     drawAnalysis(figure("before: " + payloads[0].level, "before"), payloads[0]);
@@ -120,15 +142,16 @@ function show(payloads, diff) {
   document.getElementById("report").innerHTML = reportHtml(p);
 }
 
-let analyses = 0;
+let shown = null;
+document.getElementById("layer").addEventListener("change", () => { if (shown) show(...shown); });
 function showLive(p) {
-  analyses += 1;
   show([p], null);
   const reused = p.reused.length ? `, reused ${p.reused.join(" and ")}` : "";
   const status = document.getElementById("status");
   status.textContent = `analysis ${p.number} of ${p.file}: took ${p.seconds.toFixed(2)} s${reused}`;
   status.dataset.number = p.number;
   status.dataset.phase = p.phase;
+  document.getElementById("warnings").textContent = p.warnings.map((w) => `warning: ${w}`).join("\n");
   // When this analysis was drawn (ms since the epoch): the latency benchmark reads it.
   status.dataset.shownAt = Date.now();
 }
@@ -142,7 +165,6 @@ if (LIVE) {
     error.textContent = f.message;
     error.dataset.number = f.number;
   });
-  events.addEventListener("working", (e) => { document.getElementById("status").dataset.working = e.data; });
 } else {
   const diffData = JSON.parse(document.getElementById("diff-data").textContent);
   show(JSON.parse(document.getElementById("payloads").textContent), diffData);
