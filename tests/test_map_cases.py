@@ -81,7 +81,7 @@ def test_a_grid_that_cuts_a_passage_the_guard_fits_says_which_cell_size_keeps_it
     # forest_narrows.tmj: half-tile shapes above and below leave a one-tile gap the guard's circle
     # passes, but no cell centre there at cell size 1 (nor 0.5) clears its radius.
     path = CASES / "forest_narrows.tmj"
-    cells, imported = walkable(path)
+    _, imported = walkable(path)
     warning = next(w for w in imported.warnings if "guard's grid falls into" in w)  # type: ignore[attr-defined]
     assert "falls into 2 parts where its circle can move in 1" in warning and "--cell-size 0.25" in warning
     finer = import_map(path, cell_size=0.25)
