@@ -163,8 +163,8 @@ FINER_CELLS = (2, 4)
 def _grid_splits(level: Level, room: shapely.Geometry, parts: int) -> str:
     """A warning when the grid falls into more parts than the room the guard's centre can move in
     (``room``: the free area shrunk by its radius): a wall shape that leaves no room for the circle at a
-    cell's centre (a diagonal half tile on a path one tile wide) cuts the path. Names the finer cell size
-    that keeps the parts whole, if one of :data:`FINER_CELLS` does; ``""`` when the grid is whole."""
+    cell's centre (a diagonal half tile on a path one tile wide) cuts the path, and one of
+    :data:`FINER_CELLS` keeps the parts whole: it is named. ``""`` otherwise."""
     from guardsim.grid import build_grid
     from guardsim.world import World
 
@@ -173,16 +173,19 @@ def _grid_splits(level: Level, room: shapely.Geometry, parts: int) -> str:
         return ""
     size = level.cell_size
     rows, cols = level.grid_shape()
-    advice = "no cell size down to a quarter of it does (a passage narrower than the guard?)"
+    # Said only when a finer grid is the cure: other splits (slivers the sweep between cell centres
+    # cannot cross) are not a designer's to fix.
+    advice = ""
     for finer in FINER_CELLS:
         if rows * cols * finer * finer > FIT_CHECK_CELLS * 4:
-            advice = "a finer cell size may (the level is too large to try)"
             break
         trial = dataclasses.replace(level, cell_size=size / finer)
         found = int(build_grid(trial, World(trial)).component_labels.max(initial=-1)) + 1
         if found <= whole:
             advice = f"cell size {size / finer:g} keeps them whole (--cell-size {size / finer:g})"
             break
+    if not advice:
+        return ""
     return (
         f"at cell size {size:g} the guard's grid falls into {parts} parts where its circle can move in "
         f"{whole}: cells where a wall shape (a diagonal, a half tile) leaves no room for the guard at their "
