@@ -88,3 +88,29 @@ def test_a_grid_that_cuts_a_passage_the_guard_fits_says_which_cell_size_keeps_it
     assert not [w for w in finer.warnings if "guard's grid falls into" in w]
     grid = Scene.from_level(finer.level).grid
     assert int(grid.component_labels.max()) == 0, "one part at cell size 0.25"
+
+
+def test_the_viewer_outlines_the_floor_not_the_cuts_between_touching_holes() -> None:
+    # An importer opens an enclosing wall by cutting it in two holes that touch along a line; the page
+    # stroked every ring, drawing that line across the wall (the GIF never did).
+    from guardsim.level import parse_level
+    from guardsim.simulation import Simulation
+    from guardsim.viewer.page import page_data
+
+    level = parse_level(
+        {
+            "outer": [[0, 0], [8, 0], [8, 8], [0, 8]],
+            "holes": [[[2, 2], [4, 2], [4, 6], [2, 6]], [[4, 2], [6, 2], [6, 6], [4, 6]]],
+            "guard": {"start": [0.5, 0.5]},
+        }
+    )
+    simulation = Simulation(Scene.from_level(level))
+    simulation.reset(seed=0)
+    data = page_data(level, simulation.run())
+    edges = {
+        frozenset((tuple(ring[i]), tuple(ring[(i + 1) % len(ring)])))
+        for ring in data["outline"]
+        for i in range(len(ring))
+    }
+    assert frozenset(((4.0, 2.0), (4.0, 6.0))) not in edges and frozenset(((4.0, 6.0), (4.0, 2.0))) not in edges
+    assert len(data["outline"]) == 2 and len(data["rings"]) == 3
