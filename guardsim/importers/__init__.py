@@ -177,7 +177,7 @@ def _grid_splits(level: Level, room: shapely.Geometry, parts: int) -> str:
     # cannot cross) are not a designer's to fix.
     advice = ""
     for finer in FINER_CELLS:
-        if rows * cols * finer * finer > FIT_CHECK_CELLS * 4:
+        if rows * cols * finer * finer > FIT_CHECK_CELLS:
             break
         trial = dataclasses.replace(level, cell_size=size / finer)
         found = int(build_grid(trial, World(trial)).component_labels.max(initial=-1)) + 1
