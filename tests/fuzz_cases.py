@@ -69,7 +69,12 @@ KINDS: dict[str, tuple[str, ...]] = {
     "ldtk": ("import", "play"),
     "tmx": ("import",),
     "tiled-json": ("import",),
+    "checks-toml": ("check",),
+    "round4-option": ("patrol", "check", "alert", "import"),
+    "tiled-cases": ("import",),
 }
+#: Kinds of the fourth round of robustness work (issue 44's findings): run in the slow tier.
+ROUND4_KINDS = frozenset({"checks-toml", "round4-option", "tiled-cases"})
 #: Kinds read by the importers (counted, not fixed here: guardsim/importers/ has its own owner).
 IMPORTER_KINDS = frozenset({"movingai", "png", "tmx", "tiled-json", "ldtk"})
 
@@ -98,6 +103,8 @@ class Case:
     """Relative paths of the files the command writes, checked when it succeeds."""
     bad: bool = False
     """Whether the input is known to be wrong: exit 0 would be an accepted bad input."""
+    clean: bool = False
+    """Whether a failed command must leave none of ``outputs`` behind."""
     note: str = ""
     """What the generator did, for the report."""
 
@@ -533,7 +540,7 @@ _OPTIONS = {
 }  # fmt: skip
 #: Options whose value must be a finite number in a range: exit 0 with nan, inf or out of range is a bug.
 _FINITE = {"--fov": (0, 360), "--view-range": (0, math.inf), "--move-speed": (0, math.inf),
-           "--turn-speed": (0, math.inf), "--tick-hz": (0, math.inf), "--max-seconds": (0, math.inf),
+           "--turn-speed": (0, math.inf), "--tick-hz": (0, 1000), "--max-seconds": (0, math.inf),
            "--speed": (0, 1e6), "--time-limit": (0, math.inf), "--intruder-speed": (-1e-300, 1e6),
            "--detect-near": (-1e-300, math.inf), "--detect-far": (-1e-300, math.inf)}  # fmt: skip
 
@@ -842,8 +849,127 @@ def checks_case(rng: np.random.Generator, templates: Templates) -> Case:
                 "checks.json", note=note)  # fmt: skip
 
 
+_CHECKS_TOML = b"""max_idleness = 1000
+patrol = "in.patrol.json"
+[[sneak]]
+from = [0.5, 0.5]
+to = [5.5, 5.5]
+expect = "sneaks"
+"""
+
+
+def checks_toml_case(rng: np.random.Generator, templates: Templates) -> Case:
+    """A TOML checks file: nested past any limit, asking for more guards than the option allows, an empty
+    patrol name, no rule at all, or damaged text."""
+    roll = int(rng.integers(6))
+    bad = True
+    if roll == 0:
+        depth = int(rng.choice([65, 200, 1000, 5000]))
+        shape = int(rng.integers(3))
+        if shape == 0:
+            content = ("safe = " + "[" * depth + "]" * depth + "\n").encode()
+        elif shape == 1:
+            content = ("x = " + "{a = " * depth + "1" + "}" * depth + "\n").encode()
+        else:
+            content = ("[" + ".".join(["a"] * depth) + "]\nx = 1\n").encode()
+        note = f"nested {depth} deep ({['arrays', 'inline tables', 'dotted tables'][shape]})"
+    elif roll == 1:
+        guards = int(rng.choice([0, 65, 1_000_000, 1, 2]))
+        bad = guards not in (1, 2)
+        content, note = f"guards = {guards}\nmax_idleness = 1000\n".encode(), f"guards = {guards}"
+    elif roll == 2:
+        content, note = b'patrol = ""\nmax_idleness = 5\n', "patrol = ''"
+    elif roll == 3:
+        content, note = b"guards = 2\n", "no rule"
+    else:
+        content, note = mutate_text(_CHECKS_TOML, rng)
+        bad = False
+    files = {"tiny.json": _TINY_LEVEL, "in.patrol.json": templates.patrol, "checks.toml": content}
+    return Case("checks-toml", "check", files, ["check", "{dir}/tiny.json", "--checks", "{dir}/checks.toml"],
+                "checks.toml", bad=bad, note=note)  # fmt: skip
+
+
+def round4_option_case(rng: np.random.Generator, command: str, templates: Templates) -> Case:
+    """The option values the fourth round's outside campaign broke: teams up to the allowed 64, empty or
+    unwritable output places, physics rates past a game's, LDtk options on a Tiled map, long texts."""
+    files: dict[str, bytes] = {"tiny.json": _TINY_LEVEL}
+    roll = int(rng.integers(3))
+    if command == "patrol":
+        if roll == 0:
+            guards = str(rng.choice(["32", "64"]))
+            return Case("round4-option", "patrol", files, ["patrol", "{dir}/tiny.json", "--out", "{dir}/out",
+                        "--guards", guards], "--guards", ["out/patrol.json"], note=f"--guards {guards}")  # fmt: skip
+        if roll == 1:
+            return Case("round4-option", "patrol", files, ["patrol", "{dir}/tiny.json", "--out", ""], "--out",
+                        bad=True, note="--out ''")  # fmt: skip
+        option = str(rng.choice(["--godot", "--export", "--tiled-out"]))
+        target = "/proc/guardsim-fuzz" + {"--godot": ".tscn", "--export": ".json", "--tiled-out": ".tmj"}[option]
+        return Case("round4-option", "patrol", files, ["patrol", "{dir}/tiny.json", "--out", "{dir}/out", option,
+                    target], target, ["out/patrol.json", "out/idleness.png"], bad=True, clean=True,
+                    note=f"{option} {target}")  # fmt: skip
+    if command == "check":
+        guards = str(rng.choice(["32", "64", "65", "0"]))
+        return Case("round4-option", "check", files, ["check", "{dir}/tiny.json", "--guards", guards,
+                    "--max-idleness", "1000"], "--guards", bad=guards in ("65", "0"),
+                    note=f"--guards {guards}")  # fmt: skip
+    if command == "alert":
+        rate = str(rng.choice(["100000", "1001", "1e308", "30", "60"]))
+        files["in.patrol.json"] = templates.patrol
+        return Case("round4-option", "alert", files, ["alert", "{dir}/tiny.json", "--patrol",
+                    "{dir}/in.patrol.json", "--motion", "continuous", "--tick-hz", rate, "--max-seconds", "5", "--from", _TINY_FROM, "--to", _TINY_TO,
+                    "--trace", "{dir}/out.json"], "--tick-hz", ["out.json"], bad=rate not in ("30", "60"),
+                    clean=True, note=f"--tick-hz {rate}")  # fmt: skip
+    files = {"map.tmx": _TMX}
+    if roll == 0:
+        option, value = str(rng.choice(["--level", "--wall-value"])), "Level_1"
+        bad = True
+    elif roll == 1:
+        option, value, bad = "--wall-property", "p" * int(rng.choice([100, 5000])), False
+    else:
+        option, value, bad = "--wall-class", "c" * int(rng.choice([100, 5000])), False
+    return Case("round4-option", "import", files, ["import", "{dir}/map.tmx", "--out", "{dir}/out.json", option,
+                value], "map.tmx", ["out.json"], bad=bad, clean=True, note=f"{option} {value[:20]!r}")  # fmt: skip
+
+
+def tiled_cases_case(rng: np.random.Generator) -> Case:
+    """One of the hand-made maps of ``tests/data/maps/cases`` (per-tile collision, ``z`` heights, bridges,
+    shapes in hidden layers, players' starts) with its heights, marks or structure damaged."""
+    folder = Path(__file__).resolve().parent / "data" / "maps" / "cases"
+    names = sorted(path.name for path in folder.glob("*.tmj"))
+    name = names[int(rng.integers(len(names)))]
+    data = json.loads((folder / name).read_text(encoding="utf-8"))
+    roll = rng.random()
+    if roll < 0.4:
+        layer = data["layers"][int(rng.integers(len(data["layers"])))]
+        value = [-1, 0, 1, 2.5, "high", 1e308, True, None, [1], 10**30][int(rng.integers(10))]
+        layer["properties"] = [*layer.get("properties", []), {"name": "z", "type": "string", "value": value}]
+        content, note = json.dumps(data).encode(), f"{name}: layer {layer['name']!r} z = {value!r}"
+    elif roll < 0.6:
+        tiles = data["tilesets"][0]["tiles"]
+        item = tiles[int(rng.integers(len(tiles)))]
+        item["properties"] = [{"name": "collision", "type": "bool", "value": bool(rng.integers(2))},
+                              {"name": "z", "type": "int", "value": int(rng.integers(-2, 3))}]  # fmt: skip
+        content, note = json.dumps(data).encode(), f"{name}: tile {item['id']} marks changed"
+    elif roll < 0.85:
+        mutated, note = mutate_json(data, rng)
+        content, note = json.dumps(mutated, allow_nan=True).encode(), f"{name}: {note}"
+    else:
+        content, note = mutate_text(json.dumps(data).encode(), rng)
+        note = f"{name}: {note}"
+    return Case("tiled-cases", "import", {"map.tmj": content}, ["import", "{dir}/map.tmj", "--out", "{dir}/out.json"],
+                "map.tmj", ["out.json"], clean=True, note=note)  # fmt: skip
+
+
 def generate(kind: str, command: str, rng: np.random.Generator, templates: Templates | None) -> Case:
     """One case of ``kind`` read by ``command``."""
+    if kind == "checks-toml":
+        assert templates is not None
+        return checks_toml_case(rng, templates)
+    if kind == "round4-option":
+        assert templates is not None
+        return round4_option_case(rng, command, templates)
+    if kind == "tiled-cases":
+        return tiled_cases_case(rng)
     if kind == "level":
         return level_case(rng, command)
     if kind == "trace" and command == "view":
@@ -926,6 +1052,8 @@ def verdict(case: Case, folder: Path, exit_code: int, stdout: str, stderr: str, 
         return "half-written"
     if exit_code == 0:
         return _check_success(case, folder, stdout)
+    if case.clean and any((folder / output).exists() for output in case.outputs):
+        return "half-written"
     if exit_code == 1 and case.command == "regress":
         return "ok" if "DIFFERS" in stdout or "no references" in stdout else "bad-status"
     if exit_code == 1 and case.command == "check":

@@ -226,9 +226,7 @@ def test_an_undetected_safe_spot_may_be_seen_briefly(corridor: tuple[Path, Path]
         0,
         [f"{level}: all 1 rule holds"],
     )
-    [result] = run_checks(
-        scene_from(TWO_ROOMS), CheckRules(patrol=pacer, safe=(SafeRule((9.5, 0.5)),), undetected=True)
-    )
+    [result] = run_checks(scene_from(TWO_ROOMS), CheckRules(patrol=pacer, safe=(SafeRule((9.5, 0.5)),), undetected=True))
     assert result == (
         "safe 9.5,0.5",
         True,

@@ -30,7 +30,7 @@ from guardsim.files.reading import EXCERPT_CHARS, parse_json
 from guardsim.level import check_level_data
 from guardsim.regress.stored_trace import trace_from_stored
 from tests import fuzz_cases
-from tests.fuzz_cases import IMPORTER_KINDS, KINDS, Templates, generate, make_templates, run_in_process
+from tests.fuzz_cases import IMPORTER_KINDS, KINDS, ROUND4_KINDS, Templates, generate, make_templates, run_in_process
 
 #: Cases per kind in CI, shared among its commands; regress and bench cases re-play episodes, so they
 #: get fewer. A regression guard sized to the five-minute suite (level 600 -> 300 and manifest 120 -> 60
@@ -45,6 +45,9 @@ CASES = {
     "patrol": 90,
     "checks": 40,
     "intruder-route": 30,
+    "checks-toml": 40,
+    "round4-option": 40,
+    "tiled-cases": 40,
 }
 #: The seed of the CI cases: derandomised, so a failure here fails the same way on every machine.
 SEED = 16
@@ -60,9 +63,15 @@ def templates(tmp_path_factory: pytest.TempPathFactory) -> Templates:
 
 
 PAIRS = [(kind, command) for kind in KINDS if kind not in IMPORTER_KINDS for command in KINDS[kind]]
+#: The fourth round's kinds run in the slow tier only (their cases run whole commands: patrols of 64
+#: guards, continuous alerts).
+_PAIR_PARAMS = [
+    pytest.param(kind, command, id=f"{kind}-{command}", marks=[pytest.mark.slow] if kind in ROUND4_KINDS else [])
+    for kind, command in PAIRS
+]
 
 
-@pytest.mark.parametrize(("kind", "command"), PAIRS, ids=[f"{kind}-{command}" for kind, command in PAIRS])
+@pytest.mark.parametrize(("kind", "command"), _PAIR_PARAMS)
 @pytest.mark.parametrize("share", [pytest.param(4, id="quarter"), pytest.param(1, id="all", marks=pytest.mark.slow)])
 def test_generated_inputs_keep_the_rule(kind: str, command: str, share: int, templates: Templates) -> None:
     """Every generated input of this kind ends in exit 0 with a correct result or one named error line.

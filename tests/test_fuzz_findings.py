@@ -197,7 +197,7 @@ def test_patrol_with_an_unwritable_export_leaves_nothing_behind(level: Path, tmp
     target = "/proc/guardsim-no-such-file" + {"--godot": ".tscn", "--export": ".json", "--tiled-out": ".tmj"}[option]
     result = run("patrol", level, "--out", out, option, target)
     assert result.exit_code == 2, result.output
-    assert not (out / "patrol.json").exists() and not (out / "idleness.png").exists()
+    assert not out.exists(), sorted(out.iterdir())
 
 
 # --- routes ---------------------------------------------------------------------------------------------
@@ -316,3 +316,16 @@ def _tiny_tiled() -> dict[str, Any]:
 def test_the_tiny_tiled_map_imports(tmp_path: Path) -> None:
     imported = import_map(_write(tmp_path / "map.tmj", _tiny_tiled()))
     assert int(np.asarray(imported.level.grid_shape()).prod()) > 0 and imported.level.holes
+
+
+@pytest.mark.parametrize(
+    ("text", "phrase"),
+    [("guards = 1\nmax_idleness = " + "9" * 5001 + "\n", "not valid TOML for guardsim"),
+     ("safe = [[nan, 1.5]]\n", "safe[0][0]: nan is not a finite number")],
+    ids=["5001-digits", "nan"],
+)  # fmt: skip
+def test_toml_numbers_json_cannot_hold_are_one_line(tmp_path: Path, text: str, phrase: str) -> None:
+    path = _write(tmp_path / "checks.toml", text)
+    with pytest.raises(CheckError, match=r"checks\.toml: ") as error:
+        read_checks(path)
+    assert phrase in str(error.value) and "\n" not in str(error.value)

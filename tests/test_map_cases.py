@@ -81,10 +81,36 @@ def test_a_grid_that_cuts_a_passage_the_guard_fits_says_which_cell_size_keeps_it
     # forest_narrows.tmj: half-tile shapes above and below leave a one-tile gap the guard's circle
     # passes, but no cell centre there at cell size 1 (nor 0.5) clears its radius.
     path = CASES / "forest_narrows.tmj"
-    cells, imported = walkable(path)
+    _, imported = walkable(path)
     warning = next(w for w in imported.warnings if "guard's grid falls into" in w)  # type: ignore[attr-defined]
     assert "falls into 2 parts where its circle can move in 1" in warning and "--cell-size 0.25" in warning
     finer = import_map(path, cell_size=0.25)
     assert not [w for w in finer.warnings if "guard's grid falls into" in w]
     grid = Scene.from_level(finer.level).grid
     assert int(grid.component_labels.max()) == 0, "one part at cell size 0.25"
+
+
+def test_the_viewer_outlines_the_floor_not_the_cuts_between_touching_holes() -> None:
+    # An importer opens an enclosing wall by cutting it in two holes that touch along a line; the page
+    # stroked every ring, drawing that line across the wall (the GIF never did).
+    from guardsim.level import parse_level
+    from guardsim.simulation import Simulation
+    from guardsim.viewer.page import page_data
+
+    level = parse_level(
+        {
+            "outer": [[0, 0], [8, 0], [8, 8], [0, 8]],
+            "holes": [[[2, 2], [4, 2], [4, 6], [2, 6]], [[4, 2], [6, 2], [6, 6], [4, 6]]],
+            "guard": {"start": [0.5, 0.5]},
+        }
+    )
+    simulation = Simulation(Scene.from_level(level))
+    simulation.reset(seed=0)
+    data = page_data(level, simulation.run())
+    edges = {
+        frozenset((tuple(ring[i]), tuple(ring[(i + 1) % len(ring)])))
+        for ring in data["outline"]
+        for i in range(len(ring))
+    }
+    assert frozenset(((4.0, 2.0), (4.0, 6.0))) not in edges and frozenset(((4.0, 6.0), (4.0, 2.0))) not in edges
+    assert len(data["outline"]) == 2 and len(data["rings"]) == 3

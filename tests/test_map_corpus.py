@@ -702,8 +702,15 @@ def test_a_side_view_is_refused_saying_how_to_import_it_anyway(name: str) -> Non
 
 
 #: Maps whose import and independent reading take seconds (rs-tiled's template sample: 7 627 tile
-#: collision shapes): their tests, and the table's that imports every map, run in the slow tier.
-HEAVY = frozenset(["rs-tiled/assets/templates/example.tmx"])
+#: collision shapes; the 100 x 100 city; the maze's shapes): their tests, and the table's that imports
+#: every map, run in the slow tier.
+HEAVY = frozenset(
+    [
+        "rs-tiled/assets/templates/example.tmx",
+        "excalibur-tiled/example/formats/example-city.tmx",
+        RPG + "dungeon_lvl_three_maze.json",
+    ]
+)
 
 
 def _walls_cases() -> list[Any]:

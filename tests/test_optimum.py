@@ -363,7 +363,10 @@ def test_bounds_search_bound_is_the_optimum_when_proved(tmp_path: Path, name: st
     line = _bounds_line(path, "--start", "0.5,0.5", "--heading", "right")
     assert f"best bound {optimum} steps; search bound {optimum} (the optimum, proved in " in line
     line = _bounds_line(path, "--start", "0.5,0.5", "--heading", "right", "--search-expansions", "1")
-    match = re.search(r"best bound (\d+) steps; search bound (\d+) \(stopped by expansions after 1 expansions\)", line)
+    match = re.search(
+        r"best bound (\d+) steps; search bound (\d+) \(stopped by expansions after 1 expansions; --search-expansions N",
+        line,
+    )
     assert match and int(match.group(2)) <= int(match.group(1)) <= optimum, line
     line = _bounds_line(path, "--start", "0.5,0.5", "--heading", "right", "--search-expansions", "0")
     assert "; search bound not run (--search-expansions 0);" in line

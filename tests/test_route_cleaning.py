@@ -52,13 +52,7 @@ def test_a_jog_is_taken_out_only_where_the_guard_fits(level: dict[str, Any], jog
 
 def test_a_spur_is_cut_and_its_waits_kept() -> None:
     scene = scene_from(ROOM)
-    points = [
-        _point(0.5, 0.5, 0),
-        _point(11.5, 0.5, 5.5),
-        _point(11.5, 3.5, 7),
-        _point(11.5, 0.5, 8.5),
-        _point(0.5, 0.5, 14),
-    ]
+    points = [_point(0.5, 0.5, 0), _point(11.5, 0.5, 5.5), _point(11.5, 3.5, 7), _point(11.5, 0.5, 8.5), _point(0.5, 0.5, 14)]
     points[1]["wait"] = 1.0
     points[3]["wait"] = 2.0
     for point in points[2:]:
@@ -68,11 +62,7 @@ def test_a_spur_is_cut_and_its_waits_kept() -> None:
     goal = scene.grid.traversable.ravel().copy()
     [cleaned], [report] = clean_routes(scene, [route], goal, speed=2.0, tolerance=10.0)
     assert report is not None and report.spurs == 1
-    assert [(p["x"], p["y"], p["wait"]) for p in cleaned["waypoints"]] == [
-        (0.5, 0.5, 0.0),
-        (11.5, 0.5, 3.0),
-        (0.5, 0.5, 0.0),
-    ]
+    assert [(p["x"], p["y"], p["wait"]) for p in cleaned["waypoints"]] == [(0.5, 0.5, 0.0), (11.5, 0.5, 3.0), (0.5, 0.5, 0.0)]
 
 
 def test_cleaned_team_routes_still_see_every_cell_with_the_reference_vision(tmp_path: Path) -> None:

@@ -413,7 +413,11 @@ DOCUMENTS: dict[str, tuple[str, Any, str | None]] = {
     ),
     "checks-table-list": ("checks", [], "expected a table of rules, got a list"),
     "checks-planner": ("checks", {"planner": "astar"}, "planner: 'astar' is not one of ripplefront,"),
-    "checks-guards-zero": ("checks", {"guards": 0}, "guards: expected a whole number of at least 1, got 0"),
+    "checks-guards-zero": (
+        "checks",
+        {"guards": 0},
+        "guards: expected a whole number from 1 to 64 (as --guards), got 0",
+    ),
     "checks-sneak-extra": (
         "checks",
         {"sneak": [{"from": [0, 0], "to": [1, 1], "expect": "caught", "via": [2, 2]}]},

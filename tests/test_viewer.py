@@ -33,6 +33,9 @@ def square_trace(tmp_path_factory) -> tuple[Path, Trace]:
     return folder, Trace.from_data(json.loads(out.read_text()))
 
 
+
+
+
 def test_page_is_self_contained(square_trace) -> None:
     """No external scripts, styles, images or fetches: the page works from disk, offline."""
     folder, _ = square_trace
@@ -154,6 +157,11 @@ def test_view_runs_as_a_real_process(square_trace, tmp_path: Path) -> None:
 
 
 # --- Patrol and sneak pages (guardsim.viewer.layers, guardsim.viewer.patrols) ---
+
+
+
+
+
 
 
 @pytest.fixture(scope="module")

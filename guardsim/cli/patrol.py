@@ -181,6 +181,12 @@ def patrol(
         max_file_bytes=max_file_bytes,
     )
     check_job(job)
+    from guardsim.files.output import check_writable
+
+    # Before the output folder is made: a failed command leaves nothing behind, not even an empty folder.
+    for named in (export_path, tiled_out, godot_out):
+        if named is not None:
+            check_writable(named)
     level = load(level_path, max_cells, max_vertices, max_file_bytes, map_import)
     from guardsim.kernels.ahead import compile_ahead
 

@@ -40,15 +40,6 @@ def atomic_path(target: str | os.PathLike[str]) -> Iterator[Path]:
     folder = target.parent if str(target.parent) else Path(".")
     if not folder.is_dir():
         raise OutputError(f"{target}: folder {folder} does not exist")
-    # A folder may exist and still take no files (/proc, a read-only mount, no permission): trying is
-    # the only sure test, and the output is written the same way (a temporary file in that folder).
-    try:
-        handle, probe = tempfile.mkstemp(dir=folder, prefix=".guardsim-check-")
-    except OSError as error:
-        raise OutputError(f"{target}: cannot write in folder {folder}: {error.strerror or error}") from None
-    os.close(handle)
-    with contextlib.suppress(OSError):
-        os.unlink(probe)
     try:
         handle, name = tempfile.mkstemp(dir=folder, prefix=f".{target.name}.", suffix=f".part{target.suffix}")
     except OSError as error:

@@ -10,14 +10,12 @@ snapped) and its warnings.
 
 from __future__ import annotations
 
-import dataclasses
 import os
 from collections.abc import Iterable
 from pathlib import Path
 
-import shapely
-
 from guardsim.errors import LevelError
+from guardsim.importers.guard_fit import check_guard_fits
 from guardsim.importers.image import DEFAULT_THRESHOLD, import_image
 from guardsim.importers.imported import ImportedLevel
 from guardsim.importers.ldtk import import_ldtk, is_ldtk_file
@@ -25,7 +23,7 @@ from guardsim.importers.loading import ImportOptions, ImportSummary, load_any, o
 from guardsim.importers.movingai import import_movingai
 from guardsim.importers.source import display_name
 from guardsim.importers.tiled import import_tiled
-from guardsim.level import DEFAULT_MAX_CELLS, DEFAULT_MAX_FILE_BYTES, DEFAULT_MAX_VERTICES, Level
+from guardsim.level import DEFAULT_MAX_CELLS, DEFAULT_MAX_FILE_BYTES, DEFAULT_MAX_VERTICES
 
 __all__ = [
     "FORMATS",
@@ -114,80 +112,7 @@ def import_map(
         max_vertices=max_vertices,
         max_file_bytes=max_file_bytes,
     )
-    return _check_guard_fits(imported)
-
-
-#: Grids up to this many cells are built to check that the guard fits somewhere (a second at most); larger
-#: levels are checked on their geometry alone (some point of the free area clears the guard's radius).
-FIT_CHECK_CELLS = 40_000
-
-
-def _check_guard_fits(imported: ImportedLevel) -> ImportedLevel:
-    """Refuse a level no guard can stand in (a map narrower than the guard): every command would refuse it.
-    On a small level, warn when the guard's grid cuts passages its circle can move along (see
-    :func:`_grid_splits`).
-
-    The same rule as ``guardsim validate``: a cell whose centre clears the guard's radius.
-    """
-    level = imported.level
-    radius = level.guard.radius
-    room = shapely.buffer(level.free_area(), -radius)
-    fits = not room.is_empty
-    rows, cols = level.grid_shape()
-    if fits and rows * cols <= FIT_CHECK_CELLS:
-        from guardsim.grid import build_grid
-        from guardsim.world import World
-
-        grid = build_grid(level, World(level))
-        fits = bool(grid.traversable.any())
-        note = _grid_splits(level, room, int(grid.component_labels.max(initial=-1)) + 1) if fits else ""
-        if note:
-            imported = dataclasses.replace(imported, warnings=(*imported.warnings, note))
-    if fits:
-        return imported
-    # The reader may know why (every floor tile carries a collision shape): its warning is the reason.
-    known = next((warning for warning in imported.warnings if "fits on no cell" in warning), None)
-    if known is not None:
-        raise LevelError(f"{level.source}: {known}")
-    left, top, right, bottom = level.bounds
-    raise LevelError(
-        f"{level.source}: no cell where the guard (radius {radius:g}) fits in the imported level "
-        f"({right - left:g} x {bottom - top:g} world units, cell size {level.cell_size:g}): nothing to cover"
-    )
-
-
-#: Finer cell sizes tried, as fractions of the level's, when the grid cuts the guard's passages.
-FINER_CELLS = (2, 4)
-
-
-def _grid_splits(level: Level, room: shapely.Geometry, parts: int) -> str:
-    """A warning when the grid falls into more parts than the room the guard's centre can move in
-    (``room``: the free area shrunk by its radius): a wall shape that leaves no room for the circle at a
-    cell's centre (a diagonal half tile on a path one tile wide) cuts the path. Names the finer cell size
-    that keeps the parts whole, if one of :data:`FINER_CELLS` does; ``""`` when the grid is whole."""
-    from guardsim.grid import build_grid
-    from guardsim.world import World
-
-    whole = sum(1 for piece in shapely.get_parts(room) if piece.area > 1e-9)
-    if parts <= whole:
-        return ""
-    size = level.cell_size
-    rows, cols = level.grid_shape()
-    advice = "no cell size down to a quarter of it does (a passage narrower than the guard?)"
-    for finer in FINER_CELLS:
-        if rows * cols * finer * finer > FIT_CHECK_CELLS * 4:
-            advice = "a finer cell size may (the level is too large to try)"
-            break
-        trial = dataclasses.replace(level, cell_size=size / finer)
-        found = int(build_grid(trial, World(trial)).component_labels.max(initial=-1)) + 1
-        if found <= whole:
-            advice = f"cell size {size / finer:g} keeps them whole (--cell-size {size / finer:g})"
-            break
-    return (
-        f"at cell size {size:g} the guard's grid falls into {parts} parts where its circle can move in "
-        f"{whole}: cells where a wall shape (a diagonal, a half tile) leaves no room for the guard at their "
-        f"centre cut passages; {advice}"
-    )
+    return check_guard_fits(imported)
 
 
 def _import_map(

@@ -315,7 +315,7 @@ def assign_roles(tiled: TiledMap, options: RoleOptions) -> Guesses:
                     layer for layer in tiled.tile_layers if layer is widest or any(layer is other for other in named)
                 ]
                 found.floor_rule = (
-                    f"named floor or ground, and {widest.name!r}, which paints {_cells(widest).size} cells "
+                    f"named floor or ground, and {quoted(widest.name)}, which paints {_cells(widest).size} cells "
                     f"where they paint {share}"
                 )
                 named = []

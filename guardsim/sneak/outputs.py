@@ -55,9 +55,7 @@ def write_sneak_outputs(
         windows[windows < 0] = float("nan")
         cells = [grid.unflat(int(cell)) for cell in path.cells]
         label = "unseen path" if path.found else f"closest call ({path.ticks_in_view} ticks in view)"
-        title = (
-            f"{level.name}: hiding spots, longest unseen window per cell ({data['never_seen_cells']} never seen, black)"
-        )
+        title = f"{level.name}: hiding spots, longest unseen window per cell ({data['never_seen_cells']} never seen, black)"
         write_heat_map(
             folder / "hiding.png",
             level,

@@ -22,6 +22,7 @@ chose, not on every change as a snapshot would. Rules come from the command line
 
 from __future__ import annotations
 
+import math
 import os
 import sys
 from dataclasses import dataclass, field
@@ -167,13 +168,29 @@ def _toml(text: str, source: str) -> Any:
             raise CheckError(f"{source}: not valid TOML: {error}") from None
         except RecursionError:  # tomllib parses nested arrays and inline tables recursively, with no limit
             raise CheckError(f"{source}: not valid TOML for guardsim: nested past Python's stack") from None
+        except ValueError as error:  # an integer past Python's 4 300 digits
+            raise CheckError(f"{source}: not valid TOML for guardsim: {str(error)[:80]}") from None
         depth = data_depth(data)
         if depth > DEFAULT_MAX_DEPTH:
             raise CheckError(
                 f"{source}: not valid TOML for guardsim: nested {depth} deep, over the limit of {DEFAULT_MAX_DEPTH}"
             )
+        _refuse_non_finite(data, source)
         return data
     raise CheckError(f"{source}: TOML checks files need Python 3.11 or later; write the rules as JSON")
+
+
+def _refuse_non_finite(data: Any, source: str) -> None:
+    """TOML writes ``inf`` and ``nan`` as numbers; JSON checks files cannot hold them, nor may TOML ones."""
+    stack: list[tuple[Any, str]] = [(data, "")]
+    while stack:
+        value, where = stack.pop()
+        if isinstance(value, float) and not math.isfinite(value):
+            raise CheckError(f"{source}: {where or 'the file'}: {value} is not a finite number")
+        if isinstance(value, dict):
+            stack.extend((item, f"{where}.{key}" if where else str(key)) for key, item in value.items())
+        elif isinstance(value, list):
+            stack.extend((item, f"{where}[{index}]") for index, item in enumerate(value))
 
 
 def parse_checks(data: Any, *, source: str = "<checks>", base: Path | None = None) -> CheckRules:

@@ -29,7 +29,7 @@ from guardsim.files.reading import NumberError, finite_number
 from guardsim.importers.walls import hole_rings
 from guardsim.level import compact_numbers
 
-__all__ = ["MAX_PAIRS", "MAX_REPAIR_HOLES", "Repair", "RepairRefused", "repair_level_data"]
+__all__ = ["MAX_PAIRS", "MAX_REPAIR_HOLES", "Repair", "repair_level_data"]
 
 #: Most pairs of touching or overlapping holes the merge examines; past it, no hole is merged.
 MAX_PAIRS = 20_000
@@ -40,10 +40,6 @@ MAX_REPAIR_HOLES = 10_000
 
 Point = tuple[float, float]
 Ring = list[Point]
-
-
-class RepairRefused(LevelError):
-    """A level too large to repair (more than :data:`MAX_REPAIR_HOLES` holes)."""
 
 
 class Repair(NamedTuple):
@@ -76,7 +72,7 @@ def repair_level_data(data: Any) -> tuple[Any, list[Repair]]:
     outer = _read_ring(fixed.get("outer"))
     holes_data = fixed.get("holes", [])
     if isinstance(holes_data, list) and len(holes_data) > MAX_REPAIR_HOLES:
-        raise RepairRefused(
+        raise LevelError(
             f"--fix repairs levels of at most {MAX_REPAIR_HOLES} holes and this one has {len(holes_data)}: "
             "repair it where it was made (guardsim validate without --fix lists its problems)"
         )

@@ -424,7 +424,9 @@ const GuardsimLayers = (function () {
         let top = 0;
         const row = alertRow(tick);
         for (let guard = 0; guard < alert.guards; guard++) top = Math.max(top, alert.meters[row * alert.guards + guard]);
-        text += " \u00b7 awareness " + top.toFixed(2);
+        // Once detected the guards chase and search: their meters no longer measure the intruder, and
+        // "detected · awareness 0.00" read as a contradiction.
+        if (name !== "detected") text += " \u00b7 awareness " + top.toFixed(2);
       }
       return { name: name, text: text, colour: data.intruder.state_colours[name] };
     }

@@ -39,6 +39,19 @@ def _hex(colour: tuple[int, int, int]) -> str:
     return "#" + "".join(f"{channel:02x}" for channel in colour)
 
 
+def _outline(level: Level) -> list[list[list[float]]]:
+    """The floor's edges as rings: the boundary of the free area, so the cuts the importer makes to open
+    an enclosing wall (two holes touching along a line) are not drawn as lines across the wall, as the
+    GIF draws them not."""
+    import shapely
+
+    rings = []
+    for part in shapely.get_parts(level.free_area()):
+        for ring in (part.exterior, *part.interiors):
+            rings.append([[float(x), float(y)] for x, y in list(ring.coords)[:-1]])
+    return rings
+
+
 def _field_snapshots(field: np.ndarray, steps: int, shape: tuple[int, int]) -> dict[str, Any]:
     """Snapshots of the planner's field (``(ticks, rows, cols)``, one per tick) within the byte budget."""
     if field.ndim != 3 or field.shape[1:] != shape or field.shape[0] < steps + 1:
@@ -112,6 +125,7 @@ def page_data(
         "paths": [packed([row * cols + col for col, row in path], "i4") for path in paths],
         "headings": [packed(list(headings), "u1") for headings in trace.team_headings()],
         "rings": [[[float(x), float(y)] for x, y in ring] for ring in rings],
+        "outline": _outline(level) if level is not None else None,
         "walls_from_grid": level is None,
         "colours": {
             name: _hex(COLOURS[name]) for name in ("wall", "free", "unseen", "unreachable", "tight", "outline", "cone")

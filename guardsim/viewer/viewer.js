@@ -216,6 +216,12 @@
       floor.closePath();
     }
     const walls = new WallIndex(data.rings, Math.max(data.cell_size * 8, data.view_range / 2));
+    // The floor's edges, without the cuts that open enclosing walls (holes touching along a line).
+    const outline = new Path2D();
+    for (const ring of data.outline || data.rings) {
+      ring.forEach((p, i) => (i === 0 ? outline.moveTo(px(p[0]), py(p[1])) : outline.lineTo(px(p[0]), py(p[1]))));
+      outline.closePath();
+    }
 
     const cellImage = (fill) => {
       const off = document.createElement("canvas");
@@ -404,7 +410,7 @@
       context.restore();
       context.strokeStyle = colours.outline;
       context.lineWidth = 2;
-      context.stroke(floor);
+      context.stroke(outline);
       cones.forEach((shape, guard) => {
         if (overHeat) {
           context.strokeStyle = colours.outline;
