@@ -663,9 +663,14 @@ class AlertEpisode:
     def _count_together(self) -> None:
         cols = self.grid.shape[1]
         guards = len(self.modes)
+        # Where the guards are (in continuous motion the bodies, which may lag their decided cells).
+        cells, _ = self.movement.recorded()
         for first in range(guards):
             for second in range(first + 1, guards):
-                a, b = self.cells[first], self.cells[second]
+                a, b = cells[first], cells[second]
+                if a < 0 or b < 0:
+                    self._together[first, second] = self._together[second, first] = 0
+                    continue
                 near = (
                     abs(a // cols - b // cols) + abs(a % cols - b % cols) <= 1
                     and not (self._corridor[a] or self._corridor[b])
