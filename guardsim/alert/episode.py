@@ -572,7 +572,7 @@ class AlertEpisode:
     def _make_noises(self) -> None:
         """This tick's noises: the intruder's steps where they landed, and the distractions due."""
         rules = self.rules
-        for cell, gait in getattr(self.intruder, "landed", []):
+        for cell, gait in self.intruder.landed:
             radius = rules.sneak_noise if gait == "sneak" else rules.walk_noise
             if radius > 0:
                 self.noises.append((self.tick, int(cell), radius, "step"))
