@@ -154,6 +154,20 @@ def test_invariants_hold_in_continuous_motion() -> None:
 
 
 @pytest.mark.slow
+def test_invariants_hold_in_continuous_motion_on_square() -> None:
+    """Square, a 2-guard loop patrol, continuous motion: where two searching bodies once walked side by
+    side for 12 ticks (personal space counted on the decided cells, which the bodies lag)."""
+    from guardsim.level import load_level
+    from guardsim.patrol.plan import patrol_setup, plan_patrol
+    from guardsim.scene import Scene
+
+    scene = Scene.from_level(load_level(REPO / "levels" / "square.json"))
+    patrol = plan_patrol(patrol_setup(scene, 2, seed=0), "loop").patrol
+    runs = run_alerts(scene, patrol, searches=SEARCHES, episodes=4, seed=0, spotted=True, motion="continuous")
+    assert _check_runs(scene, runs) == 16
+
+
+@pytest.mark.slow
 @pytest.mark.parametrize("name", ["arena", "maze-32-32-2", "passages"])
 def test_the_issue_recipe_on_real_maps_is_clean(name: str, tmp_path: Path) -> None:
     """``guardsim patrol LEVEL --guards 2`` then ``guardsim alert ... --intruder evader --spotted --search

@@ -161,7 +161,7 @@ def test_schema_and_loader_agree_at_the_edges(validator: Any, name: str) -> None
 
 
 def test_every_known_key_is_in_the_schema() -> None:
-    """The schema lists exactly the loader's keys, at the top level and in `guard`."""
+    """The schema lists exactly the loader's keys, at the top level, in `guard` and in `intruder`."""
     schema = level_schema()
     full = changed(
         TINY_LEVELS["square-with-hole"],
@@ -196,6 +196,7 @@ def test_every_known_key_is_in_the_schema() -> None:
     )
     assert set(schema["properties"]) == set(full)
     assert set(schema["properties"]["guard"]["properties"]) == set(full["guard"])
+    assert set(schema["properties"]["intruder"]["properties"]) == set(full["intruder"])
     assert loader_accepts(full)
     # One unknown key anywhere makes both reject.
     assert not loader_accepts(changed(full, extra=1))

@@ -145,7 +145,8 @@ def play(
         elif frame.done:
             log.append("caught! again from the start")
             team, player = new_round()
-        _draw(pygame, screen, tiles, tile, frame, player, exit_cell, font, log)
+        seen = [scene.grid.unflat(int(cell)) for cell in set(team.episode.seen_now.tolist())]
+        _draw(pygame, screen, tiles, tile, frame, player, exit_cell, font, log, seen)
         frame_number += 1
         summary.frames = frame_number
     pygame.quit()
@@ -169,22 +170,25 @@ def _move(player: list[float], held: set[str], dt: float, scene: Any) -> None:
 
 
 def _draw(pygame: Any, screen: Any, tiles: Any, tile: int, frame: Any, player: list[float], exit_cell: Any,
-          font: Any, log: list[str]) -> None:  # fmt: skip
+          font: Any, log: list[str], seen: list[tuple[int, int]]) -> None:  # fmt: skip
     for layer in tiles.visible_layers:
         if hasattr(layer, "tiles"):
             for x, y, image in layer.tiles():
                 screen.blit(image, (x * tile, y * tile))
     if exit_cell is not None:
         pygame.draw.rect(screen, (40, 200, 90), (exit_cell[0] * tile, exit_cell[1] * tile, tile, tile), 3)
+    # What the guards saw at their last tick (walls block it): the cells themselves, lit.
     cone = pygame.Surface(screen.get_size(), pygame.SRCALPHA)
+    for col, row in seen:
+        cone.fill((255, 255, 190, 55), (col * tile, row * tile, tile, tile))
     for (x, y, heading), state, meter in zip(frame.poses, frame.states, frame.meters, strict=True):
         centre = (x * tile, y * tile)
         colour = COLOURS[state]
-        points = [centre]
-        for step in range(-9, 10):
-            angle = math.radians(heading + step * 5)  # a 90 degree cone, 8 tiles
-            points.append((centre[0] + math.cos(angle) * 8 * tile, centre[1] + math.sin(angle) * 8 * tile))
-        pygame.draw.polygon(cone, (*colour, 45), points)
+        nose = (
+            centre[0] + math.cos(math.radians(heading)) * tile * 0.6,
+            centre[1] + math.sin(math.radians(heading)) * tile * 0.6,
+        )
+        pygame.draw.line(screen, colour, centre, nose, 3)
         pygame.draw.circle(screen, colour, centre, tile * 0.35)
         pygame.draw.rect(screen, (30, 30, 30), (centre[0] - 16, centre[1] - 26, 32, 5))
         pygame.draw.rect(screen, colour, (centre[0] - 16, centre[1] - 26, 32 * meter, 5))

@@ -24,9 +24,9 @@ left, from then on. A guard kept from its rejoining cell (see personal space) pl
 - *Giving up.* The ``give_up_losses``-th time a guard loses sight of the intruder it chases, it
   searches and never chases that intruder again (it may still grow suspicious and investigate).
 - *Searching.* Each searcher commits to one cell its strategy's field wants looked at (the field's
-  bottom), the one with the fewest steps plus :data:`LEAN_COST` per cell behind the last known cell
-  (against the intruder's last seen direction of travel) plus :data:`CLAIM_COST` within
-  :data:`CLAIM_CELLS` of another searcher's cell, and keeps it until it is seen. A cell it can see by
+  bottom), the one with the fewest steps plus a cost per cell behind the last known cell (against the
+  intruder's last seen direction of travel) and near another searcher's cell
+  (:func:`guardsim.alert.steering.search_cell`), and keeps it until it is seen. A cell it can see by
   turning where it stands, it turns to look at rather than walks to.
 - *Personal space.* A guard that is not chasing does not step within one cell (the same cell or a
   4-neighbour) of another guard unless one of the two cells is a corridor one cell wide; it takes the
@@ -57,6 +57,7 @@ from guardsim.alert.invariants import corridor_cells
 from guardsim.alert.model import AlertEvent, AlertOutcome, AlertRules
 from guardsim.alert.movement import ContinuousMovement, GridMovement, Movement
 from guardsim.alert.search import Contamination, make_search
+from guardsim.alert.steering import cut_off_cell, escape_path, search_cell
 from guardsim.detection import AwarenessMeter, GuardDetection
 from guardsim.detection.watch import CameraAlarms, LevelWatch
 from guardsim.grid import CoverageGrid
@@ -66,21 +67,10 @@ from guardsim.kernels.steps import cell_of_state, heading_of_state, state_of
 from guardsim.patrol.model import Patrol
 from guardsim.vision.table import ViewTable
 
-__all__ = ["CLAIM_CELLS", "CLAIM_COST", "ESCAPE_CELLS", "LEAN_COST", "STEP_ASIDE_TICKS", "AlertEpisode"]
+__all__ = ["STEP_ASIDE_TICKS", "AlertEpisode"]
 
-#: Extra cost, in steps, of a search cell per cell it lies behind the last known cell.
-LEAN_COST = 2.0
-#: Extra cost, in steps, of a search cell within :data:`CLAIM_CELLS` of another searcher's cell.
-CLAIM_COST = 8.0
-#: Steps (4-connected) within which another searcher's cell makes a search cell cost more.
-CLAIM_CELLS = 3
 #: Ticks two guards may stay within one cell of each other before one steps aside.
 STEP_ASIDE_TICKS = 5
-#: Cells of the intruder's likely escape a cutting-off guard considers.
-ESCAPE_CELLS = 32
-
-#: Heading numbers' steps (column, row): right, down, left, up.
-_STEPS = ((1, 0), (0, 1), (-1, 0), (0, -1))
 
 
 def _contains(sorted_cells: np.ndarray, cell: int) -> bool:
@@ -285,7 +275,9 @@ class AlertEpisode:
                     field = self._cut_off_field(guard, lead)
                 self._run(guard, field)
             elif mode == "search":
-                self._search_step(guard, fields[guard])  # type: ignore[arg-type]
+                wanted = fields.get(guard)
+                if wanted is not None:
+                    self._search_step(guard, wanted)
             if self.modes[guard] == "return":
                 self._walk_back(guard)
 
@@ -326,36 +318,15 @@ class AlertEpisode:
             self.cells[guard] = ahead
 
     def _cut_off_field(self, guard: int, lead: int) -> np.ndarray:
-        """The field to the first cell of the intruder's likely escape that ``guard`` reaches no later than
-        the intruder (its last cell when there is none); to the intruder itself when within two cells."""
+        """The field to the cell of the intruder's likely escape ``guard`` reaches first (see
+        :mod:`guardsim.alert.steering`); to the intruder itself when within two cells."""
         known = self.last_known
         own = distances_from(self.neighbours, np.array([self.cells[guard]]))
         if own[known] <= 2:
             return distances_from(self.neighbours, np.array([known]))
         away = distances_from(self.neighbours, np.array([self.cells[lead]]))
-        path, here, heading = [known], known, self.travel
-        seen = {known}
-        for _ in range(ESCAPE_CELLS):
-            best, best_key = -1, (0, 0)
-            for direction in range(4):
-                there = int(self.neighbours[here, direction])
-                if there < 0 or there in seen or away[there] < away[here]:
-                    continue
-                key = (int(away[there]), 1 if direction == heading else 0)
-                if best < 0 or key > best_key:
-                    best, best_key = there, key
-                    best_direction = direction
-            if best < 0:
-                break
-            path.append(best)
-            seen.add(best)
-            here, heading = best, best_direction
-        run, walk = self.rules.chase_speed, max(self.rules.intruder_speed, 1e-9)
-        target = path[-1]
-        for index, cell in enumerate(path):
-            if own[cell] < FAR and own[cell] / run <= index / walk:
-                target = cell
-                break
+        path = escape_path(self.neighbours, known, self.travel, away)
+        target = cut_off_cell(path, own, self.rules.chase_speed, self.rules.intruder_speed)
         return distances_from(self.neighbours, np.array([target]))
 
     def _search_step(self, guard: int, field: np.ndarray) -> None:
@@ -386,26 +357,15 @@ class AlertEpisode:
 
     def _choose_target(self, guard: int, field: np.ndarray) -> int:
         goal = np.flatnonzero(field == 0)
-        if goal.size == 0:
-            return -1
-        steps = distances_from(self.neighbours, np.array([self.cells[guard]]))[goal].astype(np.float64)
-        steps[steps >= FAR] = np.inf
-        cols = self.grid.shape[1]
-        rows, columns = np.divmod(goal, cols)
-        if self.travel >= 0 and self.last_known >= 0:
-            known_row, known_col = divmod(self.last_known, cols)
-            dx, dy = _STEPS[self.travel]
-            ahead = (columns - known_col) * dx + (rows - known_row) * dy
-            steps += LEAN_COST * np.maximum(0, -ahead)
-        for other, claimed in enumerate(self._target):
-            if other == guard or claimed < 0 or self.modes[other] != "search":
-                continue
-            claimed_row, claimed_col = divmod(claimed, cols)
-            near = np.abs(rows - claimed_row) + np.abs(columns - claimed_col) <= CLAIM_CELLS
-            steps[near] += CLAIM_COST
-        if not np.isfinite(steps).any():
-            return -1
-        return int(goal[int(np.argmin(steps))])
+        steps = distances_from(self.neighbours, np.array([self.cells[guard]]))[goal]
+        claimed = [
+            cell
+            for other, cell in enumerate(self._target)
+            if other != guard and cell >= 0 and self.modes[other] == "search"
+        ]
+        return search_cell(
+            goal, steps, self.grid.shape[1], last_known=self.last_known, travel=self.travel, claimed=claimed
+        )
 
     def _best_direction(self, guard: int, field: np.ndarray) -> int:
         cell, heading = self.cells[guard], self.headings[guard]
@@ -625,7 +585,7 @@ class AlertEpisode:
     def _make_noises(self) -> None:
         """This tick's noises: the intruder's steps where they landed, and the distractions due."""
         rules = self.rules
-        for cell, gait in getattr(self.intruder, "landed", []):
+        for cell, gait in self.intruder.landed:
             radius = rules.sneak_noise if gait == "sneak" else rules.walk_noise
             if radius > 0:
                 self.noises.append((self.tick, int(cell), radius, "step"))
@@ -716,9 +676,14 @@ class AlertEpisode:
     def _count_together(self) -> None:
         cols = self.grid.shape[1]
         guards = len(self.modes)
+        # Where the guards are (in continuous motion the bodies, which may lag their decided cells).
+        cells, _ = self.movement.recorded()
         for first in range(guards):
             for second in range(first + 1, guards):
-                a, b = self.cells[first], self.cells[second]
+                a, b = cells[first], cells[second]
+                if a < 0 or b < 0:
+                    self._together[first, second] = self._together[second, first] = 0
+                    continue
                 near = (
                     abs(a // cols - b // cols) + abs(a % cols - b % cols) <= 1
                     and not (self._corridor[a] or self._corridor[b])
