@@ -39,12 +39,30 @@ COMMANDS = {
     "patrol-4": ["patrol", "{level}", "--guards", "4", "--out", "{out}/p4"],
     "sneak": ["sneak", "{level}", "--patrol", "{patrol}", "--from", "{start}", "--to", "{goal}", "--out", "{out}/s"],
     "sneak-undetected": [
-        "sneak", "{level}", "--patrol", "{patrol}", "--from", "{start}", "--to", "{goal}", "--undetected",
-        "--out", "{out}/su",
-    ],  # fmt: skip
+        "sneak",
+        "{level}",
+        "--patrol",
+        "{patrol}",
+        "--from",
+        "{start}",
+        "--to",
+        "{goal}",
+        "--undetected",
+        "--out",
+        "{out}/su",
+    ],
     "alert-100": [
-        "alert", "{level}", "--patrol", "{patrol}", "--episodes", "100", "--workers", "2", "--out", "{out}/a",
-    ],  # fmt: skip
+        "alert",
+        "{level}",
+        "--patrol",
+        "{patrol}",
+        "--episodes",
+        "100",
+        "--workers",
+        "2",
+        "--out",
+        "{out}/a",
+    ],
     "bounds": ["bounds", "{level}"],
 }
 DEFAULT_COMMANDS = ("patrol", "patrol-2", "patrol-4", "sneak", "sneak-undetected", "alert-100", "bounds")
@@ -93,7 +111,9 @@ def _ends(level: Path) -> tuple[str, str]:
     points = []
     for cell in (free[0], free[-1]):
         col, row = grid.unflat(cell)
-        points.append(f"{grid.origin[0] + (col + 0.5) * grid.cell_size},{grid.origin[1] + (row + 0.5) * grid.cell_size}")
+        points.append(
+            f"{grid.origin[0] + (col + 0.5) * grid.cell_size},{grid.origin[1] + (row + 0.5) * grid.cell_size}"
+        )
     return points[0], points[1]
 
 

@@ -159,7 +159,7 @@ def test_a_large_level_takes_the_scalable_path_and_each_lap_sees_the_goal() -> N
     for state in plan.patrol.states[0].tolist():
         seen[setup.table.sees(state)] = True
     assert seen[setup.goal].all() and plan.score.worst_idleness is not None
-    assert plan.score.worst_idleness < plan.patrol.period
+    assert plan.patrol.period is not None and plan.score.worst_idleness < plan.patrol.period
 
 
 def test_patrol_says_where_it_is_off_a_terminal(tmp_path: Path, monkeypatch: pytest.MonkeyPatch) -> None:
