@@ -166,6 +166,7 @@ def test_patrol_says_where_it_is_off_a_terminal(tmp_path: Path, monkeypatch: pyt
     from guardsim.cli import progress
 
     monkeypatch.setattr(progress, "QUIET_SECONDS", 0.0)
+    monkeypatch.setenv("GUARDSIM_PROGRESS", "1")
     level = write_level(tmp_path, TINY_LEVELS["square-with-hole"])
     result = run("patrol", level, "--out", tmp_path / "o")
     assert result.exit_code == 0, result.output
@@ -185,6 +186,7 @@ def test_a_stage_line_redraws_in_place_on_a_terminal_and_ends_its_line(monkeypat
 
     monkeypatch.setattr(progress, "QUIET_SECONDS", 0.0)
     monkeypatch.setattr(progress, "REDRAW_SECONDS", 0.0)
+    monkeypatch.setenv("GUARDSIM_PROGRESS", "1")
     stream = _Terminal()
     with progress.StageLine(stream, "patrol") as tell:
         tell("view table", 0, 0)
@@ -194,9 +196,10 @@ def test_a_stage_line_redraws_in_place_on_a_terminal_and_ends_its_line(monkeypat
     assert "loop from cover viewpoints 1/2" in text
 
 
-def test_a_quick_job_prints_no_progress() -> None:
+def test_a_quick_job_prints_no_progress(monkeypatch: pytest.MonkeyPatch) -> None:
     from guardsim.cli.progress import StageLine
 
+    monkeypatch.setenv("GUARDSIM_PROGRESS", "1")
     stream = io.StringIO()
     with StageLine(stream, "patrol") as tell:
         tell("view table", 0, 0)
