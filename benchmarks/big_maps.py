@@ -5,6 +5,7 @@ Usage::
     python benchmarks/big_maps.py                                   # every map and command below
     python benchmarks/big_maps.py --maps room-64-64-8,maze-128-128-10 --commands patrol
     python benchmarks/big_maps.py --timeout 120                     # stop each command after 120 s
+    python benchmarks/big_maps.py --map-dir /work/shared/maps/movingai   # maps elsewhere
 
 Each map is imported (``guardsim import``) into a temporary folder, then each command runs as its own
 process, as a user runs it (``python -m guardsim.cli ...``), warm (its kernels compiled by an untimed
@@ -122,6 +123,7 @@ def main() -> None:
     parser.add_argument("--maps", default=",".join(DEFAULT_MAPS))
     parser.add_argument("--commands", default=",".join(DEFAULT_COMMANDS))
     parser.add_argument("--timeout", type=float, default=300.0, help="Seconds before a command is stopped.")
+    parser.add_argument("--map-dir", type=Path, default=MAPS, help=f"Where the .map files are [default: {MAPS}].")
     args = parser.parse_args()
     commands = args.commands.split(",")
     unknown = set(commands) - set(COMMANDS)
@@ -132,7 +134,10 @@ def main() -> None:
     with tempfile.TemporaryDirectory() as folder:
         for name in args.maps.split(","):
             level = Path(folder) / f"{name}.json"
-            _run(["import", str(MAPS / f"{name}.map"), "--out", str(level)], args.timeout)
+            source = args.map_dir / f"{name}.map"
+            _, _, status, last = _run(["import", str(source), "--out", str(level)], args.timeout)
+            if status != 0:
+                parser.error(f"{source}: cannot import: {last}")
             start, goal = _ends(level)
             out = Path(folder) / name
             # Warm: the first run of a kernel version compiles it (untimed).
