@@ -19,6 +19,8 @@ import time
 from types import TracebackType
 from typing import Any, TextIO
 
+import click
+
 __all__ = ["PLAIN_EVERY_SECONDS", "QUIET_SECONDS", "ProgressLine", "StageLine", "draw_line", "duration"]
 
 #: A job that ends within this many seconds prints no progress at all.
@@ -137,16 +139,32 @@ class StageLine:
         while not self._stop.wait(REDRAW_SECONDS):
             self._draw(force=False)
 
-    def __enter__(self) -> StageLine:
-        self._clock.start()
+    def start(self) -> StageLine:
+        """Start the clock that keeps the line going; :meth:`close` stops it (the click context too, when
+        the command ends, should it stop early)."""
+        if not self._clock.is_alive() and not self._stop.is_set():
+            self._clock.start()
+            context = click.get_current_context(silent=True)
+            if context is not None:
+                context.call_on_close(self.close)
         return self
 
-    def __exit__(
-        self, kind: type[BaseException] | None, error: BaseException | None, trace: TracebackType | None
-    ) -> None:
+    def close(self) -> None:
+        """Stop the clock and end a line drawn in place, so that what the command prints next starts on
+        its own line. Closing twice does nothing more."""
         self._stop.set()
-        self._clock.join()
+        if self._clock.is_alive():
+            self._clock.join()
         with self._lock:
             if self.in_place and self._drawn:
                 self.stream.write("\n")
                 self.stream.flush()
+                self._drawn = False
+
+    def __enter__(self) -> StageLine:
+        return self.start()
+
+    def __exit__(
+        self, kind: type[BaseException] | None, error: BaseException | None, trace: TracebackType | None
+    ) -> None:
+        self.close()
