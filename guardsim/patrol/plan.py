@@ -26,6 +26,7 @@ __all__ = [
     "DEFAULT_LAPS",
     "DEFAULT_PATROL_MEMORY",
     "DEFAULT_WARMUP_LAPS",
+    "HUGE_CELLS",
     "LARGE_CELLS",
     "PatrolPlan",
     "PatrolSetup",
@@ -122,6 +123,10 @@ AUTO_SOURCES = ("cover", "tour", "frontier")
 #: walk's loop about as short as the full tour's (docs/performance.md has the figures).
 LARGE_CELLS = 60 * 60
 LARGE_SOURCES = ("cover", "frontier")
+#: Grid cells above which a level is huge (a 512 x 512 game map): there the frontier walk alone took
+#: over half of a 4-guard patrol, so ``auto`` builds the set cover's loop only.
+HUGE_CELLS = 300 * 300
+HUGE_SOURCES = ("cover",)
 
 #: ``progress(what, done, total)``: a stage of a long job, ``done`` of ``total`` of its steps.
 Progress = Callable[[str, int, int], None]
@@ -133,8 +138,10 @@ def is_large(setup: PatrolSetup) -> bool:
 
 
 def auto_sources(setup: PatrolSetup) -> tuple[str, ...]:
-    """The sources ``auto`` tries on this level: :data:`AUTO_SOURCES`, or :data:`LARGE_SOURCES` on a large one."""
-    return LARGE_SOURCES if is_large(setup) else AUTO_SOURCES
+    """The sources ``auto`` tries on this level: :data:`AUTO_SOURCES`, :data:`LARGE_SOURCES` on a large
+    one, :data:`HUGE_SOURCES` above :data:`HUGE_CELLS` grid cells."""
+    cells = int(setup.scene.grid.size)
+    return HUGE_SOURCES if cells > HUGE_CELLS else LARGE_SOURCES if cells > LARGE_CELLS else AUTO_SOURCES
 
 
 def plan_loop(
