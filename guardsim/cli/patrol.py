@@ -43,7 +43,7 @@ def output_folder(path: str) -> Path:
     type=click.Choice(["auto", "cover", *PLANNERS]),
     default="auto",
     show_default=True,
-    help="loop: viewpoints from the set cover, from that planner's coverage walk, or the best of cover, tour and frontier (auto; of cover and frontier on grids over 60 x 60 cells).",
+    help="loop: viewpoints from the set cover, from that planner's coverage walk, or the best of cover, tour and frontier (auto; of cover and frontier on grids over 60 x 60 cells, cover alone over 300 x 300).",
 )
 @click.option("--motion", type=click.Choice(["grid", "continuous"]), default="grid", show_default=True)
 @click.option("--seed", type=click.IntRange(min=0), default=0, show_default=True, help="Start and random choices.")
