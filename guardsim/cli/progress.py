@@ -17,9 +17,12 @@ import os
 import threading
 import time
 from types import TracebackType
-from typing import Any, TextIO
+from typing import TYPE_CHECKING, TextIO
 
 import click
+
+if TYPE_CHECKING:
+    from guardsim.experiment import EpisodeRecord
 
 __all__ = ["PLAIN_EVERY_SECONDS", "QUIET_SECONDS", "ProgressLine", "StageLine", "draw_line", "duration"]
 
@@ -56,7 +59,7 @@ class ProgressLine:
         self.drawn_at = -math.inf
         self.draw()
 
-    def advance(self, _record: Any) -> None:
+    def advance(self, _record: EpisodeRecord) -> None:
         """Count one episode done; redraw at most five times a second."""
         self.done += 1
         now = time.monotonic()
