@@ -75,9 +75,10 @@ DEFAULT_PATROL_MEMORY = 2 * 2**30
 #: library (measured: 270 MB on a 64 x 64 map).
 PATROL_BASE_BYTES = 300 * 2**20
 #: Bytes a patrol holds per (state, cell seen) pair of the view table: the table and its inverse, the
-#: vision cache behind them, and the loops, legs and scores, which grow with the level like the table
-#: (measured: 30 bytes a pair from room-64-64-8 to Berlin_1_256).
-PATROL_BYTES_PER_ENTRY = 40
+#: vision cache behind them, and the loops, legs, orderings and scores, which grow with the level like
+#: the table (measured peaks: 28 bytes a pair on Berlin_1_256, 34 on AR0603SR and 55 on duskwood with 4
+#: guards, whose long open views need many viewpoints and so a large ordering).
+PATROL_BYTES_PER_ENTRY = 56
 
 
 def patrol_memory(scene: Scene) -> int:
