@@ -95,7 +95,9 @@ def _run(arguments: list[str], timeout: float) -> tuple[float, float, int, int |
         seconds = time.perf_counter() - began
         output.seek(0)
         lines = [line for line in output.read().decode(errors="replace").splitlines() if line.strip()]
-    last = next((line for line in reversed(lines) if not line.startswith("guardsim: patrol:")), "")
+    # The summary line: not a progress line, nor a note indented under the summary.
+    said = [line for line in lines if not line.startswith(("guardsim: patrol:", "guardsim: sneak:", " "))]
+    last = said[-1] if said else ""
     return seconds, cpu, peak, status, last
 
 
