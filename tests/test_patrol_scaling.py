@@ -213,3 +213,16 @@ def test_a_patrol_over_its_memory_budget_is_refused_up_front(tmp_path: Path) -> 
     lines = result.stderr.splitlines()
     assert len(lines) == 1 and "over the budget of 64 MB" in lines[0] and "raise it with --memory-mb" in lines[0]
     assert not (tmp_path / "o" / "patrol.json").exists()
+
+
+@tiny_levels
+def test_distances_between_stopping_early_are_the_whole_fields(level_data: dict[str, Any]) -> None:
+    from guardsim.kernels.distances import distance_fields, distances_between
+
+    neighbours = scene_from(level_data).grid.neighbours
+    rng = np.random.default_rng(3)
+    cells = np.arange(neighbours.shape[0])
+    for size in (1, 3, 12):
+        sources, targets = rng.choice(cells, size=size), rng.choice(cells, size=size + 2)
+        whole = distance_fields(neighbours, sources)[:, targets]
+        assert np.array_equal(distances_between(neighbours, sources, targets), whole)
