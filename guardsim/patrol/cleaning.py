@@ -119,9 +119,7 @@ class _Watch:
         return seen, worst
 
 
-def _retimed(
-    route: dict[str, Any], points: list[dict[str, Any]], speed: float, seconds_per_tick: float
-) -> dict[str, Any]:
+def _retimed(route: dict[str, Any], points: list[dict[str, Any]], speed: float, seconds_per_tick: float) -> dict[str, Any]:
     timed: list[dict[str, Any]] = []
     time = 0.0
     for index, point in enumerate(points):
@@ -174,9 +172,7 @@ def _clean_one(
         changed = False
         for kind, index in _candidates(points, scene.grid.cell_size):
             trial = _changed(points, kind, index)
-            if len(trial) < 2 or (
-                best["loop_mode"] == "loop" and (trial[0]["x"], trial[0]["y"]) != (trial[-1]["x"], trial[-1]["y"])
-            ):
+            if len(trial) < 2 or (best["loop_mode"] == "loop" and (trial[0]["x"], trial[0]["y"]) != (trial[-1]["x"], trial[-1]["y"])):
                 continue
             if kind == "jog":
                 a, d = points[index - 1], points[index + 2]
@@ -184,9 +180,7 @@ def _clean_one(
                     continue
             candidate = _retimed(best, trial, speed, seconds_per_tick)
             now_seen, now_worst = watch.score(candidate, seen)
-            if now_seen[seen].all() and (
-                worst is None or (now_worst is not None and now_worst <= worst * (1 + tolerance))
-            ):
+            if now_seen[seen].all() and (worst is None or (now_worst is not None and now_worst <= worst * (1 + tolerance))):
                 best, points, changed = candidate, trial, True
                 counts[kind] += 1
                 break
