@@ -2,18 +2,17 @@
 
 from __future__ import annotations
 
-import math
 import os
 import sys
 import time
 from pathlib import Path
-from typing import TextIO
 
 import click
 
 from guardsim.cli.common import build_scene, limit_options, load, reports_errors, vision_options
 from guardsim.cli.map_options import MapImport, map_options
 from guardsim.cli.motion import check_motion, motion_options
+from guardsim.cli.progress import ProgressLine
 from guardsim.errors import GuardsimError
 from guardsim.experiment import (
     ERRORS_NAME,
@@ -256,47 +255,3 @@ def draw_plot(batch: Batch, folder: Path, records: list[EpisodeRecord], groups: 
         ylabel="makespan (steps)" if batch.guards > 1 else "steps to cover",
     )
     return targets
-
-
-class ProgressLine:
-    """Episodes done, rate and time left, redrawn in place on one line; silent unless ``stream`` is a terminal."""
-
-    def __init__(self, total: int, stream: TextIO) -> None:
-        self.total = total
-        self.done = 0
-        self.stream = stream
-        self.active = stream.isatty()
-        self.began = time.monotonic()
-        self.drawn_at = -math.inf
-        self.draw()
-
-    def advance(self, _record: EpisodeRecord) -> None:
-        """Count one episode done; redraw at most five times a second."""
-        self.done += 1
-        now = time.monotonic()
-        if now - self.drawn_at >= 0.2 or self.done == self.total:
-            self.draw()
-
-    def draw(self) -> None:
-        """Write the line over the previous one."""
-        if not self.active:
-            return
-        self.drawn_at = time.monotonic()
-        elapsed = self.drawn_at - self.began
-        rate = self.done / elapsed if elapsed > 0 and self.done else 0.0
-        left = f"{_duration((self.total - self.done) / rate)} left" if rate else "time left unknown"
-        self.stream.write(f"\r{self.done}/{self.total} episodes  {rate:.1f}/s  {left}   ")
-        self.stream.flush()
-
-    def close(self) -> None:
-        """End the line, so later messages start on their own."""
-        if self.active:
-            self.stream.write("\n")
-            self.stream.flush()
-            self.active = False
-
-
-def _duration(seconds: float) -> str:
-    minutes, second = divmod(round(seconds), 60)
-    hours, minute = divmod(minutes, 60)
-    return f"{hours}h{minute:02d}m" if hours else f"{minute}m{second:02d}s" if minute else f"{second}s"

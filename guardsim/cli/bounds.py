@@ -2,6 +2,7 @@
 
 from __future__ import annotations
 
+import sys
 import time
 from collections.abc import Callable
 from typing import TYPE_CHECKING, Any, TypeVar
@@ -11,6 +12,7 @@ import click
 from guardsim.bounds import lower_bounds
 from guardsim.cli.common import build_scene, cli_start, limit_options, load, parse_point, reports_errors, vision_options
 from guardsim.cli.map_options import MapImport, map_options
+from guardsim.cli.progress import StageLine
 from guardsim.level import HEADINGS
 from guardsim.optimum import MAX_POSITIONS, SearchProgress, solve
 from guardsim.search.graph import build_search_graph
@@ -96,10 +98,13 @@ def bounds(
     best order; the best bound is the largest (docs/bounds.md). The
     start and heading are chosen as by `guardsim play`: --start, else the level's, else drawn from --seed.
     """
+    progress = StageLine(sys.stderr, "bounds").start()
     level = load(level_path, max_cells, max_vertices, max_file_bytes, map_import)
     from guardsim.kernels.ahead import compile_ahead
 
+    progress("compiling", 0, 0)
     compile_ahead("bounds")
+    progress("view table", 0, 0)
     began = time.perf_counter()
     scene = build_scene(level, los, fov, view_range)
     _, cell, first_heading = cli_start(scene, seed=seed, episode=episode, start=start, heading=heading)
@@ -107,11 +112,14 @@ def bounds(
     vision = scene.vision()
     view_table(scene.grid, vision)
     tabled = time.perf_counter()
+    progress("bounds", 0, 0)
     result = lower_bounds(scene, cell, first_heading, vision)
     reachable = int(scene.grid.component(*cell).sum())
+    progress("search bound", 0, 0)
     best, search = result.best, _search_bound(scene, vision, cell, first_heading, search_expansions)
     if search[0] is not None:
         best = max(best, search[0])
+    progress.close()
     click.echo(
         f"{level.name}: from cell [{cell[0]}, {cell[1]}] facing {list(HEADINGS)[first_heading]} "
         f"({reachable} reachable cells): eccentricity bound {result.eccentricity}, "

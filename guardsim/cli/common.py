@@ -52,6 +52,7 @@ LIMIT_OPTIONS = {
     "max_view_entries": "shorten the view range or use larger cells",
     "max_wall_entries": "use fewer long walls, or a longer view range for larger buckets",
     "memory_bytes": "lower --memory-mb",
+    "memory_mb": "raise it with --memory-mb",
     "update": "run with --update",
 }
 _LIMIT_KEYWORD = re.compile(r"\((" + "|".join(LIMIT_OPTIONS) + r")\b([^()]*)\)")

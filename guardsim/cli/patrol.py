@@ -12,6 +12,7 @@ import click
 
 from guardsim.cli.common import FiniteFloatRange, build_scene, limit_options, load, reports_errors, vision_options
 from guardsim.cli.map_options import MapImport, map_options
+from guardsim.cli.progress import StageLine
 from guardsim.errors import GuardsimError
 from guardsim.patrol.job import PatrolJob, check_job, run_patrol, tiled_source_of
 from guardsim.patrol.model import STRATEGIES
@@ -44,7 +45,7 @@ def output_folder(path: str) -> Path:
     type=click.Choice(["auto", "cover", *PLANNERS]),
     default="auto",
     show_default=True,
-    help="loop: viewpoints from the set cover, from that planner's coverage walk, or the best of cover, tour and frontier (auto; of cover and frontier above 10 000 reachable cells).",
+    help="loop: viewpoints from the set cover, from that planner's coverage walk, or the best of cover, tour and frontier (auto; of cover and frontier on grids over 60 x 60 cells, cover alone over 300 x 300).",
 )
 @click.option("--motion", type=click.Choice(["grid", "continuous"]), default="grid", show_default=True)
 @click.option("--seed", type=click.IntRange(min=0), default=0, show_default=True, help="Start and random choices.")
@@ -112,6 +113,13 @@ def output_folder(path: str) -> Path:
     type=FiniteFloatRange(min=0, min_open=True, max=1e6),
     help="Pixels per world unit for --units pixels and --godot [default: the Tiled map's tile size, else 32].",
 )
+@click.option(
+    "--memory-mb",
+    type=click.IntRange(min=64, max=2**20),
+    default=2048,
+    show_default=True,
+    help="Memory budget: a level whose patrol would need more is refused before any work.",
+)
 @vision_options
 @map_options
 @limit_options
@@ -142,6 +150,7 @@ def patrol(
     units: str,
     axis: str,
     pixels_per_unit: float | None,
+    memory_mb: int,
     los: str,
     fov: float | None,
     view_range: float | None,
@@ -179,6 +188,7 @@ def patrol(
         axis=axis,
         pixels_per_unit=pixels_per_unit,
         max_file_bytes=max_file_bytes,
+        memory_bytes=memory_mb * 2**20,
     )
     check_job(job)
     from guardsim.files.output import check_writable
@@ -187,12 +197,16 @@ def patrol(
     for named in (export_path, tiled_out, godot_out):
         if named is not None:
             check_writable(named)
-    level = load(level_path, max_cells, max_vertices, max_file_bytes, map_import)
-    from guardsim.kernels.ahead import compile_ahead
+    with StageLine(sys.stderr, "patrol") as progress:
+        progress("reading the level", 0, 0)
+        level = load(level_path, max_cells, max_vertices, max_file_bytes, map_import)
+        from guardsim.kernels.ahead import compile_ahead
 
-    compile_ahead("patrol:team" if guards > 1 else "patrol")
-    scene = build_scene(level, los, fov, view_range)
-    done = run_patrol(scene, output_folder(out_dir), job)
+        progress("compiling", 0, 0)
+        compile_ahead("patrol:team" if guards > 1 else "patrol")
+        progress("building the scene", 0, 0)
+        scene = build_scene(level, los, fov, view_range)
+        done = run_patrol(scene, output_folder(out_dir), job, progress=progress)
     for warning in done.warnings:
         click.echo(f"guardsim: warning: {warning}", err=True)
     for line in done.lines:

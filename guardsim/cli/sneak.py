@@ -2,6 +2,8 @@
 
 from __future__ import annotations
 
+import sys
+
 import click
 
 from guardsim.cli.common import (
@@ -16,6 +18,7 @@ from guardsim.cli.common import (
 )
 from guardsim.cli.map_options import MapImport, map_options
 from guardsim.cli.patrol import output_folder
+from guardsim.cli.progress import StageLine
 from guardsim.errors import GuardsimError
 from guardsim.grid import CoverageGrid
 
@@ -123,6 +126,7 @@ def sneak(
         raise GuardsimError("--gif and --html write into the --out folder: give --out DIR")
     if safe and not html:
         raise GuardsimError("--safe outlines spots on the page: give --html")
+    progress = StageLine(sys.stderr, "sneak").start()
     level = detection_overrides.apply(load(level_path, max_cells, max_vertices, max_file_bytes, map_import))
     from guardsim.kernels.ahead import compile_ahead
 
@@ -154,12 +158,14 @@ def sneak(
     watch = level_watch(scene, detection.dt, max_lap=limit) if level.cameras or not level.lit else None
     for note in () if watch is None else watch.notes:
         click.echo(f"guardsim: warning: {note}", err=True)
+    progress("searching" + (" for an undetected path" if undetected else " for an unseen path"), 0, 0)
     result = sneak_check(
         grid, table, patrol, start, goal, detection=detection, undetected=undetected, watch=watch,
         max_lap=limit,
     )  # fmt: skip
     if result.lap is not None:
         patrol = result.lap
+    progress("writing", 0, 0)
     path = result.path
     assert path is not None
     data = sneak_data(result, grid, level=level.name, patrol=patrol_path, **{"from": list(source), "to": list(target)})
@@ -183,8 +189,10 @@ def sneak(
             safe=safe,
             watch=watch,
         )
+        progress.close()
         for warning in warnings:
             click.echo(f"guardsim: warning: {warning}", err=True)
+    progress.close()
     rule = "undetected" if undetected else "unseen"
     if path.found:
         answer = f"sneaks: {rule} from tick {path.start_tick} of the lap, {path.ticks} ticks"

@@ -147,13 +147,42 @@ def _fields(neighbours: np.ndarray, sources: np.ndarray, far: int, out: np.ndarr
 
 @jit
 def _between(neighbours: np.ndarray, sources: np.ndarray, targets: np.ndarray, far: int, out: np.ndarray) -> None:
-    single = np.empty(1, dtype=np.int64)
-    field = np.empty(neighbours.shape[0], dtype=np.int32)
+    # Each search stops once every target has its distance (a breadth-first label is final when given),
+    # and only the cells it labelled are cleared for the next: sources and targets close together (a
+    # region's viewpoints on a big map) cost their neighbourhood, not the level.
+    cells = neighbours.shape[0]
+    field = np.empty(cells, dtype=np.int32)
+    field[:] = far
+    wanted = np.zeros(cells, dtype=np.bool_)
+    distinct = 0
+    for column in range(targets.shape[0]):
+        if not wanted[targets[column]]:
+            wanted[targets[column]] = True
+            distinct += 1
+    queue = np.empty(cells, dtype=np.int64)
     for index in range(sources.shape[0]):
-        single[0] = sources[index]
-        fill_distances(neighbours, single, far, field)
+        source = sources[index]
+        field[source] = 0
+        queue[0] = source
+        tail = 1
+        found = 1 if wanted[source] else 0
+        head = 0
+        while head < tail and found < distinct:
+            cell = queue[head]
+            head += 1
+            step = field[cell] + 1
+            for direction in range(4):
+                other = neighbours[cell, direction]
+                if other >= 0 and field[other] == far:
+                    field[other] = step
+                    queue[tail] = other
+                    tail += 1
+                    if wanted[other]:
+                        found += 1
         for column in range(targets.shape[0]):
             out[index, column] = field[targets[column]]
+        for at in range(tail):
+            field[queue[at]] = far
 
 
 def distances_from(neighbours: np.ndarray, sources: np.ndarray) -> np.ndarray:

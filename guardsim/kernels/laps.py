@@ -21,7 +21,14 @@ __all__ = ["add_sights", "leg_states"]
 
 @jit
 def leg_states(
-    neighbours: np.ndarray, start: int, heading: int, entry: int, target: int, far: int, distance: np.ndarray, queue: np.ndarray
+    neighbours: np.ndarray,
+    start: int,
+    heading: int,
+    entry: int,
+    target: int,
+    far: int,
+    distance: np.ndarray,
+    queue: np.ndarray,
 ) -> np.ndarray:
     """The states after each tick from cell ``start`` facing ``heading`` to arriving in state ``target``
     through its entry cell ``entry``: a shortest walk to ``entry`` (where several steps are equally short

@@ -26,6 +26,7 @@ from guardsim.scene import Scene
 
 if TYPE_CHECKING:
     from guardsim.detection.watch import LevelWatch
+    from guardsim.patrol.plan import Progress
 
 __all__ = ["PatrolJob", "PatrolRun", "check_job", "run_patrol", "tiled_source_of"]
 
@@ -58,6 +59,8 @@ class PatrolJob:
     axis: str = "y-down"
     pixels_per_unit: float | None = None
     max_file_bytes: int = DEFAULT_MAX_FILE_BYTES
+    memory_bytes: int = 2 * 2**30
+    """The memory budget: a level whose patrol would need more is refused before any work."""
 
 
 @dataclass
@@ -107,8 +110,10 @@ def tiled_source_of(level_path: str, tiled_source: str | None) -> str | None:
     return None
 
 
-def run_patrol(scene: Scene, folder: Path, job: PatrolJob) -> PatrolRun:
-    """Make (or read and score) the patrol of ``scene`` and write what ``job`` asks into ``folder``."""
+def run_patrol(scene: Scene, folder: Path, job: PatrolJob, *, progress: Progress | None = None) -> PatrolRun:
+    """Make (or read and score) the patrol of ``scene`` and write what ``job`` asks into ``folder``;
+    ``progress(what, done, total)`` hears of each stage."""
+    tell: Progress = progress or _silent
     from guardsim.patrol import patrol_data, patrol_setup, plan_loop, plan_patrol, read_patrol, score_patrol
 
     level = scene.level
@@ -130,6 +135,10 @@ def run_patrol(scene: Scene, folder: Path, job: PatrolJob) -> PatrolRun:
             check_writable(named)
     lines: list[str] = []
     warnings: list[str] = []
+    tell("view table", 0, 0)
+    from guardsim.patrol.plan import check_patrol_memory
+
+    check_patrol_memory(scene, job.memory_bytes)
     setup = patrol_setup(scene, guards, seed=seed)
     extra: dict[str, object] = {}
     if evaluate_path is not None:
@@ -140,11 +149,12 @@ def run_patrol(scene: Scene, folder: Path, job: PatrolJob) -> PatrolRun:
         warmup = 0
         what = f"{Path(evaluate_path).name} evaluated"
     else:
-        loop_plan, team_scores = plan_loop(setup, guards, planner=planner)
+        loop_plan, team_scores = plan_loop(setup, guards, planner=planner, progress=tell)
         lap = loop_plan.patrol.ticks
         if strategy == "loop":
             plan = loop_plan
         else:
+            tell(f"{strategy} patrol", 0, 0)
             plan = plan_patrol(setup, strategy, laps=laps, warmup_laps=warmup_laps, lap=lap)
         chosen, score, warmup = plan
         what = f"{strategy} patrol"
@@ -153,6 +163,7 @@ def run_patrol(scene: Scene, folder: Path, job: PatrolJob) -> PatrolRun:
         if compare:
             rows = [("loop", loop_plan.score, loop_plan.patrol.period)]
             for other in STRATEGIES[1:]:
+                tell(f"{other} patrol to compare", 0, 0)
                 result = (
                     plan
                     if other == strategy
@@ -207,6 +218,7 @@ def run_patrol(scene: Scene, folder: Path, job: PatrolJob) -> PatrolRun:
         idleness_unit=shown.unit,
         never_seen=shown.never_seen,
     )
+    tell("writing", 0, 0)
     written = [str(folder / "patrol.json")]
     write_text_atomic(folder / "patrol.json", json.dumps(data, separators=(",", ":")) + "\n")
     try:
@@ -338,6 +350,10 @@ def run_patrol(scene: Scene, folder: Path, job: PatrolJob) -> PatrolRun:
     for note in chosen.notes:
         lines.append(f"  {note}")
     return PatrolRun(lines, warnings, written, data)
+
+
+def _silent(_what: str, _done: int, _total: int) -> None:
+    return None
 
 
 def _pixels_per_unit(

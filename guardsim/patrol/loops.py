@@ -224,7 +224,9 @@ class LoopBuilder:
         table = self.table
         missing = int(self.goal.sum())
         for state in keep:
-            missing += add_sights(table.sight_start, table.sight, self._cycle_leg(state, after[state]), 1, count, self.goal)
+            missing += add_sights(
+                table.sight_start, table.sight, self._cycle_leg(state, after[state]), 1, count, self.goal
+            )
         left = len(keep)
         for state in reversed(keep):
             if left <= 1:
@@ -298,7 +300,9 @@ def _split(builder: LoopBuilder, lap: np.ndarray, guards: int) -> np.ndarray:
     """
     period = lap.size
     best: list[np.ndarray] | None = None
-    for rotation in range(0, period, max(1, period // 8)):
+    # A thin (large-level) builder tries two cuts, not eight: each cut is a full loop per guard.
+    cuts = 2 if builder.thin else 8
+    for rotation in range(0, period, max(1, period // cuts)):
         turned = np.roll(lap, -rotation)
         bounds = [round(part * period / guards) for part in range(guards + 1)]
         laps = []
@@ -311,7 +315,7 @@ def _split(builder: LoopBuilder, lap: np.ndarray, guards: int) -> np.ndarray:
             laps.append(sub.loop(sub.cover_viewpoints()) if part_goal.any() else stretch[:1])
         if best is None or max(part.size for part in laps) < max(part.size for part in best):
             best = laps
-        if period < 8 * guards:
+        if period < cuts * guards:
             break
     assert best is not None
     return _padded(best)
@@ -364,14 +368,15 @@ def _padded(laps: list[np.ndarray]) -> np.ndarray:
 
 
 def team_loops(
-    builder: LoopBuilder, viewpoints: np.ndarray, guards: int, *, planner: str = "cover"
+    builder: LoopBuilder, viewpoints: np.ndarray, guards: int, *, planner: str = "cover", lap: np.ndarray | None = None
 ) -> tuple[Patrol, dict[str, PatrolScore]]:
     """The loop patrol of ``guards`` guards through ``viewpoints``, and the score of each team strategy.
 
     One guard walks the loop. A team gets the shared cycle and the split loops, and keeps the one with
     the lower worst idleness (then mean idleness; ties to the shared cycle).
     """
-    lap = builder.walk(builder.cycle(viewpoints))
+    if lap is None:
+        lap = builder.walk(builder.cycle(viewpoints))
     if guards == 1:
         patrol = Patrol(lap[None, :], lap.size, "loop", planner=planner)
         return patrol, {"single": score_patrol(builder.table, patrol, builder.goal)}

@@ -12,6 +12,7 @@ from typing import NamedTuple
 
 import numpy as np
 
+from guardsim.errors import LimitError
 from guardsim.grid import state_of
 from guardsim.patrol.loops import LoopBuilder, team_loops
 from guardsim.patrol.model import STRATEGIES, Patrol
@@ -23,13 +24,17 @@ from guardsim.vision.table import ViewTable, view_table
 
 __all__ = [
     "DEFAULT_LAPS",
+    "DEFAULT_PATROL_MEMORY",
     "DEFAULT_WARMUP_LAPS",
-    "LARGE_GOAL",
+    "HUGE_CELLS",
+    "LARGE_CELLS",
     "PatrolPlan",
     "PatrolSetup",
     "Progress",
     "auto_sources",
+    "check_patrol_memory",
     "is_large",
+    "patrol_memory",
     "patrol_setup",
     "plan_loop",
     "plan_patrol",
@@ -64,6 +69,40 @@ class PatrolPlan(NamedTuple):
     """Ticks walked before scoring (0 for a repeating patrol)."""
 
 
+#: The memory a patrol may use, by default: ``guardsim patrol --memory-mb`` changes it.
+DEFAULT_PATROL_MEMORY = 2 * 2**30
+#: What a patrol holds besides its view table: the interpreter, numpy, the compiled kernels, the plot
+#: library (measured: 270 MB on a 64 x 64 map).
+PATROL_BASE_BYTES = 300 * 2**20
+#: Bytes a patrol holds per (state, cell seen) pair of the view table: the table and its inverse, the
+#: vision cache behind them, and the loops, legs, orderings and scores, which grow with the level like
+#: the table (measured peaks: 28 bytes a pair on Berlin_1_256, 34 on AR0603SR and 55 on duskwood with 4
+#: guards, whose long open views need many viewpoints and so a large ordering).
+PATROL_BYTES_PER_ENTRY = 56
+
+
+def patrol_memory(scene: Scene) -> int:
+    """About how many bytes a loop patrol of ``scene`` needs at its peak (from the view table's size,
+    estimated before it is built: :func:`guardsim.vision.table.estimate_entries`)."""
+    from guardsim.vision.table import estimate_entries
+
+    return PATROL_BASE_BYTES + PATROL_BYTES_PER_ENTRY * estimate_entries(scene.grid, scene.vision())
+
+
+def check_patrol_memory(scene: Scene, memory_bytes: int = DEFAULT_PATROL_MEMORY) -> None:
+    """Refuse, before any work, a level whose patrol would need more than ``memory_bytes``.
+
+    Raises :class:`~guardsim.errors.LimitError` naming the budget (``memory_mb``) and what it would need.
+    """
+    needed = patrol_memory(scene)
+    if needed > memory_bytes:
+        rows, cols = scene.grid.shape
+        raise LimitError(
+            f"a patrol of this {rows} x {cols} grid would need about {-(-needed // 2**20)} MB, over the budget of "
+            f"{memory_bytes // 2**20} MB (memory_mb)"
+        )
+
+
 def patrol_setup(scene: Scene, guards: int = 1, *, seed: int = 0) -> PatrolSetup:
     """The view table, goal and starts of a level's patrols."""
     if guards < 1:
@@ -77,27 +116,33 @@ def patrol_setup(scene: Scene, guards: int = 1, *, seed: int = 0) -> PatrolSetup
 
 #: Where ``auto`` takes a loop's viewpoints from; the loop with the lowest worst idleness wins.
 AUTO_SOURCES = ("cover", "tour", "frontier")
-#: Goal cells above which a level is large. There the tour planner's full search (every seed, then
-#: polishing) grows too fast (10 s of a 128 x 128 maze's 12 s patrol, minutes on a 256 x 256 city), so
-#: ``auto`` takes :data:`LARGE_SOURCES`, and the viewpoints of a loop are cut to an irredundant cover of the
-#: goal before they are ordered (:attr:`~guardsim.patrol.loops.LoopBuilder.thin`), which keeps ordering
-#: small and makes the frontier walk's loop about as short as the full tour's. The shipped levels are far
-#: below it, and are patrolled as before.
-LARGE_GOAL = 10_000
+#: Grid cells above which a level is large (the shipped levels are 60 x 60). There the tour planner's
+#: full search (every seed, then polishing) grows too fast (10 s of a 128 x 128 maze's 12 s patrol,
+#: minutes on a 256 x 256 city), so ``auto`` takes :data:`LARGE_SOURCES`, and the viewpoints of a loop are
+#: cut to an irredundant cover of the goal before they are ordered
+#: (:attr:`~guardsim.patrol.loops.LoopBuilder.thin`), which keeps ordering small and makes the frontier
+#: walk's loop about as short as the full tour's (docs/performance.md has the figures).
+LARGE_CELLS = 60 * 60
 LARGE_SOURCES = ("cover", "frontier")
+#: Grid cells above which a level is huge (a 512 x 512 game map): there the frontier walk alone took
+#: over half of a 4-guard patrol, so ``auto`` builds the set cover's loop only.
+HUGE_CELLS = 300 * 300
+HUGE_SOURCES = ("cover",)
 
 #: ``progress(what, done, total)``: a stage of a long job, ``done`` of ``total`` of its steps.
 Progress = Callable[[str, int, int], None]
 
 
 def is_large(setup: PatrolSetup) -> bool:
-    """Whether the level has more than :data:`LARGE_GOAL` goal cells."""
-    return int(setup.goal.sum()) > LARGE_GOAL
+    """Whether the level's grid has more than :data:`LARGE_CELLS` cells."""
+    return int(setup.scene.grid.size) > LARGE_CELLS
 
 
 def auto_sources(setup: PatrolSetup) -> tuple[str, ...]:
-    """The sources ``auto`` tries on this level: :data:`AUTO_SOURCES`, or :data:`LARGE_SOURCES` on a large one."""
-    return LARGE_SOURCES if is_large(setup) else AUTO_SOURCES
+    """The sources ``auto`` tries on this level: :data:`AUTO_SOURCES`, :data:`LARGE_SOURCES` on a large
+    one, :data:`HUGE_SOURCES` above :data:`HUGE_CELLS` grid cells."""
+    cells = int(setup.scene.grid.size)
+    return HUGE_SOURCES if cells > HUGE_CELLS else LARGE_SOURCES if cells > LARGE_CELLS else AUTO_SOURCES
 
 
 def plan_loop(
@@ -111,13 +156,22 @@ def plan_loop(
     """
     if planner == "auto":
         sources = auto_sources(setup)
+        large = is_large(setup)
         plans = []
         for number, source in enumerate(sources):
             if progress is not None:
                 progress(f"loop from {source} viewpoints", number, len(sources))
-            plans.append(plan_loop(setup, guards, planner=source, progress=progress))
-        return min(plans, key=lambda plan: score_rank(plan[0].score))
-    builder = LoopBuilder(setup.scene.grid, setup.table, setup.goal, thin=is_large(setup))
+            # On a large level a team's loops are made once, from the source whose single loop is best.
+            plans.append(plan_loop(setup, 1 if large else guards, planner=source, progress=progress))
+        best = min(plans, key=lambda plan: score_rank(plan[0].score))
+        if not large or guards == 1:
+            return best
+        builder = _builder(setup)
+        lap = best[0].patrol.states[0]
+        if progress is not None:
+            progress(f"loops for a team of {guards} from {best[0].patrol.planner} viewpoints", 0, 0)
+        return _team_plan(setup, builder, lap, guards, best[0].patrol.planner or "cover", lap)
+    builder = _builder(setup)
     if planner == "cover":
         viewpoints = builder.cover_viewpoints()
     else:
@@ -129,7 +183,19 @@ def plan_loop(
         grid = setup.scene.grid
         cells = np.array([grid.flat(col, row) for col, row in trace.path], dtype=np.int64)
         viewpoints = builder.walk_viewpoints(state_of(cells, np.asarray(trace.headings, dtype=np.int64)))
-    patrol, scores = team_loops(builder, viewpoints, guards, planner=planner)
+    if progress is not None and guards > 1:
+        progress(f"loops for a team of {guards} from {planner} viewpoints", 0, 0)
+    return _team_plan(setup, builder, viewpoints, guards, planner, None)
+
+
+def _builder(setup: PatrolSetup) -> LoopBuilder:
+    return LoopBuilder(setup.scene.grid, setup.table, setup.goal, thin=is_large(setup))
+
+
+def _team_plan(
+    setup: PatrolSetup, builder: LoopBuilder, viewpoints: np.ndarray, guards: int, planner: str, lap: np.ndarray | None
+) -> tuple[PatrolPlan, dict[str, PatrolScore]]:
+    patrol, scores = team_loops(builder, viewpoints, guards, planner=planner, lap=lap)
     chosen = scores.get(patrol.team or "single") or score_patrol(setup.table, patrol, setup.goal)
     return PatrolPlan(patrol, chosen, 0), scores
 

@@ -163,7 +163,9 @@ def score_patrol(table: ViewTable, patrol: Patrol, goal: np.ndarray, *, warmup: 
     >>> score.worst_idleness, score.mean_idleness
     (0, 0.0)
     """
-    return _score(table.sight_start, table.sight, patrol.states, goal, periodic=patrol.period is not None, warmup=warmup)
+    return _score(
+        table.sight_start, table.sight, patrol.states, goal, periodic=patrol.period is not None, warmup=warmup
+    )
 
 
 def score_rank(score: PatrolScore) -> tuple[float, float]:
