@@ -194,8 +194,10 @@ def patrol(
     from guardsim.files.output import check_writable
 
     # Before the output folder is made: a failed command leaves nothing behind, not even an empty folder.
+    # A target inside the output folder is written once that folder is made.
+    inside = Path(out_dir).resolve()
     for named in (export_path, tiled_out, godot_out):
-        if named is not None:
+        if named is not None and not Path(named).resolve().is_relative_to(inside):
             check_writable(named)
     with StageLine(sys.stderr, "patrol") as progress:
         progress("reading the level", 0, 0)
