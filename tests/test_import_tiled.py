@@ -435,13 +435,36 @@ def test_compressed_data_is_not_inflated_past_what_the_layer_needs(tmp_path: Pat
         import_map(write_json(tmp_path, data))
 
 
-@pytest.mark.parametrize("command", ["patrol", "sneak", "alert", "check", "bounds"])
-def test_commands_that_take_a_map_take_the_import_options(command: str) -> None:
-    """Every command that reads a level takes a map with the import options (``--spawn-tile`` and the rest)."""
-    result = CliRunner().invoke(main, [command, "--help"])
-    assert result.exit_code == 0
-    for option in ("--spawn-tile", "--wall-tile", "--cell-size", "--view", "--strict"):
-        assert option in result.output, (command, option)
+@pytest.fixture(scope="module")
+def rotated_patrol(tmp_path_factory: pytest.TempPathFactory) -> tuple[Path, Path]:
+    """The rotated map with no typed spawn tile, and a patrol planned on it."""
+    folder = tmp_path_factory.mktemp("rotated")
+    path = folder / "rotated.tmx"
+    path.write_text(TMX_ROTATED.replace('<tile id="2" type="guard"/>', ""), encoding="utf-8")
+    result = CliRunner().invoke(main, ["patrol", str(path), "--out", str(folder / "p")])
+    assert result.exit_code == 0, result.output
+    return path, folder / "p" / "patrol.json"
+
+
+@pytest.mark.parametrize("command", ["patrol", "sneak", "alert", "check"])
+def test_commands_that_take_a_map_take_the_import_options(
+    tmp_path: Path, rotated_patrol: tuple[Path, Path], command: str
+) -> None:
+    """Every command that reads a level takes a map with the import options: ``--spawn-tile 3`` makes the
+    marker tile a guard spawn (the import's summary says so), where the same run without it finds none."""
+    path, patrol = rotated_patrol
+    arguments = {
+        "patrol": ["--out", str(tmp_path / "p")],
+        "sneak": ["--patrol", str(patrol), "--from", "0.5,3.5", "--to", "5.5,3.5", "--out", str(tmp_path / "s")],
+        "alert": ["--patrol", str(patrol), "--intruder", "still", "--from", "0.5,3.5", "--max-seconds", "2"],
+        "check": ["--max-cover-steps", "100"],
+    }[command]
+    told = CliRunner().invoke(main, [command, str(path), *arguments, "--spawn-tile", "3"])
+    assert told.exit_code == 0, told.output
+    assert "1 guard spawn from 1 spawn tile (gids 3)" in told.stderr
+    plain = CliRunner().invoke(main, [command, str(path), *arguments])
+    assert plain.exit_code == 0, plain.output
+    assert "0 guard spawns" in plain.stderr
 
 
 def test_bounds_reads_a_map_with_its_spawn_tile(tmp_path: Path) -> None:

@@ -7,6 +7,7 @@ from __future__ import annotations
 import json
 from pathlib import Path
 
+import numpy as np
 import pytest
 import shapely
 from click.testing import CliRunner
@@ -15,6 +16,7 @@ from guardsim.cli import main
 from guardsim.errors import LevelError
 from guardsim.importers import import_map, load_any
 from guardsim.importers.tiled_roles import words
+from guardsim.render.palette import COLOURS
 
 TILESET = """ <tileset firstgid="1" name="t" tilewidth="16" tileheight="16" tilecount="8" columns="4">{tiles}</tileset>
 """
@@ -255,23 +257,54 @@ def test_validate_takes_a_map_and_strict_fails_on_its_warnings(open_map: Path, w
 
 
 def test_play_and_render_take_maps_and_their_import_options(tmp_path: Path, walled_map: Path) -> None:
-    gif, png = tmp_path / "out.gif", tmp_path / "out.png"
-    played = CliRunner().invoke(main, ["play", str(walled_map), "--gif", str(gif), "--trace", str(tmp_path / "t.json")])
+    """The map is played as imported: the trace's grid is the map's, its walk stays inside the walls and
+    sees all 16 inside cells; the GIF has a frame a tick; the preview's walls are where the map has them."""
+    import imageio.v3 as iio
+
+    gif, png, trace_path = tmp_path / "out.gif", tmp_path / "out.png", tmp_path / "t.json"
+    played = CliRunner().invoke(main, ["play", str(walled_map), "--gif", str(gif), "--trace", str(trace_path)])
     assert played.exit_code == 0, played.output
-    assert gif.stat().st_size > 0
+    trace = json.loads(trace_path.read_text(encoding="utf-8"))
+    assert trace["shape"] == [6, 6] and trace["reachable"] == 16 and trace["outcome"] == "covered"
+    traversable = {(col, row) for row, line in enumerate(trace["traversable"]) for col, on in enumerate(line) if on}
+    assert traversable == INSIDE
+    assert {tuple(cell) for cell in trace["path"]} <= INSIDE
+    frames = iio.imread(gif, index=None)
+    assert frames.shape[0] == trace["steps"] + 1
     rendered = CliRunner().invoke(main, ["render", str(walled_map), "--png", str(png), "--wall-layer", "Walls"])
     assert rendered.exit_code == 0, rendered.output
-    assert png.stat().st_size > 0
+    assert "6 x 6 cells, 16 traversable, 16 reachable, 0 unreachable" in rendered.stdout
+    image = iio.imread(png)[:, :, :3]
+    reachable = np.all(image == COLOURS["reachable"], axis=2).sum()
+    walls = np.all(image == COLOURS["wall"], axis=2).sum()
+    # 16 of the 36 cells are reachable floor (less the grid lines), the 20 round them wall.
+    assert 0.5 * walls < reachable < walls
 
 
 def test_bench_and_regress_take_maps(tmp_path: Path, walled_map: Path) -> None:
+    """bench runs its episodes on the imported map (starts inside the walls, all 16 cells reachable);
+    regress stores the map's references, passes on the same map and fails once a wall tile is added."""
+    import csv
+
     benched = CliRunner().invoke(main, ["bench", str(walled_map), "--episodes", "2", "--out", str(tmp_path / "b")])
     assert benched.exit_code == 0, benched.output
+    with (tmp_path / "b" / "results.csv").open(encoding="utf-8") as handle:
+        rows = list(csv.DictReader(handle))
+    assert [row["episode"] for row in rows] == ["0", "1"]
+    for row in rows:
+        assert row["level_file"] == str(walled_map) and row["reachable"] == "16" and row["outcome"] == "covered"
+        assert (int(row["start_col"]), int(row["start_row"])) in INSIDE
     renders = tmp_path / "renders"
     updated = CliRunner().invoke(main, ["regress", str(walled_map), "--renders", str(renders), "--update"])
     assert updated.exit_code == 0, updated.output
+    assert "references written" in updated.stdout
     again = CliRunner().invoke(main, ["regress", str(walled_map), "--renders", str(renders)])
     assert again.exit_code == 0, again.output
+    assert "room.tmx: ok" in again.stdout
+    pillar = ["222222", "2....2", "2.2..2", "2....2", "2....2", "222222"]
+    write(tmp_path, tmx(layer("Ground", ROOM) + layer("Walls", pillar)), "room.tmx")
+    changed = CliRunner().invoke(main, ["regress", str(walled_map), "--renders", str(renders)])
+    assert changed.exit_code == 1, changed.output
 
 
 def test_a_tiled_json_is_told_from_a_guardsim_level_by_content(tmp_path: Path) -> None:

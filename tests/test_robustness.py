@@ -155,8 +155,18 @@ def test_long_outer_ring_validates_and_plays(tmp_path: Path) -> None:
     angles = np.linspace(0, 2 * math.pi, 99_997, endpoint=False)
     ring = np.stack([50 + 40 * np.cos(angles), 50 + 40 * np.sin(angles)], axis=1).tolist()
     path = write_level(tmp_path, {"outer": ring, "cell_size": 2})
-    assert run("validate", path, "--no-warnings").exit_code == 0
+    validated = run("validate", path, "--no-warnings")
+    assert validated.exit_code == 0 and f"{path}: ok" in validated.stdout
     assert run("play", path, "--max-steps", "5", "--trace", tmp_path / "t.json").exit_code == 0
+    trace = json.loads((tmp_path / "t.json").read_text(encoding="utf-8"))
+    # The grid is the ring's: 40 cells across; every cell walked lies inside the ring, each a step apart.
+    assert trace["shape"] == [40, 40] and trace["steps"] == 5 and len(trace["path"]) == 6
+    origin = trace["origin"]
+    for col, row in trace["path"]:
+        centre = (origin[0] + 2 * col + 1, origin[1] + 2 * row + 1)
+        assert math.hypot(centre[0] - 50, centre[1] - 50) < 40
+    for (c0, r0), (c1, r1) in zip(trace["path"], trace["path"][1:]):
+        assert abs(c0 - c1) + abs(r0 - r1) <= 1
 
 
 @pytest.mark.parametrize("count", [2000, pytest.param(33_000, marks=pytest.mark.slow)])

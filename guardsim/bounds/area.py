@@ -21,6 +21,7 @@ import numpy as np
 from guardsim.grid import CoverageGrid
 from guardsim.kernels.arrays import copy_into
 from guardsim.kernels.compiler import jit
+from guardsim.kernels.csr import invert_csr
 from guardsim.kernels.distances import new_fill
 from guardsim.kernels.picks import AreaWatchers
 from guardsim.kernels.steps import cell_of_state
@@ -121,23 +122,6 @@ def _pool_watchers(
 
 
 @jit
-def _members_of_states(pool_start: np.ndarray, pool_states: np.ndarray, states: int) -> tuple[np.ndarray, np.ndarray]:
-    """The inverse of the pool's watcher lists: per state, the pool positions it watches (CSR)."""
-    start = np.zeros(states + 1, dtype=np.int64)
-    for k in range(pool_states.shape[0]):
-        start[pool_states[k] + 1] += 1
-    for state in range(states):
-        start[state + 1] += start[state]
-    fill = start[:states].copy()
-    members = np.empty(pool_states.shape[0], dtype=np.int32)
-    for position in range(pool_start.shape[0] - 1):
-        for k in range(pool_start[position], pool_start[position + 1]):
-            members[fill[pool_states[k]]] = position
-            fill[pool_states[k]] += 1
-    return start, members
-
-
-@jit
 def _reach_radius(
     pool: np.ndarray, pool_start: np.ndarray, pool_cells: np.ndarray, neighbours: np.ndarray
 ) -> np.ndarray:
@@ -191,7 +175,7 @@ def _build(grid: CoverageGrid, table: ViewTable, label: int, candidates: int) ->
     pool_start, pool_states, pool_cells, pool_entries = _pool_watchers(
         pool, table.watch_start, table.watchers, usable, entry
     )
-    member_start, members = _members_of_states(pool_start, pool_states, entry.size)
+    member_start, members = invert_csr(pool_start, pool_states, entry.size)
     radius = _reach_radius(pool, pool_start, pool_cells, neighbours)
     size = len(pool)
     # np.empty leaves untouched rows unallocated by the system: only the rows used cost memory.

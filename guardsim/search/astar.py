@@ -7,8 +7,8 @@ Any covering walk splits at the steps where it sees something new; between two s
 nothing new, so it can be replaced by a shortest path through positions that see nothing new, and the
 split walk is a path of these macro moves no longer than the walk. So the search misses no optimum.
 
-Nodes are kept in flat arrays (position, steps, parent, seen bitset), found again through an
-open-addressing hash table on (position, seen), and ordered by a binary heap on ``f = g + h`` (ties:
+Nodes are kept in flat arrays (position, steps, parent, seen bitset), found again through the node
+store's hash table on (position, seen) (:mod:`guardsim.kernels.nodes`), and ordered by a binary heap on ``f = g + h`` (ties:
 the deeper node first). The estimate ``h`` is :func:`guardsim.kernels.estimate.estimate`, with
 pathmax. A greedy walk (nearest frontier first) gives the first incumbent; nodes whose ``f`` reaches the
 incumbent are never stored. The search runs in chunks of expansions, so the caller can stop it between
@@ -17,18 +17,16 @@ chunks; everything it needs lives in the :class:`SearchState` arrays.
 
 from __future__ import annotations
 
-import contextlib
-from collections.abc import Iterator
 from typing import NamedTuple
 
 import numpy as np
 from numba.extending import register_jitable
 
-from guardsim.kernels.arrays import copy_into
 from guardsim.kernels.compiler import jit
 from guardsim.kernels.estimate import Heuristic, eccentricity, estimate, estimate_work, pattern_value
 from guardsim.kernels.frontier import drop_shadowed, frontier, frontier_work, node_hash
 from guardsim.kernels.heap import heap_pop, heap_push
+from guardsim.kernels.nodes import find_node, is_dominated, new_table, store_node
 
 __all__ = ["FULL", "PROVED", "RUNNING", "SearchState", "greedy_walk", "new_search_state", "run_search", "start_search"]
 
@@ -69,29 +67,9 @@ class SearchState(NamedTuple):
     """``int32 (capacity,)``: the node stored before it at the same position, -1 for none."""
 
 
-@contextlib.contextmanager
-def _small_pages() -> Iterator[None]:
-    """numpy asks Linux for huge pages on large arrays; the hash table is touched sparsely, so each probe
-    would zero a whole 2 MB page: a 3 GB budget on a tiny level cost 1.4 GB and 15 s instead of 0.2 GB
-    and 2 s. Pages are then zeroed one small page at a time, as touched."""
-    try:
-        from numpy._core.multiarray import _set_madvise_hugepage  # type: ignore[attr-defined]
-    except ImportError:  # another numpy: its default pages
-        yield
-        return
-    before = _set_madvise_hugepage(False)
-    try:
-        yield
-    finally:
-        _set_madvise_hugepage(before)
-
-
 def new_search_state(capacity: int, words: int, positions: int) -> SearchState:
     """Empty arrays for at most ``capacity`` nodes (the node arrays fill in order; the hash table is
     probed at random, so it gets small pages)."""
-    slots = 1 << max(4, int(2 * capacity - 1).bit_length())
-    with _small_pages():
-        table = np.zeros(slots, dtype=np.int64)
     return SearchState(
         np.zeros(capacity, dtype=np.int32),
         np.zeros(capacity, dtype=np.int32),
@@ -101,34 +79,17 @@ def new_search_state(capacity: int, words: int, positions: int) -> SearchState:
         np.zeros((capacity, words), dtype=np.uint64),
         np.zeros(2 * capacity, dtype=np.int64),
         np.zeros(2 * capacity, dtype=np.int32),
-        table,
+        new_table(capacity),
         np.zeros(8, dtype=np.int64),
         np.full(positions, -1, dtype=np.int32),
         np.full(capacity, -1, dtype=np.int32),
     )
 
 
-@jit
+@jit(inline="always")
 def _find(state: SearchState, position: int, seen: np.ndarray) -> tuple[int, int]:
     """(node, slot): the node of (position, seen), or -1 and the empty slot where it would go."""
-    table = state.table
-    mask = table.shape[0] - 1
-    slot = np.int64(node_hash(position, seen) >> np.uint64(1)) & mask
-    words = seen.shape[0]
-    while True:
-        entry = table[slot]
-        if entry == 0:
-            return -1, slot
-        node = entry - 1
-        if state.position[node] == position:
-            same = True
-            for word in range(words):
-                if state.seen[node, word] != seen[word]:
-                    same = False
-                    break
-            if same:
-                return node, slot
-        slot = (slot + 1) & mask
+    return find_node(state.table, node_hash(position, seen), (state.position,), (np.int64(position),), state.seen, seen)
 
 
 @jit
@@ -177,38 +138,21 @@ def greedy_walk(successors: np.ndarray, views: np.ndarray, full: np.ndarray, sta
 
 @jit
 def _add(state: SearchState, slot: int, position: int, steps: int, parent: int, h: int, seen: np.ndarray) -> int:
-    counters = state.counters
-    node = counters[NODES]
-    counters[NODES] += 1
+    node = store_node(state.counters, state.table, state.latest, state.earlier, state.seen, slot, position, seen)
     state.position[node] = position
     state.steps[node] = steps
     state.parent[node] = parent
     state.estimate[node] = h
-    copy_into(state.seen[node], 0, seen)
-    state.table[slot] = node + 1
-    state.earlier[node] = state.latest[position]
-    state.latest[position] = node
     return node
 
 
-@jit
+@jit(inline="always")
 def _dominated(state: SearchState, position: int, steps: int, seen: np.ndarray, checks: int, itself: int) -> bool:
     """Whether one of the last ``checks`` nodes stored at ``position`` (other than ``itself``) saw at
-    least ``seen`` in at most ``steps``: whatever the node could still do, that one can do no later."""
-    node = state.latest[position]
-    words = seen.shape[0]
-    while node >= 0 and checks > 0:
-        checks -= 1
-        if node != itself and state.steps[node] <= steps:
-            covers = True
-            for word in range(words):
-                if seen[word] & ~state.seen[node, word]:
-                    covers = False
-                    break
-            if covers:
-                return True
-        node = state.earlier[node]
-    return False
+    least ``seen`` in at most ``steps``."""
+    return is_dominated(
+        state.latest, state.earlier, position, (state.steps,), (np.int64(steps),), state.seen, seen, checks, itself
+    )
 
 
 @register_jitable(inline="always")

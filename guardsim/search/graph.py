@@ -20,6 +20,7 @@ import numpy as np
 from guardsim.grid import HEADINGS_PER_CELL, CoverageGrid, cell_of_state, heading_of_state, state_of
 from guardsim.kernels.arrays import true_indices
 from guardsim.kernels.compiler import jit
+from guardsim.kernels.csr import predecessors, watcher_csr
 from guardsim.kernels.distances import fill_states
 from guardsim.kernels.estimate import UNREACHABLE
 from guardsim.vision.table import ViewTable
@@ -29,9 +30,7 @@ __all__ = [
     "SearchGraph",
     "build_search_graph",
     "goal_bits",
-    "predecessors",
     "route_steps",
-    "watcher_csr",
     "watcher_distances",
 ]
 
@@ -154,51 +153,6 @@ def build_search_graph(
     for bit in range(goal_cells.size):
         full[bit >> 6] |= np.uint64(1) << np.uint64(bit & 63)
     return SearchGraph(successors, views, states, goal_cells, full, int(position_of[first]), headings_matter)
-
-
-@jit
-def predecessors(successors: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
-    """Reverse adjacency as CSR: the positions with a move into each position."""
-    positions = successors.shape[0]
-    start = np.zeros(positions + 1, dtype=np.int64)
-    for position in range(positions):
-        for direction in range(4):
-            other = successors[position, direction]
-            if other >= 0:
-                start[other + 1] += 1
-    for position in range(positions):
-        start[position + 1] += start[position]
-    fill = start[:positions].copy()
-    before = np.empty(start[positions], dtype=np.int64)
-    for position in range(positions):
-        for direction in range(4):
-            other = successors[position, direction]
-            if other >= 0:
-                before[fill[other]] = position
-                fill[other] += 1
-    return start, before
-
-
-@jit
-def watcher_csr(views: np.ndarray, goal: int) -> tuple[np.ndarray, np.ndarray]:
-    """The positions that see each goal bit, as CSR: bit ``i`` is seen from
-    ``watchers[start[i]:start[i + 1]]`` (ascending)."""
-    positions = views.shape[0]
-    start = np.zeros(goal + 1, dtype=np.int64)
-    for position in range(positions):
-        for bit in range(goal):
-            if (views[position, bit >> 6] >> np.uint64(bit & 63)) & np.uint64(1):
-                start[bit + 1] += 1
-    for bit in range(goal):
-        start[bit + 1] += start[bit]
-    watchers = np.empty(start[goal], dtype=np.int64)
-    fill = start[:goal].copy()
-    for position in range(positions):
-        for bit in range(goal):
-            if (views[position, bit >> 6] >> np.uint64(bit & 63)) & np.uint64(1):
-                watchers[fill[bit]] = position
-                fill[bit] += 1
-    return start, watchers
 
 
 @jit

@@ -26,8 +26,9 @@ from collections.abc import Callable
 import numpy as np
 
 from guardsim.kernels.compiler import jit
+from guardsim.kernels.csr import watcher_csr
 from guardsim.kernels.distances import distance_fields
-from guardsim.search.graph import SearchGraph, watcher_csr
+from guardsim.search.graph import SearchGraph
 
 __all__ = ["IMPROVE_MAX_POSITIONS", "improve_route"]
 

@@ -24,9 +24,10 @@ from collections.abc import Callable
 import numpy as np
 
 from guardsim.kernels.compiler import jit
+from guardsim.kernels.csr import predecessors, watcher_csr
 from guardsim.kernels.distances import FAR, fill_distances
 from guardsim.kernels.estimate import Heuristic
-from guardsim.search.graph import SearchGraph, predecessors, watcher_csr
+from guardsim.search.graph import SearchGraph
 
 __all__ = [
     "PATTERN_ENTRIES",

@@ -42,6 +42,7 @@ from guardsim.kernels.compiler import jit
 from guardsim.kernels.estimate import Heuristic, estimate, estimate_work
 from guardsim.kernels.frontier import drop_shadowed, frontier, frontier_work, node_hash
 from guardsim.kernels.heap import heap_pop, heap_push
+from guardsim.kernels.nodes import find_node, is_dominated, new_table, store_node
 from guardsim.kernels.team_estimate import split_bound, team_bound
 from guardsim.search.astar import (
     EXPANSIONS,
@@ -99,7 +100,6 @@ class TeamSearchState(NamedTuple):
 
 def new_team_state(capacity: int, words: int, positions: int, guards: int) -> TeamSearchState:
     """Empty arrays for at most ``capacity`` nodes."""
-    slots = 1 << max(4, int(2 * capacity - 1).bit_length())
     return TeamSearchState(
         np.zeros(capacity, dtype=np.int32),
         np.zeros(capacity, dtype=np.int32),
@@ -111,7 +111,7 @@ def new_team_state(capacity: int, words: int, positions: int, guards: int) -> Te
         np.zeros((capacity, words), dtype=np.uint64),
         np.zeros(2 * capacity, dtype=np.int64),
         np.zeros(2 * capacity, dtype=np.int32),
-        np.zeros(slots, dtype=np.int64),
+        new_table(capacity),
         np.zeros(8, dtype=np.int64),
         np.full(guards * positions, -1, dtype=np.int32),
         np.full(capacity, -1, dtype=np.int32),
@@ -124,52 +124,26 @@ def _key(bound: int, guard: int, steps: int) -> int:
     return bound * _KEY_SHIFT + (_KEY_SHIFT - 1 - tie)
 
 
-@jit
+@jit(inline="always")
 def _find(
     state: TeamSearchState, guard: int, position: int, before: int, seen: np.ndarray, positions: int
 ) -> tuple[int, int]:
     """(node, slot): the node of (guard, position, G, seen), or -1 and the empty slot where it would go."""
-    table = state.table
-    mask = table.shape[0] - 1
     value = node_hash(guard * positions + position, seen) ^ (np.uint64(before) * np.uint64(0x94D049BB133111EB))
-    slot = np.int64(value >> np.uint64(1)) & mask
-    words = seen.shape[0]
-    while True:
-        entry = table[slot]
-        if entry == 0:
-            return -1, slot
-        node = entry - 1
-        if state.position[node] == position and state.guard[node] == guard and state.before[node] == before:
-            same = True
-            for word in range(words):
-                if state.seen[node, word] != seen[word]:
-                    same = False
-                    break
-            if same:
-                return node, slot
-        slot = (slot + 1) & mask
+    labels = (state.position, state.guard, state.before)
+    label = (np.int64(position), np.int64(guard), np.int64(before))
+    return find_node(state.table, value, labels, label, state.seen, seen)
 
 
-@jit
+@jit(inline="always")
 def _dominated(
     state: TeamSearchState, chain: int, steps: int, before: int, seen: np.ndarray, checks: int, itself: int
 ) -> bool:
     """Whether one of the last ``checks`` nodes of the same (guard, position) saw at least ``seen`` with
     no more steps and no longer walks before it."""
-    node = state.latest[chain]
-    words = seen.shape[0]
-    while node >= 0 and checks > 0:
-        checks -= 1
-        if node != itself and state.steps[node] <= steps and state.before[node] <= before:
-            covers = True
-            for word in range(words):
-                if seen[word] & ~state.seen[node, word]:
-                    covers = False
-                    break
-            if covers:
-                return True
-        node = state.earlier[node]
-    return False
+    costs = (state.steps, state.before)
+    cost = (np.int64(steps), np.int64(before))
+    return is_dominated(state.latest, state.earlier, chain, costs, cost, state.seen, seen, checks, itself)
 
 
 @jit
@@ -185,9 +159,7 @@ def _add(
     bound: int,
     seen: np.ndarray,
 ) -> int:
-    counters = state.counters
-    node = counters[NODES]
-    counters[NODES] += 1
+    node = store_node(state.counters, state.table, state.latest, state.earlier, state.seen, slot, chain, seen)
     state.guard[node] = guard
     state.position[node] = position
     state.steps[node] = steps
@@ -195,10 +167,6 @@ def _add(
     state.parent[node] = parent
     state.bound[node] = bound
     state.exact[node] = False
-    copy_into(state.seen[node], 0, seen)
-    state.table[slot] = node + 1
-    state.earlier[node] = state.latest[chain]
-    state.latest[chain] = node
     return node
 
 

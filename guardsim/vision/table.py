@@ -16,6 +16,7 @@ import numpy as np
 from guardsim.errors import LimitError
 from guardsim.grid import HEADINGS_PER_CELL, CoverageGrid, state_of
 from guardsim.kernels.compiler import jit
+from guardsim.kernels.csr import invert_csr
 from guardsim.vision.rules import VisionFunction
 
 __all__ = ["UnseenTally", "ViewTable", "estimate_entries", "level_memo", "view_table"]
@@ -124,7 +125,7 @@ def build_view_table(grid: CoverageGrid, vision: VisionFunction, *, max_entries:
         sight = _sights_state_by_state(grid, vision, traversable, lengths, limit, estimate)
     sight_start = np.zeros(states + 1, dtype=np.int64)
     np.cumsum(lengths, out=sight_start[1:])
-    watch_start, watchers = _invert(sight_start, sight, grid.size)
+    watch_start, watchers = invert_csr(sight_start, sight, grid.size)
     return ViewTable(sight_start, sight, watch_start, watchers, grid.entry_cells)
 
 
@@ -169,24 +170,6 @@ def _sights_state_by_state(
             sight[total : total + cells.size] = cells
             total += cells.size
     return sight[:total].copy()
-
-
-@jit
-def _invert(sight_start: np.ndarray, sight: np.ndarray, cells: int) -> tuple[np.ndarray, np.ndarray]:
-    """Counting sort of the (state, cell) pairs by cell, so each cell's watchers come out ascending."""
-    watch_start = np.zeros(cells + 1, dtype=np.int64)
-    for index in range(sight.shape[0]):
-        watch_start[sight[index] + 1] += 1
-    for cell in range(cells):
-        watch_start[cell + 1] += watch_start[cell]
-    fill = watch_start[:cells].copy()
-    watchers = np.empty(sight.shape[0], dtype=np.int32)
-    for state in range(sight_start.shape[0] - 1):
-        for index in range(sight_start[state], sight_start[state + 1]):
-            cell = sight[index]
-            watchers[fill[cell]] = state
-            fill[cell] += 1
-    return watch_start, watchers
 
 
 # grid -> vision -> memo; entries vanish with the grid or the vision function.
