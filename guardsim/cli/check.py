@@ -18,6 +18,7 @@ from guardsim.cli.common import (
     vision_options,
 )
 from guardsim.cli.map_options import MapImport, map_options
+from guardsim.cli.progress import StageLine
 from guardsim.errors import GuardsimError
 from guardsim.planners import PLANNERS
 
@@ -214,14 +215,18 @@ def check(
             f"{level_path}: no rule to check: give --max-cover-steps, --max-idleness, --no-unreachable, --safe, "
             "--sneak, --checks or --baseline"
         )
+    progress = StageLine(sys.stderr, "check").start()
     level = detection_overrides.apply(load(level_path, max_cells, max_vertices, max_file_bytes, map_import))
     scene = build_scene(level, los, fov, view_range)
+    progress(f"checking {rules.count} rule{'' if rules.count == 1 else 's'}", 0, 0)
     results = run_checks(scene, rules, seed=seed) if rules.count else []
     if baseline_path is not None:
         from guardsim.cli.baseline import baseline_results
 
+        progress("comparing with the baseline", 0, 0)
         old = detection_overrides.apply(load(baseline_path, max_cells, max_vertices, max_file_bytes, map_import))
         results += baseline_results(old, level, rules, max_worse, seed=seed)
+    progress.close()
     broken = [result for result in results if not result.holds]
     for result in broken:
         click.echo(f"{level_path}: broken: {result.rule}: {result.message}")
