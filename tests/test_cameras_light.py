@@ -750,3 +750,45 @@ def test_a_swing_too_long_for_any_lap_is_one_line_and_exit_2(tmp_path: Path) -> 
         main, ["sneak", str(write_level(tmp_path, data)), "--patrol", str(_post(tmp_path)), "--to", "14.5,6.5"]
     )
     assert result.exit_code == 2 and "cameras[0]'s swing is 16002 ticks, over the limit of 10000" in result.output
+
+
+def test_the_alert_gif_and_page_draw_the_cameras_on_their_own_clock(tmp_path: Path) -> None:
+    """An alert episode's pictures show the camera: its magenta cone in every GIF frame, sweeping (the
+    frames differ where it is), and on the page its headings from the episode's phase on (the page's tick
+    t is the swing's tick phase + t) with its meter as the episode recorded it, filling at the alarm."""
+    import imageio.v3 as iio
+
+    from guardsim.alert import alert_episode
+    from guardsim.alert.gif import write_alert_gif
+    from guardsim.render.palette import GUARD_COLOURS
+    from guardsim.viewer.alerts import alert_overlays
+
+    scene = Scene.from_level(level_from(json.loads(DOORWAY.read_text())))
+    grid = scene.grid
+    post = Patrol(np.array([[grid.flat(12, 3) * 4 + 2]]), 1, "post")
+    route = [grid.flat(col, 0) for col in range(0, 15)]
+    phase = 3
+    episode = alert_episode(scene, post, source=route[0], route=route, phase=phase, max_seconds=8)
+    while not episode.done:
+        episode.step()
+    record = episode.record
+    cameras = np.asarray(record["camera_awareness"])
+    assert cameras.shape == (len(record["awareness"]), 1)
+    alarm = next(event.tick for event in episode.events if event.event == "alarm")
+    assert cameras[alarm, 0] == 1.0 and cameras[0, 0] < 1.0
+
+    table = patrol_setup(scene).table
+    assert write_alert_gif(tmp_path / "alert.gif", scene, table, episode, suspicious=0.5) > 1
+    frames = iio.imread(tmp_path / "alert.gif", index=None)[..., :3]
+    magenta = (frames == np.asarray(GUARD_COLOURS[4])).all(axis=-1)
+    assert all(frame.sum() > 20 for frame in magenta)
+    assert (magenta[0] != magenta[len(magenta) // 2]).sum() > 20  # the cone swept
+
+    overlays = alert_overlays(scene, table, episode, patrol=post)
+    assert overlays.watch is not None and {"light", "cameras"} <= set(overlays.layers)
+    sweep = level_watch(scene, 0.5).cameras[0].headings
+    shown = overlays.watch.cameras[0][1]
+    assert np.allclose(shown, np.roll(sweep, -phase)) and not np.allclose(shown, sweep)
+    start = next(tick for tick, cell in enumerate(record["intruder"]) if cell is not None)
+    assert overlays.watch.meters is not None
+    assert np.allclose(overlays.watch.meters[:, 0], cameras[start : start + len(overlays.watch.meters), 0])

@@ -177,6 +177,8 @@ class AlertEpisode:
         }
         if isinstance(self.movement, ContinuousMovement):
             self.record.update({"poses": [], "awareness_peak": []})
+        if self.cameras.meters:
+            self.record["camera_awareness"] = []
         for guard in range(guards):
             state = patrol.state(guard, self.phase)
             self.cells[guard], self.headings[guard] = int(cell_of_state(state)), int(heading_of_state(state))
@@ -667,6 +669,8 @@ class AlertEpisode:
             record["awareness_peak"].append([round(peak, 4) for peak in movement.peaks])
         record["guard_states"].append(list(self.modes))
         record["awareness"].append([round(m.level, 4) for m in self.meters])
+        if "camera_awareness" in record:
+            record["camera_awareness"].append([round(level, 4) for level in self.cameras.levels()])
         record["intruder"].append(self.intruder.cell if self.intruder.present else None)
         record["contaminated"].append(self.contamination.count)
         record["contaminated_cells"].append(np.flatnonzero(self.contamination.cells).astype(np.int32))

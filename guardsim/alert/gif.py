@@ -1,5 +1,5 @@
-"""An alert episode as an animated GIF: the sneak GIF's guards, meters and intruder, plus each guard's
-state as a letter over it (``H`` while it investigates a noise it heard), the contaminated set as dots,
+"""An alert episode as an animated GIF: the sneak GIF's guards, meters, intruder, cameras and light,
+plus each guard's state as a letter over it (``H`` while it investigates a noise it heard), the contaminated set as dots,
 the last known position as a cross and each noise as a ring of its radius where and when it is made."""
 
 from __future__ import annotations
@@ -83,6 +83,9 @@ def write_alert_gif(
 
     # In continuous motion the guards are drawn, and look, from their bodies' poses at each tick.
     poses = np.asarray(record["poses"], dtype=np.float64) if "poses" in record else None
+    # The level's cameras sweep on their own clock: the episode's tick t is their swing's tick phase + t.
+    watch = episode.cameras.watch
+    camera_meters = record.get("camera_awareness")
     return write_sneak_gif(
         path,
         scene.level,
@@ -93,4 +96,11 @@ def write_alert_gif(
         suspicious=suspicious,
         overlay=overlay,
         guard_poses=None if poses is None else poses.transpose(1, 0, 2),
+        lap_start=episode.phase,
+        light=None if watch is None or not watch.dark else watch.light.reshape(grid.shape),
+        cameras=[
+            (sight.camera.position, sight.headings, sight.camera.fov_degrees, sight.view_range)
+            for sight in (() if watch is None else watch.cameras)
+        ],
+        camera_meters=None if not camera_meters else np.asarray(camera_meters, dtype=np.float64),
     )

@@ -22,7 +22,7 @@ from guardsim.render.palette import PALETTE
 from guardsim.scene import Scene
 from guardsim.viewer.layers import AlertLayers, Intruder, Overlays
 from guardsim.viewer.page import write_viewer
-from guardsim.viewer.patrols import patrol_routes
+from guardsim.viewer.patrols import patrol_routes, watch_layers
 from guardsim.vision.table import ViewTable
 
 __all__ = ["ALERT_LAYERS", "alert_overlays", "write_alert_page"]
@@ -88,11 +88,26 @@ def alert_overlays(
         suspicious=suspicious,
         events=[(e.tick, e.guard, e.event) for e in episode.events],
     )
+    watch = episode.cameras.watch
+    layers = None
+    if watch is not None:
+        # The page's tick t is the cameras' swing tick phase + t; their meters are drawn while the intruder is in.
+        phase = episode.phase
+        rolled = watch._replace(
+            cameras=tuple(
+                sight._replace(headings=np.roll(sight.headings, -(phase % len(sight.headings))))
+                for sight in watch.cameras
+            )
+        )
+        kept = record.get("camera_awareness")
+        meters_in = None if not kept else np.asarray(kept, dtype=np.float64)[start : start + len(cells)]
+        layers = watch_layers(rolled, grid, meters_in if cells else None)
     return Overlays(
         routes=() if patrol is None else patrol_routes(patrol, grid),
         intruder=intruder if cells else None,
         alert=alert,
-        layers=ALERT_LAYERS,
+        layers=ALERT_LAYERS if layers is None else (*ALERT_LAYERS, "light", "cameras"),
+        watch=layers,
     )
 
 
