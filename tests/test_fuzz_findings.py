@@ -256,7 +256,7 @@ def test_validate_fix_of_more_holes_than_it_repairs_refuses_in_one_line(
     path = _write(tmp_path / "holes.json", {"outer": [[0, 0], [10, 0], [10, 4], [0, 4]], "holes": holes})
     fixed = tmp_path / "fixed.json"
     line = assert_one_line_error(run("validate", path, "--fix", fixed), path)
-    assert "--fix repairs levels of at most 3 holes and this one has 4" in line
+    assert "--fix repairs levels of at most 3 different holes and this one has 4" in line
     assert not fixed.exists()
 
 
@@ -271,7 +271,7 @@ def test_validate_fix_of_24000_holes_refuses_in_one_line(tmp_path: Path) -> None
     path = _write(tmp_path / "holes.json", {"outer": [[0, 0], [402, 0], [402, 378], [0, 378]], "holes": holes})
     fixed = tmp_path / "fixed.json"
     line = assert_one_line_error(run("validate", path, "--fix", fixed), path)
-    assert f"at most {MAX_REPAIR_HOLES} holes" in line
+    assert f"at most {MAX_REPAIR_HOLES} different holes and this one has 24000" in line
     assert not fixed.exists()
 
 
