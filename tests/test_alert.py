@@ -751,6 +751,72 @@ def test_cli_trace_and_gif(files: tuple[Path, Path], tmp_path: Path) -> None:
     assert frames.ndim == 4 and frames.shape[0] > 1
 
 
+def _find(region: np.ndarray, patch: np.ndarray) -> bool:
+    """Whether ``patch`` (RGB) occurs pixel for pixel somewhere in ``region`` (RGB)."""
+    windows = np.lib.stride_tricks.sliding_window_view(region, patch.shape)
+    return bool((windows == patch).all(axis=(-3, -2, -1)).any())
+
+
+def test_alert_gif_caption_legend_and_letters_describe_the_alert(tmp_path: Path) -> None:
+    """The alert GIF's legend names what an alert frame draws (not the coverage legend), its caption gives
+    the guards' states and the search area (no "reachable cells unseen"), and a state letter beside a
+    guard stands at least 11 pixels tall."""
+    from guardsim.alert.gif import ALERT_LEGEND, STATE_LETTERS, write_alert_gif
+    from guardsim.alert.trace import guard_trace
+    from guardsim.render.layout import CAPTION_SIZE, MIN_GUARD_RADIUS
+    from guardsim.render.legend import draw_legend
+    from guardsim.render.palette import Index, palette_rgb, text_index
+    from guardsim.render.text import Typesetter
+    from guardsim.sneak.gif import SneakFrames
+
+    scene, table = setup()
+    grid = scene.grid
+    episode = alert_episode(scene, ring_patrol(grid, guards=2), intruder="still", source=grid.flat(9, 1), spotted=True)
+    episode.run()
+    gif = tmp_path / "a.gif"
+    count = write_alert_gif(gif, scene, table, episode, suspicious=0.5)
+    frames = iio.imread(gif, index=None)[..., :3]
+    assert frames.shape[0] == count > 1
+    rgb = palette_rgb()
+    trace = guard_trace(scene, table, episode)
+    drawer = SneakFrames(scene.level, trace, size=None)
+    width = frames.shape[2]
+    assert width == drawer.layout.width
+    unreachable, tight = bool(trace.unreachable), bool(drawer.tight.any())
+    legend = draw_legend(width, guards=2, unreachable=unreachable, tight=tight, items=ALERT_LEGEND)
+    coverage = draw_legend(width, guards=2, unreachable=unreachable, tight=tight)
+    assert legend.shape != coverage.shape or (legend != coverage).any()
+    assert (frames[:, -legend.shape[0] :] == rgb[legend]).all()
+    # The caption bar: "area" (of "search area N cells") is set there, "reachable" is not.
+    top = frames.shape[1] - legend.shape[0] - drawer.layout.play[1]
+    setter = Typesetter(CAPTION_SIZE)
+
+    def word(text: str) -> np.ndarray:
+        glyphs = setter.mask((round(setter.width(text)), setter.height), [((0, 0), text)])
+        inked = glyphs > 0
+        patch = np.full(glyphs.shape, Index.BAR, dtype=np.uint8)
+        patch[inked] = text_index(glyphs[inked])
+        return rgb[patch]
+
+    caption = frames[0, :top]
+    assert _find(caption, word("area")) and _find(caption, word("guards:"))
+    assert not any(_find(frame[:top], word("reachable")) for frame in frames)
+    # A state letter right of each guard's disc, centred level with its top: its dark pixels' height.
+    radius = max(MIN_GUARD_RADIUS, 0.45 * drawer.layout.scale)
+    dark = (frames == rgb[Index.OUTLINE]).all(axis=-1)
+    measured = []
+    for tick in range(count):
+        for guard, (x, y) in enumerate(drawer.guard_centres(tick)):
+            y += top - drawer.layout.top
+            letter = STATE_LETTERS[episode.record["guard_states"][tick][guard]]
+            if letter not in "PSRI" or x > drawer.layout.left + drawer.layout.play[0] - 4 * radius - 20:
+                continue
+            x0, yc = round(x + radius + 4), round(y - radius)
+            rows = np.flatnonzero(dark[tick, yc - 12 : yc + 12, x0 : x0 + 16].any(axis=1))
+            measured.append(rows[-1] - rows[0] + 1)
+    assert measured and min(measured) >= 11, measured
+
+
 def test_cli_episodes_summary(files: tuple[Path, Path], tmp_path: Path) -> None:
     level, patrol = files
     out = tmp_path / "o"

@@ -88,7 +88,11 @@ class FrameDrawer:
         width = max(MIN_FRAME_WIDTH, play[0])
         self.tight = tight_cells(level, trace.traversable, trace.origin)
         legend = draw_legend(
-            width, guards=self.guards, unreachable=bool(trace.unreachable), tight=bool(self.tight.any())
+            width,
+            guards=self.guards,
+            unreachable=bool(trace.unreachable),
+            tight=bool(self.tight.any()),
+            items=self._legend_items(),
         )
         # The caption bar holds as many lines as the longest caption wraps to (the first and last ticks'
         # have the widest numbers); a subclass that rewrites the caption gets a spare line.
@@ -97,6 +101,7 @@ class FrameDrawer:
                     for tick in (0, trace.steps))  # fmt: skip
         if type(self).caption is not FrameDrawer.caption:
             lines += 1
+        lines = self._caption_rows(lines)
         top = lines * CAPTION_LINE + 8
         self.layout = Layout(scale, play, (width - play[0]) // 2, top, legend.shape[0], width)
         self.template = np.full((self.layout.height, width), Index.BAR, dtype=np.uint8)
@@ -118,6 +123,15 @@ class FrameDrawer:
         if trace.poses is not None and self.guards == 1:
             self._pose_points = np.column_stack(self.to_pixels((trace.poses[:, 1], trace.poses[:, 2]))) - 0.5
         self._reset()
+
+    def _legend_items(self) -> list[tuple[str, str]] | None:
+        """The legend's ``(swatch kind, label)`` items (:func:`~guardsim.render.legend.draw_legend`);
+        ``None``: the coverage legend."""
+        return None
+
+    def _caption_rows(self, lines: int) -> int:
+        """Caption lines the bar holds, given the ``lines`` the plain caption needs."""
+        return lines
 
     # -- static parts ------------------------------------------------------------------------------
 

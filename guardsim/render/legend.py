@@ -2,6 +2,8 @@
 
 from __future__ import annotations
 
+from collections.abc import Sequence
+
 import numpy as np
 from PIL import Image, ImageDraw
 
@@ -15,6 +17,8 @@ _PAD = 8
 _SWATCH = 11
 #: Team members shown in the guard swatch; the label gives the count.
 _SHOWN_GUARDS = 4
+#: Width of the meter bar's swatch.
+_METER = 16
 
 
 def _items(guards: int, unreachable: bool, tight: bool) -> list[tuple[str, str]]:
@@ -47,6 +51,23 @@ def _swatch(draw: ImageDraw.ImageDraw, kind: str, x: int, y: int, guards: int) -
         return 3 * len(TRAIL_LEVELS)
     elif kind == "start":
         draw.rectangle(box, outline=guard_index(0), width=2)
+    elif kind == "letter":
+        return 0
+    elif kind == "intruder":
+        draw.ellipse(box, fill=Index.WHITE, outline=guard_index(5), width=2)
+    elif kind == "meter":
+        # As over a guard: an outlined white bar filled from the left by the meter's level.
+        draw.rectangle((x, y + 3, x + _METER - 1, y + 8), fill=Index.WHITE, outline=Index.OUTLINE)
+        draw.rectangle((x + 1, y + 4, x + _METER // 2, y + 7), fill=guard_index(3))
+        return _METER
+    elif kind == "contaminated":
+        for dx, dy in ((1, 1), (7, 1), (4, 7), (10, 7)):
+            draw.rectangle((x + dx - 1, y + dy, x + dx + 1, y + dy + 2), fill=guard_index(2))
+    elif kind == "last_known":
+        draw.line((x + 1, y + 1, x + _SWATCH - 1, y + _SWATCH - 1), fill=guard_index(0), width=2)
+        draw.line((x + 1, y + _SWATCH - 1, x + _SWATCH - 1, y + 1), fill=guard_index(0), width=2)
+    elif kind == "noise":
+        draw.ellipse(box, fill=Index.FREE, outline=Index.OUTLINE, width=2)
     else:
         shown = min(guards, _SHOWN_GUARDS)
         for guard in range(shown):
@@ -70,18 +91,30 @@ def _rows(setter: Typesetter, labels: list[str], swatches: list[int], width: int
     return positions
 
 
-def draw_legend(width: int, *, guards: int, unreachable: bool, tight: bool = False) -> np.ndarray:
-    """The legend, ``uint8 (height, width)`` palette indices, its items wrapped to ``width``."""
+def _swatch_width(kind: str, guards: int) -> int:
+    widths = {"trail": 3 * len(TRAIL_LEVELS), "guard": _SWATCH + 4 * (min(guards, _SHOWN_GUARDS) - 1)}
+    return widths.get(kind, {"letter": 0, "meter": _METER}.get(kind, _SWATCH))
+
+
+def draw_legend(
+    width: int,
+    *,
+    guards: int,
+    unreachable: bool,
+    tight: bool = False,
+    items: Sequence[tuple[str, str]] | None = None,
+) -> np.ndarray:
+    """The legend, ``uint8 (height, width)`` palette indices, its items wrapped to ``width``.
+
+    ``items`` (``(swatch kind, label)`` pairs) replaces the coverage legend's: besides its kinds
+    (``wall``, ``unseen``, ``seen``, ``cone``, ``trail``, ``start``, ``guard``) a swatch may be
+    ``intruder`` (a white disc ringed in guard colour 6), ``meter`` (a half-full meter bar),
+    ``contaminated`` (green dots), ``last_known`` (a red cross), ``noise`` (a ring) or ``letter`` (none:
+    the label says it all, as ``"! chase"``).
+    """
     setter = Typesetter(12)
-    items = _items(guards, unreachable, tight)
-    swatch_widths = [
-        3 * len(TRAIL_LEVELS)
-        if kind == "trail"
-        else _SWATCH + 4 * (min(guards, _SHOWN_GUARDS) - 1)
-        if kind == "guard"
-        else _SWATCH
-        for kind, _ in items
-    ]
+    items = _items(guards, unreachable, tight) if items is None else list(items)
+    swatch_widths = [_swatch_width(kind, guards) for kind, _ in items]
     positions = _rows(setter, [label for _, label in items], swatch_widths, width)
     height = (positions[-1][1] + 1) * _ROW_HEIGHT + 8
     image = Image.new("L", (width, height), Index.BAR)

@@ -16,7 +16,7 @@ from guardsim.kernels.meter import DETECTED
 from guardsim.level import Level
 from guardsim.render.frames import FrameDrawer
 from guardsim.render.gif import GifOptions, GifStream, frame_ticks
-from guardsim.render.layout import MIN_GUARD_RADIUS
+from guardsim.render.layout import MIN_GUARD_RADIUS, wrap_caption
 from guardsim.render.palette import DARK_ALPHA, Index, guard_index
 from guardsim.trace import Trace
 
@@ -90,16 +90,45 @@ def meter_bar_box(x: float, y: float, radius: float) -> tuple[int, int, int, int
 class SneakFrames(FrameDrawer):
     """The patrol's frames over the sneak's ticks, captioned with both clocks: the sneak's tick (the
     frame's) and the lap tick it falls on, ``(lap_start + tick) % period``, as sneak.json and the page
-    count them. Without ``period`` the caption is the plain one."""
+    count them. Without ``period`` the caption is the plain one.
+
+    ``captions(tick)`` gives each frame's two caption lines instead (the bar grows to hold the longest),
+    and ``legend`` (``(swatch kind, label)`` pairs, :func:`~guardsim.render.legend.draw_legend`) replaces
+    the coverage legend."""
 
     def __init__(
-        self, level: Level, trace: Trace, *, size: int | None, lap_start: int = 0, period: int | None = None
+        self,
+        level: Level,
+        trace: Trace,
+        *,
+        size: int | None,
+        lap_start: int = 0,
+        period: int | None = None,
+        captions: Callable[[int], tuple[str, str]] | None = None,
+        legend: Sequence[tuple[str, str]] | None = None,
     ) -> None:
+        # Read while the base class lays the frame out.
+        self.captions = captions
+        self.legend = None if legend is None else list(legend)
         super().__init__(level, trace, size=size)
         self.lap_start = lap_start
         self.period = period
 
+    def _legend_items(self) -> list[tuple[str, str]] | None:
+        return self.legend
+
+    def _caption_rows(self, lines: int) -> int:
+        if self.captions is None:
+            return lines
+        return max(
+            lines,
+            *(len(wrap_caption(self.captions(tick), self.caption_setter, self.caption_width))
+              for tick in range(self.trace.steps + 1)),
+        )  # fmt: skip
+
     def caption(self, tick: int) -> tuple[str, str]:
+        if self.captions is not None:
+            return self.captions(tick)
         first, second = super().caption(tick)
         if self.period is None:
             return first, second
@@ -173,6 +202,8 @@ def write_sneak_gif(
     light: np.ndarray | None = None,
     cameras: Sequence[tuple[tuple[float, float], np.ndarray, float, float]] = (),
     camera_meters: np.ndarray | None = None,
+    captions: Callable[[int], tuple[str, str]] | None = None,
+    legend: Sequence[tuple[str, str]] | None = None,
 ) -> int:
     """Write the guards of ``trace`` with the intruder walking ``intruder`` (one cell per tick of the
     trace): its trail in the cyan of guard colour 6 (teams of up to five keep their own colours), itself a
@@ -193,9 +224,14 @@ def write_sneak_gif(
     the darker the cell (at most :data:`~guardsim.render.palette.DARK_ALPHA` of its pixels), so the floor
     still reads. ``cameras`` (each ``(position, headings per lap tick, fov degrees, range)``) draws each
     camera and its cone at the frame's lap tick, and ``camera_meters`` (``float (ticks + 1, cameras)``)
-    its meter bar over it."""
+    its meter bar over it.
+
+    ``captions(tick)`` (each frame's two caption lines) and ``legend`` (``(swatch kind, label)`` pairs)
+    replace the patrol's caption and coverage legend (:class:`SneakFrames`)."""
     options = options or GifOptions()
-    drawer = SneakFrames(level, trace, size=options.size, lap_start=lap_start, period=period)
+    drawer = SneakFrames(
+        level, trace, size=options.size, lap_start=lap_start, period=period, captions=captions, legend=legend
+    )
     drawer.guard_poses = guard_poses
     layout = drawer.layout
     if meters is not None:
