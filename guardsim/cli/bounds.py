@@ -12,7 +12,7 @@ import click
 from guardsim.bounds import lower_bounds
 from guardsim.cli.common import build_scene, cli_start, limit_options, load, parse_point, reports_errors, vision_options
 from guardsim.cli.map_options import MapImport, map_options
-from guardsim.cli.progress import StageLine
+from guardsim.cli.progress import StageLine, Throttle
 from guardsim.level import HEADINGS
 from guardsim.optimum import MAX_POSITIONS, SearchProgress, solve
 from guardsim.search.graph import build_search_graph
@@ -135,13 +135,11 @@ class _Progress:
 
     def __init__(self, budget: int) -> None:
         self.budget = budget
-        self._next = time.perf_counter() + PROGRESS_SECONDS
+        self._throttle = Throttle(PROGRESS_SECONDS)
 
     def __call__(self, where: SearchProgress) -> None:
-        now = time.perf_counter()
-        if now < self._next:
+        if not self._throttle.due():
             return
-        self._next = now + PROGRESS_SECONDS
         click.echo(
             f"guardsim: bounds: search {where.expansions} of {self.budget} expansions, "
             f"bound {where.lower_bound} so far ({where.seconds:.0f} s)",

@@ -3,7 +3,6 @@
 from __future__ import annotations
 
 import json
-import time
 from typing import TYPE_CHECKING
 
 import click
@@ -19,6 +18,7 @@ from guardsim.cli.common import (
     vision_options,
 )
 from guardsim.cli.map_options import MapImport, map_options
+from guardsim.cli.progress import Throttle
 from guardsim.errors import GuardsimError
 from guardsim.files.output import write_text_atomic
 from guardsim.level import HEADINGS
@@ -43,13 +43,11 @@ class _Progress:
     """Prints where a long search is to stderr, at most every :data:`PROGRESS_SECONDS` (quiet before)."""
 
     def __init__(self) -> None:
-        self._next = time.perf_counter() + PROGRESS_SECONDS
+        self._throttle = Throttle(PROGRESS_SECONDS)
 
     def __call__(self, where: SearchProgress) -> None:
-        now = time.perf_counter()
-        if now < self._next:
+        if not self._throttle.due():
             return
-        self._next = now + PROGRESS_SECONDS
         click.echo(
             f"guardsim: optimum: {where.expansions} expansions, {where.nodes} nodes, "
             f"optimum between {where.lower_bound} and {where.best} steps ({where.seconds:.0f} s)",
@@ -61,16 +59,14 @@ class _PairsProgress:
     """Where the guaranteed search is, on stderr every :data:`PAIRS_PROGRESS_SECONDS` (quiet before)."""
 
     def __init__(self) -> None:
-        self._began = time.perf_counter()
-        self._next = self._began + PAIRS_PROGRESS_SECONDS
+        self._throttle = Throttle(PAIRS_PROGRESS_SECONDS)
 
     def __call__(self, pairs: int, tick: int) -> None:
-        now = time.perf_counter()
-        if now < self._next:
+        if not self._throttle.due():
             return
-        self._next = now + PAIRS_PROGRESS_SECONDS
         click.echo(
-            f"guardsim: optimum: guaranteed search at tick {tick}, {pairs} pairs stored ({now - self._began:.0f} s)",
+            f"guardsim: optimum: guaranteed search at tick {tick}, {pairs} pairs stored "
+            f"({self._throttle.elapsed():.0f} s)",
             err=True,
         )
 

@@ -24,7 +24,7 @@ import click
 if TYPE_CHECKING:
     from guardsim.experiment import EpisodeRecord
 
-__all__ = ["PLAIN_EVERY_SECONDS", "QUIET_SECONDS", "ProgressLine", "StageLine", "draw_line", "duration"]
+__all__ = ["PLAIN_EVERY_SECONDS", "QUIET_SECONDS", "ProgressLine", "StageLine", "Throttle", "draw_line", "duration"]
 
 #: A job that ends within this many seconds prints no progress at all.
 QUIET_SECONDS = 2.0
@@ -32,6 +32,28 @@ QUIET_SECONDS = 2.0
 PLAIN_EVERY_SECONDS = 2.0
 #: Redraws of a line in place, at most this often.
 REDRAW_SECONDS = 0.2
+
+
+class Throttle:
+    """At most one report every ``seconds``, the first once ``seconds`` have passed (quiet before), so a
+    long search says where it is without flooding the terminal."""
+
+    def __init__(self, seconds: float) -> None:
+        self.seconds = seconds
+        self.began = time.perf_counter()
+        self._next = self.began + seconds
+
+    def due(self) -> bool:
+        """Whether a report is due now (and, if so, the next one ``seconds`` from now)."""
+        now = time.perf_counter()
+        if now < self._next:
+            return False
+        self._next = now + self.seconds
+        return True
+
+    def elapsed(self) -> float:
+        """Seconds since the throttle was made."""
+        return time.perf_counter() - self.began
 
 
 def duration(seconds: float) -> str:
