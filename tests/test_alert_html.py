@@ -24,8 +24,8 @@ import pytest
 from click.testing import CliRunner
 
 from guardsim.alert import GUARD_STATES, alert_episode
-from guardsim.alert.gif import CONTAMINATED_INDEX, LAST_KNOWN_INDEX, STATE_LETTERS
 from guardsim.cli import main
+from guardsim.render.alert import CONTAMINATED_INDEX, LAST_KNOWN_INDEX, STATE_LETTERS
 from guardsim.render.palette import PALETTE
 from guardsim.viewer.alerts import ALERT_LAYERS
 from tests.common import write_level

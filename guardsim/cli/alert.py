@@ -306,7 +306,7 @@ def alert(
         write_text_atomic(folder / "alert.json", json.dumps(summary, indent=1) + "\n")
         written.append(str(folder / "alert.json"))
     if first is not None and gif_path is not None:
-        from guardsim.alert.gif import write_alert_gif
+        from guardsim.render.alert import write_alert_gif
 
         write_alert_gif(gif_path, scene, table, first, suspicious=detection.model.suspicious)
         written.append(gif_path)

@@ -1,24 +1,65 @@
 """``guardsim patrol``: a repeating patrol of a level, its idleness, and the route for a game or editor.
 
-The work is :func:`guardsim.patrol.job.run_patrol`; this module parses the options and prints.
+The work is :func:`guardsim.patrol.job.run_patrol` and its pictures
+:func:`guardsim.pictures.write_patrol_pictures`; this module parses the options and prints.
 """
 
 from __future__ import annotations
 
 import sys
+from collections.abc import Callable
 from pathlib import Path
+from typing import Any, TypeVar
 
 import click
 
-from guardsim.cli.common import FiniteFloatRange, build_scene, limit_options, load, reports_errors, vision_options
+from guardsim.cli.common import (
+    FiniteFloatRange,
+    build_scene,
+    gif_suffix,
+    limit_options,
+    load,
+    reports_errors,
+    vision_options,
+)
 from guardsim.cli.map_options import MapImport, map_options
 from guardsim.cli.progress import StageLine
 from guardsim.errors import GuardsimError
 from guardsim.patrol.job import PatrolJob, check_job, run_patrol, tiled_source_of
 from guardsim.patrol.model import STRATEGIES
+from guardsim.pictures import write_patrol_pictures
 from guardsim.planners import PLANNERS
 
-__all__ = ["output_folder", "patrol"]
+F = TypeVar("F", bound=Callable[..., Any])
+
+__all__ = ["output_folder", "patrol", "picture_option", "picture_path"]
+
+
+def picture_option(name: str, dest: str, text: str) -> Callable[[F], F]:
+    """A picture option that takes a file name, ``--gif FILE``; given bare (``--gif``, the spelling of
+    old) it writes the picture's default name in the ``--out`` folder."""
+    return click.option(
+        name,
+        dest,
+        is_flag=False,
+        flag_value="",
+        default=None,
+        metavar="FILE",
+        callback=gif_suffix if name == "--gif" else None,
+        help=text,
+    )
+
+
+def picture_path(value: str | None, folder: str | None, default_name: str, option: str) -> Path | None:
+    """Where a picture option (:func:`picture_option`) writes: its file name, or ``default_name`` in the
+    ``--out`` folder when given bare; ``None`` when not given."""
+    if value is None:
+        return None
+    if value:
+        return Path(value)
+    if folder is None:
+        raise GuardsimError(f"{option} FILE: give a file name (a bare {option} writes into the --out folder)")
+    return Path(folder) / default_name
 
 
 def output_folder(path: str) -> Path:
@@ -64,8 +105,8 @@ def output_folder(path: str) -> Path:
     type=str,
     help="Score this patrol.json (hand-written ones too) instead of making one.",
 )
-@click.option("--gif", "gif", is_flag=True, help="Write DIR/patrol.gif: one lap.")
-@click.option("--html", "html", is_flag=True, help="Write DIR/patrol.html: one lap in the viewer.")
+@picture_option("--gif", "gif_path", "Write one lap as a GIF to FILE (a bare --gif: DIR/patrol.gif).")
+@picture_option("--html", "html_path", "Write one lap in the viewer page to FILE (a bare --html: DIR/patrol.html).")
 @click.option("--export", "export_path", type=str, help="Write the route as waypoints (route.json).")
 @click.option(
     "--speed",
@@ -137,8 +178,8 @@ def patrol(
     warmup_laps: int,
     compare: bool,
     evaluate_path: str | None,
-    gif: bool,
-    html: bool,
+    gif_path: str | None,
+    html_path: str | None,
     export_path: str | None,
     speed: float | None,
     tiled_out: str | None,
@@ -174,8 +215,6 @@ def patrol(
         warmup_laps=warmup_laps,
         compare=compare,
         evaluate_path=evaluate_path,
-        gif=gif,
-        html=html,
         export_path=export_path,
         speed=speed,
         tiled_out=tiled_out,
@@ -195,8 +234,10 @@ def patrol(
 
     # Before the output folder is made: a failed command leaves nothing behind, not even an empty folder.
     # A target inside the output folder is written once that folder is made.
+    gif = picture_path(gif_path, out_dir, "patrol.gif", "--gif")
+    html = picture_path(html_path, out_dir, "patrol.html", "--html")
     inside = Path(out_dir).resolve()
-    for named in (export_path, tiled_out, godot_out):
+    for named in (export_path, tiled_out, godot_out, gif, html):
         if named is not None and not Path(named).resolve().is_relative_to(inside):
             check_writable(named)
     with StageLine(sys.stderr, "patrol") as progress:
@@ -208,9 +249,12 @@ def patrol(
         compile_ahead("patrol:team" if guards > 1 else "patrol")
         progress("building the scene", 0, 0)
         scene = build_scene(level, los, fov, view_range)
-        done = run_patrol(scene, output_folder(out_dir), job, progress=progress)
-    for warning in done.warnings:
+        folder = output_folder(out_dir)
+        done = run_patrol(scene, folder, job, progress=progress)
+        progress("drawing", 0, 0)
+        drawn = write_patrol_pictures(scene, done, heat_map=folder / "idleness.png", gif=gif, html=html)
+    for warning in (*done.warnings, *drawn.warnings):
         click.echo(f"guardsim: warning: {warning}", err=True)
-    for line in done.lines:
+    for line in done.printed(drawn.written):
         click.echo(line)
     sys.stdout.flush()

@@ -3,6 +3,7 @@
 from __future__ import annotations
 
 import sys
+from typing import cast
 
 import click
 
@@ -17,10 +18,11 @@ from guardsim.cli.common import (
     vision_options,
 )
 from guardsim.cli.map_options import MapImport, map_options
-from guardsim.cli.patrol import output_folder
+from guardsim.cli.patrol import output_folder, picture_option, picture_path
 from guardsim.cli.progress import StageLine
 from guardsim.errors import GuardsimError
 from guardsim.grid import CoverageGrid
+from guardsim.pictures import write_sneak_pictures
 
 __all__ = ["sneak", "sneak_cell"]
 
@@ -57,9 +59,13 @@ def sneak_cell(scene_grid: CoverageGrid, point: tuple[float, float], option: str
     "--to", "target", required=True, callback=parse_point, metavar="X,Y", help="Where the player must get to."
 )
 @click.option("--out", "out_dir", type=click.Path(file_okay=False), help="Folder for sneak.json and hiding.png.")
-@click.option("--gif", is_flag=True, help="Write DIR/sneak.gif: the guards and the intruder's path.")
-@click.option(
-    "--html", is_flag=True, help="Write DIR/sneak.html: the viewer, with the lap, the hiding spots and the intruder."
+@picture_option(
+    "--gif", "gif_path", "Write the guards and the intruder's path as a GIF to FILE (a bare --gif: DIR/sneak.gif)."
+)
+@picture_option(
+    "--html",
+    "html_path",
+    "Write the viewer page, with the lap, the hiding spots and the intruder, to FILE (a bare --html: DIR/sneak.html).",
 )
 @click.option(
     "--undetected",
@@ -92,8 +98,8 @@ def sneak(
     source: tuple[float, float] | None,
     target: tuple[float, float],
     out_dir: str | None,
-    gif: bool,
-    html: bool,
+    gif_path: str | None,
+    html_path: str | None,
     undetected: bool,
     safe: tuple[tuple[float, float], ...],
     max_lap: int | None,
@@ -122,9 +128,9 @@ def sneak(
     from guardsim.sneak import sneak_check, sneak_data
     from guardsim.vision.table import view_table
 
-    if (gif or html) and out_dir is None:
-        raise GuardsimError("--gif and --html write into the --out folder: give --out DIR")
-    if safe and not html:
+    gif = picture_path(gif_path, out_dir, "sneak.gif", "--gif")
+    html = picture_path(html_path, out_dir, "sneak.html", "--html")
+    if safe and html is None:
         raise GuardsimError("--safe outlines spots on the page: give --html")
     progress = StageLine(sys.stderr, "sneak").start()
     level = detection_overrides.apply(load(level_path, max_cells, max_vertices, max_file_bytes, map_import))
@@ -170,29 +176,22 @@ def sneak(
     assert path is not None
     data = sneak_data(result, grid, level=level.name, patrol=patrol_path, **{"from": list(source), "to": list(target)})
     written: list[str] = []
+    heat_map = None
     if out_dir is not None:
-        from guardsim.sneak.outputs import write_sneak_outputs
+        from guardsim.sneak.outputs import write_sneak_json
 
-        written, warnings = write_sneak_outputs(
-            output_folder(out_dir),
-            scene,
-            table,
-            patrol,
-            result,
-            data,
-            start=start,
-            source=source,
-            target=target,
-            detection=detection,
-            gif=gif,
-            html=html,
-            safe=safe,
-            watch=watch,
-        )
-        progress.close()
-        for warning in warnings:
-            click.echo(f"guardsim: warning: {warning}", err=True)
+        folder = output_folder(out_dir)
+        write_sneak_json(folder / "sneak.json", data)
+        written.append(str(folder / "sneak.json"))
+        heat_map = folder / "hiding.png"
+    drawn = write_sneak_pictures(
+        scene, table, patrol, result, start=start, source=source, target=target, detection=detection,
+        never_seen=cast(int, data["never_seen_cells"]), heat_map=heat_map, gif=gif, html=html, safe=safe, watch=watch,
+    )  # fmt: skip
+    written += drawn.written
     progress.close()
+    for warning in drawn.warnings:
+        click.echo(f"guardsim: warning: {warning}", err=True)
     rule = "undetected" if undetected else "unseen"
     if path.found:
         answer = f"sneaks: {rule} from tick {path.start_tick} of the lap, {path.ticks} ticks"

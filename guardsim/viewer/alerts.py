@@ -2,7 +2,7 @@
 intruder, and the alert layers (each guard's state and meter, the contaminated set, the last known cell).
 
 Downstream of :mod:`guardsim.alert`, which never imports the viewer. The colours and letters are the
-alert GIF's (:mod:`guardsim.alert.gif`), from the one palette.
+alert GIF's (:mod:`guardsim.render.alert`), from the one palette.
 """
 
 from __future__ import annotations
@@ -12,12 +12,12 @@ from pathlib import Path
 import numpy as np
 
 from guardsim.alert.episode import AlertEpisode
-from guardsim.alert.gif import CONTAMINATED_INDEX, LAST_KNOWN_INDEX, STATE_LETTERS
 from guardsim.alert.model import GUARD_STATES
 from guardsim.alert.trace import guard_trace
 from guardsim.detection import intruder_state
 from guardsim.kernels.steps import state_of
 from guardsim.patrol.model import Patrol
+from guardsim.render.alert import CONTAMINATED_INDEX, LAST_KNOWN_INDEX, STATE_LETTERS
 from guardsim.render.palette import PALETTE
 from guardsim.scene import Scene
 from guardsim.viewer.layers import AlertLayers, Intruder, Overlays

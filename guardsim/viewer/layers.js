@@ -319,7 +319,7 @@ const GuardsimLayers = (function () {
     // The path tick shown at page tick `tick` while the intruder is in (entered, not yet arrived), else -1.
     const walking = (tick) => (intruder && tick >= intruder.start && tick - intruder.start < intruder.path.length ? tick - intruder.start : -1);
 
-    // What one meter's level says by itself (guardsim.sneak.gif.meter_state): its bar's fill colour.
+    // What one meter's level says by itself (guardsim.detection.meter_state): its bar's fill colour.
     function meterState(level, suspicious) {
       if (level >= 1 - 1e-6) return "detected";
       if (level > 0 && level >= suspicious) return "suspicious";
@@ -327,7 +327,7 @@ const GuardsimLayers = (function () {
     }
 
     // A bar over each guard (at `spots`, where viewer.js drew it), framed in the outline colour, white
-    // inside, filled from the left by its meter: the box of guardsim.sneak.gif.meter_bar_box. `levels`
+    // inside, filled from the left by its meter: the box of guardsim.render.sneak.meter_bar_box. `levels`
     // holds `guards` meters per step; `info` the suspicious level and the state colours.
     function drawMeters(levels, guards, info, step, radius, spots, only) {
       spots.forEach(([x, y], spot) => {

@@ -58,7 +58,7 @@ IDLENESS_RAMP: tuple[tuple[float, tuple[int, int, int]], ...] = (
 DEFAULT_LAPS = 3
 
 #: The intruder's states (its readout) and a meter bar's fill, as the sneak GIF draws them
-#: (:data:`guardsim.sneak.gif.STATE_INDEX`): white unseen, the walls' grey in view, orange suspicious,
+#: (:data:`guardsim.render.sneak.STATE_INDEX`): white unseen, the walls' grey in view, orange suspicious,
 #: red detected.
 STATE_COLOURS: dict[str, tuple[int, int, int]] = {
     "unseen": COLOURS["white"],
@@ -165,7 +165,7 @@ class AlertLayers:
     state_names: Sequence[str]
     """:data:`guardsim.alert.GUARD_STATES`."""
     state_letters: Sequence[str]
-    """The letter drawn over a guard in each state (the alert GIF's, :data:`guardsim.alert.gif.STATE_LETTERS`)."""
+    """The letter drawn over a guard in each state (the alert GIF's, :data:`guardsim.render.alert.STATE_LETTERS`)."""
     meters: np.ndarray
     """``float (ticks, guards)``: each guard's awareness meter, drawn as a bar over it at every tick."""
     contaminated: np.ndarray

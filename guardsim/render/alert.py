@@ -17,9 +17,9 @@ from guardsim.alert.trace import guard_trace
 from guardsim.detection import grid_tick_seconds, intruder_state
 from guardsim.render.layout import MIN_GUARD_RADIUS
 from guardsim.render.palette import Index, guard_index
+from guardsim.render.sneak import SneakFrames, write_sneak_gif
 from guardsim.render.text import font
 from guardsim.scene import Scene
-from guardsim.sneak.gif import SneakFrames, write_sneak_gif
 from guardsim.vision.table import ViewTable
 
 __all__ = [
