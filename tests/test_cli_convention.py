@@ -9,7 +9,7 @@ from pathlib import Path
 import imageio.v3 as iio
 import pytest
 
-from tests.common import TWO_ROOMS, assert_one_line_error, run, write_level
+from tests.common import SPLIT_ROOMS, TWO_ROOMS, assert_one_line_error, run, write_level
 
 #: A guard posted in the middle of the corridor, facing east.
 POST = {"shape": [3, 11], "guards": [{"loop": [[5, 1]], "headings": [0]}]}
@@ -88,3 +88,21 @@ def test_a_gif_named_as_another_format_is_refused(tmp_path: Path, two_rooms: tup
     assert result.exit_code == 2
     assert "ends in '.png', but a GIF is written: name it .gif" in result.stderr
     assert list(tmp_path.iterdir()) == []
+
+
+def test_patrol_takes_start_like_play_and_watches_the_area_it_is_in(tmp_path: Path) -> None:
+    """Split rooms: the level's guard starts in the left room; ``--start`` in the right room patrols that
+    one instead (idleness is given only for the cells reachable from the start)."""
+    level = write_level(tmp_path, SPLIT_ROOMS)
+
+    def watched_columns(*more: str) -> set[int]:
+        out = tmp_path / "-".join(more or ("default",))
+        result = run("patrol", level, "--out", out, *more)
+        assert result.exit_code == 0, result.output
+        rows = json.loads((out / "patrol.json").read_text())["idleness"]
+        return {col for row in rows for col, value in enumerate(row) if value is not None}
+
+    assert watched_columns() == {0, 1, 2}
+    assert watched_columns("--start", "5.5,1.5") == {3, 4, 5}
+    line = assert_one_line_error(run("patrol", level, "--out", tmp_path / "x", "--start", "9,1"), level)
+    assert line.endswith("start (9, 1) lies outside the level")

@@ -19,6 +19,7 @@ from guardsim.cli.common import (
     gif_suffix,
     limit_options,
     load,
+    parse_point,
     reports_errors,
     vision_options,
 )
@@ -90,6 +91,12 @@ def output_folder(path: str) -> Path:
 )
 @click.option("--motion", type=click.Choice(["grid", "continuous"]), default="grid", show_default=True)
 @click.option("--seed", type=click.IntRange(min=0), default=0, show_default=True, help="Start and random choices.")
+@click.option(
+    "--start",
+    callback=parse_point,
+    metavar="X,Y",
+    help="Where the first guard starts (world units), as in play; the patrol watches the cells reachable from there [default: the level's guard.start, else drawn from --seed].",
+)
 @click.option(
     "--laps",
     type=click.IntRange(min=1),
@@ -174,6 +181,7 @@ def patrol(
     planner: str,
     motion: str,
     seed: int,
+    start: tuple[float, float] | None,
     laps: int,
     warmup_laps: int,
     compare: bool,
@@ -211,6 +219,7 @@ def patrol(
         planner=planner,
         motion=motion,
         seed=seed,
+        start=start,
         laps=laps,
         warmup_laps=warmup_laps,
         compare=compare,

@@ -52,6 +52,8 @@ class PatrolJob:
     planner: str = "auto"
     motion: str = "grid"
     seed: int = 0
+    start: tuple[float, float] | None = None
+    """Where the first guard starts (world units); the patrol watches the cells reachable from there."""
     laps: int = 10
     warmup_laps: int = 2
     compare: bool = False
@@ -222,7 +224,7 @@ def run_patrol(scene: Scene, folder: Path, job: PatrolJob, *, progress: Progress
     from guardsim.patrol.plan import check_patrol_memory
 
     check_patrol_memory(scene, job.memory_bytes)
-    setup = patrol_setup(scene, guards, seed=seed)
+    setup = patrol_setup(scene, guards, seed=seed, start=job.start)
     extra: dict[str, object] = {}
     if evaluate_path is not None:
         chosen = read_patrol(evaluate_path, scene.grid, level=scene.level.name)
