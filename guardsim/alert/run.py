@@ -127,9 +127,20 @@ def alert_episode(
     )
 
 
-def alert_trace_data(episode: AlertEpisode, scene: Scene, *, search: str, intruder: str) -> dict[str, Any]:
+def alert_trace_data(
+    episode: AlertEpisode,
+    scene: Scene,
+    *,
+    search: str,
+    intruder: str,
+    index: int | None = None,
+    seed: int | None = None,
+) -> dict[str, Any]:
     """The episode's trace as JSON data: per tick each guard's cell, heading, state and meter, the
-    intruder's cell and position, the contaminated count, and the events. In continuous motion the
+    intruder's cell and position, the contaminated count, and the events. ``phase`` (the lap tick the
+    guards start at) and ``goal`` (the world position the intruder heads for, ``null`` for none) say how
+    it started; an episode of a seeded batch also records its ``episode`` number and the batch's ``seed``
+    (``guardsim alert --seed S --episode K`` runs it again). In continuous motion the
     cell is the one the body is in and the heading the nearest heading number. ``noises``: every noise
     made (tick, world position, radius, ``step`` or ``throw``); ``heard``: per guard and tick, whether it
     is investigating a noise. In continuous motion the trace adds
@@ -153,6 +164,8 @@ def alert_trace_data(episode: AlertEpisode, scene: Scene, *, search: str, intrud
         "dt": episode.rules.dt,
         "search": search,
         "intruder": intruder,
+        "phase": episode.phase,
+        "goal": None if episode.intruder.goal < 0 else list(grid.centre(*grid.unflat(episode.intruder.goal))),
         "outcome": episode.result()._asdict(),
         "paths": [[cell_pair(tick[g]) for tick in record["cells"]] for g in range(guards)],
         "headings": [[tick[g] for tick in record["headings"]] for g in range(guards)],
@@ -169,6 +182,8 @@ def alert_trace_data(episode: AlertEpisode, scene: Scene, *, search: str, intrud
         ],
         "heard": [[tick[g] for tick in record["heard"]] for g in range(guards)],
     }
+    if index is not None and seed is not None:
+        data.update(episode=index, seed=seed)
     movement = episode.movement
     if isinstance(movement, ContinuousMovement):
         motion = movement.motion
