@@ -167,9 +167,10 @@ def test_page_loads_and_the_alert_readout_is_the_trace(alert_page: Episode, tmp_
         assert text.startswith(f"guard 1 {alert_page.states(tick)[0]} \u00b7 guard 2 {alert_page.states(tick)[1]}")
         count = trace["contaminated"][tick]
         assert text.endswith(f"{count} {'cell' if count == 1 else 'cells'} contaminated")
-        intruder = trace["intruder_path"][tick]
+        intruder = trace["intruder_positions"][tick]
         if intruder is not None:
-            assert element(dom, "intruder-readout").startswith(f"intruder at [{intruder[0]}, {intruder[1]}]: ")
+            # In world units, as the command line takes a point.
+            assert element(dom, "intruder-readout").startswith(f"intruder at {intruder[0]:g},{intruder[1]:g}: ")
         else:
             assert element(dom, "intruder-readout").startswith("intruder left the level at tick ")
     # Every alert layer has its toggle shown, and the timeline marks the detection and the give-ups.

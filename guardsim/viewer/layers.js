@@ -72,6 +72,8 @@ const GuardsimLayers = (function () {
     const alertTicks = alert ? alert.lastKnown.length : 0;
     // The alert row shown at page tick `tick` (the last once the episode is over).
     const alertRow = (tick) => Math.max(0, Math.min(tick, alertTicks - 1));
+    // A cell's centre in world units, written as the command line takes a point: "29.5,48.5".
+    const worldText = (cell) => GuardsimLayers.worldPoint(data, cell % data.cols, Math.floor(cell / data.cols));
     const colour = (value, top) => ramp(data.ramp, top > 0 ? value / top : 0);
 
     // The timeline: whole laps (from the address, else the page's default), and the intruder's walk.
@@ -273,7 +275,7 @@ const GuardsimLayers = (function () {
       const known = alert.lastKnown[row];
       const count = alert.info.contaminated_counts[row];
       const parts = names.map((name, guard) => (alert.guards > 1 ? "guard " + (guard + 1) + " " : "") + name);
-      if (known >= 0) parts.push("last known [" + cellText(known).replace(",", ", ") + "]");
+      if (known >= 0) parts.push("last known " + worldText(known));
       parts.push(count + (count === 1 ? " cell" : " cells") + " contaminated");
       return {
         text: parts.join(" \u00b7 "),
@@ -440,7 +442,7 @@ const GuardsimLayers = (function () {
         // An alert's intruder is in from tick 0 until it is captured or leaves at its goal.
         if (tick - intruder.start >= intruder.path.length) return name + " left the level at tick " + (intruder.start + intruder.path.length);
         const cell = intruder.path[step];
-        return name + " at [" + (cell % data.cols) + ", " + Math.floor(cell / data.cols) + "]: " + (intruder.inView[step] === 1 ? "IN VIEW" : "unseen");
+        return name + " at " + worldText(cell) + ": " + (intruder.inView[step] === 1 ? "IN VIEW" : "unseen");
       }
       const ticks = intruder.path.length - 1;
       if (tick - intruder.start >= ticks) {
@@ -595,5 +597,12 @@ const GuardsimLayers = (function () {
     };
   }
 
-  return { make: make };
+
+  // A cell's centre in world units as the command line takes a point, "29.5,48.5" (at most three decimals).
+  function worldPoint(data, col, row) {
+    const at = (origin, index) => String(Math.round((origin + (index + 0.5) * data.cell_size) * 1000) / 1000);
+    return at(data.origin[0], col) + "," + at(data.origin[1], row);
+  }
+
+  return { make: make, worldPoint: worldPoint };
 })();
