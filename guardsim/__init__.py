@@ -33,6 +33,7 @@ _SOURCES = {
     "PatrolError": "guardsim.errors",
     "PlannerError": "guardsim.errors",
     "RegressionError": "guardsim.errors",
+    "TraceError": "guardsim.errors",
     "GuardSpec": "guardsim.level",
     "Level": "guardsim.level",
     "Camera": "guardsim.level",
@@ -106,6 +107,7 @@ if TYPE_CHECKING:
     from guardsim.errors import PatrolError as PatrolError
     from guardsim.errors import PlannerError as PlannerError
     from guardsim.errors import RegressionError as RegressionError
+    from guardsim.errors import TraceError as TraceError
     from guardsim.grid import CoverageGrid as CoverageGrid
     from guardsim.importers.loading import open_level as load_level  # noqa: F401  re-exported by name
     from guardsim.kernels.meter import meter_gain as meter_gain

@@ -16,6 +16,7 @@ __all__ = [
     "PatrolError",
     "PlannerError",
     "RegressionError",
+    "TraceError",
 ]
 
 
@@ -44,6 +45,10 @@ class RegressionError(GuardsimError):
 
 class PatrolError(GuardsimError):
     """A patrol file cannot be read or describes a patrol the level does not allow."""
+
+
+class TraceError(GuardsimError):
+    """A trace file cannot be read as the trace it claims to be, or does not fit the level given with it."""
 
 
 class CheckError(GuardsimError):

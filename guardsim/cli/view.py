@@ -1,4 +1,5 @@
-"""``guardsim view``: a saved trace as the interactive HTML page that ``play --html`` writes."""
+"""``guardsim view``: a saved trace as the interactive HTML page that ``play --html`` (or ``alert --html``)
+writes."""
 
 from __future__ import annotations
 
@@ -16,7 +17,14 @@ __all__ = ["view"]
     "--level",
     "level_path",
     type=str,
-    help="The level the trace was played on, for its real walls (without it, walls come from the grid).",
+    help="The level the trace was played on, for its real walls (without it, walls come from the grid; "
+    "an alert trace needs it).",
+)
+@click.option(
+    "--patrol",
+    "patrol_path",
+    type=str,
+    help="An alert trace's patrol.json, to draw the guards' routes.",
 )
 @limit_options
 @reports_errors
@@ -24,11 +32,13 @@ def view(
     trace_path: str,
     html_path: str,
     level_path: str | None,
+    patrol_path: str | None,
     max_cells: int,
     max_vertices: int,
     max_file_bytes: int,
 ) -> None:
-    """Write TRACE (from `guardsim play --trace`) as one self-contained HTML page to open in a browser.
+    """Write TRACE (from `guardsim play --trace`, or `guardsim alert --trace`/--out with --level) as one
+    self-contained HTML page to open in a browser.
 
     The page works offline: open it from disk; add #tick=N to its address to open it at tick N.
     """
@@ -39,10 +49,18 @@ def view(
 
     data = read_json_file(trace_path, max_file_bytes=max_file_bytes, kind="trace file", error=LevelError)
     if isinstance(data, dict) and "guard_states" in data and "planner" not in data:
-        raise LevelError(
-            f"{trace_path}: an alert episode's trace (from guardsim alert --trace); its page is written by "
-            "guardsim alert ... --html FILE"
+        from guardsim.errors import TraceError
+        from guardsim.viewer.alerts import write_alert_trace_page
+
+        if level_path is None:
+            raise TraceError(f"{trace_path}: an alert episode's trace: give --level LEVEL, the level it was played on")
+        alert_level = load(level_path, max_cells, max_vertices, max_file_bytes)
+        episode = write_alert_trace_page(html_path, alert_level, data, patrol_path=patrol_path, source=trace_path)
+        ticks, guards = len(episode.record["cells"]) - 1, len(episode.modes)
+        click.echo(
+            f"{alert_level.name}: alert episode, {episode.search.name} search, {ticks} ticks, {guards} guard(s) -> {html_path}"
         )
+        return
     trace = trace_from_stored(data, source=trace_path, max_cells=max_cells)
     level = None
     note = "walls rebuilt from the trace's grid (give --level for the real walls)"

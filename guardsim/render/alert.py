@@ -13,6 +13,7 @@ import numpy as np
 from PIL import ImageDraw
 
 from guardsim.alert.episode import AlertEpisode
+from guardsim.alert.recorded import RecordedEpisode
 from guardsim.alert.trace import guard_trace
 from guardsim.detection import grid_tick_seconds, intruder_state
 from guardsim.render.layout import MIN_GUARD_RADIUS
@@ -69,7 +70,12 @@ LAST_KNOWN_INDEX = guard_index(0)
 
 
 def write_alert_gif(
-    path: str | os.PathLike[str], scene: Scene, table: ViewTable, episode: AlertEpisode, *, suspicious: float
+    path: str | os.PathLike[str],
+    scene: Scene,
+    table: ViewTable,
+    episode: AlertEpisode | RecordedEpisode,
+    *,
+    suspicious: float,
 ) -> int:
     """Write ``episode`` as a GIF; returns the number of frames."""
     grid = scene.grid

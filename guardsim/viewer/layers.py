@@ -180,6 +180,9 @@ class AlertLayers:
     """The meter level at which a guard is suspicious (its bar turns orange)."""
     events: Sequence[tuple[int, int, str]] = ()
     """``(tick, guard, event)``, marked on the timeline (guard -1: the intruder's own)."""
+    counts: Sequence[int] | None = None
+    """Per tick, the contaminated set's size as read out; ``None``: counted from :attr:`contaminated` (a
+    page drawn from a trace knows the sizes, not the cells)."""
 
 
 @dataclass(frozen=True, eq=False)
@@ -373,7 +376,7 @@ def _alert_data(alert: AlertLayers, trace: Trace) -> dict[str, Any]:
         # A bit per cell, little-endian within each byte; each tick's row starts on a byte.
         "contaminated": packed(np.packbits(contaminated, axis=1, bitorder="little").ravel(), "u1"),
         "contaminated_stride": (cells + 7) // 8,
-        "contaminated_counts": [int(count) for count in contaminated.sum(axis=1)],
+        "contaminated_counts": [int(count) for count in (contaminated.sum(axis=1) if alert.counts is None else alert.counts)],
         "last_known": packed(list(alert.last_known), "i4"),
         "contaminated_colour": list(alert.contaminated_colour),
         "last_known_colour": list(alert.last_known_colour),
