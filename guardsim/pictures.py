@@ -11,22 +11,23 @@ from __future__ import annotations
 
 from collections.abc import Sequence
 from pathlib import Path
-from typing import TYPE_CHECKING, NamedTuple
+from typing import TYPE_CHECKING, Any, NamedTuple
 
 import numpy as np
 
-from guardsim.errors import GuardsimError
+from guardsim.errors import GuardsimError, TraceError
 
 if TYPE_CHECKING:
     from guardsim.detection import GuardDetection
     from guardsim.detection.watch import LevelWatch
+    from guardsim.level import Level
     from guardsim.patrol.job import PatrolRun
     from guardsim.patrol.model import Patrol
     from guardsim.scene import Scene
     from guardsim.sneak import SneakResult
     from guardsim.vision.table import ViewTable
 
-__all__ = ["Drawn", "write_patrol_pictures", "write_sneak_pictures"]
+__all__ = ["Drawn", "write_patrol_pictures", "write_sneak_json_page", "write_sneak_pictures"]
 
 
 class Drawn(NamedTuple):
@@ -204,6 +205,74 @@ def write_sneak_pictures(
         write_viewer(html, level, lap, overlays=overlays)
         written.append(str(html))
     return Drawn(written, warnings)
+
+
+def write_sneak_json_page(
+    path: Path,
+    level: Level,
+    data: dict[str, Any],
+    *,
+    patrol_path: str | None = None,
+    source: str = "sneak.json",
+) -> SneakResult:
+    """Write the viewer page of a saved sneak check (``data``, sneak.json read from ``source``) on
+    ``level``: the check run again as it ran (its patrol, ``patrol_path`` or the one it records, its
+    vision, detection keys and lap limit), so the page is the one ``sneak --html`` writes. A
+    :class:`~guardsim.errors.TraceError` when the file is not a sneak check of this level, or when the
+    check run again does not find its path (the level or the patrol changed since)."""
+    import dataclasses
+    import math
+
+    from guardsim.patrol import read_patrol
+    from guardsim.scene import Scene
+    from guardsim.sneak.run import run_sneak
+
+    try:
+        cells = [(int(col), int(row)) for col, row in data["path"]]
+        patrol_file = patrol_path if patrol_path is not None else str(data["patrol"])
+        points = (float(data["from"][0]), float(data["from"][1])), (float(data["to"][0]), float(data["to"][1]))
+        undetected = data["rule"] == "undetected"
+        hiding = data["longest_unseen"]
+        shape = (len(hiding), len(hiding[0]))
+    except (KeyError, TypeError, ValueError, IndexError) as error:
+        raise TraceError(f"{source}: not a sneak check's sneak.json ({type(error).__name__}: {error})") from None
+    if not cells:
+        raise TraceError(f"{source}: the check found no path to draw")
+    if "detection" in data:
+        level = dataclasses.replace(level, guard=dataclasses.replace(level.guard, **data["detection"]))
+    vision: dict[str, Any] = {}
+    if "los" in data:
+        reach = data["view_range"]
+        vision = {
+            "line_of_sight": data["los"],
+            "fov_degrees": data["fov"],
+            "view_range": math.inf if reach is None else float(reach),
+        }
+    scene = Scene.from_level(level, **vision)
+    grid = scene.grid
+    rows, cols = grid.shape
+    if shape != (rows, cols) or any(not (0 <= c < cols and 0 <= r < rows) for c, r in cells):
+        raise TraceError(f"{source}: its grid is not the {rows} x {cols} grid of {level.source}")
+    start, goal = grid.flat(*cells[0]), grid.flat(*cells[-1])
+    patrol = read_patrol(patrol_file, grid, level=level.name)
+    run = run_sneak(
+        scene, patrol, start, goal, undetected=undetected, max_lap=data.get("max_lap"), patrol_name=patrol_file
+    )
+    found = run.result.path
+    if (
+        found is None
+        or [grid.unflat(int(cell)) for cell in found.cells] != cells
+        or found.start_tick != data["start_tick"]
+    ):
+        raise TraceError(
+            f"{source}: the check run again on {level.source} and {patrol_file} finds another path: the level or "
+            "the patrol changed since"
+        )
+    write_sneak_pictures(
+        scene, run.table, run.patrol, run.result, start=start, source=points[0], target=points[1],
+        detection=run.detection, never_seen=int(data.get("never_seen_cells", 0)), html=path, watch=run.watch,
+    )  # fmt: skip
+    return run.result
 
 
 def _level_watch(scene: Scene) -> LevelWatch | None:

@@ -106,3 +106,38 @@ def test_patrol_takes_start_like_play_and_watches_the_area_it_is_in(tmp_path: Pa
     assert watched_columns("--start", "5.5,1.5") == {3, 4, 5}
     line = assert_one_line_error(run("patrol", level, "--out", tmp_path / "x", "--start", "9,1"), level)
     assert line.endswith("start (9, 1) lies outside the level")
+
+
+@pytest.mark.parametrize(
+    "rule", [(), ("--undetected", "--suspicious", "0.3", "--fov", "120")], ids=["unseen", "undetected"]
+)
+def test_view_draws_a_sneak_json_again_as_sneak_html_drew_it(
+    tmp_path: Path, two_rooms: tuple[Path, Path], rule: tuple[str, ...]
+) -> None:
+    """``view sneak.json --level`` runs the check again as sneak.json records it (its patrol, vision,
+    detection keys) and writes the very page ``sneak --html`` wrote."""
+    level, patrol = two_rooms
+    out, page, again = tmp_path / "out", tmp_path / "sneak.html", tmp_path / "again.html"
+    assert run(*_sneak(level, patrol, "--out", out, "--html", page, *rule)).exit_code == 0
+    result = run("view", out / "sneak.json", "--level", level, "--html", again)
+    assert result.exit_code == 0, result.output
+    data = json.loads((out / "sneak.json").read_text())
+    assert result.stdout == f"corridor: sneak from lap tick {data['start_tick']}, {data['ticks']} ticks -> {again}\n"
+    assert again.read_bytes() == page.read_bytes()
+
+
+def test_view_of_a_sneak_json_names_what_is_missing_or_changed(tmp_path: Path, two_rooms: tuple[Path, Path]) -> None:
+    level, patrol = two_rooms
+    out = tmp_path / "out"
+    assert run(*_sneak(level, patrol, "--out", out)).exit_code == 0
+    sneak_json, page = out / "sneak.json", tmp_path / "again.html"
+    line = assert_one_line_error(run("view", sneak_json, "--html", page), sneak_json)
+    assert line.endswith("a sneak check's sneak.json: give --level LEVEL, the level it checked")
+    # The guard moved to a corner since: the check run again finds another answer, and says so.
+    moved = tmp_path / "moved.json"
+    moved.write_text(json.dumps({**POST, "guards": [{"loop": [[10, 0]], "headings": [3]}]}))
+    line = assert_one_line_error(
+        run("view", sneak_json, "--level", level, "--patrol", moved, "--html", page), sneak_json
+    )
+    assert line.endswith("finds another path: the level or the patrol changed since")
+    assert not page.exists()

@@ -122,11 +122,9 @@ def sneak(
     meters (detected, peak awareness, risk) and the slack is counted: from how many of the lap's ticks a
     player entering gets through.
     """
-    from guardsim.detection import GuardDetection
-    from guardsim.detection.watch import MAX_JOINT_LAP, level_watch
     from guardsim.patrol import read_patrol
-    from guardsim.sneak import sneak_check, sneak_data
-    from guardsim.vision.table import view_table
+    from guardsim.sneak import sneak_data
+    from guardsim.sneak.run import check_sneak_patrol, run_sneak, sneak_header
 
     gif = picture_path(gif_path, out_dir, "sneak.gif", "--gif")
     html = picture_path(html_path, out_dir, "sneak.html", "--html")
@@ -140,12 +138,7 @@ def sneak(
     scene = build_scene(level, los, fov, view_range)
     grid = scene.grid
     patrol = read_patrol(patrol_path, grid, level=level.name)
-    if patrol.motion != "grid":
-        raise GuardsimError(
-            f"{patrol_path}: motion is {patrol.motion!r}: the sneak check runs on grid-motion patrols (ticks) only"
-        )
-    if patrol.period is None:
-        raise GuardsimError(f"{patrol_path}: period is null: the sneak check needs a repeating patrol")
+    check_sneak_patrol(patrol, patrol_path)
     if source is None:
         if not level.player_starts:
             raise GuardsimError(f"{level_path}: the level marks no player start: give --from X,Y")
@@ -158,23 +151,19 @@ def sneak(
         )
     for point in safe:
         sneak_cell(grid, point, "--safe")
-    table = view_table(grid, scene.vision())
-    detection = GuardDetection.of_level(scene.level)
-    limit = MAX_JOINT_LAP if max_lap is None else max_lap
-    watch = level_watch(scene, detection.dt, max_lap=limit) if level.cameras or not level.lit else None
-    for note in () if watch is None else watch.notes:
+    run = run_sneak(
+        scene, patrol, start, goal, undetected=undetected, max_lap=max_lap, patrol_name=patrol_path, progress=progress
+    )
+    for note in run.notes:
         click.echo(f"guardsim: warning: {note}", err=True)
-    progress("searching" + (" for an undetected path" if undetected else " for an unseen path"), 0, 0)
-    result = sneak_check(
-        grid, table, patrol, start, goal, detection=detection, undetected=undetected, watch=watch,
-        max_lap=limit,
-    )  # fmt: skip
-    if result.lap is not None:
-        patrol = result.lap
+    result, patrol, table, detection, watch = run.result, run.patrol, run.table, run.detection, run.watch
     progress("writing", 0, 0)
     path = result.path
     assert path is not None
-    data = sneak_data(result, grid, level=level.name, patrol=patrol_path, **{"from": list(source), "to": list(target)})
+    data = sneak_data(
+        result, grid, level=level.name, patrol=patrol_path, **{"from": list(source), "to": list(target)},
+        **sneak_header(scene, detection, max_lap),
+    )  # fmt: skip
     written: list[str] = []
     heat_map = None
     if out_dir is not None:

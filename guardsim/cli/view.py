@@ -3,6 +3,8 @@ writes."""
 
 from __future__ import annotations
 
+from pathlib import Path
+
 import click
 
 from guardsim.cli.common import limit_options, load, reports_errors
@@ -24,7 +26,7 @@ __all__ = ["view"]
     "--patrol",
     "patrol_path",
     type=str,
-    help="An alert trace's patrol.json, to draw the guards' routes.",
+    help="An alert trace's patrol.json, to draw the guards' routes; a sneak.json's patrol [default: the one it records].",
 )
 @limit_options
 @reports_errors
@@ -37,8 +39,8 @@ def view(
     max_vertices: int,
     max_file_bytes: int,
 ) -> None:
-    """Write TRACE (from `guardsim play --trace`, or `guardsim alert --trace`/--out with --level) as one
-    self-contained HTML page to open in a browser.
+    """Write TRACE (from `guardsim play --trace`; with --level, `guardsim alert --trace` or a sneak.json of
+    `guardsim sneak --out`) as one self-contained HTML page to open in a browser.
 
     The page works offline: open it from disk; add #tick=N to its address to open it at tick N.
     """
@@ -48,6 +50,18 @@ def view(
     from guardsim.viewer import write_viewer
 
     data = read_json_file(trace_path, max_file_bytes=max_file_bytes, kind="trace file", error=LevelError)
+    if isinstance(data, dict) and "longest_unseen" in data and "rule" in data:
+        from guardsim.errors import TraceError
+        from guardsim.pictures import write_sneak_json_page
+
+        if level_path is None:
+            raise TraceError(f"{trace_path}: a sneak check's sneak.json: give --level LEVEL, the level it checked")
+        sneak_level = load(level_path, max_cells, max_vertices, max_file_bytes)
+        result = write_sneak_json_page(Path(html_path), sneak_level, data, patrol_path=patrol_path, source=trace_path)
+        path = result.path
+        assert path is not None
+        click.echo(f"{sneak_level.name}: sneak from lap tick {path.start_tick}, {path.ticks} ticks -> {html_path}")
+        return
     if isinstance(data, dict) and "guard_states" in data and "planner" not in data:
         from guardsim.errors import TraceError
         from guardsim.viewer.alerts import write_alert_trace_page
