@@ -141,3 +141,18 @@ def test_view_of_a_sneak_json_names_what_is_missing_or_changed(tmp_path: Path, t
     )
     assert line.endswith("finds another path: the level or the patrol changed since")
     assert not page.exists()
+
+
+def test_patrol_setup_and_plan_refuse_with_a_named_error(tmp_path: Path) -> None:
+    """What a Python caller can get wrong is a PatrolError (a GuardsimError the command line prints in one
+    line), not a bare ValueError."""
+    from guardsim.errors import PatrolError
+    from guardsim.patrol import patrol_setup, plan_patrol
+    from guardsim.scene import Scene
+    from tests.common import level_from
+
+    scene = Scene.from_level(level_from(TWO_ROOMS))
+    with pytest.raises(PatrolError, match="at least one guard"):
+        patrol_setup(scene, 0)
+    with pytest.raises(PatrolError, match="unknown strategy 'lawnmower'; known: loop, "):
+        plan_patrol(patrol_setup(scene, 1), "lawnmower")

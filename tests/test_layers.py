@@ -8,6 +8,7 @@ nothing is imported to check it.
 from __future__ import annotations
 
 import ast
+import functools
 from pathlib import Path
 
 import pytest
@@ -74,9 +75,15 @@ def _home(path: Path) -> str:
 
 def _imports(path: Path) -> list[tuple[int, str]]:
     """Every module ``path`` imports, absolute, with its line."""
+    return _imports_under(path, PACKAGE)
+
+
+@functools.cache
+def _imports_under(path: Path, package: Path) -> list[tuple[int, str]]:
+    # Parsed once per file: the checks below read every source file.
     tree = ast.parse(path.read_text(encoding="utf-8"), filename=str(path))
     # The package a relative import starts from: the file's own folder (an __init__'s too).
-    here = ("guardsim", *path.relative_to(PACKAGE).with_suffix("").parts)[:-1]
+    here = ("guardsim", *path.relative_to(package).with_suffix("").parts)[:-1]
     found: list[tuple[int, str]] = []
     for node in ast.walk(tree):
         if isinstance(node, ast.Import):

@@ -12,7 +12,7 @@ from typing import NamedTuple
 
 import numpy as np
 
-from guardsim.errors import LimitError
+from guardsim.errors import LimitError, PatrolError
 from guardsim.grid import state_of
 from guardsim.patrol.loops import LoopBuilder, team_loops
 from guardsim.patrol.model import STRATEGIES, Patrol
@@ -110,7 +110,7 @@ def patrol_setup(
     units), else at the level's ``guard.start``, else at a cell drawn from ``seed``, as in ``guardsim
     play`` (:func:`~guardsim.starts.episode_start`); the goal is the cells reachable from there."""
     if guards < 1:
-        raise ValueError("a patrol needs at least one guard")
+        raise PatrolError("a patrol needs at least one guard")
     rng, cell, heading = episode_start(scene, seed=seed, point=start)
     starts, headings = team_starts(scene, (cell, heading), guards, rng=rng)
     table = view_table(scene.grid, scene.vision())
@@ -219,7 +219,7 @@ def plan_patrol(
     given.
     """
     if strategy not in STRATEGIES:
-        raise ValueError(f"unknown strategy {strategy!r}; known: {', '.join(STRATEGIES)}")
+        raise PatrolError(f"unknown strategy {strategy!r}; known: {', '.join(STRATEGIES)}")
     guards = len(setup.starts)
     if strategy == "loop":
         return plan_loop(setup, guards, planner=planner)[0]
