@@ -156,3 +156,13 @@ def test_patrol_setup_and_plan_refuse_with_a_named_error(tmp_path: Path) -> None
         patrol_setup(scene, 0)
     with pytest.raises(PatrolError, match="unknown strategy 'lawnmower'; known: loop, "):
         plan_patrol(patrol_setup(scene, 1), "lawnmower")
+
+
+def test_a_sneak_picture_in_a_missing_folder_is_refused_before_the_search(
+    tmp_path: Path, two_rooms: tuple[Path, Path]
+) -> None:
+    level, patrol = two_rooms
+    page = tmp_path / "missing" / "walk.html"
+    line = assert_one_line_error(run(*_sneak(level, patrol, "--out", tmp_path / "out", "--html", page)), page)
+    assert line.endswith(f"folder {page.parent} does not exist")
+    assert not (tmp_path / "out").exists()

@@ -130,6 +130,15 @@ def sneak(
     html = picture_path(html_path, out_dir, "sneak.html", "--html")
     if safe and html is None:
         raise GuardsimError("--safe outlines spots on the page: give --html")
+    from pathlib import Path
+
+    from guardsim.files.output import check_writable
+
+    # A picture named outside the --out folder is checked before the search (the folder is made later).
+    inside = None if out_dir is None else Path(out_dir).resolve()
+    for named in (gif, html):
+        if named is not None and (inside is None or not named.resolve().is_relative_to(inside)):
+            check_writable(named)
     progress = StageLine(sys.stderr, "sneak").start()
     level = detection_overrides.apply(load(level_path, max_cells, max_vertices, max_file_bytes, map_import))
     from guardsim.kernels.ahead import compile_ahead
