@@ -9,6 +9,7 @@ import os
 import re
 import sys
 from collections.abc import Callable
+from pathlib import Path
 from typing import Any, TypeVar, cast
 
 import click
@@ -33,6 +34,8 @@ __all__ = [
     "load",
     "one_line",
     "parse_point",
+    "picture_option",
+    "picture_path",
     "reports_errors",
     "vision_options",
     "with_options",
@@ -127,6 +130,33 @@ def gif_suffix(_ctx: click.Context, param: click.Parameter, value: str | None) -
         if suffix and suffix.lower() != ".gif":
             raise click.BadParameter(f"{value!r} ends in {suffix!r}, but a GIF is written: name it .gif", param=param)
     return value
+
+
+def picture_option(name: str, dest: str, text: str) -> Callable[[F], F]:
+    """A picture option that takes a file name, ``--gif FILE``; given bare (``--gif``, the spelling of
+    old) it writes the picture's default name in the ``--out`` folder."""
+    return click.option(
+        name,
+        dest,
+        is_flag=False,
+        flag_value="",
+        default=None,
+        metavar="FILE",
+        callback=gif_suffix if name == "--gif" else None,
+        help=text,
+    )
+
+
+def picture_path(value: str | None, folder: str | None, default_name: str, option: str) -> Path | None:
+    """Where a picture option (:func:`picture_option`) writes: its file name, or ``default_name`` in the
+    ``--out`` folder when given bare; ``None`` when not given."""
+    if value is None:
+        return None
+    if value:
+        return Path(value)
+    if folder is None:
+        raise GuardsimError(f"{option} FILE: give a file name (a bare {option} writes into the --out folder)")
+    return Path(folder) / default_name
 
 
 def parse_point(_ctx: click.Context, param: click.Parameter, value: str | None) -> tuple[float, float] | None:

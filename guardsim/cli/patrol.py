@@ -7,19 +7,18 @@ The work is :func:`guardsim.patrol.job.run_patrol` and its pictures
 from __future__ import annotations
 
 import sys
-from collections.abc import Callable
 from pathlib import Path
-from typing import Any, TypeVar
 
 import click
 
 from guardsim.cli.common import (
     FiniteFloatRange,
     build_scene,
-    gif_suffix,
     limit_options,
     load,
     parse_point,
+    picture_option,
+    picture_path,
     reports_errors,
     vision_options,
 )
@@ -31,36 +30,7 @@ from guardsim.patrol.model import STRATEGIES
 from guardsim.pictures import write_patrol_pictures
 from guardsim.planners import PLANNERS
 
-F = TypeVar("F", bound=Callable[..., Any])
-
-__all__ = ["output_folder", "patrol", "picture_option", "picture_path"]
-
-
-def picture_option(name: str, dest: str, text: str) -> Callable[[F], F]:
-    """A picture option that takes a file name, ``--gif FILE``; given bare (``--gif``, the spelling of
-    old) it writes the picture's default name in the ``--out`` folder."""
-    return click.option(
-        name,
-        dest,
-        is_flag=False,
-        flag_value="",
-        default=None,
-        metavar="FILE",
-        callback=gif_suffix if name == "--gif" else None,
-        help=text,
-    )
-
-
-def picture_path(value: str | None, folder: str | None, default_name: str, option: str) -> Path | None:
-    """Where a picture option (:func:`picture_option`) writes: its file name, or ``default_name`` in the
-    ``--out`` folder when given bare; ``None`` when not given."""
-    if value is None:
-        return None
-    if value:
-        return Path(value)
-    if folder is None:
-        raise GuardsimError(f"{option} FILE: give a file name (a bare {option} writes into the --out folder)")
-    return Path(folder) / default_name
+__all__ = ["output_folder", "patrol"]
 
 
 def output_folder(path: str) -> Path:

@@ -14,11 +14,13 @@ from guardsim.cli.common import (
     limit_options,
     load,
     parse_point,
+    picture_option,
+    picture_path,
     reports_errors,
     vision_options,
 )
 from guardsim.cli.map_options import MapImport, map_options
-from guardsim.cli.patrol import output_folder, picture_option, picture_path
+from guardsim.cli.patrol import output_folder
 from guardsim.cli.progress import StageLine
 from guardsim.errors import GuardsimError
 from guardsim.grid import CoverageGrid
