@@ -93,6 +93,7 @@ def _motion_options(command: F) -> F:
 @click.option(
     "--episode",
     type=click.IntRange(min=0, max=99_999),
+    metavar="K",
     help="Run episode K of a batch seeded with --seed again, alone (its phase, entry and goal drawn as the "
     "batch draws them; an episode trace records K and the seed): for its --trace, --gif or --html.",
 )
