@@ -18,6 +18,7 @@ import numpy as np
 from guardsim.cli.params import FiniteFloatRange
 from guardsim.errors import GuardsimError, LimitError
 from guardsim.files.reading import display_path
+from guardsim.grid import CoverageGrid
 from guardsim.level import DEFAULT_MAX_CELLS, DEFAULT_MAX_FILE_BYTES, DEFAULT_MAX_VERTICES, Level
 from guardsim.scene import Scene
 from guardsim.starts import episode_start
@@ -28,6 +29,7 @@ __all__ = [
     "DetectionOverrides",
     "FiniteFloatRange",
     "build_scene",
+    "cell_text",
     "cli_start",
     "detection_options",
     "gif_suffix",
@@ -158,6 +160,13 @@ def picture_path(value: str | None, folder: str | None, default_name: str, optio
     if folder is None:
         raise GuardsimError(f"{option} FILE: give a file name (a bare {option} writes into the --out folder)")
     return Path(folder) / default_name
+
+
+def cell_text(grid: CoverageGrid, cell: tuple[int, int]) -> str:
+    """A cell as a summary gives it: its centre in world units as the command line takes a point, then the
+    cell, ``3.5,0.5 (cell [3, 0])``."""
+    x, y = grid.centre(*cell)
+    return f"{x:g},{y:g} (cell [{cell[0]}, {cell[1]}])"
 
 
 def parse_point(_ctx: click.Context, param: click.Parameter, value: str | None) -> tuple[float, float] | None:
