@@ -129,6 +129,11 @@ def test_episode_k_runs_one_episode_of_the_batch_again_exactly(files, one_worker
     assert trace.read_bytes() == (reference_out / "team-0004.json").read_bytes()
     data = json.loads(trace.read_text())
     assert (data["episode"], data["seed"]) == (4, 4) and data["phase"] >= 0 and data["goal"] is not None
+    # A batch of one draws its start from the seed like any batch: episode 0's.
+    one = tmp_path / "one.json"
+    result = run(files, "--search", "team", "--spotted", "--seed", "4", "--episodes", "1", "--trace", one)
+    assert result.exit_code == 0, result.output
+    assert one.read_bytes() == (reference_out / "team-0000.json").read_bytes()
     refused = run(files, *EPISODES, "--episode", "4")
     assert refused.exit_code == 2
     assert refused.stderr == (

@@ -89,7 +89,12 @@ def _motion_options(command: F) -> F:
     show_default=True,
     help="Search strategy once sight is lost; 'all' compares the four.",
 )
-@click.option("--episodes", type=click.IntRange(min=1, max=100_000), default=1, show_default=True)
+@click.option(
+    "--episodes",
+    type=click.IntRange(min=1, max=100_000),
+    help="Episodes whose entries, goals and patrol phases are drawn from --seed, one as any other number "
+    "[default: one episode from --from (or the level's player start) at lap tick 0].",
+)
 @click.option(
     "--episode",
     type=click.IntRange(min=0, max=99_999),
@@ -148,7 +153,7 @@ def alert(
     target: tuple[float, float] | None,
     route_path: str | None,
     search: str,
-    episodes: int,
+    episodes: int | None,
     episode: int | None,
     seed: int,
     max_seconds: float,
@@ -198,7 +203,7 @@ def alert(
 
     # Teams are fine here (each guard walks its own body): one guard is passed so that only the speeds are checked.
     check_motion(motion, 1, los, move_speed=move_speed, turn_speed=turn_speed, tick_hz=tick_hz)
-    if episode is not None and (episodes > 1 or out_dir is not None):
+    if episode is not None and (episodes is not None or out_dir is not None):
         raise GuardsimError(
             f"--episode {episode} runs one episode of a batch again: give it without --episodes and --out "
             "(write it with --trace, --gif or --html)"
@@ -239,8 +244,10 @@ def alert(
             if after != before and after not in grid.neighbours[before].tolist():
                 raise GuardsimError(f"{route_path}: point {index + 1} is not a 4-neighbour of point {index}")
         start, goal = route[0], route[-1]
-    # A rerun episode draws what a batch draws: its entry too.
-    alone = episodes == 1 and episode is None
+    # Without --episodes and --episode, one episode at the given entry and lap tick 0; a batch, even of one
+    # episode (and a rerun episode of one), draws what it is not given from the seed.
+    alone = episodes is None and episode is None
+    episodes = 1 if episodes is None else episodes
     if alone and start is None and level.player_starts:
         # One episode enters where the level says the player starts (many draw their entries from --seed).
         source = level.player_starts[0]
