@@ -25,7 +25,7 @@ from guardsim.cli.common import (
 from guardsim.cli.map_options import MapImport, map_options
 from guardsim.cli.progress import StageLine
 from guardsim.errors import GuardsimError
-from guardsim.patrol.job import PatrolJob, check_job, run_patrol, tiled_source_of
+from guardsim.patrol.job import PatrolJob, check_job, run_patrol, tiled_source_of, write_patrol_files
 from guardsim.patrol.model import STRATEGIES
 from guardsim.pictures import write_patrol_pictures
 from guardsim.planners import PLANNERS
@@ -228,12 +228,13 @@ def patrol(
         compile_ahead("patrol:team" if guards > 1 else "patrol")
         progress("building the scene", 0, 0)
         scene = build_scene(level, los, fov, view_range)
+        done = run_patrol(scene, job, progress=progress)
         folder = output_folder(out_dir)
-        done = run_patrol(scene, folder, job, progress=progress)
+        files = write_patrol_files(scene, folder, done, job, progress=progress)
         progress("drawing", 0, 0)
         drawn = write_patrol_pictures(scene, done, heat_map=folder / "idleness.png", gif=gif, html=html)
-    for warning in (*done.warnings, *drawn.warnings):
+    for warning in (*files.warnings, *drawn.warnings):
         click.echo(f"guardsim: warning: {warning}", err=True)
-    for line in done.printed(drawn.written):
+    for line in done.printed(files, drawn.written):
         click.echo(line)
     sys.stdout.flush()

@@ -1,10 +1,11 @@
-"""``guardsim patrol`` as a library call: plan or read a patrol, score it, and write its data files.
+"""``guardsim patrol`` as library calls: plan or read a patrol and score it, then write its files.
 
-:func:`run_patrol` does the command's work after the level is loaded: patrol.json in the output folder,
-route.json, the Godot scene and the Tiled map (cleaned routes with ``clean``). It draws nothing: the
-:class:`PatrolRun` it returns holds what a picture needs (the patrol, its view table and goal, the
-idleness shown), and :func:`guardsim.pictures.write_patrol_pictures` draws the heat map, the GIF and the
-page from it. The command parses options into a :class:`PatrolJob`, makes both calls and prints
+:func:`run_patrol` plans: it makes (or reads) the patrol and scores it, and writes nothing. The
+:class:`PatrolRun` it returns holds patrol.json's contents and what a picture needs (the patrol, its view
+table and goal, the idleness shown). :func:`write_patrol_files` writes patrol.json into the output
+folder and the route files a :class:`PatrolJob` names (route.json, the Godot scene, the Tiled map;
+cleaned routes with ``clean``); :func:`guardsim.pictures.write_patrol_pictures` draws the heat map, the
+GIF and the page. The command parses options into a :class:`PatrolJob`, makes the three calls and prints
 :meth:`PatrolRun.printed`.
 """
 
@@ -12,6 +13,7 @@ from __future__ import annotations
 
 import json
 import math
+from collections.abc import Sequence
 from dataclasses import dataclass, field
 from pathlib import Path
 from typing import TYPE_CHECKING, Any, NamedTuple
@@ -32,6 +34,7 @@ if TYPE_CHECKING:
     from guardsim.vision.table import ViewTable
 
 __all__ = [
+    "PatrolFiles",
     "PatrolJob",
     "PatrolRun",
     "ShownIdleness",
@@ -40,6 +43,7 @@ __all__ = [
     "lap_trace",
     "run_patrol",
     "tiled_source_of",
+    "write_patrol_files",
 ]
 
 
@@ -119,7 +123,7 @@ class PatrolRun:
     """What :func:`run_patrol` did, and what a picture of the patrol needs."""
 
     lines: list[str]
-    """What the command prints before its summary: the comparison table, cleaned routes."""
+    """What the command prints before its summary: the comparison table."""
     summary: str
     """The summary line, without the files written."""
     patrol: Patrol
@@ -132,17 +136,33 @@ class PatrolRun:
     shown: ShownIdleness
     what: str
     """What was scored: ``"loop patrol"``, ``"patrol.json evaluated"``."""
+    speed: float
+    """The guards' walking speed, world units per second: the route files' times."""
     notes: list[str] = field(default_factory=list)
-    warnings: list[str] = field(default_factory=list)
-    written: list[str] = field(default_factory=list)
     data: dict[str, Any] = field(default_factory=dict)
     """patrol.json's contents."""
 
-    def printed(self, pictures: list[str] | tuple[str, ...] = ()) -> list[str]:
-        """The lines the command prints: :attr:`lines`, the summary naming every file written (the data
-        files, then ``pictures``), and the patrol's notes."""
-        files = [*self.written, *pictures]
-        return [*self.lines, f"{self.summary} -> {', '.join(files)}", *(f"  {note}" for note in self.notes)]
+    def printed(self, files: PatrolFiles, pictures: Sequence[str] = ()) -> list[str]:
+        """The lines the command prints: :attr:`lines`, the cleaned routes, the summary naming every file
+        written (``files``, then ``pictures``), and the patrol's notes."""
+        named = [*files.written, *pictures]
+        return [
+            *self.lines,
+            *files.lines,
+            f"{self.summary} -> {', '.join(named)}",
+            *(f"  {note}" for note in self.notes),
+        ]
+
+
+class PatrolFiles(NamedTuple):
+    """What :func:`write_patrol_files` wrote."""
+
+    written: list[str]
+    """The paths written, patrol.json first."""
+    warnings: list[str]
+    """What was assumed (pixels per unit, tile sizes) for want of a record of it."""
+    lines: list[str]
+    """One line per route cleaned, as the command prints it."""
 
 
 def lap_trace(scene: Scene, run: PatrolRun) -> Trace:
@@ -194,32 +214,17 @@ def tiled_source_of(level_path: str, tiled_source: str | None) -> str | None:
     return None
 
 
-def run_patrol(scene: Scene, folder: Path, job: PatrolJob, *, progress: Progress | None = None) -> PatrolRun:
-    """Make (or read and score) the patrol of ``scene``, write patrol.json into ``folder`` and the route
-    files ``job`` names; ``progress(what, done, total)`` hears of each stage. Draws nothing
-    (:func:`guardsim.pictures.write_patrol_pictures` does, from the run)."""
+def run_patrol(scene: Scene, job: PatrolJob, *, progress: Progress | None = None) -> PatrolRun:
+    """Make (or read and score) the patrol of ``scene`` that ``job`` asks for; ``progress(what, done,
+    total)`` hears of each stage. Writes and draws nothing (:func:`write_patrol_files` and
+    :func:`guardsim.pictures.write_patrol_pictures` do, from the run)."""
     tell: Progress = progress or _silent
     from guardsim.patrol import patrol_data, patrol_setup, plan_loop, plan_patrol, read_patrol, score_patrol
 
     level = scene.level
     guards, strategy, planner, motion, seed = job.guards, job.strategy, job.planner, job.motion, job.seed
     laps, warmup_laps, compare, evaluate_path = job.laps, job.warmup_laps, job.compare, job.evaluate_path
-    export_path, speed = job.export_path, job.speed
-    tiled_out, tiled_source, godot_out, godot_version = (
-        job.tiled_out,
-        job.tiled_source,
-        job.godot_out,
-        job.godot_version,
-    )
-    clean, clean_tolerance, units, axis = job.clean, job.clean_tolerance, job.units, job.axis
-    pixels_per_unit, max_file_bytes = job.pixels_per_unit, job.max_file_bytes
-    # Outputs named outside the folder are checked first: a bad one found after the work would leave the
-    # folder's files written and the command failed.
-    for named in (export_path, tiled_out, godot_out):
-        if named is not None:
-            check_writable(named)
     lines: list[str] = []
-    warnings: list[str] = []
     tell("view table", 0, 0)
     from guardsim.patrol.plan import check_patrol_memory
 
@@ -271,8 +276,7 @@ def run_patrol(scene: Scene, folder: Path, job: PatrolJob, *, progress: Progress
             }
     from guardsim.motion import GuardMotion
 
-    walk = GuardMotion.of_guard(level.guard, move_speed=speed)
-    speed = walk.move_speed
+    walk = GuardMotion.of_guard(level.guard, move_speed=job.speed)
     shown = ShownIdleness.ticks(score)
     if motion == "continuous":
         if chosen.period is None:
@@ -303,16 +307,59 @@ def run_patrol(scene: Scene, folder: Path, job: PatrolJob, *, progress: Progress
         idleness_unit=shown.unit,
         never_seen=shown.never_seen,
     )
+    team = f", {chosen.guards} guards" if chosen.guards > 1 else ""
+    if chosen.team:
+        team += f" ({chosen.team})"
+    period_text = f", period {chosen.period} ticks" if chosen.period is not None else ""
+    if motion == "continuous":
+        period_text = f", continuous lap {data['period_seconds']:.1f} s"
+    worst = (
+        f"never seen: {shown.never_seen} cells"
+        if shown.worst is None
+        else f"worst idleness {idleness_text(shown.worst)} {shown.unit}"
+    )
+    summary = f"{level.name}: {what}{team}{period_text}, {worst}, mean {idleness_text(shown.mean)}"
+    return PatrolRun(
+        lines,
+        summary,
+        chosen,
+        setup.table,
+        setup.goal,
+        warmup,
+        shown,
+        what,
+        walk.move_speed,
+        list(chosen.notes),
+        data,
+    )
+
+
+def write_patrol_files(
+    scene: Scene, folder: Path, run: PatrolRun, job: PatrolJob, *, progress: Progress | None = None
+) -> PatrolFiles:
+    """Write ``run``'s patrol.json into ``folder`` and the route files ``job`` names (route.json, the
+    Godot scene, the Tiled map; routes cleaned first with ``job.clean``). Outputs named outside the folder
+    are checked before anything is written."""
+    tell: Progress = progress or _silent
+    level, chosen, speed = scene.level, run.patrol, run.speed
+    export_path, tiled_out, tiled_source, godot_out = job.export_path, job.tiled_out, job.tiled_source, job.godot_out
+    units, axis, pixels_per_unit, max_file_bytes = job.units, job.axis, job.pixels_per_unit, job.max_file_bytes
+    # A bad output found after patrol.json is written would leave it written and the command failed.
+    for named in (export_path, tiled_out, godot_out):
+        if named is not None:
+            check_writable(named)
+    lines: list[str] = []
+    warnings: list[str] = []
     tell("writing", 0, 0)
     written = [str(folder / "patrol.json")]
-    write_text_atomic(folder / "patrol.json", json.dumps(data, separators=(",", ":")) + "\n")
+    write_text_atomic(folder / "patrol.json", json.dumps(run.data, separators=(",", ":")) + "\n")
     routes = None
-    if clean and (export_path or godot_out or tiled_out):
+    if job.clean and (export_path or godot_out or tiled_out):
         from guardsim.patrol.cleaning import clean_routes
         from guardsim.patrol.export import guard_routes
 
         routes, reports = clean_routes(
-            scene, guard_routes(chosen, scene.grid, speed=speed), setup.goal, speed=speed, tolerance=clean_tolerance
+            scene, guard_routes(chosen, scene.grid, speed=speed), run.goal, speed=speed, tolerance=job.clean_tolerance
         )
         for number, report in enumerate(reports, start=1):
             if report is not None:
@@ -347,7 +394,7 @@ def run_patrol(scene: Scene, folder: Path, job: PatrolJob, *, progress: Progress
             level=level.name,
             speed=speed,
             pixels_per_unit=pixels,
-            version=godot_version,
+            version=job.godot_version,
             routes=routes,
         )
         write_text_atomic(godot_out, text)
@@ -374,32 +421,7 @@ def run_patrol(scene: Scene, folder: Path, job: PatrolJob, *, progress: Progress
         with atomic_path(tiled_out) as temporary:
             temporary.write_bytes(copy)
         written.append(tiled_out)
-    team = f", {chosen.guards} guards" if chosen.guards > 1 else ""
-    if chosen.team:
-        team += f" ({chosen.team})"
-    period_text = f", period {chosen.period} ticks" if chosen.period is not None else ""
-    if motion == "continuous":
-        period_text = f", continuous lap {data['period_seconds']:.1f} s"
-    worst = (
-        f"never seen: {shown.never_seen} cells"
-        if shown.worst is None
-        else f"worst idleness {idleness_text(shown.worst)} {shown.unit}"
-    )
-    summary = f"{level.name}: {what}{team}{period_text}, {worst}, mean {idleness_text(shown.mean)}"
-    return PatrolRun(
-        lines,
-        summary,
-        chosen,
-        setup.table,
-        setup.goal,
-        warmup,
-        shown,
-        what,
-        list(chosen.notes),
-        warnings,
-        written,
-        data,
-    )
+    return PatrolFiles(written, warnings, lines)
 
 
 def _silent(_what: str, _done: int, _total: int) -> None:
