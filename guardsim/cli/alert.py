@@ -17,9 +17,11 @@ from guardsim.alert.intruders import read_route_file
 from guardsim.cli.alert_batch import episode_trace, run_first, run_options, run_pending
 from guardsim.cli.common import (
     DetectionOverrides,
+    EarsOverrides,
     FiniteFloatRange,
     build_scene,
     detection_options,
+    ears_options,
     limit_options,
     load,
     parse_point,
@@ -95,15 +97,7 @@ def _motion_options(command: F) -> F:
 @click.option(
     "--intruder-speed", type=FiniteFloatRange(min=0, max=1e6), help="World units per second [default: the guard's]."
 )
-@click.option(
-    "--walk-noise",
-    type=FiniteFloatRange(min=0, max=1e6),
-    help="World units a walking step carries [level's intruder key].",
-)
-@click.option(
-    "--sneak-noise", type=FiniteFloatRange(min=0, max=1e6), help="World units a sneaking step carries [level's key]."
-)
-@click.option("--sneak-ticks", type=click.IntRange(min=1, max=1000), help="Ticks a sneaking step takes [level's key].")
+@ears_options
 @click.option(
     "--spotted",
     is_flag=True,
@@ -145,9 +139,7 @@ def alert(
     seed: int,
     max_seconds: float,
     intruder_speed: float | None,
-    walk_noise: float | None,
-    sneak_noise: float | None,
-    sneak_ticks: int | None,
+    ears_overrides: EarsOverrides,
     spotted: bool,
     out_dir: str | None,
     trace_path: str | None,
@@ -193,10 +185,8 @@ def alert(
     if workers is not None and scheduler is not None and scheduler != "local":
         raise GuardsimError("--workers and --scheduler exclude each other: the scheduler's workers run the episodes")
     level = detection_overrides.apply(load(level_path, max_cells, max_vertices, max_file_bytes, map_import))
-    given: dict[str, Any] = {"walk_noise": walk_noise, "sneak_noise": sneak_noise, "sneak_ticks": sneak_ticks}
-    ears = {key: value for key, value in given.items() if value is not None}
-    if ears:
-        level = dataclasses.replace(level, intruder=dataclasses.replace(level.intruder, **ears))
+    ears = {key: value for key, value in dataclasses.asdict(ears_overrides).items() if value is not None}
+    level = ears_overrides.apply(level)
     from guardsim.kernels.ahead import compile_ahead
 
     compile_ahead("alert")

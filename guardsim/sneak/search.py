@@ -10,6 +10,10 @@ in view costing more than any number of unseen ticks, finds the closest call: th
 ticks in view (then the fewest ticks). This is the space-time search of Tremblay, Torres, Rikovitch and
 Verbrugge ("An exploration tool for predicting stealthy behaviour", AIIDE 2013 workshop), made exact:
 they sample the space-time grid with RRT, here every node is searched.
+
+With ears (``heard``, see :mod:`guardsim.kernels.gaits`) the search also chooses a gait for every step
+and no guard may hear a step land: its nodes are (lap tick, cell, ticks stood still), and the closest
+call counts a step heard like a tick in view.
 """
 
 from __future__ import annotations
@@ -19,9 +23,14 @@ from typing import NamedTuple
 import numpy as np
 
 from guardsim.kernels.compiler import jit
+from guardsim.kernels.gaits import GAIT_MOVES, SNEAK_MOVE, gait_move
 from guardsim.kernels.heap import heap_pop, heap_push
 
-__all__ = ["SneakPath", "closest_call", "find_sneak", "hiding_windows"]
+__all__ = ["GAITS_OF_TICKS", "SneakPath", "closest_call", "find_sneak", "hiding_windows"]
+
+#: What the intruder does in a tick of a path with gaits: waits, walks a step, or is in a sneaking step
+#: (every tick of one, the landing included).
+GAITS_OF_TICKS = ("wait", "walk", "sneak")
 
 
 class SneakPath(NamedTuple):
@@ -35,6 +44,11 @@ class SneakPath(NamedTuple):
     """``int64 (ticks + 1,)``: flat cell at each tick from ``start_tick`` on."""
     ticks_in_view: int
     """Ticks at which the intruder is seen (0 for an unseen path)."""
+    gaits: tuple[str, ...] | None = None
+    """With ears: what the intruder does in each tick after entering (one of :data:`GAITS_OF_TICKS` per
+    tick, ``ticks`` of them); ``None`` for a search without gaits (every step walks)."""
+    steps_heard: int = 0
+    """With ears: steps some guard hears land (0 for an unheard path)."""
 
     @property
     def ticks(self) -> int:
@@ -124,6 +138,108 @@ def _dijkstra(neighbours: np.ndarray, seen: np.ndarray, source: int, target: int
     return parent, -1, -1
 
 
+@jit
+def _gait_search(
+    neighbours: np.ndarray, seen: np.ndarray, heard: np.ndarray, cap: int, source: int, target: int, strict: bool
+) -> tuple[np.ndarray, np.ndarray, int, int]:
+    """Dijkstra over (ticks still, lap tick, cell) with gaits: ``strict``, the fastest path never seen
+    nor heard; else the fewest ticks in view plus steps heard, then the fewest ticks. Returns the parent
+    of each node, whether the move into it was a sneaking step, the node reached (-1: none) and its cost."""
+    period, cells = seen.shape
+    layer = period * cells
+    nodes = (cap + 1) * layer
+    weight = nodes + 1
+    best = np.empty(nodes, dtype=np.int64)
+    best[:] = np.iinfo(np.int64).max
+    parent = np.empty(nodes, dtype=np.int64)
+    parent[:] = -2
+    sneaked = np.zeros(nodes, dtype=np.bool_)
+    done = np.zeros(nodes, dtype=np.bool_)
+    heap_keys = np.empty(period + 1024, dtype=np.int64)
+    heap_nodes = np.empty(period + 1024, dtype=np.int64)
+    size = 0
+    for tick in range(period):
+        if strict and seen[tick, source]:
+            continue
+        node = tick * cells + source
+        key = weight if seen[tick, source] else 0
+        best[node] = key
+        parent[node] = -1
+        size = heap_push(heap_keys, heap_nodes, size, key, node)
+    while size > 0:
+        key, node, size = heap_pop(heap_keys, heap_nodes, size)
+        if done[node] or key != best[node]:
+            continue
+        done[node] = True
+        still, rest = node // layer, node % layer
+        tick, cell = rest // cells, rest % cells
+        if cell == target:
+            return parent, sneaked, node, key
+        after = (tick + 1) % period
+        for move in range(GAIT_MOVES):
+            other, still_after, loud = gait_move(neighbours, heard, after, cell, still, cap, move)
+            if other < 0:
+                continue
+            bad = (1 if seen[after, other] else 0) + (1 if loud else 0)
+            if strict and bad > 0:
+                continue
+            next_node = (still_after * period + after) * cells + other
+            cost = key + 1 + bad * weight
+            if cost < best[next_node]:
+                best[next_node] = cost
+                parent[next_node] = node
+                sneaked[next_node] = move >= SNEAK_MOVE
+                if size == heap_keys.shape[0]:
+                    heap_keys = np.concatenate((heap_keys, np.empty_like(heap_keys)))
+                    heap_nodes = np.concatenate((heap_nodes, np.empty_like(heap_nodes)))
+                size = heap_push(heap_keys, heap_nodes, size, cost, next_node)
+    return parent, sneaked, -1, -1
+
+
+def tick_gaits(cells: np.ndarray, sneaked: np.ndarray, cap: int) -> tuple[str, ...]:
+    """What the intruder does in each tick after the first of a path (flat ``cells`` per tick), given
+    which ticks land a sneaking step (``sneaked``, a flag per tick): the ``cap`` ticks before a sneaking
+    step's landing are that step's too."""
+    gaits = ["walk" if cells[tick] != cells[tick - 1] else "wait" for tick in range(1, cells.size)]
+    for tick in np.flatnonzero(sneaked).tolist():
+        for inside in range(max(1, tick - cap), tick + 1):
+            gaits[inside - 1] = "sneak"
+    return tuple(gaits)
+
+
+def _gait_path(
+    neighbours: np.ndarray,
+    seen: np.ndarray,
+    heard: np.ndarray,
+    sneak_ticks: int,
+    source: int,
+    target: int,
+    strict: bool,
+) -> SneakPath | None:
+    seen = np.ascontiguousarray(seen, dtype=np.bool_)
+    heard = np.ascontiguousarray(heard, dtype=np.bool_)
+    cap = int(sneak_ticks) - 1
+    parent, sneaked, node, _ = _gait_search(
+        np.ascontiguousarray(neighbours, dtype=np.int64), seen, heard, cap, int(source), int(target), bool(strict)
+    )
+    if node < 0:
+        return None
+    period, cells = seen.shape
+    chain = [node]
+    while parent[chain[-1]] >= 0:
+        chain.append(int(parent[chain[-1]]))
+    chain.reverse()
+    nodes = np.asarray(chain, dtype=np.int64)
+    path = nodes % cells
+    start = int((nodes[0] // cells) % period)
+    landed = sneaked[nodes]
+    ticks = (start + np.arange(path.size)) % period
+    in_view = int(seen[ticks, path].sum())
+    moved = np.flatnonzero(path[1:] != path[:-1]) + 1
+    loud = int(heard[landed[moved].astype(np.int64), ticks[moved], path[moved]].sum())
+    return SneakPath(in_view + loud == 0, start, path, in_view, tick_gaits(path, landed, cap), loud)
+
+
 def _path(parent: np.ndarray, node: int, cells: int) -> tuple[int, np.ndarray]:
     chain = [node]
     while parent[chain[-1]] >= 0:
@@ -132,7 +248,15 @@ def _path(parent: np.ndarray, node: int, cells: int) -> tuple[int, np.ndarray]:
     return chain[0] // cells, np.asarray([item % cells for item in chain], dtype=np.int64)
 
 
-def find_sneak(neighbours: np.ndarray, seen: np.ndarray, source: int, target: int) -> SneakPath | None:
+def find_sneak(
+    neighbours: np.ndarray,
+    seen: np.ndarray,
+    source: int,
+    target: int,
+    *,
+    heard: np.ndarray | None = None,
+    sneak_ticks: int = 2,
+) -> SneakPath | None:
     """The fastest unseen path from ``source`` to ``target`` (flat cells), or ``None`` when there is none.
 
     Parameters
@@ -141,6 +265,11 @@ def find_sneak(neighbours: np.ndarray, seen: np.ndarray, source: int, target: in
         ``int64 (cells, 4)``: the grid's connectivity.
     seen
         ``bool (period, cells)``: whether a guard sees each cell at each tick of a lap.
+    heard
+        With ears, ``bool (2, period, cells)``: whether a guard hears a walking (``[0]``) or sneaking
+        (``[1]``) step land in each cell at each tick (:func:`guardsim.detection.hearing.lap_hearing`); the path
+        then chooses a gait for every step (a sneaking step takes ``sneak_ticks`` ticks) and is never
+        heard either, and :attr:`SneakPath.gaits` says what it does in each tick.
 
     Examples
     --------
@@ -151,7 +280,17 @@ def find_sneak(neighbours: np.ndarray, seen: np.ndarray, source: int, target: in
     >>> path = find_sneak(neighbours, seen, 0, 2)
     >>> path.start_tick, path.cells.tolist()
     (0, [0, 1, 2])
+
+    With a guard in cell 2 hearing a walking step one cell away, the player sneaks (2 ticks) into cell 1:
+
+    >>> heard = np.zeros((2, 2, 3), dtype=bool)
+    >>> heard[0, :, 1:] = True
+    >>> path = find_sneak(neighbours, seen, 0, 1, heard=heard)
+    >>> path.cells.tolist(), path.gaits
+    ([0, 0, 1], ('sneak', 'sneak'))
     """
+    if heard is not None:
+        return _gait_path(neighbours, seen, heard, sneak_ticks, source, target, True)
     neighbours = np.ascontiguousarray(neighbours, dtype=np.int64)
     seen = np.ascontiguousarray(seen, dtype=np.bool_)
     parent, node = _bfs(neighbours, seen, int(source), int(target))
@@ -161,9 +300,20 @@ def find_sneak(neighbours: np.ndarray, seen: np.ndarray, source: int, target: in
     return SneakPath(True, start, cells, 0)
 
 
-def closest_call(neighbours: np.ndarray, seen: np.ndarray, source: int, target: int) -> SneakPath | None:
+def closest_call(
+    neighbours: np.ndarray,
+    seen: np.ndarray,
+    source: int,
+    target: int,
+    *,
+    heard: np.ndarray | None = None,
+    sneak_ticks: int = 2,
+) -> SneakPath | None:
     """The path from ``source`` to ``target`` with the fewest ticks in view (then fewest ticks);
-    ``None`` when ``target`` cannot be reached at all."""
+    ``None`` when ``target`` cannot be reached at all. With ``heard`` (see :func:`find_sneak`), the fewest
+    ticks in view plus steps heard, choosing a gait for every step."""
+    if heard is not None:
+        return _gait_path(neighbours, seen, heard, sneak_ticks, source, target, False)
     neighbours = np.ascontiguousarray(neighbours, dtype=np.int64)
     seen = np.ascontiguousarray(seen, dtype=np.bool_)
     parent, node, cost = _dijkstra(neighbours, seen, int(source), int(target))
