@@ -29,11 +29,10 @@ REAL = ("arena", "den020d", "maze-32-32-2", "room-32-32-4")
 
 
 def _scene(name: str):  # type: ignore[no-untyped-def]
-    from guardsim.importers import import_map
-    from guardsim.level import load_level
+    from guardsim import load_level
     from guardsim.scene import Scene
 
-    level = load_level(SHIPPED[name]) if name in SHIPPED else import_map(MAPS / f"{name}.map").level
+    level = load_level(SHIPPED[name] if name in SHIPPED else MAPS / f"{name}.map")
     return Scene.from_level(level)
 
 

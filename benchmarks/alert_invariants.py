@@ -31,15 +31,14 @@ SHIPPED = {p.stem: p for p in sorted((REPO / "levels").glob("*.json"))}
 
 
 def _level(name_or_path: str):  # type: ignore[no-untyped-def,unused-ignore]
-    from guardsim.importers import import_map
-    from guardsim.level import load_level
+    from guardsim import load_level
 
     if name_or_path in SHIPPED:
         return load_level(SHIPPED[name_or_path])
     path = Path(name_or_path)
     if not path.exists():
         path = MAPS / f"{name_or_path}.map"
-    return load_level(path) if path.suffix == ".json" else import_map(path).level
+    return load_level(path)
 
 
 def _count(traces: list[dict], traversable) -> tuple[Counter[str], int, int]:  # type: ignore[no-untyped-def,unused-ignore]

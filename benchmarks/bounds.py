@@ -26,14 +26,14 @@ MAPS = [REPO.parent / "shared" / "maps" / "movingai" / "Berlin_1_256.map"]
 
 def load_scene(path: Path):
     """The scene of a level file or of a map imported at cell size 1."""
-    from guardsim.level import load_level
+    from guardsim import load_level
     from guardsim.simulation import Scene
 
     if path.suffix == ".json":
         return Scene.from_level(load_level(path))
-    from guardsim.importers import import_map
+    from guardsim import load_level
 
-    return Scene.from_level(import_map(path).level)
+    return Scene.from_level(load_level(path))
 
 
 def measure(path: Path, starts: int) -> str:

@@ -73,8 +73,8 @@ def bench_seconds(guardsim: str, episodes: int, bounds: bool, workers: int | Non
 
 def per_level(episodes: int) -> None:
     """CPU milliseconds of the view table and of the bounds per start, level by level."""
+    from guardsim import load_level
     from guardsim.bounds import lower_bounds
-    from guardsim.level import load_level
     from guardsim.simulation import Scene, choose_start, episode_generator
     from guardsim.vision.table import view_table
 

@@ -21,10 +21,11 @@ from pathlib import Path
 
 import numpy as np
 
+from guardsim import load_level
 from guardsim.detection import GuardDetection
 from guardsim.detection.light import light_map
 from guardsim.detection.watch import level_watch
-from guardsim.level import Camera, Light, load_level, parse_level
+from guardsim.level import Camera, Light, parse_level
 from guardsim.patrol import patrol_setup, plan_loop
 from guardsim.scene import Scene
 from guardsim.sneak import sneak_check

@@ -36,8 +36,7 @@ from pathlib import Path
 
 import numpy as np
 
-from guardsim.importers import import_map, load_any
-from guardsim.level import load_level
+from guardsim import ImportedLevel, load_level
 from guardsim.planners import RippleFront
 from guardsim.simulation import Scene, choose_start, episode_generator, run_episode
 
@@ -78,8 +77,9 @@ def corpus_table(folder: Path) -> None:
     with tempfile.TemporaryDirectory() as scratch:
         for path in tiled_corpus(folder):
             name = str(path.relative_to(folder / "tiled"))
-            level, imported = load_any(path)
-            assert imported is not None
+            records: list[ImportedLevel] = []
+            level = load_level(path, report=records.append)
+            imported = records[0]
             walls = next((change for change in imported.changes if change.startswith("walls from")), "")
             scene = Scene.from_level(level)
             if level.guard.start is not None:
@@ -203,7 +203,9 @@ def main() -> None:
     with tempfile.TemporaryDirectory() as scratch:
         for path in sources(args.maps, args.only):
             began = time.perf_counter()
-            imported = import_map(path, spawn_tiles=SNEAKTIME_GUARD_TILES)
+            found: list[ImportedLevel] = []
+            load_level(path, spawn_tiles=SNEAKTIME_GUARD_TILES, report=found.append)
+            imported = found[0]
             written = Path(scratch) / f"{path.stem}.json"
             written.write_text(imported.to_json(), encoding="utf-8")
             level = load_level(written)

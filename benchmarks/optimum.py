@@ -125,10 +125,10 @@ MWRP_REPO = REPO.parent / ".mirror" / "srikarg89+MWRP-CP3" / "repo"
 
 def scene_of(name: str, view_range: float | None, path: Path | None = None, fov: float = 360.0):
     """The scene of a Moving AI map with the Bresenham rule and a 360-degree view (or a ``fov`` cone)."""
+    from guardsim import load_level
     from guardsim.cli.common import build_scene
-    from guardsim.importers import import_map
 
-    level = import_map(path or MAPS / f"{name}.map").level
+    level = load_level(path or MAPS / f"{name}.map")
     return build_scene(level, "bresenham", fov, view_range)
 
 

@@ -56,8 +56,8 @@ def ortools_order(cost: np.ndarray, start: int, nodes: np.ndarray, seconds: floa
 
 
 def main() -> None:
+    from guardsim import load_level
     from guardsim.kernels.tours import tour_cost
-    from guardsim.level import load_level
     from guardsim.planners.team_routes import plan_routes
     from guardsim.planners.tour import route_costs
     from guardsim.planners.viewpoint_cover import greedy_cover

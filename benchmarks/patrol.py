@@ -20,8 +20,8 @@ from pathlib import Path
 
 import numpy as np
 
+from guardsim import load_level
 from guardsim.detection import GuardDetection
-from guardsim.level import load_level
 from guardsim.patrol import patrol_setup, plan_loop, plan_patrol
 from guardsim.patrol.replay import patrol_trace
 from guardsim.scene import Scene

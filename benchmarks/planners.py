@@ -43,7 +43,7 @@ from collections.abc import Callable
 from functools import partial
 from pathlib import Path
 
-from guardsim.level import load_level
+from guardsim import load_level
 from guardsim.planners import PLANNERS, EpisodeSetup, GuardState, Planner, Tour
 from guardsim.planners.tour import SEEDS
 from guardsim.planners.viewpoint_cover import greedy_cover

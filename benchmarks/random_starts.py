@@ -14,7 +14,7 @@ import statistics
 import time
 from pathlib import Path
 
-from guardsim.level import load_level
+from guardsim import load_level
 from guardsim.planners import RippleFront
 from guardsim.simulation import Scene, choose_start, episode_generator, run_episode
 

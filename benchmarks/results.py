@@ -41,11 +41,11 @@ from typing import NamedTuple
 
 import numpy as np
 
+from guardsim import load_level
 from guardsim.bounds import lower_bounds
 from guardsim.cli.common import build_scene
 from guardsim.experiment import RESULTS_NAME, EpisodeRecord, read_results
 from guardsim.experiment.plots import StepsBox, plot_steps
-from guardsim.level import load_level
 from guardsim.planners import PLANNERS, make_planner
 from guardsim.simulation import Scene, choose_start, episode_generator, run_episode
 

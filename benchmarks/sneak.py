@@ -18,8 +18,8 @@ from pathlib import Path
 
 import numpy as np
 
+from guardsim import load_level
 from guardsim.detection import GuardDetection
-from guardsim.importers import load_any
 from guardsim.patrol import patrol_setup, plan_loop
 from guardsim.scene import Scene
 from guardsim.sneak import sneak_check
@@ -46,7 +46,7 @@ def main() -> None:
     print("|---|---|---|---|---|---|---|---|")
     warmed = False
     for path in levels:
-        level, _ = load_any(str(path))
+        level = load_level(str(path))
         scene = Scene.from_level(level)
         setup = patrol_setup(scene, args.guards)
         patrol = plan_loop(setup, args.guards)[0].patrol

@@ -84,11 +84,11 @@ def cpu(path: str, saves: int) -> None:
     """Processor seconds of one analysis (with its first report and the page's JSON) per edit of a level."""
     import dataclasses
 
+    from guardsim import load_level
     from guardsim.design import analyse, report_data, report_of
-    from guardsim.importers import load_any
     from guardsim.viewer.serve import analysis_payload
 
-    level = load_any(path)[0]
+    level = load_level(path)
     moved = dataclasses.replace(
         level, holes=(tuple((x + level.cell_size, y) for x, y in level.holes[0]), *level.holes[1:])
     )

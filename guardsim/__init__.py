@@ -38,8 +38,8 @@ _SOURCES = {
     "Level": "guardsim.level",
     "Camera": "guardsim.level",
     "Light": "guardsim.level",
-    # Levels and every map format the commands accept (guardsim.level.load_level reads level files only).
-    "load_level": "guardsim.importers.loading:open_level",
+    "load_level": "guardsim.importers.loading",
+    "ImportedLevel": "guardsim.importers.imported",
     "parse_level": "guardsim.level",
     "World": "guardsim.world",
     "CoverageGrid": "guardsim.grid",
@@ -108,7 +108,8 @@ if TYPE_CHECKING:
     from guardsim.errors import PlannerError as PlannerError
     from guardsim.errors import RegressionError as RegressionError
     from guardsim.grid import CoverageGrid as CoverageGrid
-    from guardsim.importers.loading import open_level as load_level  # noqa: F401  re-exported by name
+    from guardsim.importers.imported import ImportedLevel as ImportedLevel
+    from guardsim.importers.loading import load_level as load_level
     from guardsim.kernels.meter import meter_gain as meter_gain
     from guardsim.kernels.meter import visibility as visibility
     from guardsim.level import Camera as Camera

@@ -15,9 +15,11 @@ import numpy as np
 import pytest
 from click.testing import CliRunner, Result
 
+from guardsim import load_level
 from guardsim.cli import main
 from guardsim.experiment import TIMED_COLUMNS
 from guardsim.grid import state_of
+from guardsim.importers import ImportedLevel
 from guardsim.level import Level, parse_level
 from guardsim.patrol import Patrol
 from guardsim.simulation import Scene
@@ -30,6 +32,21 @@ REPO = Path(__file__).resolve().parent.parent
 SHARED = Path(os.environ.get("GUARDSIM_SHARED") or REPO.parent / "shared")
 #: The corpus of real Tiled maps and LDtk projects (../shared/maps/corpus/SOURCES.md).
 CORPUS = SHARED / "maps" / "corpus"
+
+
+def import_map(path: str | os.PathLike[str], **options: Any) -> ImportedLevel:
+    """What importing the map at ``path`` gives (level, changes, warnings), through :func:`guardsim.load_level`."""
+    records: list[ImportedLevel] = []
+    load_level(path, report=records.append, **options)
+    assert len(records) == 1, f"{path} is a level file, not a map"
+    return records[0]
+
+
+def load_any(path: str | os.PathLike[str], **options: Any) -> tuple[Level, ImportedLevel | None]:
+    """The level at ``path`` and, for a map, its import record."""
+    records: list[ImportedLevel] = []
+    level = load_level(path, report=records.append, **options)
+    return level, (records[0] if records else None)
 
 
 def needs_shared(path: Path) -> pytest.MarkDecorator:

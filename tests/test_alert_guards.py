@@ -157,7 +157,7 @@ def test_invariants_hold_in_continuous_motion() -> None:
 def test_invariants_hold_in_continuous_motion_on_square() -> None:
     """Square, a 2-guard loop patrol, continuous motion: where two searching bodies once walked side by
     side for 12 ticks (personal space counted on the decided cells, which the bodies lag)."""
-    from guardsim.level import load_level
+    from guardsim import load_level
     from guardsim.patrol.plan import patrol_setup, plan_patrol
     from guardsim.scene import Scene
 
@@ -185,9 +185,9 @@ def test_the_issue_recipe_on_real_maps_is_clean(name: str, tmp_path: Path) -> No
          "--search", "all", "--episodes", "6", "--workers", "1", "--out", str(run)],
         check=True, cwd=REPO,
     )  # fmt: skip
-    from guardsim.importers import import_map
-    from guardsim.level import load_level
+    from guardsim import load_level
     from guardsim.scene import Scene
+    from tests.common import import_map
 
     scene = Scene.from_level(load_level(level) if level.suffix == ".json" else import_map(level).level)
     traces = sorted(run.glob("*-[0-9][0-9][0-9][0-9].json"))

@@ -22,12 +22,12 @@ import psutil
 import pytest
 from click.testing import CliRunner
 
+from guardsim import load_level
 from guardsim.cli import main
 from guardsim.cli.bench import ProgressLine
 from guardsim.experiment import CSV_COLUMNS, RUN_NAME, EpisodeRecord, read_results
 from guardsim.experiment.executors import LocalPool
 from guardsim.experiment.plots import StepsBox, plot_steps
-from guardsim.level import load_level
 from guardsim.simulation import Scene, run_episode
 from guardsim.trace import Trace
 from tests.common import (

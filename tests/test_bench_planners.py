@@ -13,10 +13,11 @@ from pathlib import Path
 
 import pytest
 
+from guardsim import load_level
 from guardsim.bounds import lower_bounds
 from guardsim.cli.common import build_scene
 from guardsim.experiment import RUN_NAME
-from guardsim.level import HEADINGS, load_level
+from guardsim.level import HEADINGS
 from guardsim.planners import PLANNERS
 from guardsim.simulation import run_episode
 from tests.common import (

@@ -17,11 +17,11 @@ import numpy as np
 import pytest
 from click.testing import CliRunner
 
+from guardsim import load_level
 from guardsim.bounds import lower_bounds, state_distances
 from guardsim.bounds.clusters import choose_clusters
 from guardsim.cli import main
 from guardsim.kernels.trees import cluster_distances, spanning_tree_weight, subset_tree_weight
-from guardsim.level import load_level
 from guardsim.planners import PLANNERS, make_planner
 from guardsim.simulation import Scene, run_episode
 from guardsim.vision.rules import VisionFunction

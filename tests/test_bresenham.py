@@ -11,9 +11,8 @@ from click.testing import CliRunner
 
 from guardsim.cli import main
 from guardsim.cli.common import build_scene
-from guardsim.importers import import_map
 from guardsim.vision.bresenham import bresenham_line
-from tests.common import SQUARE_WITH_HOLE, level_from, write_level
+from tests.common import SQUARE_WITH_HOLE, import_map, level_from, write_level
 
 SHARED = Path(__file__).resolve().parents[2] / "shared" / "maps" / "movingai"
 OPTIMA_MAPS = [SHARED / name for name in ("maze-32-32-4.map", "arena.map", "den101d.map")]

@@ -19,8 +19,8 @@ import numpy as np
 import pytest
 from click.testing import CliRunner
 
+from guardsim import load_level
 from guardsim.cli import main
-from guardsim.level import load_level
 from guardsim.render import COLOURS
 from guardsim.trace import Trace
 from guardsim.viewer import write_viewer

@@ -7,7 +7,7 @@ from pathlib import Path
 import numpy as np
 import pytest
 
-from guardsim.level import load_level
+from guardsim import load_level
 from guardsim.planners import RippleFront
 from guardsim.simulation import Scene, choose_start, episode_generator, run_episode
 from guardsim.vision import visible_cells

@@ -11,10 +11,9 @@ from pathlib import Path
 import numpy as np
 import pytest
 
-from guardsim.importers import import_map
 from guardsim.simulation import Scene
 from guardsim.vision import visible_cells
-from tests.common import fast_equals_reference
+from tests.common import fast_equals_reference, import_map
 
 SHARED = Path(__file__).resolve().parents[2] / "shared" / "maps"
 MAPS = sorted((SHARED / "movingai").glob("*.map")) + sorted((SHARED / "tiled").glob("*.tmx"))

@@ -192,7 +192,7 @@ def test_long_or_multiline_level_names_are_refused() -> None:
 
 def test_many_layers_make_short_lines(tmp_path: Path) -> None:
     """A Tiled map with 2,000 wall layers: every change and warning line stays short."""
-    from guardsim.importers import import_map
+    from tests.common import import_map
 
     layers = "".join(
         f'<objectgroup name="walls {"n" * 80} {index}"><object id="{index + 1}" x="{8 * (index % 40)}" '

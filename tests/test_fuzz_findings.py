@@ -17,10 +17,9 @@ import pytest
 
 from guardsim.alert.intruders import read_route_points
 from guardsim.errors import CheckError, LevelError
-from guardsim.importers import import_map
 from guardsim.validate.checks import read_checks
 from guardsim.validate.repair import MAX_REPAIR_HOLES
-from tests.common import REPO, assert_one_line_error, run
+from tests.common import REPO, assert_one_line_error, import_map, run
 from tests.test_ldtk import project
 
 PILLAR: dict[str, Any] = {

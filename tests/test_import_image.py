@@ -9,11 +9,11 @@ import pytest
 from click.testing import CliRunner
 from PIL import Image
 
+from guardsim import load_level
 from guardsim.cli import main
 from guardsim.errors import LevelError
-from guardsim.importers import import_map
-from guardsim.level import load_level
 from guardsim.simulation import Scene
+from tests.common import import_map
 
 
 def write_png(folder: Path, pixels: np.ndarray, name: str = "level.png", mode: str | None = None) -> Path:

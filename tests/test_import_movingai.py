@@ -16,12 +16,12 @@ import pytest
 from click.testing import CliRunner
 from shapely.geometry import LinearRing, Polygon
 
+from guardsim import load_level
 from guardsim.cli import main
 from guardsim.errors import LevelError
-from guardsim.importers import import_map
 from guardsim.importers.movingai import import_movingai, read_movingai
-from guardsim.level import load_level
 from guardsim.simulation import Scene
+from tests.common import import_map
 
 MAPS_DIR = Path(__file__).resolve().parents[2] / "shared" / "maps" / "movingai"
 MAPS = sorted(MAPS_DIR.glob("*.map"))

@@ -25,7 +25,7 @@ from click.testing import CliRunner
 
 from guardsim.cli import main
 from guardsim.errors import LevelError
-from guardsim.importers import load_any
+from tests.common import load_any
 
 
 def one_error_line(args: list[str], *fragments: str) -> str:

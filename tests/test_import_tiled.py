@@ -10,6 +10,7 @@ from __future__ import annotations
 
 import base64
 import json
+import re
 import zlib
 from pathlib import Path
 from typing import Any
@@ -20,12 +21,14 @@ import shapely
 from click.testing import CliRunner
 from shapely.geometry import Polygon
 
+from guardsim import load_level
 from guardsim.cli import main
 from guardsim.errors import LevelError
-from guardsim.importers import import_map
+from guardsim.importers import import_tiled
 from guardsim.level import level_to_data, parse_level
 from guardsim.planners import RippleFront
 from guardsim.simulation import Scene, choose_start, run_episode
+from tests.common import import_map
 
 TILED_DIR = Path(__file__).resolve().parents[2] / "shared" / "maps" / "tiled"
 SAMPLES = sorted(TILED_DIR.glob("sneaktime_*.json"))
@@ -302,7 +305,6 @@ BAD_TILED = {
     ),
     "not-a-map-xml": ("map.tmx", "<tileset/>", "a tileset, not a map"),
     "isometric": ("map.tmx", '<map orientation="isometric" tilewidth="1" tileheight="1"/>', "'isometric'"),
-    "json-not-tiled": ("map.json", '{"outer": [[0, 0], [1, 0], [1, 1]]}', "not a Tiled JSON map"),
     "json-syntax": ("map.json", '{"orientation": "orthogonal",\n "layers": [}', "line 2 column"),
     "bad-tile-count": (
         "map.tmx",
@@ -374,6 +376,15 @@ def test_bad_tiled_map_is_one_error_naming_file_and_place(tmp_path: Path, case: 
         import_map(path)
     assert str(caught.value).startswith(f"{path}: ")
     assert fragment in str(caught.value)
+
+
+def test_a_level_file_named_like_a_map_loads_as_a_level_and_the_tiled_reader_refuses_it(tmp_path: Path) -> None:
+    path = tmp_path / "map.json"
+    path.write_text('{"outer": [[0, 0], [4, 0], [4, 4], [0, 4]]}', encoding="utf-8")
+    records: list[object] = []
+    assert load_level(path, report=records.append).outer == ((0, 0), (4, 0), (4, 4), (0, 4)) and records == []
+    with pytest.raises(LevelError, match=f"^{re.escape(str(path))}: .*not a Tiled JSON map"):
+        import_tiled(path)
 
 
 def test_missing_external_tileset_is_a_note_not_an_error(tmp_path: Path) -> None:

@@ -14,9 +14,9 @@ from click.testing import CliRunner
 
 from guardsim.cli import main
 from guardsim.errors import LevelError
-from guardsim.importers import import_map, load_any
 from guardsim.importers.tiled_roles import words
 from guardsim.render.palette import COLOURS
+from tests.common import import_map, load_any
 
 TILESET = """ <tileset firstgid="1" name="t" tilewidth="16" tileheight="16" tilecount="8" columns="4">{tiles}</tileset>
 """

@@ -18,9 +18,9 @@ import pytest
 import shapely
 
 from guardsim.errors import LevelError
-from guardsim.importers import FORMATS, ImportOptions, import_map, load_any
+from guardsim.importers import FORMATS
 from guardsim.importers.ldtk import import_ldtk, is_ldtk_json
-from tests.common import CORPUS, assert_one_line_error, needs_shared, run
+from tests.common import CORPUS, assert_one_line_error, import_map, load_any, needs_shared, run
 
 LDTK_DIR = CORPUS / "ldtk"
 TOP_DOWN = LDTK_DIR / "Typical_TopDown_example.ldtk"
@@ -478,7 +478,7 @@ def test_unread_file_types_get_one_line_naming_the_formats(tmp_path: Path, name:
 
 def test_import_options_carry_wall_values_and_level(tmp_path: Path) -> None:
     path = write(tmp_path, project(values=((1, "dirt"),)))
-    level, imported = load_any(path, options=ImportOptions(wall_values=("dirt",), level="level_0"))
+    level, imported = load_any(path, wall_values=("dirt",), level="level_0")
     assert imported is not None and level.holes and not imported.warnings
 
 

@@ -19,9 +19,8 @@ from pathlib import Path
 
 import numpy as np
 
-from guardsim.importers import import_map
 from guardsim.scene import Scene
-from tests.common import REPO
+from tests.common import REPO, import_map
 
 CASES = REPO / "tests" / "data" / "maps" / "cases"
 

@@ -43,10 +43,10 @@ import shapely
 from shapely import affinity
 
 from guardsim.errors import LevelError
-from guardsim.importers import ImportedLevel, import_map
+from guardsim.importers import ImportedLevel
 from guardsim.scene import Scene
 from tests.common import CORPUS as SHARED_CORPUS
-from tests.common import needs_shared
+from tests.common import import_map, needs_shared
 
 ROOT = Path(__file__).resolve().parents[1]
 CORPUS = SHARED_CORPUS / "tiled"

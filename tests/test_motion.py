@@ -13,8 +13,8 @@ import numpy as np
 import pytest
 from click.testing import CliRunner, Result
 
+from guardsim import load_level
 from guardsim.cli import main
-from guardsim.level import load_level
 from guardsim.motion import ContinuousSimulation, GuardMotion, PoseVision, pose_visible_cells, pull_route
 from guardsim.motion.follower import Follower
 from guardsim.scene import Scene

@@ -15,9 +15,9 @@ import numpy as np
 import pytest
 from click.testing import CliRunner
 
+from guardsim import load_level
 from guardsim.cli import main
 from guardsim.grid import cell_of_state, heading_of_state
-from guardsim.level import load_level
 from guardsim.patrol import Patrol, parse_patrol, patrol_data, patrol_setup, plan_loop, plan_patrol, score_patrol
 from guardsim.patrol.export import position_at, route_data
 from guardsim.patrol.loops import closed_tour
@@ -350,8 +350,8 @@ TMX = """<?xml version="1.0" encoding="UTF-8"?>
 def test_tiled_copy_holds_the_route_and_reimports_to_the_same_level(tmp_path: Path) -> None:
     from xml.etree import ElementTree
 
-    from guardsim.importers import import_map
     from guardsim.level import level_to_data
+    from tests.common import import_map
 
     source = tmp_path / "map.tmx"
     source.write_text(TMX, encoding="utf-8")
@@ -389,8 +389,8 @@ def test_tiled_copy_holds_the_route_and_reimports_to_the_same_level(tmp_path: Pa
 def test_tiled_out_of_a_plain_level_writes_a_fresh_map_that_imports_to_the_same_level(tmp_path: Path) -> None:
     import shapely.affinity
 
-    from guardsim.importers import import_map
-    from guardsim.level import load_level
+    from guardsim import load_level
+    from tests.common import import_map
 
     level = write_level(tmp_path, TWO_ROOMS)
     for suffix in (".tmx", ".tmj"):
@@ -448,8 +448,8 @@ TMJ = {
 
 
 def test_tiled_json_copy_reimports_to_the_same_level(tmp_path: Path) -> None:
-    from guardsim.importers import import_map
     from guardsim.level import level_to_data
+    from tests.common import import_map
 
     source = tmp_path / "map.tmj"
     source.write_text(json.dumps(TMJ), encoding="utf-8")
@@ -516,8 +516,8 @@ def test_a_tiled_copy_in_another_folder_still_finds_its_external_tileset(tmp_pat
     import shutil
     from xml.etree import ElementTree
 
-    from guardsim.importers import import_map
     from guardsim.level import level_to_data
+    from tests.common import import_map
 
     maps = Path(__file__).resolve().parent.parent.parent / "shared" / "maps" / "tiled"
     if not (maps / "sneaktime_tilemap1.tmx").exists():

@@ -145,7 +145,7 @@ def test_the_second_table_picks_against_the_first_tables_walk() -> None:
 def test_on_random_32_32_20_the_table_proves_93_at_the_start() -> None:
     # The figure docs/optimum.md gives: the search's own estimate at this start is 69.
     from guardsim.cli.common import build_scene
-    from guardsim.importers import import_map
+    from tests.common import import_map
 
     scene = build_scene(import_map(SHARED / "random-32-32-20.map").level, "bresenham", 360.0, None)
     graph = residual_goal(build_search_graph(scene.grid, view_table(scene.grid, scene.vision()), (0, 0), 0))

@@ -16,10 +16,10 @@ import numpy as np
 import pytest
 from click.testing import CliRunner
 
+from guardsim import load_level
 from guardsim.cli import main
 from guardsim.cli.common import build_scene
 from guardsim.kernels.tours import improve_tour, nearest_neighbour_tour, tour_cost
-from guardsim.level import load_level
 from guardsim.planners import PLANNERS, EpisodeSetup, GuardState, RandomWalk, RippleFrontExact, Sweep, Tour
 from guardsim.planners.ripplefront import FAR, ripple_sweep
 from guardsim.planners.team_share import guard_share

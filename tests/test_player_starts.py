@@ -5,9 +5,8 @@ from __future__ import annotations
 import json
 from pathlib import Path
 
-from guardsim.importers import import_map
 from guardsim.level import level_to_data, parse_level
-from tests.common import TWO_ROOMS, assert_one_line_error, run, write_level
+from tests.common import TWO_ROOMS, assert_one_line_error, import_map, run, write_level
 
 # 10 x 8 tiles of 16 px; ground on rows 1..6 and columns 2..9 only (the level is cropped to it), a
 # wall object, and a player start at tile (3.5, 2.5).

@@ -5,7 +5,7 @@ from __future__ import annotations
 
 import numpy as np
 
-from guardsim.level import load_level
+from guardsim import load_level
 from guardsim.planners.lawnmower import spiral_rings, spiral_routes, swath_half_width
 from guardsim.planners.polish import polish_route
 from guardsim.planners.route_walk import walk_routes

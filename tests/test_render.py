@@ -15,9 +15,10 @@ import pytest
 from click.testing import CliRunner
 from PIL import Image
 
+from guardsim import load_level
 from guardsim.cli import main
 from guardsim.errors import LimitError
-from guardsim.level import load_level, parse_level
+from guardsim.level import parse_level
 from guardsim.render import (
     COLOURS,
     PALETTE,

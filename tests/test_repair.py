@@ -13,8 +13,9 @@ from hypothesis import given, settings
 from hypothesis import strategies as st
 from shapely.geometry import Polygon
 
+from guardsim import load_level
 from guardsim.cli import main
-from guardsim.level import check_level_data, load_level
+from guardsim.level import check_level_data
 from guardsim.validate.repair import repair_level_data
 from tests.bad_levels import changed
 from tests.common import LEVELS, SQUARE_WITH_HOLE, TINY_LEVELS, shipped_levels, tiny_levels, write_level

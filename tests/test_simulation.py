@@ -14,7 +14,7 @@ from pathlib import Path
 import numpy as np
 import pytest
 
-from guardsim.level import load_level
+from guardsim import load_level
 from guardsim.planners import RippleFront
 from guardsim.planners.base import GuardState
 from guardsim.simulation import Scene, choose_start, default_max_steps, run_episode

@@ -19,10 +19,9 @@ import shapely
 from shapely.geometry.base import BaseGeometry
 
 from guardsim.errors import LevelError
-from guardsim.importers import ImportOptions, import_map, load_any
 from guardsim.importers.tiled_roles import truth, wall_mark, words
 from guardsim.level import Level
-from tests.common import assert_one_line_error, run
+from tests.common import assert_one_line_error, import_map, load_any, run
 
 SIZE = 8
 """Maps are SIZE x SIZE tiles of TILE pixels."""
@@ -489,7 +488,7 @@ def test_overrides_that_match_nothing_are_warnings(tmp_path: Path, fmt: str) -> 
 
 def test_the_overrides_pass_through_load_any(tmp_path: Path) -> None:
     path = _terrain_map(tmp_path, "tmx")
-    level, _ = load_any(path, options=ImportOptions(wall_properties=("terrain=rock",), wall_classes=("crate",)))
+    level, _ = load_any(path, wall_properties=("terrain=rock",), wall_classes=("crate",))
     assert blocked_cells(level) == ROCKS | {(6, 6), (0, 7), (6, 3)}
 
 

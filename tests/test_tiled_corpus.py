@@ -23,10 +23,10 @@ import shapely
 from click.testing import CliRunner
 
 from guardsim.cli import main
-from guardsim.importers import load_any
 from guardsim.importers.tiled_data import TiledMap
 from guardsim.importers.tiled_read import read_tiled
 from guardsim.scene import Scene
+from tests.common import load_any
 
 CORPUS = Path(__file__).resolve().parents[2] / "shared" / "maps" / "tiled"
 needs_corpus = pytest.mark.skipif(not CORPUS.is_dir(), reason=f"the shared Tiled maps are not at {CORPUS}")

@@ -105,7 +105,7 @@ def _check_routes(
 @needs_tiled
 @pytest.mark.parametrize("suffix", [".tmx", ".tmj"])
 def test_a_hand_made_level_exports_a_map_that_real_tiled_opens_with_its_route(tmp_path: Path, suffix: str) -> None:
-    from guardsim.importers import import_map
+    from tests.common import import_map
 
     level = write_level(tmp_path, CORRIDOR)
     exported, route_path = tmp_path / f"fresh{suffix}", tmp_path / "route.json"
@@ -174,8 +174,8 @@ def test_a_level_imported_from_a_64_pixel_map_exports_64_pixel_tiles(tmp_path: P
 
 @needs_tiled
 def test_a_tiled_copy_opens_in_real_tiled_with_its_route_and_imports_as_the_source(tmp_path: Path) -> None:
-    from guardsim.importers import import_map
     from guardsim.level import level_to_data
+    from tests.common import import_map
 
     source = tmp_path / "map.tmx"
     source.write_text(SOURCE_TMX, encoding="utf-8")

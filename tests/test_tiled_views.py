@@ -20,9 +20,8 @@ from typing import Any
 import pytest
 
 from guardsim.errors import LevelError
-from guardsim.importers import import_map
 from guardsim.importers.tiled_marks import body_mark
-from tests.common import assert_one_line_error, run
+from tests.common import assert_one_line_error, import_map, run
 from tests.test_tiled_conventions import (
     FLOOR,
     FORMATS,

@@ -14,9 +14,9 @@ import numpy as np
 import pytest
 from click.testing import CliRunner
 
+from guardsim import load_level
 from guardsim.cli import main
 from guardsim.errors import GuardsimError
-from guardsim.level import load_level
 from guardsim.trace import Trace
 from guardsim.viewer import build_page, page_data
 from guardsim.viewer.walls import rings_from_grid

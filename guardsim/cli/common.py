@@ -171,17 +171,19 @@ def limit_options(command: F) -> F:
 
 
 def load(path: str, max_cells: int, max_vertices: int, max_file_bytes: int, map_import: Any = None) -> Level:
-    """Load a level, or import a map in memory (its summary and warnings on stderr), within the limits given."""
+    """:func:`guardsim.load_level` with the command's options; an imported map's summary and warnings on stderr."""
     from guardsim.cli.map_options import MapImport, report_import
-    from guardsim.importers import load_any
+    from guardsim.importers import load_level
 
     map_import = map_import or MapImport()
-    level, imported = load_any(
-        path, options=map_import.options, max_cells=max_cells, max_vertices=max_vertices, max_file_bytes=max_file_bytes
+    return load_level(
+        path,
+        report=lambda imported: report_import(imported, map_import.strict),
+        max_cells=max_cells,
+        max_vertices=max_vertices,
+        max_file_bytes=max_file_bytes,
+        **map_import.keywords,
     )
-    if imported is not None:
-        report_import(imported, map_import.strict)
-    return level
 
 
 class FiniteFloatRange(click.FloatRange):

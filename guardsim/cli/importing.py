@@ -10,7 +10,7 @@ from guardsim.cli.common import limit_options, reports_errors
 from guardsim.cli.map_options import STRICT_EXIT, MapImport, map_options
 from guardsim.errors import LevelError
 from guardsim.files.output import write_text_atomic
-from guardsim.importers import load_any
+from guardsim.importers import ImportedLevel, load_level
 
 __all__ = ["import_command"]
 
@@ -36,15 +36,18 @@ def import_command(
     with exit status 1 and nothing is written. See docs/authoring.md for how walls, floor and spawns
     are found in Tiled maps and how to mark them.
     """
-    level, imported = load_any(
+    records: list[ImportedLevel] = []
+    level = load_level(
         source,
-        options=map_import.options,
+        report=records.append,
         max_cells=max_cells,
         max_vertices=max_vertices,
         max_file_bytes=max_file_bytes,
+        **map_import.keywords,
     )
-    if imported is None:
+    if not records:
         raise LevelError(f"{level.source}: already a guardsim level, not a map to import")
+    imported = records[0]
     for warning in imported.warnings:
         click.echo(f"guardsim: warning: {level.source}: {warning}", err=True)
     if map_import.strict and imported.warnings:

@@ -17,7 +17,7 @@ from typing import Any, TypeVar, cast
 import click
 
 from guardsim.cli.common import FiniteFloatRange
-from guardsim.importers import FORMATS, ImportedLevel, ImportOptions, load_any
+from guardsim.importers import FORMATS, ImportedLevel, ImportOptions, load_level
 from guardsim.importers.image import DEFAULT_THRESHOLD
 from guardsim.importers.loading import is_map_json
 from guardsim.importers.tiled_checks import VIEWS
@@ -36,6 +36,11 @@ class MapImport:
 
     options: ImportOptions = dataclasses.field(default_factory=ImportOptions)
     strict: bool = False
+
+    @property
+    def keywords(self) -> dict[str, Any]:
+        """The import options as the keywords of :func:`guardsim.load_level`."""
+        return {field.name: getattr(self.options, field.name) for field in dataclasses.fields(self.options)}
 
 
 def report_import(imported: ImportedLevel, strict: bool) -> None:
@@ -63,11 +68,14 @@ def level_data(path: str, map_import: MapImport, *, max_cells: int, max_vertices
         data = read_level_json(path, max_file_bytes=max_file_bytes)
         if not is_map_json(data):
             return data
-    level, imported = load_any(
-        path, options=map_import.options, max_cells=max_cells, max_vertices=max_vertices, max_file_bytes=max_file_bytes
+    level = load_level(
+        path,
+        report=lambda imported: report_import(imported, map_import.strict),
+        max_cells=max_cells,
+        max_vertices=max_vertices,
+        max_file_bytes=max_file_bytes,
+        **map_import.keywords,
     )
-    if imported is not None:
-        report_import(imported, map_import.strict)
     return level_to_data(level)
 
 

@@ -21,7 +21,7 @@ import numpy as np
 
 from guardsim.envs.actions import AgentPlanner, action_mask
 from guardsim.envs.observations import observe
-from guardsim.importers import open_level
+from guardsim.importers import load_level
 from guardsim.level import Level
 from guardsim.scene import Scene
 from guardsim.simulation import Simulation
@@ -42,7 +42,7 @@ def scene_of(level: LevelSource, line_of_sight: LineOfSight | str = LineOfSight.
     if isinstance(level, Scene):
         return level
     if not isinstance(level, Level):
-        level = open_level(level)
+        level = load_level(level)
     return Scene.from_level(level, line_of_sight=line_of_sight)
 
 

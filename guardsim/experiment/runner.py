@@ -24,7 +24,8 @@ from guardsim.experiment.results import (
 from guardsim.experiment.start_bounds import LevelStarts, StartBounds, level_starts_tasks, run_level_starts, with_bounds
 from guardsim.experiment.summary import GroupSummary, summarise, summary_json
 from guardsim.files.output import write_text_atomic
-from guardsim.level import Level, load_level, parse_level
+from guardsim.importers.loading import load_level
+from guardsim.level import DEFAULT_MAX_CELLS, DEFAULT_MAX_FILE_BYTES, DEFAULT_MAX_VERTICES, Level, parse_level
 
 __all__ = [
     "SUMMARY_NAME",
@@ -52,9 +53,21 @@ class BatchLevel(NamedTuple):
     level: Level
 
     @classmethod
-    def load(cls, path: str, level: Level | None = None, **limits: int) -> BatchLevel:
+    def load(
+        cls,
+        path: str,
+        level: Level | None = None,
+        *,
+        max_cells: int = DEFAULT_MAX_CELLS,
+        max_vertices: int = DEFAULT_MAX_VERTICES,
+        max_file_bytes: int = DEFAULT_MAX_FILE_BYTES,
+    ) -> BatchLevel:
         """Load and validate a level file (or take ``level``, loaded from it); raises :class:`~guardsim.errors.LevelError`."""
-        level = level if level is not None else load_level(path, **limits)
+        level = (
+            level
+            if level is not None
+            else load_level(path, max_cells=max_cells, max_vertices=max_vertices, max_file_bytes=max_file_bytes)
+        )
         digest = hashlib.sha256(Path(path).read_bytes()).hexdigest()
         return cls(os.path.normpath(path), digest, level)
 

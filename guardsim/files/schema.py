@@ -3,7 +3,7 @@
 =============  ======================  ==============================================================
 name           file                    read by
 =============  ======================  ==============================================================
-``level``      ``level.schema.json``   every command taking a level (:func:`guardsim.level.load_level`)
+``level``      ``level.schema.json``   every command taking a level (:func:`guardsim.load_level`)
 ``patrol``     ``patrol.schema.json``  ``patrol --evaluate``, ``sneak``, ``check`` and ``alert --patrol``
 ``checks``     ``checks.schema.json``  ``check --checks`` (JSON, or TOML with the same structure)
 ``manifest``   ``manifest.schema.json`` ``regress`` (a level's ``manifest.json``)

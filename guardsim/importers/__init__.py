@@ -1,11 +1,12 @@
 """Importers: maps from the tools designers use, converted to guardsim levels.
 
-:func:`import_map` picks the reader by file type: Moving AI grid maps (``.map``), Tiled maps (``.tmx``,
+One reader per file type: Moving AI grid maps (``.map``), Tiled maps (``.tmx``,
 ``.tmj`` and Tiled JSON ``.json``), LDtk projects (``.ldtk``, or a ``.json`` holding one) and images
 (``.png``). Every reader returns an :class:`ImportedLevel`: a level :func:`guardsim.level.parse_level`
 accepts, the list of what the import found and changed (floor and wall layers, holes merged, vertices
 snapped) and its warnings.
-:func:`load_any` loads a guardsim level file or any of these maps, for every command.
+:func:`load_level` (``guardsim.load_level``) loads a guardsim level file or any of these maps, and is
+the one way in: the import's record reaches its ``report`` callback.
 """
 
 from __future__ import annotations
@@ -19,7 +20,7 @@ from guardsim.importers.guard_fit import check_guard_fits
 from guardsim.importers.image import DEFAULT_THRESHOLD, import_image
 from guardsim.importers.imported import ImportedLevel
 from guardsim.importers.ldtk import import_ldtk, is_ldtk_file
-from guardsim.importers.loading import ImportOptions, ImportSummary, load_any, open_level, unknown_type
+from guardsim.importers.loading import ImportOptions, load_level, unknown_type
 from guardsim.importers.movingai import import_movingai
 from guardsim.importers.source import display_name
 from guardsim.importers.tiled import import_tiled
@@ -28,15 +29,12 @@ from guardsim.level import DEFAULT_MAX_CELLS, DEFAULT_MAX_FILE_BYTES, DEFAULT_MA
 __all__ = [
     "FORMATS",
     "ImportOptions",
-    "ImportSummary",
     "ImportedLevel",
     "import_image",
     "import_ldtk",
-    "import_map",
     "import_movingai",
     "import_tiled",
-    "load_any",
-    "open_level",
+    "load_level",
 ]
 
 #: File suffix -> the kind of map read from it.
@@ -50,7 +48,7 @@ FORMATS = {
 }
 
 
-def import_map(
+def _import_map(
     path: str | os.PathLike[str],
     *,
     cell_size: float | None = None,
@@ -95,7 +93,7 @@ def import_map(
     LevelError
         For an unknown file type or a malformed map, naming the file and the line or field.
     """
-    imported = _import_map(
+    imported = _dispatch(
         path,
         cell_size=cell_size,
         threshold=threshold,
@@ -115,7 +113,7 @@ def import_map(
     return check_guard_fits(imported)
 
 
-def _import_map(
+def _dispatch(
     path: str | os.PathLike[str],
     *,
     cell_size: float | None,

@@ -1,6 +1,6 @@
 """Whether the guard can stand in an imported level, and whether its grid keeps the level whole.
 
-Every importer's level passes here (:func:`guardsim.importers.import_map`): a level no guard fits in is
+Every importer's level passes here (on its way out of :func:`guardsim.load_level`): a level no guard fits in is
 refused, since every command would refuse it; on a small level, a grid that cuts passages the guard's
 circle can move along is a warning naming the finer cell size that keeps them whole.
 """

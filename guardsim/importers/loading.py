@@ -1,10 +1,9 @@
 """One entry point for every command: a guardsim level file or any map, loaded in memory.
 
-:func:`load_any` is what ``guardsim play``, ``render``, ``validate``, ``bench`` and ``regress`` call on
-their LEVEL argument. A ``.json`` file is a guardsim level when it has an ``outer`` ring, a Tiled map
+:func:`load_level` (``guardsim.load_level``) is what every command calls on its LEVEL argument. A ``.json`` file is a guardsim level when it has an ``outer`` ring, a Tiled map
 when it has an ``orientation`` (or ``"type": "map"``) and an LDtk project when it has LDtk's
 ``__header__`` (or ``jsonVersion`` and ``defs``); ``.tmx``/``.tmj``, ``.ldtk``, ``.map`` and ``.png`` are
-imported with :func:`guardsim.importers.import_map` and the options of :class:`ImportOptions`. Any other
+imported with the options of :class:`ImportOptions`. Any other
 file that is not JSON gets one line saying which formats guardsim reads.
 """
 
@@ -12,7 +11,9 @@ from __future__ import annotations
 
 import dataclasses
 import os
+from collections.abc import Callable
 from pathlib import Path
+from typing import Any
 
 import shapely.errors
 
@@ -24,10 +25,7 @@ from guardsim.importers.ldtk_read import is_ldtk_json
 from guardsim.importers.source import MAX_JSON_DEPTH, display_name, quiet, read_capped_bytes
 from guardsim.level import DEFAULT_MAX_CELLS, DEFAULT_MAX_FILE_BYTES, DEFAULT_MAX_VERTICES, Level, parse_level
 
-__all__ = ["ImportOptions", "ImportSummary", "is_map_json", "is_tiled_json", "load_any", "open_level", "unknown_type"]
-
-#: What an import reports besides its level (the summary line, the changes and the warnings).
-ImportSummary = ImportedLevel
+__all__ = ["ImportOptions", "is_map_json", "is_tiled_json", "load_level", "unknown_type"]
 
 
 @dataclasses.dataclass(frozen=True)
@@ -102,27 +100,45 @@ def is_map_json(data: object) -> bool:
     return is_tiled_json(data) or is_ldtk_json(data)
 
 
-def load_any(
+def load_level(
     path: str | os.PathLike[str],
     *,
-    options: ImportOptions | None = None,
+    report: Callable[[ImportedLevel], object] | None = None,
     max_cells: int = DEFAULT_MAX_CELLS,
     max_vertices: int = DEFAULT_MAX_VERTICES,
     max_file_bytes: int = DEFAULT_MAX_FILE_BYTES,
-) -> tuple[Level, ImportedLevel | None]:
-    """A level from a guardsim level file, or from a map imported in memory.
+    **import_options: Any,
+) -> Level:
+    """The level in ``path``: a guardsim level file, or any map the commands accept, imported in memory.
 
-    Returns the level and, for an imported map, the import's record (``None`` for a level file).
+    The one way to load a level. A ``.json`` file is a guardsim level when it has an ``outer`` ring and
+    a Tiled or LDtk map otherwise; ``.tmx``/``.tmj``, ``.ldtk``, ``.map`` (Moving AI) and ``.png`` are
+    maps. ``import_options`` are the options of ``guardsim import``, the fields of
+    :class:`ImportOptions`: ``cell_size``, ``threshold``, ``spawn_tiles``, ``wall_layers``,
+    ``floor_layers``, ``wall_tiles``, ``wall_properties``, ``wall_classes``, ``view``, ``wall_values``
+    and ``level``. ``report``, when given, receives the :class:`~guardsim.importers.ImportedLevel` of an
+    imported map (what the import found, guessed and changed, and its warnings); a level file has none.
 
     Raises
     ------
     LevelError
         One line naming the file for every way the file or the map can be wrong, including a file that
         is not a regular file, more than ``max_file_bytes`` bytes, or limits that would be passed.
-    """
-    from guardsim.importers import FORMATS, import_map
+    TypeError
+        For an import option that does not exist.
 
-    options = options or ImportOptions()
+    Examples
+    --------
+    >>> load_level("levels/square.json").name
+    'Square'
+    >>> records = []
+    >>> level = load_level("tests/data/maps/cases/house_lawn.tmj", cell_size=0.5, report=records.append)
+    >>> level.cell_size, records[0].kind
+    (0.5, 'Tiled map')
+    """
+    from guardsim.importers import FORMATS, _import_map
+
+    options = ImportOptions(**import_options)
     source = display_name(path)
     suffix = Path(path).suffix.lower()
     if suffix in FOREIGN:
@@ -141,11 +157,11 @@ def load_any(
                 raise
             raise unknown_type(source, suffix, is_json=False) from None
         if not is_map_json(value):
-            return parse_level(value, source=source, max_cells=max_cells, max_vertices=max_vertices), None
+            return parse_level(value, source=source, max_cells=max_cells, max_vertices=max_vertices)
     notes: list[str] = []
     try:
         with quiet(notes):
-            imported = import_map(
+            imported = _import_map(
                 path,
                 cell_size=options.cell_size,
                 threshold=options.threshold,
@@ -171,22 +187,6 @@ def load_any(
         raise LevelError(f"{source}: the map's geometry cannot be built ({str(error)[:80]})") from None
     if notes:
         imported = dataclasses.replace(imported, changes=(*imported.changes, *notes))
-    return imported.level, imported
-
-
-def open_level(
-    path: str | os.PathLike[str],
-    *,
-    max_cells: int = DEFAULT_MAX_CELLS,
-    max_vertices: int = DEFAULT_MAX_VERTICES,
-    max_file_bytes: int = DEFAULT_MAX_FILE_BYTES,
-) -> Level:
-    """The level in ``path``: a guardsim level file, or any map the commands accept (imported in memory
-    with the defaults of ``guardsim import``). This is ``guardsim.load_level``.
-
-    Examples
-    --------
-    >>> open_level("levels/square.json").name
-    'Square'
-    """
-    return load_any(path, max_cells=max_cells, max_vertices=max_vertices, max_file_bytes=max_file_bytes)[0]
+    if report is not None:
+        report(imported)
+    return imported.level

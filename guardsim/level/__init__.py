@@ -1,7 +1,7 @@
 """Levels: the model, reading a file within limits, checking it, and writing it.
 
 A level is read from JSON (see ``docs/level-format.md``). :func:`check_level_data` collects every problem
-in a level with its location; :func:`load_level` raises the first as a :class:`LevelError`.
+in a level with its location; :func:`guardsim.load_level` raises the first as a :class:`LevelError`.
 Coordinates are world units with x to the right and y down, as in Tiled and image editors.
 
 The modules, in the order the data flows: :mod:`~guardsim.level.model` (what a level is),
@@ -14,7 +14,7 @@ from __future__ import annotations
 
 from guardsim.errors import LevelError
 from guardsim.level.limits import DEFAULT_MAX_CELLS, DEFAULT_MAX_FILE_BYTES, DEFAULT_MAX_VERTICES
-from guardsim.level.loading import load_level, read_level_json, read_limited_bytes
+from guardsim.level.loading import read_level_json, read_limited_bytes
 from guardsim.level.model import (
     GAITS,
     HEADINGS,
@@ -59,7 +59,6 @@ __all__ = [
     "grid_shape_of",
     "level_json_text",
     "level_to_data",
-    "load_level",
     "parse_level",
     "read_level_json",
     "read_limited_bytes",

@@ -1,4 +1,4 @@
-"""Reading a level file within limits: bytes, JSON, then :func:`~guardsim.level.validation.parse_level`."""
+"""Reading a level file within limits: its bytes and its JSON (``guardsim.load_level`` then parses it)."""
 
 from __future__ import annotations
 
@@ -8,29 +8,9 @@ from typing import Any
 from guardsim.errors import LevelError
 from guardsim.files.reading import DEFAULT_MAX_DEPTH, display_path, parse_json, read_text_file
 from guardsim.files.reading import read_limited_bytes as _read_bytes
-from guardsim.level.limits import DEFAULT_MAX_CELLS, DEFAULT_MAX_FILE_BYTES, DEFAULT_MAX_VERTICES
-from guardsim.level.model import Level
-from guardsim.level.validation import parse_level
+from guardsim.level.limits import DEFAULT_MAX_FILE_BYTES
 
-__all__ = ["load_level", "read_level_json", "read_limited_bytes"]
-
-
-def load_level(
-    path: str | os.PathLike[str],
-    *,
-    max_cells: int = DEFAULT_MAX_CELLS,
-    max_vertices: int = DEFAULT_MAX_VERTICES,
-    max_file_bytes: int = DEFAULT_MAX_FILE_BYTES,
-) -> Level:
-    """Read and validate a level file.
-
-    Raises
-    ------
-    LevelError
-        With a message naming the file and the first problem found.
-    """
-    data = read_level_json(path, max_file_bytes=max_file_bytes)
-    return parse_level(data, source=display_path(path), max_cells=max_cells, max_vertices=max_vertices)
+__all__ = ["read_level_json", "read_limited_bytes"]
 
 
 def read_limited_bytes(path: str | os.PathLike[str], *, max_file_bytes: int, kind: str = "level file") -> bytes:

@@ -140,13 +140,14 @@ class LiveAnalyser:
         """Read and analyse the level (worker thread); ``publish`` each payload; :class:`Superseded` when
         a newer save arrives first, :class:`~guardsim.errors.GuardsimError` when the save is unusable."""
         from guardsim.design import analyse, report_data, report_of
-        from guardsim.importers import load_any
+        from guardsim.importers import ImportedLevel, load_level
         from guardsim.viewer.serve.payload import analysis_payload
 
         began = time.perf_counter()
-        level, imported = load_any(self.path)
+        records: list[ImportedLevel] = []
+        level = load_level(self.path, report=records.append)
         # What the import says is probably not what the author drew (a tileset not saved yet, no walls).
-        warnings = [" ".join(warning.split()) for warning in (imported.warnings if imported is not None else ())]
+        warnings = [" ".join(warning.split()) for record in records for warning in record.warnings]
         self._check(generation)
 
         def step(line: str) -> None:
