@@ -358,7 +358,80 @@ def test_sneak_unheard_command_prints_the_gaits(tmp_path: Path) -> None:
     assert "gaits: walk x2, sneak x5 (2 ticks each), walk x3" in result.output
     data = json.loads((out / "sneak.json").read_text())
     assert data["gaits"].count("sneak") == 10
+    # The path as an alert route: the route intruder takes its gaits from sneak.json and is not heard.
+    trace = tmp_path / "trace.json"
+    route = ["alert", str(level), "--patrol", str(patrol), "--intruder", "route", "--route", str(out / "sneak.json")]
+    walked = runner.invoke(main, [*route, "--to", "10.5,1.5", "--trace", str(trace)])
+    assert walked.exit_code == 0, walked.output
+    events = json.loads(trace.read_text())["events"]
+    assert not [e for e in events if e["event"] == "heard"] and [e for e in events if e["event"] == "arrived"]
     loud = runner.invoke(main, [*args, "--sneak-noise", "3"])
     assert loud.exit_code == 0 and "caught: no unseen, unheard path" in loud.output and "heard 5 times" in loud.output
     bad = runner.invoke(main, [*args, "--sneak-noise", "-1"])
     assert bad.exit_code == 2 and "--sneak-noise" in bad.output
+
+
+# -- alert: the sneak intruder plans its gaits; the evader runs when chased -----------------------------
+
+
+def test_the_alert_sneak_intruder_sneaks_past_the_alcove_unheard() -> None:
+    """With walk_noise 3 and sneak_noise 0.5 the ``sneak`` intruder of ``alert`` plans with gaits (the
+    search above): it crosses the corridor unheard, its five steps beside the alcove two ticks each, as
+    planned tick for tick. A ``route`` intruder walking the same corridor is heard."""
+    from guardsim.alert import AlertRules, alert_episode
+    from guardsim.level import parse_level
+
+    scene, table, post, _ = _alcove(3, 0.5)
+    grid = scene.grid
+    rules = AlertRules.of_level(parse_level(ALCOVE | {"intruder": {"walk_noise": 3, "sneak_noise": 0.5}}))
+    source, target = grid.flat(0, 1), grid.flat(10, 1)
+    runs = {}
+    for kind in ("sneak", "route"):
+        episode = alert_episode(
+            scene, post, intruder=kind, source=source, target=target, table=table, rules=rules, max_seconds=30
+        )
+        episode.run()
+        runs[kind] = episode
+    sneaker, walker = runs["sneak"], runs["route"]
+    assert sneaker.outcome == "undetected_arrival" and not [e for e in sneaker.events if e.event == "heard"]
+    planned = sneak_check(grid, table, post, source, target, detection=GuardDetection.of_level(scene.level),
+                          unheard=True, intruder=IntruderSpec(walk_noise=3, sneak_noise=0.5))  # fmt: skip
+    assert planned.path is not None
+    cells = [cell for cell in sneaker.record["intruder"] if cell is not None]
+    assert cells == planned.path.cells.tolist()[: len(cells)] and len(cells) == planned.path.ticks
+    assert [e.tick for e in walker.events if e.event == "heard"][:1] == [3]
+
+
+def test_a_chased_evader_runs() -> None:
+    """An evader with a run speed of 2 cells a tick moves two cells in some tick while chased, never more,
+    and at most one a tick unchased; without a run speed it never moves two. The guards' contaminated
+    set grows by the run (their reach): the episode's invariants still hold."""
+    from guardsim.alert import AlertRules, alert_episode, alert_trace_data, check_alert_trace
+    from tests.test_alert import ring_patrol, seen_entry, setup
+
+    scene, table = setup()
+    grid = scene.grid
+    patrol = ring_patrol(grid, guards=1)
+    moves: dict[bool, set[int]] = {True: set(), False: set()}
+    for run in (None, 2.0):
+        rules = AlertRules.of_level(
+            scene.level, run_speed=None if run is None else run / AlertRules.of_level(scene.level).dt
+        )
+        assert rules.run_speed == run
+        episode = alert_episode(
+            scene, patrol, intruder="evader", source=seen_entry(grid, table, patrol, 3), target=grid.flat(11, 7),
+            phase=3, max_seconds=60, table=table, rules=rules, spotted=True,
+        )  # fmt: skip
+        episode.run()
+        cells, states = episode.record["intruder"], episode.record["guard_states"]
+        for tick in range(1, len(cells)):
+            if cells[tick] is None or cells[tick - 1] is None:
+                continue
+            (r0, c0), (r1, c1) = divmod(cells[tick - 1], grid.shape[1]), divmod(cells[tick], grid.shape[1])
+            step = abs(r1 - r0) + abs(c1 - c0)
+            chased = "chase" in states[tick - 1]
+            moves[run is not None].add(step)
+            assert step <= (2 if run is not None and chased else 1), (run, tick, step)
+        data = json.loads(json.dumps(alert_trace_data(episode, scene, search="ripple", intruder="evader")))
+        assert not check_alert_trace(data, grid.traversable)
+    assert 2 in moves[True] and 2 not in moves[False]

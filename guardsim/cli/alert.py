@@ -97,6 +97,11 @@ def _motion_options(command: F) -> F:
 @click.option(
     "--intruder-speed", type=FiniteFloatRange(min=0, max=1e6), help="World units per second [default: the guard's]."
 )
+@click.option(
+    "--run-speed",
+    type=FiniteFloatRange(min=0, min_open=True, max=1e6),
+    help="World units per second an evader runs while chased [default: it walks at --intruder-speed].",
+)
 @ears_options
 @click.option(
     "--spotted",
@@ -139,6 +144,7 @@ def alert(
     seed: int,
     max_seconds: float,
     intruder_speed: float | None,
+    run_speed: float | None,
     ears_overrides: EarsOverrides,
     spotted: bool,
     out_dir: str | None,
@@ -196,7 +202,7 @@ def alert(
     if patrol.motion != "grid" or patrol.period is None:
         raise GuardsimError(f"{patrol_path}: alert needs a repeating grid-motion patrol (from guardsim patrol)")
     searches = list(SEARCHES) if search == "all" else [search]
-    rules = AlertRules.of_level(level, intruder_speed=intruder_speed)
+    rules = AlertRules.of_level(level, intruder_speed=intruder_speed, run_speed=run_speed)
     detection = GuardDetection(GuardDetection.of_level(level).model, scene.cone.view_range, rules.dt)
     walking = motion_of(scene, move_speed, turn_speed, tick_hz) if motion == "continuous" else None
     start = sneak_cell(grid, source, "--from") if source is not None else None
