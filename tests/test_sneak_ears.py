@@ -435,3 +435,46 @@ def test_a_chased_evader_runs() -> None:
         data = json.loads(json.dumps(alert_trace_data(episode, scene, search="ripple", intruder="evader")))
         assert not check_alert_trace(data, grid.traversable)
     assert 2 in moves[True] and 2 not in moves[False]
+
+
+# -- bad input ------------------------------------------------------------------------------------------
+
+
+def test_bad_ears_are_one_line_errors(tmp_path: Path) -> None:
+    """A noise key below 0 in the level or as an option, a sneak.json whose gaits are not walk, sneak or
+    wait, and one whose sneaking steps take other than the level's sneak_ticks (a gait this level does
+    not allow): one line naming the file or the option, exit status 2."""
+    runner = CliRunner()
+    patrol = tmp_path / "post.json"
+    patrol.write_text(json.dumps({"shape": [3, 11], "guards": [{"loop": [[5, 2]], "headings": [1]}]}))
+    noisy = write_level(tmp_path, ALCOVE | {"intruder": {"walk_noise": 3, "sneak_noise": 0.5}}, "noisy.json")
+    quiet = write_level(tmp_path, ALCOVE | {"intruder": {"walk_noise": -3}}, "bad.json")
+    sneak = ["sneak", "--patrol", str(patrol), "--from", "0.5,1.5", "--to", "10.5,1.5", "--unheard"]
+    cases: list[tuple[list[str], str]] = [
+        ([sneak[0], str(quiet), *sneak[1:]], f"{quiet}: intruder.walk_noise"),
+        ([sneak[0], str(noisy), *sneak[1:], "--walk-noise", "-2"], "--walk-noise"),
+    ]
+    out = tmp_path / "run"
+    made = runner.invoke(main, [sneak[0], str(noisy), *sneak[1:], "--out", str(out)])
+    assert made.exit_code == 0, made.output
+    data = json.loads((out / "sneak.json").read_text())
+    for name, gaits in (("run", ["run", *data["gaits"][1:]]), ("three", None)):
+        route = tmp_path / f"{name}.json"
+        if gaits is None:
+            # The same path with a sneaking step stretched to 3 ticks: the level's sneak_ticks is 2.
+            first = data["gaits"].index("sneak")
+            path = [*data["path"][: first + 1], data["path"][first], *data["path"][first + 1 :]]
+            route.write_text(
+                json.dumps(data | {"path": path, "gaits": [*data["gaits"][:first], "sneak", *data["gaits"][first:]]})
+            )
+            needle = "gaits: the sneaking step landing at tick 5 takes 3 ticks; the level's sneak_ticks is 2"
+        else:
+            route.write_text(json.dumps(data | {"gaits": gaits}))
+            needle = "gaits: not one of walk, sneak, wait"
+        alert = ["alert", str(noisy), "--patrol", str(patrol), "--intruder", "route", "--route", str(route)]
+        cases.append((alert, f"{route}: {needle}"))
+    for args, needle in cases:
+        result = runner.invoke(main, args)
+        assert result.exit_code == 2, (args, result.output)
+        lines = result.stderr.strip().splitlines()
+        assert len(lines) == 1 and needle in lines[0], (needle, result.stderr)

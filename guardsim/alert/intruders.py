@@ -258,12 +258,13 @@ class RouteFile(NamedTuple):
     distractions: list[Distraction]
 
 
-def read_route_file(path: str) -> RouteFile:
+def read_route_file(path: str, *, sneak_ticks: int | None = None) -> RouteFile:
     """A route intruder's file: a JSON list whose items are waypoints, ``[x, y]`` (walked to) or
     ``{"to": [x, y], "gait": "sneak"}``, and distractions, ``{"throw": [x, y], "at": seconds, "noise":
-    radius}``; or a sneak.json (its ``path``). Every fault is one :class:`~guardsim.errors.GuardsimError`
-    line naming the file and the item, numbers through the one number parser (finite, within float
-    range)."""
+    radius}``; or a sneak.json (its ``path``, and the ``gaits`` of ``sneak --unheard``, whose sneaking
+    steps must take the level's ``sneak_ticks`` when given). Every fault is one
+    :class:`~guardsim.errors.GuardsimError` line naming the file and the item, numbers through the one
+    number parser (finite, within float range)."""
     from guardsim.errors import GuardsimError
     from guardsim.files.reading import NumberError, finite_number, read_json_file
     from guardsim.level.model import GAITS
@@ -332,9 +333,31 @@ def read_route_file(path: str) -> RouteFile:
         # sneak --unheard's path: what it does in each tick; a sneaking step's first ticks leave the route.
         if not (isinstance(gaits, list) and len(gaits) == len(out.points) - 1 and set(gaits) <= {*GAITS, "wait"}):
             raise GuardsimError(f"{path}: gaits: not one of walk, sneak, wait per tick of the path after the first")
+        if sneak_ticks is not None:
+            _check_sneaking_steps(path, out.points, gaits, sneak_ticks)
         points, steps = route_of_path(out.points, gaits)
         return RouteFile(points, steps, out.distractions)
     return out
+
+
+def _check_sneaking_steps(path: str, points: Sequence[Any], gaits: Sequence[str], sneak_ticks: int) -> None:
+    """Each sneaking step of a sneak.json's gaits stays ``sneak_ticks - 1`` ticks in its cell and lands at
+    the next: a path planned with another ``sneak_ticks`` is not one this level allows."""
+    from guardsim.errors import GuardsimError
+
+    tick = 1
+    while tick < len(points):
+        if gaits[tick - 1] != "sneak":
+            tick += 1
+            continue
+        lands = next((t for t in range(tick, len(points)) if points[t] != points[t - 1]), len(points) - 1)
+        taken = lands - tick + 1
+        if taken != sneak_ticks or any(gait != "sneak" for gait in gaits[tick - 1 : lands]):
+            raise GuardsimError(
+                f"{path}: gaits: the sneaking step landing at tick {lands} takes {taken} ticks; "
+                f"the level's sneak_ticks is {sneak_ticks}"
+            )
+        tick = lands + 1
 
 
 def read_route_points(path: str) -> list[tuple[float, float]]:

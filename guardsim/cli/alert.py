@@ -212,7 +212,7 @@ def alert(
     if route_path is not None:
         if intruder != "route":
             raise GuardsimError("--route is the path of a route intruder: give --intruder route")
-        route_file = read_route_file(route_path)
+        route_file = read_route_file(route_path, sneak_ticks=level.intruder.sneak_ticks)
         points, gaits = route_file.points, route_file.gaits
         route = [sneak_cell(grid, point, f"{route_path}: point") for point in points]
         for throw in route_file.distractions:
