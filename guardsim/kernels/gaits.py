@@ -26,7 +26,9 @@ WAIT_MOVE = 4
 SNEAK_MOVE = 5
 
 
-@jit
+# Inlined: the searches call it for every move of every node, and a call passing an array costs more
+# than the move itself.
+@jit(inline="always")
 def gait_move(
     neighbours: np.ndarray, heard: np.ndarray, after: int, cell: int, still: int, cap: int, move: int
 ) -> tuple[int, int, bool]:

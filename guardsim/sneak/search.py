@@ -139,12 +139,12 @@ def _dijkstra(neighbours: np.ndarray, seen: np.ndarray, source: int, target: int
 
 
 @jit
-def _gait_search(
-    neighbours: np.ndarray, seen: np.ndarray, heard: np.ndarray, cap: int, source: int, target: int, strict: bool
+def _gait_dijkstra(
+    neighbours: np.ndarray, seen: np.ndarray, heard: np.ndarray, cap: int, source: int, target: int
 ) -> tuple[np.ndarray, np.ndarray, int, int]:
-    """Dijkstra over (ticks still, lap tick, cell) with gaits: ``strict``, the fastest path never seen
-    nor heard; else the fewest ticks in view plus steps heard, then the fewest ticks. Returns the parent
-    of each node, whether the move into it was a sneaking step, the node reached (-1: none) and its cost."""
+    """Dijkstra over (ticks still, lap tick, cell) with gaits: the fewest ticks in view plus steps heard,
+    then the fewest ticks. Returns the parent of each node, whether the move into it was a sneaking
+    step, the node reached (-1: none) and its cost."""
     period, cells = seen.shape
     layer = period * cells
     nodes = (cap + 1) * layer
@@ -159,8 +159,6 @@ def _gait_search(
     heap_nodes = np.empty(period + 1024, dtype=np.int64)
     size = 0
     for tick in range(period):
-        if strict and seen[tick, source]:
-            continue
         node = tick * cells + source
         key = weight if seen[tick, source] else 0
         best[node] = key
@@ -181,8 +179,6 @@ def _gait_search(
             if other < 0:
                 continue
             bad = (1 if seen[after, other] else 0) + (1 if loud else 0)
-            if strict and bad > 0:
-                continue
             next_node = (still_after * period + after) * cells + other
             cost = key + 1 + bad * weight
             if cost < best[next_node]:
@@ -194,6 +190,49 @@ def _gait_search(
                     heap_nodes = np.concatenate((heap_nodes, np.empty_like(heap_nodes)))
                 size = heap_push(heap_keys, heap_nodes, size, cost, next_node)
     return parent, sneaked, -1, -1
+
+
+@jit
+def _gait_bfs(
+    neighbours: np.ndarray, seen: np.ndarray, heard: np.ndarray, cap: int, source: int, target: int
+) -> tuple[np.ndarray, np.ndarray, int]:
+    """Breadth first over (ticks still, lap tick, cell) with gaits: the fastest path never seen nor heard
+    (every move takes a tick, so the first arrival is the fastest). Returns the parent of each node,
+    whether the move into it was a sneaking step, and the node reached (-1: none)."""
+    period, cells = seen.shape
+    layer = period * cells
+    nodes = (cap + 1) * layer
+    parent = np.empty(nodes, dtype=np.int64)
+    parent[:] = -2
+    sneaked = np.zeros(nodes, dtype=np.bool_)
+    queue = np.empty(nodes, dtype=np.int64)
+    tail = 0
+    for tick in range(period):
+        if not seen[tick, source]:
+            node = tick * cells + source
+            parent[node] = -1
+            queue[tail] = node
+            tail += 1
+    head = 0
+    while head < tail:
+        node = queue[head]
+        head += 1
+        still, rest = node // layer, node % layer
+        tick, cell = rest // cells, rest % cells
+        if cell == target:
+            return parent, sneaked, node
+        after = (tick + 1) % period
+        for move in range(GAIT_MOVES):
+            other, still_after, loud = gait_move(neighbours, heard, after, cell, still, cap, move)
+            if other < 0 or loud or seen[after, other]:
+                continue
+            next_node = (still_after * period + after) * cells + other
+            if parent[next_node] == -2:
+                parent[next_node] = node
+                sneaked[next_node] = move >= SNEAK_MOVE
+                queue[tail] = next_node
+                tail += 1
+    return parent, sneaked, -1
 
 
 def tick_gaits(cells: np.ndarray, sneaked: np.ndarray, cap: int) -> tuple[str, ...]:
@@ -219,9 +258,11 @@ def _gait_path(
     seen = np.ascontiguousarray(seen, dtype=np.bool_)
     heard = np.ascontiguousarray(heard, dtype=np.bool_)
     cap = int(sneak_ticks) - 1
-    parent, sneaked, node, _ = _gait_search(
-        np.ascontiguousarray(neighbours, dtype=np.int64), seen, heard, cap, int(source), int(target), bool(strict)
-    )
+    neighbours = np.ascontiguousarray(neighbours, dtype=np.int64)
+    if strict:
+        parent, sneaked, node = _gait_bfs(neighbours, seen, heard, cap, int(source), int(target))
+    else:
+        parent, sneaked, node, _ = _gait_dijkstra(neighbours, seen, heard, cap, int(source), int(target))
     if node < 0:
         return None
     period, cells = seen.shape
