@@ -16,10 +16,14 @@ import numpy as np
 
 from guardsim.kernels.compiler import jit
 
-__all__ = ["GAIT_MOVES", "SNEAK_MOVE", "WAIT_MOVE", "gait_move"]
+__all__ = ["GAIT_MOVES", "SILENT", "SNEAK_MOVE", "WAIT_MOVE", "WALK_MOVES", "gait_move"]
 
-#: Moves with gaits (walking and sneaking steps and waiting); without gaits only the first five.
+#: Moves with gaits (walking and sneaking steps and waiting).
 GAIT_MOVES = 9
+#: Moves without gaits: the four walking steps and waiting (``cap`` 0, ``heard`` :data:`SILENT`).
+WALK_MOVES = 5
+#: ``heard`` when no step is heard anywhere: the searches without ears.
+SILENT = np.zeros((2, 1, 1), dtype=np.bool_)
 #: The wait move.
 WAIT_MOVE = 4
 #: The first sneaking move (direction 0).

@@ -23,7 +23,7 @@ from guardsim.detection.model import AwarenessMeter, DetectionModel, GuardDetect
 from guardsim.detection.watch import LevelWatch
 from guardsim.grid import CoverageGrid
 from guardsim.kernels.compiler import jit
-from guardsim.kernels.gaits import GAIT_MOVES, gait_move
+from guardsim.kernels.gaits import GAIT_MOVES, SILENT, WALK_MOVES, gait_move
 from guardsim.kernels.steps import cell_of_state
 from guardsim.vision.table import ViewTable
 
@@ -125,39 +125,15 @@ def grade_path(
 
 
 @jit
-def _unseen_reach(neighbours: np.ndarray, seen: np.ndarray, target: int) -> np.ndarray:
-    """``bool (period, cells)``: the nodes from which the target is reached without being seen, found
-    backwards from the target's unseen ticks (the grid's moves are symmetric, waiting included)."""
-    period, cells = seen.shape
-    reach = np.zeros((period, cells), dtype=np.bool_)
-    queue = np.empty(period * cells, dtype=np.int64)
-    tail = 0
-    for phase in range(period):
-        if not seen[phase, target]:
-            reach[phase, target] = True
-            queue[tail] = phase * cells + target
-            tail += 1
-    head = 0
-    while head < tail:
-        node = queue[head]
-        head += 1
-        phase, cell = node // cells, node % cells
-        before = (phase - 1) % period
-        for move in range(5):
-            other = cell if move == 4 else neighbours[cell, move]
-            if other < 0 or seen[before, other] or reach[before, other]:
-                continue
-            reach[before, other] = True
-            queue[tail] = before * cells + other
-            tail += 1
-    return reach
-
-
-@jit
-def _unheard_reach(neighbours: np.ndarray, seen: np.ndarray, heard: np.ndarray, cap: int, target: int) -> np.ndarray:
+def _reach(
+    neighbours: np.ndarray, seen: np.ndarray, heard: np.ndarray, cap: int, moves: int, target: int
+) -> np.ndarray:
     """``bool (cap + 1, period, cells)``: the (ticks still, lap tick, cell) nodes from which the target is
-    reached neither seen nor heard, found backwards: a node's predecessors are the unseen nodes a tick
-    earlier from which some move (:func:`~guardsim.kernels.gaits.gait_move`) lands on it unheard."""
+    reached neither seen nor heard, found backwards from the target's unseen ticks: a node's
+    predecessors are the unseen nodes a tick earlier from which some move
+    (:func:`~guardsim.kernels.gaits.gait_move`) lands on it unheard (the grid's moves are symmetric, so
+    they are its cell's and its neighbours'). Without gaits ``cap`` is 0, ``moves`` 5 and ``heard``
+    :data:`~guardsim.kernels.gaits.SILENT`."""
     period, cells = seen.shape
     layer = period * cells
     reach = np.zeros((cap + 1) * layer, dtype=np.bool_)
@@ -185,7 +161,7 @@ def _unheard_reach(neighbours: np.ndarray, seen: np.ndarray, heard: np.ndarray, 
                 previous = earlier * layer + before * cells + other
                 if reach[previous]:
                     continue
-                for move in range(GAIT_MOVES):
+                for move in range(moves):
                     lands, still_after, loud = gait_move(neighbours, heard, phase, other, earlier, cap, move)
                     if lands == cell and still_after == still and not loud:
                         reach[previous] = True
@@ -214,12 +190,9 @@ def unseen_reach(
     >>> unseen_reach(neighbours, seen, 2)[:, 0].tolist()
     [True, True]
     """
-    if heard is not None:
-        reach = _unheard_reach(
-            np.ascontiguousarray(neighbours, dtype=np.int64), np.ascontiguousarray(seen, dtype=np.bool_),
-            np.ascontiguousarray(heard, dtype=np.bool_), int(sneak_ticks) - 1, int(target),
-        )  # fmt: skip
-        return reach[0]
-    return _unseen_reach(
-        np.ascontiguousarray(neighbours, dtype=np.int64), np.ascontiguousarray(seen, dtype=np.bool_), int(target)
-    )
+    gaits = (SILENT, 0, WALK_MOVES) if heard is None else (heard, int(sneak_ticks) - 1, GAIT_MOVES)
+    reach = _reach(
+        np.ascontiguousarray(neighbours, dtype=np.int64), np.ascontiguousarray(seen, dtype=np.bool_),
+        np.ascontiguousarray(gaits[0], dtype=np.bool_), gaits[1], gaits[2], int(target),
+    )  # fmt: skip
+    return reach[0]

@@ -22,13 +22,10 @@ import numpy as np
 from guardsim.errors import LimitError
 from guardsim.kernels.arrays import copy_into
 from guardsim.kernels.compiler import jit
-from guardsim.kernels.gaits import GAIT_MOVES, SNEAK_MOVE, gait_move
+from guardsim.kernels.gaits import GAIT_MOVES, SILENT, SNEAK_MOVE, WALK_MOVES, gait_move
 from guardsim.kernels.meter import DETECTED, meter_after
 
 __all__ = ["MAX_LABELS", "LabelSearch", "entry_searches", "undetected_search"]
-
-#: ``heard`` when nothing is heard anywhere (the searches then have no gaits).
-_SILENT = np.zeros((2, 1, 1), dtype=np.bool_)
 
 #: Most labels a graded search may keep (each about ``8 * guards + 24`` bytes).
 MAX_LABELS = 20_000_000
@@ -274,7 +271,7 @@ def entry_searches(
 def _gait_arguments(heard: np.ndarray | None, sneak_ticks: int) -> tuple[np.ndarray, int, int]:
     """``heard``, ``cap`` and ``moves`` of the label search: without ears, no gaits at all."""
     if heard is None:
-        return _SILENT, 0, 5
+        return SILENT, 0, WALK_MOVES
     return np.ascontiguousarray(heard, dtype=np.bool_), int(sneak_ticks) - 1, GAIT_MOVES
 
 

@@ -23,7 +23,7 @@ from typing import NamedTuple
 import numpy as np
 
 from guardsim.kernels.compiler import jit
-from guardsim.kernels.gaits import GAIT_MOVES, SNEAK_MOVE, gait_move
+from guardsim.kernels.gaits import GAIT_MOVES, SILENT, SNEAK_MOVE, WALK_MOVES, gait_move
 from guardsim.kernels.heap import heap_pop, heap_push
 
 __all__ = ["GAITS_OF_TICKS", "SneakPath", "closest_call", "find_sneak", "hiding_windows"]
@@ -57,94 +57,14 @@ class SneakPath(NamedTuple):
 
 
 @jit
-def _bfs(neighbours: np.ndarray, seen: np.ndarray, source: int, target: int) -> tuple[np.ndarray, int]:
-    """Unseen BFS over (tick mod period, cell); returns the parent array and the node reached (-1: none)."""
-    period, cells = seen.shape
-    nodes = period * cells
-    parent = np.empty(nodes, dtype=np.int64)
-    parent[:] = -2
-    queue = np.empty(nodes, dtype=np.int64)
-    tail = 0
-    for tick in range(period):
-        if not seen[tick, source]:
-            node = tick * cells + source
-            parent[node] = -1
-            queue[tail] = node
-            tail += 1
-    head = 0
-    while head < tail:
-        node = queue[head]
-        head += 1
-        tick, cell = node // cells, node % cells
-        if cell == target:
-            return parent, node
-        after = (tick + 1) % period
-        for move in range(5):
-            other = cell if move == 4 else neighbours[cell, move]
-            if other < 0 or seen[after, other]:
-                continue
-            next_node = after * cells + other
-            if parent[next_node] == -2:
-                parent[next_node] = node
-                queue[tail] = next_node
-                tail += 1
-    return parent, -1
-
-
-@jit
-def _dijkstra(neighbours: np.ndarray, seen: np.ndarray, source: int, target: int) -> tuple[np.ndarray, int, int]:
-    """Fewest ticks in view, then fewest ticks; returns parents, the node reached and its cost."""
-    period, cells = seen.shape
-    nodes = period * cells
-    # A tick in view outweighs any path's unseen ticks (a shortest path visits each node at most once).
-    weight = nodes + 1
-    best = np.empty(nodes, dtype=np.int64)
-    best[:] = np.iinfo(np.int64).max
-    parent = np.empty(nodes, dtype=np.int64)
-    parent[:] = -2
-    done = np.zeros(nodes, dtype=np.bool_)
-    # The heap grows as needed: most searches push far fewer entries than the five per node they could.
-    heap_keys = np.empty(period + 1024, dtype=np.int64)
-    heap_nodes = np.empty(period + 1024, dtype=np.int64)
-    size = 0
-    for tick in range(period):
-        node = tick * cells + source
-        key = weight if seen[tick, source] else 0
-        best[node] = key
-        parent[node] = -1
-        size = heap_push(heap_keys, heap_nodes, size, key, node)
-    while size > 0:
-        key, node, size = heap_pop(heap_keys, heap_nodes, size)
-        if done[node] or key != best[node]:
-            continue
-        done[node] = True
-        tick, cell = node // cells, node % cells
-        if cell == target:
-            return parent, node, key
-        after = (tick + 1) % period
-        for move in range(5):
-            other = cell if move == 4 else neighbours[cell, move]
-            if other < 0:
-                continue
-            next_node = after * cells + other
-            cost = key + 1 + (weight if seen[after, other] else 0)
-            if cost < best[next_node]:
-                best[next_node] = cost
-                parent[next_node] = node
-                if size == heap_keys.shape[0]:
-                    heap_keys = np.concatenate((heap_keys, np.empty_like(heap_keys)))
-                    heap_nodes = np.concatenate((heap_nodes, np.empty_like(heap_nodes)))
-                size = heap_push(heap_keys, heap_nodes, size, cost, next_node)
-    return parent, -1, -1
-
-
-@jit
-def _gait_dijkstra(
-    neighbours: np.ndarray, seen: np.ndarray, heard: np.ndarray, cap: int, source: int, target: int
+def _dijkstra(
+    neighbours: np.ndarray, seen: np.ndarray, heard: np.ndarray, cap: int, moves: int, source: int, target: int
 ) -> tuple[np.ndarray, np.ndarray, int, int]:
-    """Dijkstra over (ticks still, lap tick, cell) with gaits: the fewest ticks in view plus steps heard,
-    then the fewest ticks. Returns the parent of each node, whether the move into it was a sneaking
-    step, the node reached (-1: none) and its cost."""
+    """Dijkstra over (ticks still, lap tick, cell): the fewest ticks in view plus steps heard, then the
+    fewest ticks (a tick in view or a step heard outweighs any path's other ticks: a shortest path visits
+    each node at most once). Returns the parent of each node, whether the move into it was a sneaking
+    step, the node reached (-1: none) and its cost. Without gaits ``cap`` is 0, ``moves`` 5 and
+    ``heard`` :data:`~guardsim.kernels.gaits.SILENT`: the nodes are (lap tick, cell)."""
     period, cells = seen.shape
     layer = period * cells
     nodes = (cap + 1) * layer
@@ -155,6 +75,7 @@ def _gait_dijkstra(
     parent[:] = -2
     sneaked = np.zeros(nodes, dtype=np.bool_)
     done = np.zeros(nodes, dtype=np.bool_)
+    # The heap grows as needed: most searches push far fewer entries than the moves per node they could.
     heap_keys = np.empty(period + 1024, dtype=np.int64)
     heap_nodes = np.empty(period + 1024, dtype=np.int64)
     size = 0
@@ -174,7 +95,7 @@ def _gait_dijkstra(
         if cell == target:
             return parent, sneaked, node, key
         after = (tick + 1) % period
-        for move in range(GAIT_MOVES):
+        for move in range(moves):
             other, still_after, loud = gait_move(neighbours, heard, after, cell, still, cap, move)
             if other < 0:
                 continue
@@ -193,12 +114,13 @@ def _gait_dijkstra(
 
 
 @jit
-def _gait_bfs(
-    neighbours: np.ndarray, seen: np.ndarray, heard: np.ndarray, cap: int, source: int, target: int
+def _bfs(
+    neighbours: np.ndarray, seen: np.ndarray, heard: np.ndarray, cap: int, moves: int, source: int, target: int
 ) -> tuple[np.ndarray, np.ndarray, int]:
-    """Breadth first over (ticks still, lap tick, cell) with gaits: the fastest path never seen nor heard
-    (every move takes a tick, so the first arrival is the fastest). Returns the parent of each node,
-    whether the move into it was a sneaking step, and the node reached (-1: none)."""
+    """Breadth first over (ticks still, lap tick, cell) from every unseen entry tick: the fastest path
+    never seen nor heard (every move takes a tick, so the first arrival is the fastest). Returns the
+    parent of each node, whether the move into it was a sneaking step, and the node reached (-1: none).
+    ``cap``, ``moves`` and ``heard`` as for :func:`_dijkstra`."""
     period, cells = seen.shape
     layer = period * cells
     nodes = (cap + 1) * layer
@@ -222,7 +144,7 @@ def _gait_bfs(
         if cell == target:
             return parent, sneaked, node
         after = (tick + 1) % period
-        for move in range(GAIT_MOVES):
+        for move in range(moves):
             other, still_after, loud = gait_move(neighbours, heard, after, cell, still, cap, move)
             if other < 0 or loud or seen[after, other]:
                 continue
@@ -260,19 +182,14 @@ def _gait_path(
     cap = int(sneak_ticks) - 1
     neighbours = np.ascontiguousarray(neighbours, dtype=np.int64)
     if strict:
-        parent, sneaked, node = _gait_bfs(neighbours, seen, heard, cap, int(source), int(target))
+        parent, sneaked, node = _bfs(neighbours, seen, heard, cap, GAIT_MOVES, int(source), int(target))
     else:
-        parent, sneaked, node, _ = _gait_dijkstra(neighbours, seen, heard, cap, int(source), int(target))
+        parent, sneaked, node, _ = _dijkstra(neighbours, seen, heard, cap, GAIT_MOVES, int(source), int(target))
     if node < 0:
         return None
     period, cells = seen.shape
-    chain = [node]
-    while parent[chain[-1]] >= 0:
-        chain.append(int(parent[chain[-1]]))
-    chain.reverse()
-    nodes = np.asarray(chain, dtype=np.int64)
-    path = nodes % cells
-    start = int((nodes[0] // cells) % period)
+    nodes = _chain(parent, node)
+    start, path = _path(parent, node, cells)
     landed = sneaked[nodes]
     ticks = (start + np.arange(path.size)) % period
     in_view = int(seen[ticks, path].sum())
@@ -281,12 +198,19 @@ def _gait_path(
     return SneakPath(in_view + loud == 0, start, path, in_view, tick_gaits(path, landed, cap), loud)
 
 
-def _path(parent: np.ndarray, node: int, cells: int) -> tuple[int, np.ndarray]:
+def _chain(parent: np.ndarray, node: int) -> np.ndarray:
+    """The nodes from an entry to ``node``, by the parents."""
     chain = [node]
     while parent[chain[-1]] >= 0:
         chain.append(int(parent[chain[-1]]))
     chain.reverse()
-    return chain[0] // cells, np.asarray([item % cells for item in chain], dtype=np.int64)
+    return np.asarray(chain, dtype=np.int64)
+
+
+def _path(parent: np.ndarray, node: int, cells: int) -> tuple[int, np.ndarray]:
+    chain = _chain(parent, node)
+    # Entries stand still 0 ticks: their nodes are lap tick * cells + cell.
+    return int(chain[0] // cells), chain % cells
 
 
 def find_sneak(
@@ -334,7 +258,7 @@ def find_sneak(
         return _gait_path(neighbours, seen, heard, sneak_ticks, source, target, True)
     neighbours = np.ascontiguousarray(neighbours, dtype=np.int64)
     seen = np.ascontiguousarray(seen, dtype=np.bool_)
-    parent, node = _bfs(neighbours, seen, int(source), int(target))
+    parent, _, node = _bfs(neighbours, seen, SILENT, 0, WALK_MOVES, int(source), int(target))
     if node < 0:
         return None
     start, cells = _path(parent, node, seen.shape[1])
@@ -357,7 +281,7 @@ def closest_call(
         return _gait_path(neighbours, seen, heard, sneak_ticks, source, target, False)
     neighbours = np.ascontiguousarray(neighbours, dtype=np.int64)
     seen = np.ascontiguousarray(seen, dtype=np.bool_)
-    parent, node, cost = _dijkstra(neighbours, seen, int(source), int(target))
+    parent, _, node, cost = _dijkstra(neighbours, seen, SILENT, 0, WALK_MOVES, int(source), int(target))
     if node < 0:
         return None
     start, cells = _path(parent, node, seen.shape[1])
