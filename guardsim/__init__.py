@@ -31,6 +31,7 @@ _SOURCES = {
     "OutputError": "guardsim.errors",
     "CheckError": "guardsim.errors",
     "PatrolError": "guardsim.errors",
+    "PointError": "guardsim.errors",
     "PlannerError": "guardsim.errors",
     "RegressionError": "guardsim.errors",
     "GuardSpec": "guardsim.level",
@@ -57,6 +58,8 @@ _SOURCES = {
     **dict.fromkeys(("visibility", "meter_gain"), "guardsim.kernels.meter"),
     "level_watch": "guardsim.detection.watch",
     "sneak_check": "guardsim.sneak",
+    **dict.fromkeys(("Patrol", "patrol_setup", "plan_patrol", "read_patrol"), "guardsim.patrol"),
+    "ViewTable": "guardsim.vision.table",
     **dict.fromkeys(
         ("AlertEpisode", "AlertRules", "GameGuards", "alert_episode", "check_alert_trace", "run_alerts"),
         "guardsim.alert",
@@ -105,6 +108,7 @@ if TYPE_CHECKING:
     from guardsim.errors import OutputError as OutputError
     from guardsim.errors import PatrolError as PatrolError
     from guardsim.errors import PlannerError as PlannerError
+    from guardsim.errors import PointError as PointError
     from guardsim.errors import RegressionError as RegressionError
     from guardsim.grid import CoverageGrid as CoverageGrid
     from guardsim.importers.imported import ImportedLevel as ImportedLevel
@@ -118,6 +122,10 @@ if TYPE_CHECKING:
     from guardsim.level import parse_level as parse_level
     from guardsim.motion import ContinuousSimulation as ContinuousSimulation
     from guardsim.motion import GuardMotion as GuardMotion
+    from guardsim.patrol import Patrol as Patrol
+    from guardsim.patrol import patrol_setup as patrol_setup
+    from guardsim.patrol import plan_patrol as plan_patrol
+    from guardsim.patrol import read_patrol as read_patrol
     from guardsim.planners import PLANNERS as PLANNERS
     from guardsim.planners import Planner as Planner
     from guardsim.planners import make_planner as make_planner
@@ -129,4 +137,5 @@ if TYPE_CHECKING:
     from guardsim.trace import Trace as Trace
     from guardsim.vision import LineOfSight as LineOfSight
     from guardsim.vision import VisionCone as VisionCone
+    from guardsim.vision.table import ViewTable as ViewTable
     from guardsim.world import World as World

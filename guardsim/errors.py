@@ -15,6 +15,7 @@ __all__ = [
     "OutputError",
     "PatrolError",
     "PlannerError",
+    "PointError",
     "RegressionError",
 ]
 
@@ -48,6 +49,11 @@ class PatrolError(GuardsimError):
 
 class CheckError(GuardsimError):
     """A checks file or a rule cannot be used (bad input, not a broken rule)."""
+
+
+class PointError(GuardsimError):
+    """A point given in world coordinates (an entry, a goal, a post) is off the level or where a guard does
+    not fit; the message names what the point is."""
 
 
 class PlannerError(GuardsimError, KeyError):
