@@ -21,17 +21,66 @@ from __future__ import annotations
 
 import math
 from dataclasses import dataclass
+from enum import Enum
 from typing import NamedTuple
 
 from guardsim.level.model import Level
 
-__all__ = ["EVENTS", "GUARD_STATES", "INTRUDERS", "OUTCOMES", "AlertEvent", "AlertOutcome", "AlertRules"]
+__all__ = [
+    "EVENTS",
+    "GUARD_STATES",
+    "INTRUDERS",
+    "OUTCOMES",
+    "AlertEvent",
+    "AlertOutcome",
+    "AlertRules",
+    "Event",
+    "GuardState",
+]
+
+
+class _Name(str, Enum):
+    """A name that is its own string (``enum.StrEnum`` from Python 3.11 on)."""
+
+    __str__ = str.__str__
+
+
+class GuardState(_Name):
+    """A guard's state, calm to alarmed, then back. Each is its name as a string (``GuardState.CHASE ==
+    "chase"``), which is what traces and pages hold.
+
+    >>> GuardState("search") is GuardState.SEARCH, str(GuardState.RETURN), GuardState.CHASE == "chase"
+    (True, 'return', True)
+    """
+
+    PATROL = "patrol"
+    SUSPICIOUS = "suspicious"
+    INVESTIGATE = "investigate"
+    CHASE = "chase"
+    SEARCH = "search"
+    RETURN = "return"
+
+
+class Event(_Name):
+    """What the ``events`` list of an alert trace records (a string, as :class:`GuardState`)."""
+
+    NOTICED = "noticed"
+    DETECTED = "detected"
+    LOST = "lost"
+    JOINED = "joined"
+    CAPTURED = "captured"
+    GAVE_UP = "gave_up"
+    BACK_ON_ROUTE = "back_on_route"
+    ARRIVED = "arrived"
+    ALARM = "alarm"
+    HEARD = "heard"
+
 
 #: Every state a guard can be in, calm to alarmed, then back.
-GUARD_STATES = ("patrol", "suspicious", "investigate", "chase", "search", "return")
+GUARD_STATES = tuple(GuardState)
 
 #: What the ``events`` list of an alert trace records.
-EVENTS = ("noticed", "detected", "lost", "joined", "captured", "gave_up", "back_on_route", "arrived", "alarm", "heard")
+EVENTS = tuple(Event)
 
 #: The intruder kinds, by the name ``guardsim alert --intruder`` takes.
 INTRUDERS = ("route", "sneak", "evader", "still")
