@@ -32,6 +32,7 @@ _SOURCES = {
     "CheckError": "guardsim.errors",
     "PatrolError": "guardsim.errors",
     "PointError": "guardsim.errors",
+    "ArgumentError": "guardsim.errors",
     "PlannerError": "guardsim.errors",
     "RegressionError": "guardsim.errors",
     "GuardSpec": "guardsim.level",
@@ -101,6 +102,7 @@ if TYPE_CHECKING:
     from guardsim.detection.light import light_at as light_at
     from guardsim.detection.light import light_map as light_map
     from guardsim.detection.watch import level_watch as level_watch
+    from guardsim.errors import ArgumentError as ArgumentError
     from guardsim.errors import CheckError as CheckError
     from guardsim.errors import GuardsimError as GuardsimError
     from guardsim.errors import LevelError as LevelError

@@ -60,6 +60,7 @@ from guardsim.alert.search import Contamination, make_search
 from guardsim.alert.steering import cut_off_cell, escape_path, search_cell
 from guardsim.detection import AwarenessMeter, GuardDetection
 from guardsim.detection.watch import CameraAlarms, LevelWatch
+from guardsim.errors import ArgumentError
 from guardsim.grid import CoverageGrid
 from guardsim.kernels.distances import FAR, distances_from
 from guardsim.kernels.noise import heard_within
@@ -110,7 +111,7 @@ class AlertEpisode:
         distractions: Sequence[tuple[int, int, float]] = (),
     ) -> None:
         if patrol.period is None:
-            raise ValueError("an alert episode needs a repeating patrol (its period is null)")
+            raise ArgumentError("an alert episode needs a repeating patrol (its period is null)")
         self.grid, self.table, self.patrol, self.intruder = grid, table, patrol, intruder
         self.rules, self.detection = rules, detection
         self.neighbours = np.ascontiguousarray(grid.neighbours, dtype=np.int64)

@@ -24,6 +24,7 @@ from dataclasses import dataclass
 from enum import Enum
 from typing import NamedTuple
 
+from guardsim.errors import ArgumentError
 from guardsim.level.model import Level
 
 __all__ = [
@@ -125,19 +126,19 @@ class AlertRules:
         for name in ("capture_radius", "search_seconds", "radio_delay", "intruder_speed"):
             value = getattr(self, name)
             if not (math.isfinite(value) and value >= 0):
-                raise ValueError(f"alert: {name} must be a finite number >= 0, not {value!r}")
+                raise ArgumentError(f"alert: {name} must be a finite number >= 0, not {value!r}")
         if not (math.isfinite(self.chase_speed) and self.chase_speed > 0):
-            raise ValueError(f"alert: chase_speed must be a finite number > 0, not {self.chase_speed!r}")
+            raise ArgumentError(f"alert: chase_speed must be a finite number > 0, not {self.chase_speed!r}")
         if not (isinstance(self.give_up_losses, int) and self.give_up_losses >= 1):
-            raise ValueError(f"alert: give_up_losses must be a whole number >= 1, not {self.give_up_losses!r}")
+            raise ArgumentError(f"alert: give_up_losses must be a whole number >= 1, not {self.give_up_losses!r}")
         for name in ("walk_noise", "sneak_noise"):
             value = getattr(self, name)
             if not (math.isfinite(value) and value >= 0):
-                raise ValueError(f"alert: {name} must be a finite number >= 0, not {value!r}")
+                raise ArgumentError(f"alert: {name} must be a finite number >= 0, not {value!r}")
         if not (isinstance(self.sneak_ticks, int) and self.sneak_ticks >= 1):
-            raise ValueError(f"alert: sneak_ticks must be a whole number >= 1, not {self.sneak_ticks!r}")
+            raise ArgumentError(f"alert: sneak_ticks must be a whole number >= 1, not {self.sneak_ticks!r}")
         if not (math.isfinite(self.dt) and self.dt > 0):
-            raise ValueError(f"alert: dt must be a finite number > 0, not {self.dt!r}")
+            raise ArgumentError(f"alert: dt must be a finite number > 0, not {self.dt!r}")
 
     @classmethod
     def of_level(cls, level: Level, *, intruder_speed: float | None = None) -> AlertRules:

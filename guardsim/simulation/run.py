@@ -7,6 +7,7 @@ from typing import TYPE_CHECKING, Any
 
 import numpy as np
 
+from guardsim.errors import ArgumentError
 from guardsim.planners.base import Planner
 from guardsim.scene import Scene
 from guardsim.simulation.loop import Simulation
@@ -58,7 +59,7 @@ def run_episode(
     """
     if motion is None or motion == "grid":
         if max_seconds is not None:
-            raise ValueError("max_seconds limits continuous motion; grid episodes take max_steps")
+            raise ArgumentError("max_seconds limits continuous motion; grid episodes take max_steps")
         simulation = Simulation(
             scene, planner, guards=guards, max_steps=max_steps, vision=vision, reference=reference, **planner_options
         )
@@ -67,9 +68,9 @@ def run_episode(
     from guardsim.motion import ContinuousSimulation, GuardMotion
 
     if not isinstance(planner, str) or guards != 1 or vision is not None:
-        raise ValueError("continuous motion walks one guard with a planner name and the scene's own vision")
+        raise ArgumentError("continuous motion walks one guard with a planner name and the scene's own vision")
     if isinstance(motion, str) and motion != "continuous":
-        raise ValueError(f"motion is 'grid', 'continuous' or a GuardMotion, not {motion!r}")
+        raise ArgumentError(f"motion is 'grid', 'continuous' or a GuardMotion, not {motion!r}")
     continuous = ContinuousSimulation(
         scene,
         planner,
