@@ -52,7 +52,7 @@ _SOURCES = {
     "Planner": "guardsim.planners",
     "make_planner": "guardsim.planners",
     "Simulation": "guardsim.simulation",
-    "run_episode": "guardsim.simulation",
+    "run_episode": "guardsim.motion",
     "Trace": "guardsim.trace",
     **dict.fromkeys(("AwarenessMeter", "DetectionModel", "GuardDetection"), "guardsim.detection"),
     **dict.fromkeys(("light_map", "light_at"), "guardsim.detection.light"),
@@ -124,6 +124,7 @@ if TYPE_CHECKING:
     from guardsim.level import parse_level as parse_level
     from guardsim.motion import ContinuousSimulation as ContinuousSimulation
     from guardsim.motion import GuardMotion as GuardMotion
+    from guardsim.motion import run_episode as run_episode
     from guardsim.patrol import Patrol as Patrol
     from guardsim.patrol import patrol_setup as patrol_setup
     from guardsim.patrol import plan_patrol as plan_patrol
@@ -133,7 +134,6 @@ if TYPE_CHECKING:
     from guardsim.planners import make_planner as make_planner
     from guardsim.scene import Scene as Scene
     from guardsim.simulation import Simulation as Simulation
-    from guardsim.simulation import run_episode as run_episode
     from guardsim.sneak import sneak_check as sneak_check
     from guardsim.starts import episode_generator as episode_generator
     from guardsim.trace import Trace as Trace

@@ -16,9 +16,9 @@ from typing import NamedTuple
 from guardsim.bounds import Bounds, lower_bounds
 from guardsim.errors import ArgumentError
 from guardsim.level import HEADINGS, Level
-from guardsim.motion import GuardMotion
+from guardsim.motion import GuardMotion, run_episode
 from guardsim.motion.measures import RECORD_COLUMNS, record_columns
-from guardsim.simulation import Scene, run_episode
+from guardsim.simulation import Scene
 from guardsim.vision.table import view_table
 
 __all__ = [
