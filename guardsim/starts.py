@@ -132,7 +132,7 @@ def checked_starts(
     ([(2, 1)], [3])
     >>> checked_starts(grid, [(3, 1)], [0], 1)
     Traceback (most recent call last):
-    ValueError: start cell (3, 1) is off the grid
+    guardsim.errors.ArgumentError: start cell (3, 1) is off the grid
     """
     if len(starts) != guards:
         raise ArgumentError(f"{len(starts)} starts for {guards} guards")
