@@ -28,6 +28,7 @@ from typing import Any, NamedTuple, TypeVar
 
 import numpy as np
 
+from guardsim.errors import ArgumentError
 from guardsim.kernels.distances import FAR, distances_from
 from guardsim.kernels.steps import greedy_step
 
@@ -231,7 +232,7 @@ def make_intruder(
     from guardsim.alert.model import INTRUDERS
 
     if kind not in INTRUDERS:
-        raise ValueError(f"unknown intruder {kind!r}; choose from {', '.join(INTRUDERS)}")
+        raise ArgumentError(f"unknown intruder {kind!r}; choose from {', '.join(INTRUDERS)}")
     return Intruder(
         kind, neighbours, cell, goal=goal, route=route, speed=speed, wait_until=wait_until, gaits=gaits,
         sneak_ticks=sneak_ticks, run_speed=run_speed,

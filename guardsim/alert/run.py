@@ -14,6 +14,7 @@ from guardsim.alert.model import AlertOutcome, AlertRules
 from guardsim.alert.movement import ContinuousMovement, make_movement
 from guardsim.detection import GuardDetection
 from guardsim.detection.watch import level_watch
+from guardsim.errors import ArgumentError
 from guardsim.grid import CoverageGrid
 from guardsim.kernels.distances import FAR, distances_from
 from guardsim.motion.parameters import GuardMotion
@@ -38,7 +39,7 @@ DEFAULT_MAX_SECONDS = 300.0
 def _shortest_path(grid: CoverageGrid, source: int, target: int) -> list[int]:
     field = distances_from(grid.neighbours, np.array([target], dtype=np.int64))
     if field[source] >= FAR:
-        raise ValueError("the intruder's goal cannot be reached from its start")
+        raise ArgumentError("the intruder's goal cannot be reached from its start")
     path, here = [source], source
     while here != target:
         here = min((int(n) for n in grid.neighbours[here] if n >= 0), key=lambda n: (field[n], n))
@@ -88,7 +89,7 @@ def alert_episode(
     detection = detection if detection is not None else GuardDetection.of_level(scene.level)
     wait = 0
     if intruder in ("route", "sneak") and target < 0 and route is None:
-        raise ValueError(f"a {intruder} intruder needs a goal (or a route)")
+        raise ArgumentError(f"a {intruder} intruder needs a goal (or a route)")
     if intruder == "route" and route is None:
         route = _shortest_path(grid, source, target)
     if intruder == "sneak" and route is None:
@@ -100,7 +101,7 @@ def alert_episode(
         path = find_sneak(grid.neighbours, seen, source, target, heard=heard, sneak_ticks=rules.sneak_ticks)
         path = path or closest_call(grid.neighbours, seen, source, target, heard=heard, sneak_ticks=rules.sneak_ticks)
         if path is None:
-            raise ValueError("the intruder's goal cannot be reached from its start")
+            raise ArgumentError("the intruder's goal cannot be reached from its start")
         route, gaits = route_of_path(path.cells.tolist(), path.gaits)
         # Spotted, it is already in the level (seen at its entry); else it enters when its path starts.
         wait = 0 if spotted else (path.start_tick - phase) % int(patrol.period or 1)

@@ -31,7 +31,6 @@ from guardsim.cli.common import (
 from guardsim.cli.map_options import MapImport, map_options
 from guardsim.cli.motion import _SPEED_HELP, _speed_options, check_motion, motion_of
 from guardsim.cli.patrol import output_folder
-from guardsim.cli.sneak import sneak_cell
 from guardsim.errors import GuardsimError
 from guardsim.files.output import write_text_atomic
 from guardsim.motion.parameters import MOTIONS
@@ -205,8 +204,8 @@ def alert(
     rules = AlertRules.of_level(level, intruder_speed=intruder_speed, run_speed=run_speed)
     detection = GuardDetection(GuardDetection.of_level(level).model, scene.cone.view_range, rules.dt)
     walking = motion_of(scene, move_speed, turn_speed, tick_hz) if motion == "continuous" else None
-    start = sneak_cell(grid, source, "--from") if source is not None else None
-    goal = sneak_cell(grid, target, "--to") if target is not None else None
+    start = grid.floor_cell(source, "--from") if source is not None else None
+    goal = grid.floor_cell(target, "--to") if target is not None else None
     route = gaits = None
     distractions: list[tuple[int, int, float]] = []
     if route_path is not None:
@@ -214,9 +213,9 @@ def alert(
             raise GuardsimError("--route is the path of a route intruder: give --intruder route")
         route_file = read_route_file(route_path, sneak_ticks=level.intruder.sneak_ticks)
         points, gaits = route_file.points, route_file.gaits
-        route = [sneak_cell(grid, point, f"{route_path}: point") for point in points]
+        route = [grid.floor_cell(point, f"{route_path}: point") for point in points]
         for throw in route_file.distractions:
-            cell = sneak_cell(grid, throw.point, f"{route_path}: throw")
+            cell = grid.floor_cell(throw.point, f"{route_path}: throw")
             distractions.append((round(throw.seconds / rules.dt), cell, throw.noise))
         for index, (before, after) in enumerate(itertools.pairwise(route)):
             if after != before and after not in grid.neighbours[before].tolist():
@@ -225,7 +224,7 @@ def alert(
     if episodes == 1 and start is None and level.player_starts:
         # One episode enters where the level says the player starts (many draw their entries from --seed).
         source = level.player_starts[0]
-        start = sneak_cell(grid, source, "the level's player start")
+        start = grid.floor_cell(source, "the level's player start")
         click.echo(f"from the level's player start ({source[0]:g}, {source[1]:g})")
     if episodes == 1 and start is None:
         raise GuardsimError("one episode needs --from X,Y (and --to X,Y unless the intruder is still)")

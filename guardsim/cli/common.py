@@ -14,6 +14,8 @@ from typing import Any, TypeVar, cast
 import click
 import numpy as np
 
+from guardsim.cli.map_options import MapImport, report_import
+from guardsim.cli.types import FiniteFloatRange
 from guardsim.errors import GuardsimError, LimitError
 from guardsim.files.reading import display_path
 from guardsim.level import DEFAULT_MAX_CELLS, DEFAULT_MAX_FILE_BYTES, DEFAULT_MAX_VERTICES, Level
@@ -25,7 +27,6 @@ __all__ = [
     "LIMIT_OPTIONS",
     "DetectionOverrides",
     "EarsOverrides",
-    "FiniteFloatRange",
     "build_scene",
     "cli_start",
     "detection_options",
@@ -172,7 +173,6 @@ def limit_options(command: F) -> F:
 
 def load(path: str, max_cells: int, max_vertices: int, max_file_bytes: int, map_import: Any = None) -> Level:
     """:func:`guardsim.load_level` with the command's options; an imported map's summary and warnings on stderr."""
-    from guardsim.cli.map_options import MapImport, report_import
     from guardsim.importers import load_level
 
     map_import = map_import or MapImport()
@@ -184,17 +184,6 @@ def load(path: str, max_cells: int, max_vertices: int, max_file_bytes: int, map_
         max_file_bytes=max_file_bytes,
         **map_import.keywords,
     )
-
-
-class FiniteFloatRange(click.FloatRange):
-    """A float option within a range that also refuses ``nan`` and ``inf`` (every comparison with NaN is
-    false, so a plain :class:`click.FloatRange` lets it through)."""
-
-    def convert(self, value: Any, param: click.Parameter | None, ctx: click.Context | None) -> Any:
-        number = super().convert(value, param, ctx)
-        if not math.isfinite(number):
-            self.fail(f"{value!r} is not a finite number.", param, ctx)
-        return number
 
 
 def vision_options(command: F) -> F:

@@ -10,9 +10,10 @@ from pathlib import Path
 
 import click
 
-from guardsim.cli.common import FiniteFloatRange, build_scene, limit_options, load, reports_errors, vision_options
+from guardsim.cli.common import build_scene, limit_options, load, reports_errors, vision_options
 from guardsim.cli.map_options import MapImport, map_options
 from guardsim.cli.progress import StageLine
+from guardsim.cli.types import FiniteFloatRange
 from guardsim.errors import GuardsimError
 from guardsim.patrol.job import PatrolJob, check_job, run_patrol, tiled_source_of
 from guardsim.patrol.model import STRATEGIES

@@ -23,25 +23,13 @@ from guardsim.cli.map_options import MapImport, map_options
 from guardsim.cli.patrol import output_folder
 from guardsim.cli.progress import StageLine
 from guardsim.errors import GuardsimError
-from guardsim.grid import CoverageGrid
 
-__all__ = ["gait_runs", "sneak", "sneak_cell"]
+__all__ = ["gait_runs", "sneak"]
 
 
 def _each_point(ctx: click.Context, param: click.Parameter, values: tuple[str, ...]) -> tuple[tuple[float, float], ...]:
     """Click callback of a repeatable ``X,Y`` option."""
     return tuple(point for point in (parse_point(ctx, param, value) for value in values) if point is not None)
-
-
-def sneak_cell(scene_grid: CoverageGrid, point: tuple[float, float], option: str) -> int:
-    """The flat cell of a point given as ``option``, or a one-line error saying why it cannot be used."""
-    cell = scene_grid.cell_of(point)
-    where = f"{option} {point[0]:g},{point[1]:g}"
-    if cell is None:
-        raise GuardsimError(f"{where} lies outside the level")
-    if not scene_grid.traversable[cell[1], cell[0]]:
-        raise GuardsimError(f"{where} is in cell [{cell[0]}, {cell[1]}], where a guard-sized intruder does not fit")
-    return scene_grid.flat(*cell)
 
 
 @click.command()
@@ -163,13 +151,13 @@ def sneak(
             raise GuardsimError(f"{level_path}: the level marks no player start: give --from X,Y")
         source = level.player_starts[0]
         click.echo(f"from the level's player start ({source[0]:g}, {source[1]:g})")
-    start, goal = sneak_cell(grid, source, "--from"), sneak_cell(grid, target, "--to")
+    start, goal = grid.floor_cell(source, "--from"), grid.floor_cell(target, "--to")
     if grid.component_labels[start] != grid.component_labels[goal]:
         raise GuardsimError(
             f"--to {target[0]:g},{target[1]:g} cannot be reached from --from {source[0]:g},{source[1]:g} at all"
         )
     for point in safe:
-        sneak_cell(grid, point, "--safe")
+        grid.floor_cell(point, "--safe")
     table = view_table(grid, scene.vision())
     detection = GuardDetection.of_level(scene.level)
     limit = MAX_JOINT_LAP if max_lap is None else max_lap

@@ -12,7 +12,7 @@ from typing import NamedTuple
 
 import numpy as np
 
-from guardsim.errors import LimitError
+from guardsim.errors import LimitError, PatrolError
 from guardsim.grid import state_of
 from guardsim.patrol.loops import LoopBuilder, team_loops
 from guardsim.patrol.model import STRATEGIES, Patrol
@@ -106,7 +106,7 @@ def check_patrol_memory(scene: Scene, memory_bytes: int = DEFAULT_PATROL_MEMORY)
 def patrol_setup(scene: Scene, guards: int = 1, *, seed: int = 0) -> PatrolSetup:
     """The view table, goal and starts of a level's patrols."""
     if guards < 1:
-        raise ValueError("a patrol needs at least one guard")
+        raise PatrolError("a patrol needs at least one guard")
     rng, cell, heading = episode_start(scene, seed=seed)
     starts, headings = team_starts(scene, (cell, heading), guards, rng=rng)
     table = view_table(scene.grid, scene.vision())
@@ -215,7 +215,7 @@ def plan_patrol(
     given.
     """
     if strategy not in STRATEGIES:
-        raise ValueError(f"unknown strategy {strategy!r}; known: {', '.join(STRATEGIES)}")
+        raise PatrolError(f"unknown strategy {strategy!r}; known: {', '.join(STRATEGIES)}")
     guards = len(setup.starts)
     if strategy == "loop":
         return plan_loop(setup, guards, planner=planner)[0]

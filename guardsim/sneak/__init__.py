@@ -17,7 +17,7 @@ import numpy as np
 from guardsim.detection import GuardDetection, PatrolGains, exposure_map, time_to_detection
 from guardsim.detection.hearing import lap_hearing
 from guardsim.detection.watch import MAX_JOINT_LAP, LevelWatch, lap_gains
-from guardsim.errors import LimitError
+from guardsim.errors import ArgumentError, LimitError
 from guardsim.grid import CoverageGrid
 from guardsim.level.model import IntruderSpec
 from guardsim.patrol.model import Patrol
@@ -132,7 +132,7 @@ def sneak_check(
         or the undetected search keeps too many labels.
     """
     if patrol.period is None:
-        raise ValueError("the sneak check needs a repeating patrol (its period is null)")
+        raise ArgumentError("the sneak check needs a repeating patrol (its period is null)")
     gains, states = lap_gains(grid, table, patrol.states, detection, watch, max_lap=max_lap)
     lap = patrol if states.shape[1] == patrol.period else Patrol(states, states.shape[1], patrol.strategy)
     period = states.shape[1]
