@@ -36,6 +36,7 @@ _SOURCES = {
     "PlannerError": "guardsim.errors",
     "RegressionError": "guardsim.errors",
     "GuardSpec": "guardsim.level",
+    "IntruderSpec": "guardsim.level",
     "Level": "guardsim.level",
     "Camera": "guardsim.level",
     "Light": "guardsim.level",
@@ -119,6 +120,7 @@ if TYPE_CHECKING:
     from guardsim.kernels.meter import visibility as visibility
     from guardsim.level import Camera as Camera
     from guardsim.level import GuardSpec as GuardSpec
+    from guardsim.level import IntruderSpec as IntruderSpec
     from guardsim.level import Level as Level
     from guardsim.level import Light as Light
     from guardsim.level import parse_level as parse_level

@@ -640,7 +640,9 @@ class AlertEpisode:
 
     def _reach(self) -> int:
         speed = self.rules.intruder_speed
-        return math.floor(self.tick * speed + 1e-9) - math.floor((self.tick - 1) * speed + 1e-9)
+        walking = math.floor(self.tick * speed + 1e-9) - math.floor((self.tick - 1) * speed + 1e-9)
+        # A running evader may have covered more this tick: the guards, who chased it, know it may run.
+        return max(walking, self.intruder.ran)
 
     # -- ending and recording ---------------------------------------------------------------------
 

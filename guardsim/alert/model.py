@@ -121,6 +121,9 @@ class AlertRules:
     """Ticks a sneaking step takes."""
     cell_size: float = 1.0
     """World units per cell (noise radii are in world units)."""
+    run_speed: float | None = None
+    """Cells per tick an ``evader`` runs while some guard chases it (fractions accumulate, as for
+    ``intruder_speed``); ``None``: it walks at ``intruder_speed`` chased or not."""
 
     def __post_init__(self) -> None:
         for name in ("capture_radius", "search_seconds", "radio_delay", "intruder_speed"):
@@ -137,13 +140,18 @@ class AlertRules:
                 raise ArgumentError(f"alert: {name} must be a finite number >= 0, not {value!r}")
         if not (isinstance(self.sneak_ticks, int) and self.sneak_ticks >= 1):
             raise ArgumentError(f"alert: sneak_ticks must be a whole number >= 1, not {self.sneak_ticks!r}")
+        if self.run_speed is not None and not (math.isfinite(self.run_speed) and self.run_speed > 0):
+            raise ArgumentError(f"alert: run_speed must be a finite number > 0, not {self.run_speed!r}")
         if not (math.isfinite(self.dt) and self.dt > 0):
             raise ArgumentError(f"alert: dt must be a finite number > 0, not {self.dt!r}")
 
     @classmethod
-    def of_level(cls, level: Level, *, intruder_speed: float | None = None) -> AlertRules:
+    def of_level(
+        cls, level: Level, *, intruder_speed: float | None = None, run_speed: float | None = None
+    ) -> AlertRules:
         """The level's guard keys; the intruder moves at ``intruder_speed`` world units per second
-        (default: the guard's walking speed)."""
+        (default: the guard's walking speed), and an evader runs at ``run_speed`` while chased (default:
+        it walks)."""
         from guardsim.detection import grid_tick_seconds
 
         dt = grid_tick_seconds(level)
@@ -162,6 +170,7 @@ class AlertRules:
             sneak_noise=level.intruder.sneak_noise,
             sneak_ticks=level.intruder.sneak_ticks,
             cell_size=level.cell_size,
+            run_speed=None if run_speed is None else run_speed * dt / level.cell_size,
         )
 
     @property

@@ -2,14 +2,17 @@
 
 from __future__ import annotations
 
+import itertools
 import sys
 
 import click
 
 from guardsim.cli.common import (
     DetectionOverrides,
+    EarsOverrides,
     build_scene,
     detection_options,
+    ears_options,
     limit_options,
     load,
     parse_point,
@@ -21,7 +24,7 @@ from guardsim.cli.patrol import output_folder
 from guardsim.cli.progress import StageLine
 from guardsim.errors import GuardsimError
 
-__all__ = ["sneak"]
+__all__ = ["gait_runs", "sneak"]
 
 
 def _each_point(ctx: click.Context, param: click.Parameter, values: tuple[str, ...]) -> tuple[tuple[float, float], ...]:
@@ -55,6 +58,13 @@ def _each_point(ctx: click.Context, param: click.Parameter, values: tuple[str, .
     help="Search for a path no guard's awareness meter fills on (seen briefly is allowed), not an unseen one.",
 )
 @click.option(
+    "--unheard",
+    is_flag=True,
+    help="Also choose a gait for every step (walk: 1 tick; sneak: --sneak-ticks) so that no guard hears one "
+    "land (the level's intruder noise keys).",
+)
+@ears_options
+@click.option(
     "--safe",
     "safe",
     multiple=True,
@@ -83,6 +93,8 @@ def sneak(
     gif: bool,
     html: bool,
     undetected: bool,
+    unheard: bool,
+    ears_overrides: EarsOverrides,
     safe: tuple[tuple[float, float], ...],
     max_lap: int | None,
     detection_overrides: DetectionOverrides,
@@ -103,6 +115,11 @@ def sneak(
     the fastest undetected path, else the same closest call. Either way the path is replayed through the
     meters (detected, peak awareness, risk) and the slack is counted: from how many of the lap's ticks a
     player entering gets through.
+
+    With --unheard, the search also chooses a gait for every step, walking (one tick) or sneaking
+    (--sneak-ticks ticks, in the cell it leaves for all but the last), and no guard may hear a step land
+    (the level's walk_noise and sneak_noise, along the grid: docs/alert.md); the gaits are printed and in
+    sneak.json.
     """
     from guardsim.detection import GuardDetection
     from guardsim.detection.watch import MAX_JOINT_LAP, level_watch
@@ -116,6 +133,7 @@ def sneak(
         raise GuardsimError("--safe outlines spots on the page: give --html")
     progress = StageLine(sys.stderr, "sneak").start()
     level = detection_overrides.apply(load(level_path, max_cells, max_vertices, max_file_bytes, map_import))
+    level = ears_overrides.apply(level)
     from guardsim.kernels.ahead import compile_ahead
 
     compile_ahead("sneak")
@@ -146,10 +164,11 @@ def sneak(
     watch = level_watch(scene, detection.dt, max_lap=limit) if level.cameras or not level.lit else None
     for note in () if watch is None else watch.notes:
         click.echo(f"guardsim: warning: {note}", err=True)
-    progress("searching" + (" for an undetected path" if undetected else " for an unseen path"), 0, 0)
+    rule = ("undetected" if undetected else "unseen") + (", unheard" if unheard else "")
+    progress(f"searching for an {rule} path", 0, 0)
     result = sneak_check(
         grid, table, patrol, start, goal, detection=detection, undetected=undetected, watch=watch,
-        max_lap=limit,
+        max_lap=limit, unheard=unheard, intruder=level.intruder,
     )  # fmt: skip
     if result.lap is not None:
         patrol = result.lap
@@ -181,12 +200,13 @@ def sneak(
         for warning in warnings:
             click.echo(f"guardsim: warning: {warning}", err=True)
     progress.close()
-    rule = "undetected" if undetected else "unseen"
     if path.found:
         answer = f"sneaks: {rule} from tick {path.start_tick} of the lap, {path.ticks} ticks"
     else:
+        heard = f" and heard {path.steps_heard} times" if unheard else ""
         answer = (
-            f"caught: no {rule} path; the closest call is seen for {path.ticks_in_view} ticks ({path.ticks} ticks long)"
+            f"caught: no {rule} path; the closest call is seen for {path.ticks_in_view} ticks{heard} "
+            f"({path.ticks} ticks long)"
         )
     grade = result.grade
     assert grade is not None
@@ -201,3 +221,18 @@ def sneak(
         f"slack {result.slack}/{result.period} entry ticks"
     )
     click.echo(f"{level.name}: {answer}; {graded}" + (f" -> {', '.join(written)}" if written else ""))
+    if path.gaits is not None:
+        click.echo("gaits: " + gait_runs(path.gaits, level.intruder.sneak_ticks))
+
+
+def gait_runs(gaits: tuple[str, ...], sneak_ticks: int) -> str:
+    """A path's gaits per tick as runs in order: ``walk x2, sneak x5 (2 ticks each), wait 3 ticks``."""
+    runs: list[str] = []
+    for gait, ticks in ((gait, len(list(run))) for gait, run in itertools.groupby(gaits)):
+        if gait == "wait":
+            runs.append(f"wait {ticks} tick{'s' if ticks != 1 else ''}")
+        elif gait == "sneak":
+            runs.append(f"sneak x{ticks // sneak_ticks} ({sneak_ticks} tick{'s' if sneak_ticks != 1 else ''} each)")
+        else:
+            runs.append(f"walk x{ticks}")
+    return ", ".join(runs) if runs else "none (it enters at its goal)"

@@ -12,7 +12,7 @@ from pathlib import Path
 import numpy as np
 
 from guardsim.alert.episode import AlertEpisode
-from guardsim.alert.gif import CONTAMINATED_INDEX, LAST_KNOWN_INDEX, STATE_LETTERS
+from guardsim.alert.gif import CONTAMINATED_INDEX, HEARD_LETTER, LAST_KNOWN_INDEX, STATE_LETTERS
 from guardsim.alert.model import GUARD_STATES
 from guardsim.alert.trace import guard_trace
 from guardsim.detection import intruder_state
@@ -28,8 +28,8 @@ from guardsim.vision.table import ViewTable
 __all__ = ["ALERT_LAYERS", "alert_overlays", "write_alert_page"]
 
 #: Layers an alert page opens with: the routes, the cones, the contaminated set, the last known cell,
-#: the intruder, and each guard's meter and state.
-ALERT_LAYERS = ("route", "trail", "cone", "contaminated", "last-known", "intruder", "meters", "states")
+#: the intruder, each guard's meter and state, and the noises made (when there are any).
+ALERT_LAYERS = ("route", "trail", "cone", "contaminated", "last-known", "intruder", "meters", "states", "noises")
 
 
 def alert_overlays(
@@ -87,6 +87,10 @@ def alert_overlays(
         last_known_colour=PALETTE[LAST_KNOWN_INDEX],
         suspicious=suspicious,
         events=[(e.tick, e.guard, e.event) for e in episode.events],
+        # The episode's own noises and hearing, as the alert GIF reads them.
+        noises=[(int(tick), int(cell), float(radius)) for tick, cell, radius, _ in episode.noises if tick < ticks],
+        heard=np.asarray(record["heard"], dtype=bool).reshape(ticks, guards) if record.get("heard") else None,
+        heard_letter=HEARD_LETTER,
     )
     watch = episode.cameras.watch
     layers = None
