@@ -37,8 +37,9 @@ from pathlib import Path
 import numpy as np
 
 from guardsim import ImportedLevel, load_level
+from guardsim.motion import run_episode
 from guardsim.planners import RippleFront
-from guardsim.simulation import Scene, choose_start, episode_generator, run_episode
+from guardsim.simulation import Scene, choose_start, episode_generator
 
 MAPS = Path(__file__).resolve().parents[2] / "shared" / "maps"
 SNEAKTIME_GUARD_TILES = (50, 51)

@@ -36,7 +36,7 @@ MAPS = [REPO.parent / "shared" / "maps" / "movingai" / "AR0603SR.map"]
 
 
 def measure(path: Path, planners: list[str], patrol: float, episodes: int, seed: int) -> dict:
-    from guardsim.simulation import run_episode
+    from guardsim.motion import run_episode
 
     began = time.perf_counter()
     scene = load_scene(path)

@@ -262,8 +262,8 @@ def tiny_cases() -> list[tuple[str, object, tuple[int, int]]]:
 def planner_rows(cases: list[tuple[str, object, tuple[int, int], int, int]]) -> None:
     """Every planner's steps and ratio, and the best bound, for proved (name, scene, start, heading, optimum)."""
     from guardsim.bounds import lower_bounds
+    from guardsim.motion import run_episode
     from guardsim.planners import PLANNERS, make_planner
-    from guardsim.simulation import run_episode
 
     names = list(PLANNERS)
     print("\n| level | start | optimum | " + " | ".join(names) + " | best static bound |")

@@ -44,10 +44,11 @@ from functools import partial
 from pathlib import Path
 
 from guardsim import load_level
+from guardsim.motion import run_episode
 from guardsim.planners import PLANNERS, EpisodeSetup, GuardState, Planner, Tour
 from guardsim.planners.tour import SEEDS
 from guardsim.planners.viewpoint_cover import greedy_cover
-from guardsim.simulation import Scene, choose_start, episode_generator, run_episode, team_starts
+from guardsim.simulation import Scene, choose_start, episode_generator, team_starts
 from guardsim.trace import Trace
 from guardsim.vision.table import view_table
 

@@ -15,8 +15,9 @@ import time
 from pathlib import Path
 
 from guardsim import load_level
+from guardsim.motion import run_episode
 from guardsim.planners import RippleFront
-from guardsim.simulation import Scene, choose_start, episode_generator, run_episode
+from guardsim.simulation import Scene, choose_start, episode_generator
 
 LEVELS = sorted(Path(__file__).resolve().parent.parent.joinpath("levels").glob("*.json"))
 

@@ -53,8 +53,9 @@ def load_scene(path: Path):
 
 def measure(path: Path, episodes: int, reference_ticks: int) -> dict:
     """All figures for one level, in this process."""
+    from guardsim.motion import run_episode
     from guardsim.planners import RippleFront
-    from guardsim.simulation import Simulation, choose_start, episode_generator, run_episode
+    from guardsim.simulation import Simulation, choose_start, episode_generator
 
     began = time.perf_counter()
     scene = load_scene(path)

@@ -31,10 +31,13 @@ _SOURCES = {
     "OutputError": "guardsim.errors",
     "CheckError": "guardsim.errors",
     "PatrolError": "guardsim.errors",
+    "PointError": "guardsim.errors",
+    "ArgumentError": "guardsim.errors",
     "PlannerError": "guardsim.errors",
     "RegressionError": "guardsim.errors",
     "TraceError": "guardsim.errors",
     "GuardSpec": "guardsim.level",
+    "IntruderSpec": "guardsim.level",
     "Level": "guardsim.level",
     "Camera": "guardsim.level",
     "Light": "guardsim.level",
@@ -51,13 +54,15 @@ _SOURCES = {
     "Planner": "guardsim.planners",
     "make_planner": "guardsim.planners",
     "Simulation": "guardsim.simulation",
-    "run_episode": "guardsim.simulation",
+    "run_episode": "guardsim.motion",
     "Trace": "guardsim.trace",
     **dict.fromkeys(("AwarenessMeter", "DetectionModel", "GuardDetection"), "guardsim.detection"),
     **dict.fromkeys(("light_map", "light_at"), "guardsim.detection.light"),
     **dict.fromkeys(("visibility", "meter_gain"), "guardsim.kernels.meter"),
     "level_watch": "guardsim.detection.watch",
     "sneak_check": "guardsim.sneak",
+    **dict.fromkeys(("Patrol", "patrol_setup", "plan_patrol", "read_patrol"), "guardsim.patrol"),
+    "ViewTable": "guardsim.vision.table",
     **dict.fromkeys(
         ("AlertEpisode", "AlertRules", "GameGuards", "alert_episode", "check_alert_trace", "run_alerts"),
         "guardsim.alert",
@@ -99,6 +104,7 @@ if TYPE_CHECKING:
     from guardsim.detection.light import light_at as light_at
     from guardsim.detection.light import light_map as light_map
     from guardsim.detection.watch import level_watch as level_watch
+    from guardsim.errors import ArgumentError as ArgumentError
     from guardsim.errors import CheckError as CheckError
     from guardsim.errors import GuardsimError as GuardsimError
     from guardsim.errors import LevelError as LevelError
@@ -106,6 +112,7 @@ if TYPE_CHECKING:
     from guardsim.errors import OutputError as OutputError
     from guardsim.errors import PatrolError as PatrolError
     from guardsim.errors import PlannerError as PlannerError
+    from guardsim.errors import PointError as PointError
     from guardsim.errors import RegressionError as RegressionError
     from guardsim.errors import TraceError as TraceError
     from guardsim.grid import CoverageGrid as CoverageGrid
@@ -115,20 +122,26 @@ if TYPE_CHECKING:
     from guardsim.kernels.meter import visibility as visibility
     from guardsim.level import Camera as Camera
     from guardsim.level import GuardSpec as GuardSpec
+    from guardsim.level import IntruderSpec as IntruderSpec
     from guardsim.level import Level as Level
     from guardsim.level import Light as Light
     from guardsim.level import parse_level as parse_level
     from guardsim.motion import ContinuousSimulation as ContinuousSimulation
     from guardsim.motion import GuardMotion as GuardMotion
+    from guardsim.motion import run_episode as run_episode
+    from guardsim.patrol import Patrol as Patrol
+    from guardsim.patrol import patrol_setup as patrol_setup
+    from guardsim.patrol import plan_patrol as plan_patrol
+    from guardsim.patrol import read_patrol as read_patrol
     from guardsim.planners import PLANNERS as PLANNERS
     from guardsim.planners import Planner as Planner
     from guardsim.planners import make_planner as make_planner
     from guardsim.scene import Scene as Scene
     from guardsim.simulation import Simulation as Simulation
-    from guardsim.simulation import run_episode as run_episode
     from guardsim.sneak import sneak_check as sneak_check
     from guardsim.starts import episode_generator as episode_generator
     from guardsim.trace import Trace as Trace
     from guardsim.vision import LineOfSight as LineOfSight
     from guardsim.vision import VisionCone as VisionCone
+    from guardsim.vision.table import ViewTable as ViewTable
     from guardsim.world import World as World

@@ -8,6 +8,7 @@ else escaping the library is a bug.
 from __future__ import annotations
 
 __all__ = [
+    "ArgumentError",
     "CheckError",
     "GuardsimError",
     "LevelError",
@@ -15,6 +16,7 @@ __all__ = [
     "OutputError",
     "PatrolError",
     "PlannerError",
+    "PointError",
     "RegressionError",
     "TraceError",
 ]
@@ -53,6 +55,17 @@ class TraceError(GuardsimError):
 
 class CheckError(GuardsimError):
     """A checks file or a rule cannot be used (bad input, not a broken rule)."""
+
+
+class ArgumentError(GuardsimError, ValueError):
+    """A value handed to a library function is out of its range or does not fit the level (a seed below 0,
+    a guard count of 0, an action outside the action space). Also a ``ValueError``, the exception Python
+    code expects for a bad value."""
+
+
+class PointError(GuardsimError):
+    """A point given in world coordinates (an entry, a goal, a post) is off the level or where a guard does
+    not fit; the message names what the point is."""
 
 
 class PlannerError(GuardsimError, KeyError):

@@ -14,7 +14,7 @@ from functools import cached_property
 import numpy as np
 import shapely
 
-from guardsim.errors import LevelError
+from guardsim.errors import LevelError, PointError
 from guardsim.kernels.states import HEADINGS_PER_CELL, cell_of_state, heading_of_state, state_of
 from guardsim.level import Level
 from guardsim.world import World
@@ -76,6 +76,31 @@ class CoverageGrid:
         if 0 <= col < cols and 0 <= row < rows:
             return col, row
         return None
+
+    def floor_cell(self, point: tuple[float, float], what: str = "the point") -> int:
+        """The flat index of the traversable cell holding the world point ``point``.
+
+        Raises :class:`~guardsim.errors.PointError`, naming ``what`` (``"--from"``, ``"the goal"``), when
+        the point lies off the grid or in a cell a guard-sized body does not fit in.
+
+        Examples
+        --------
+        >>> from guardsim import Scene, load_level
+        >>> grid = Scene.from_level(load_level("levels/square.json")).grid
+        >>> grid.unflat(grid.floor_cell((2.5, 30.5)))
+        (2, 30)
+        >>> grid.floor_cell((-4, 30), "the goal")
+        Traceback (most recent call last):
+        ...
+        guardsim.errors.PointError: the goal -4,30 lies outside the level
+        """
+        cell = self.cell_of(point)
+        where = f"{what} {point[0]:g},{point[1]:g}"
+        if cell is None:
+            raise PointError(f"{where} lies outside the level")
+        if not self.traversable[cell[1], cell[0]]:
+            raise PointError(f"{where} is in cell [{cell[0]}, {cell[1]}], where a guard-sized intruder does not fit")
+        return self.flat(*cell)
 
     def flat(self, col: int, row: int) -> int:
         """Flat index of ``(col, row)``."""

@@ -232,6 +232,7 @@ def write_sneak_json_page(
         patrol_file = patrol_path if patrol_path is not None else str(data["patrol"])
         points = (float(data["from"][0]), float(data["from"][1])), (float(data["to"][0]), float(data["to"][1]))
         undetected = data["rule"] == "undetected"
+        unheard = bool(data.get("unheard", False))
         hiding = data["longest_unseen"]
         shape = (len(hiding), len(hiding[0]))
     except (KeyError, TypeError, ValueError, IndexError) as error:
@@ -240,6 +241,8 @@ def write_sneak_json_page(
         raise TraceError(f"{source}: the check found no path to draw")
     if "detection" in data:
         level = dataclasses.replace(level, guard=dataclasses.replace(level.guard, **data["detection"]))
+    if "intruder" in data:
+        level = dataclasses.replace(level, intruder=dataclasses.replace(level.intruder, **data["intruder"]))
     vision: dict[str, Any] = {}
     if "los" in data:
         reach = data["view_range"]
@@ -256,8 +259,9 @@ def write_sneak_json_page(
     start, goal = grid.flat(*cells[0]), grid.flat(*cells[-1])
     patrol = read_patrol(patrol_file, grid, level=level.name)
     run = run_sneak(
-        scene, patrol, start, goal, undetected=undetected, max_lap=data.get("max_lap"), patrol_name=patrol_file
-    )
+        scene, patrol, start, goal, undetected=undetected, unheard=unheard, max_lap=data.get("max_lap"),
+        patrol_name=patrol_file,
+    )  # fmt: skip
     found = run.result.path
     if (
         found is None

@@ -24,6 +24,7 @@ from guardsim.world import World
 
 if TYPE_CHECKING:
     from guardsim.vision.cache import VisionCache
+    from guardsim.vision.table import ViewTable
 
 __all__ = ["Scene"]
 
@@ -109,6 +110,13 @@ class Scene:
     def line_of_sight(self) -> LineOfSight:
         """The line-of-sight rule (the same as :attr:`rule`)."""
         return self.rule
+
+    def view_table(self) -> ViewTable:
+        """The sight table: which cells each guard state sees (:func:`guardsim.vision.table.view_table`),
+        built on first use and shared."""
+        from guardsim.vision.table import view_table
+
+        return view_table(self.grid, self.vision())
 
     def vision(self, *, reference: bool = False) -> VisionFunction:
         """The vision to use: the shared cache by default, the per-cell-ray reference on request.

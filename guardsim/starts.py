@@ -11,7 +11,7 @@ from collections.abc import Sequence
 
 import numpy as np
 
-from guardsim.errors import LevelError
+from guardsim.errors import ArgumentError, LevelError
 from guardsim.grid import CoverageGrid, start_cell
 from guardsim.level import HEADINGS
 from guardsim.scene import Scene
@@ -111,9 +111,9 @@ def check_headings(headings: Sequence[int] | None, guards: int) -> list[int] | N
         return None
     facing = [int(heading) for heading in headings]
     if len(facing) != guards:
-        raise ValueError(f"{len(facing)} headings for {guards} guards")
+        raise ArgumentError(f"{len(facing)} headings for {guards} guards")
     if not all(0 <= heading < 4 for heading in facing):
-        raise ValueError(f"headings {facing} must be heading numbers 0 (right), 1 (down), 2 (left) or 3 (up)")
+        raise ArgumentError(f"headings {facing} must be heading numbers 0 (right), 1 (down), 2 (left) or 3 (up)")
     return facing
 
 
@@ -132,18 +132,18 @@ def checked_starts(
     ([(2, 1)], [3])
     >>> checked_starts(grid, [(3, 1)], [0], 1)
     Traceback (most recent call last):
-    ValueError: start cell (3, 1) is off the grid
+    guardsim.errors.ArgumentError: start cell (3, 1) is off the grid
     """
     if len(starts) != guards:
-        raise ValueError(f"{len(starts)} starts for {guards} guards")
+        raise ArgumentError(f"{len(starts)} starts for {guards} guards")
     facing = check_headings(headings, guards)
     if facing is None:
-        raise ValueError("starts need headings")
+        raise ArgumentError("starts need headings")
     cells = [(int(col), int(row)) for col, row in starts]
     rows, cols = grid.shape
     for col, row in cells:
         if not (0 <= row < rows and 0 <= col < cols):
-            raise ValueError(f"start cell ({col}, {row}) is off the grid")
+            raise ArgumentError(f"start cell ({col}, {row}) is off the grid")
         if not grid.traversable[row, col]:
-            raise ValueError(f"start cell ({col}, {row}) is not traversable")
+            raise ArgumentError(f"start cell ({col}, {row}) is not traversable")
     return cells, facing

@@ -12,6 +12,7 @@ import math
 import numpy as np
 import pymunk
 
+from guardsim.errors import ArgumentError
 from guardsim.level import Level
 
 __all__ = ["GUARD_CATEGORY", "WALL_CATEGORY", "World"]
@@ -59,7 +60,7 @@ class World:
         self._shared = space is not None
         if walls_in_space:
             if space is None:
-                raise ValueError("walls_in_space needs the space that holds the walls")
+                raise ArgumentError("walls_in_space needs the space that holds the walls")
             self.walls = [
                 shape
                 for shape in space.shapes

@@ -302,7 +302,7 @@ def corridor_post(scene: Scene, col: int, heading: int) -> Patrol:
 def fast_equals_reference(scene: Scene, planner: Any = "ripplefront", **episode: Any) -> Trace:
     """The episode run on the fast path (compiled tick, vision cache), asserted byte-identical to the same
     episode on the reference loop and vision; the fast trace (the one fast-path check every test uses)."""
-    from guardsim.simulation import run_episode
+    from guardsim.motion import run_episode
 
     fresh = (lambda: planner) if isinstance(planner, str) else (lambda: type(planner)())
     fast = run_episode(scene, fresh(), **episode)

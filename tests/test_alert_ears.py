@@ -210,3 +210,74 @@ def test_cli_throw_gets_the_intruder_through(tmp_path: Path) -> None:
     assert "undetected arrival" in lines["bottle"]
     bad = CliRunner().invoke(main, ["alert", str(level), "--patrol", str(patrol), "--walk-noise", "-1"])
     assert bad.exit_code == 2 and "Traceback" not in bad.output
+
+
+# -- the page: noise rings and guards that heard --------------------------------------------------------
+
+
+def _ears_page(folder: Path) -> tuple[Path, dict[str, Any], list[bool]]:
+    """The doorway episode with its bottle, as the alert page; its data and guard 0's heard flags."""
+    from guardsim.viewer.alerts import write_alert_page
+    from tests.pages import page_json
+    from tests.test_browser import CHROMIUM
+
+    if CHROMIUM is None:
+        pytest.skip("no chromium on PATH: install Debian's chromium (apt-get install -y chromium)")
+    scene, table, post = door_scene()
+    grid = scene.grid
+    route = door_route(grid)
+    episode = alert_episode(
+        scene, post, intruder="route", source=route[0], target=grid.flat(*GOAL), route=route, table=table,
+        distractions=[(2, grid.flat(0, 0), 10.0)], max_seconds=60,
+    )  # fmt: skip
+    episode.run()
+    page = folder / "ears.html"
+    write_alert_page(page, scene, table, episode, patrol=post)
+    return page, page_json(page.read_text()), [bool(row[0]) for row in episode.record["heard"]]
+
+
+def test_the_page_reads_out_the_noise_and_the_guard_that_heard(tmp_path: Path) -> None:
+    """In real headless Chromium: at the bottle's tick the readout lists the noise (its cell and radius)
+    and the guard as having heard it; the tick before, neither. The page's data holds the episode's own
+    noises and hearing (the GIF's data)."""
+    from tests.test_alert_html import attributes
+    from tests.test_browser import dump, element
+
+    page, data, heard = _ears_page(tmp_path)
+    assert data["alert"]["noises"] == [[2, 0, 10.0]] and data["alert"]["heard_letter"] == "H"
+    assert heard[2] and not heard[1]
+    for tick in (1, 2):
+        dom = dump(page, f"tick={tick}", tmp_path / "profile")
+        assert element(dom, "errors") == "" and element(dom, "status") == "ready", tick
+        readout = attributes(dom, "alert-readout")
+        assert readout["data-noises"] == ("0,0,10" if tick == 2 else "")
+        assert readout["data-heard"] == ("1" if heard[tick] else "0")
+        assert ("(heard a noise)" in element(dom, "alert-readout")) == heard[tick]
+
+
+@pytest.mark.slow
+def test_the_page_draws_each_noise_as_a_ring_at_its_tick(tmp_path: Path) -> None:
+    """With the noises layer alone, a ring of the noise's radius (10 cells) round the corner cell is drawn
+    through the far room at the bottle's tick; the tick before and after, no ring."""
+    import imageio.v3 as iio
+
+    from tests.test_browser import chromium, dump, geometry
+
+    page, data, _ = _ears_page(tmp_path)
+    outline = tuple(int(data["colours"]["outline"][k : k + 2], 16) for k in (1, 3, 5))
+    ring = {}
+    for tick in (1, 2, 3):
+        # Per tick: the readout above the canvas may wrap differently and move it.
+        left, top, scale = geometry(dump(page, f"tick={tick}&layers=noises&scale=12", tmp_path / "profile"))
+        shot = tmp_path / "shot.png"
+        done = chromium(
+            f"{page.as_uri()}#tick={tick}&layers=noises&scale=12", tmp_path / "profile", f"--screenshot={shot}"
+        )
+        assert done.returncode == 0
+        image = iio.imread(shot)[:, :, :3].astype(int)
+        rows, cols = np.mgrid[0 : 5 * scale, 8 * scale : 12 * scale]  # the far room, where no one stands
+        near = np.abs(np.hypot(cols - scale / 2, rows - scale / 2) - 10 * scale)
+        on = (image[top + rows, left + cols] == outline).all(axis=2)
+        ring[tick] = (int((on & (near <= 2)).sum()), int((on & (near > 3)).sum()))
+    # The level's own outline crosses the annulus (the same pixels at every tick): the ring adds the rest.
+    assert ring[1] == ring[3] and ring[2][0] >= ring[1][0] + 30 and ring[2][1] == ring[1][1], ring

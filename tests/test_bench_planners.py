@@ -18,8 +18,8 @@ from guardsim.bounds import lower_bounds
 from guardsim.cli.common import build_scene
 from guardsim.experiment import RUN_NAME
 from guardsim.level import HEADINGS
+from guardsim.motion import run_episode
 from guardsim.planners import PLANNERS
-from guardsim.simulation import run_episode
 from tests.common import (
     LEVELS,
     SQUARE,

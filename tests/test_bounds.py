@@ -22,8 +22,9 @@ from guardsim.bounds import lower_bounds, state_distances
 from guardsim.bounds.clusters import choose_clusters
 from guardsim.cli import main
 from guardsim.kernels.trees import cluster_distances, spanning_tree_weight, subset_tree_weight
+from guardsim.motion import run_episode
 from guardsim.planners import PLANNERS, make_planner
-from guardsim.simulation import Scene, run_episode
+from guardsim.simulation import Scene
 from guardsim.vision.rules import VisionFunction
 from guardsim.vision.table import view_table
 from tests.common import (

@@ -22,10 +22,11 @@ from pettingzoo.utils.conversions import parallel_to_aec  # noqa: E402
 
 from guardsim.envs import ACTIONS, CHANNELS, CoverageEnv, coverage_parallel_env  # noqa: E402
 from guardsim.grid import DIRECTIONS  # noqa: E402
+from guardsim.motion import run_episode  # noqa: E402
 from guardsim.planners import make_planner  # noqa: E402
 from guardsim.planners.base import STAY, EpisodeSetup, GuardState  # noqa: E402
 from guardsim.render.palette import GUARD_COLOURS  # noqa: E402
-from guardsim.simulation import Simulation, run_episode  # noqa: E402
+from guardsim.simulation import Simulation  # noqa: E402
 from tests.common import REPO, SQUARE_WITH_HOLE, level_from  # noqa: E402
 
 SQUARE = str(REPO / "levels" / "square.json")

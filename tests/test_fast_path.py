@@ -8,8 +8,9 @@ import numpy as np
 import pytest
 
 from guardsim import load_level
+from guardsim.motion import run_episode
 from guardsim.planners import RippleFront
-from guardsim.simulation import Scene, choose_start, episode_generator, run_episode
+from guardsim.simulation import Scene, choose_start, episode_generator
 from guardsim.vision import visible_cells
 from tests.common import (
     TINY_LEVELS,

@@ -26,8 +26,9 @@ from guardsim.cli import main
 from guardsim.errors import LevelError
 from guardsim.importers import import_tiled
 from guardsim.level import level_to_data, parse_level
+from guardsim.motion import run_episode
 from guardsim.planners import RippleFront
-from guardsim.simulation import Scene, choose_start, run_episode
+from guardsim.simulation import Scene, choose_start
 from tests.common import import_map
 
 TILED_DIR = Path(__file__).resolve().parents[2] / "shared" / "maps" / "tiled"

@@ -62,8 +62,6 @@ DRAWING_LIBRARIES = ("matplotlib", "imageio", "PIL.ImageDraw", "PIL.ImageFont")
 KNOWN = {
     # Type hints only: a compiled walk takes a view table.
     ("guardsim/kernels/walk.py", "vision"),
-    # The import circle motion <-> simulation: run_episode hands continuous motion to guardsim.motion.
-    ("guardsim/simulation/run.py", "motion"),
 }
 
 
@@ -179,8 +177,6 @@ def test_the_check_finds_a_crossing(
 
 #: Import circles between modules that are known and not yet taken out; none may be added.
 KNOWN_CIRCLES = [
-    # run_episode hands continuous motion to guardsim.motion, whose episode runs guardsim.simulation.
-    {"guardsim.motion", "guardsim.motion.episode", "guardsim.simulation", "guardsim.simulation.run"},
     # The package's names come from loading.py, which reads the formats' readers from the package.
     {"guardsim.importers", "guardsim.importers.loading"},
 ]

@@ -14,6 +14,7 @@ import numpy as np
 import pytest
 import shapely
 
+from guardsim import load_level
 from guardsim.errors import LevelError
 from guardsim.level import (
     GuardSpec,
@@ -22,7 +23,6 @@ from guardsim.level import (
     check_level_data,
     free_area_of,
     level_to_data,
-    load_level,
     parse_level,
 )
 from guardsim.simulation import Scene, choose_start

@@ -15,10 +15,9 @@ from click.testing import CliRunner, Result
 
 from guardsim import load_level
 from guardsim.cli import main
-from guardsim.motion import ContinuousSimulation, GuardMotion, PoseVision, pose_visible_cells, pull_route
+from guardsim.motion import ContinuousSimulation, GuardMotion, PoseVision, pose_visible_cells, pull_route, run_episode
 from guardsim.motion.follower import Follower
 from guardsim.scene import Scene
-from guardsim.simulation import run_episode
 from guardsim.trace import Trace
 from guardsim.vision.rules import LineOfSight
 from tests.common import LEVELS, REPO, TINY_LEVELS, guardsim_command, level_from, scene_from, tiny_levels, write_level

@@ -20,11 +20,12 @@ from guardsim import load_level
 from guardsim.cli import main
 from guardsim.cli.common import build_scene
 from guardsim.kernels.tours import improve_tour, nearest_neighbour_tour, tour_cost
+from guardsim.motion import run_episode
 from guardsim.planners import PLANNERS, EpisodeSetup, GuardState, RandomWalk, RippleFrontExact, Sweep, Tour
 from guardsim.planners.ripplefront import FAR, ripple_sweep
 from guardsim.planners.team_share import guard_share
 from guardsim.planners.viewpoint_cover import greedy_cover
-from guardsim.simulation import Scene, choose_start, default_max_steps, run_episode
+from guardsim.simulation import Scene, choose_start, default_max_steps
 from guardsim.trace import Trace
 from guardsim.vision.table import view_table
 from tests.common import (

@@ -6,11 +6,12 @@ from __future__ import annotations
 import numpy as np
 
 from guardsim import load_level
+from guardsim.motion import run_episode
 from guardsim.planners.lawnmower import spiral_rings, spiral_routes, swath_half_width
 from guardsim.planners.polish import polish_route
 from guardsim.planners.route_walk import walk_routes
 from guardsim.planners.tour import Tour
-from guardsim.simulation import Scene, run_episode
+from guardsim.simulation import Scene
 from guardsim.vision.table import ViewTable, view_table
 from tests.common import LEVELS, OPEN_ROOM, scene_from, starts
 

@@ -35,8 +35,9 @@ from guardsim.cli import main
 from guardsim.errors import LevelError
 from guardsim.grid import DIRECTIONS
 from guardsim.level import check_level_data, parse_level
+from guardsim.motion import run_episode
 from guardsim.planners import RippleFront
-from guardsim.simulation import Scene, choose_start, default_max_steps, run_episode
+from guardsim.simulation import Scene, choose_start, default_max_steps
 from guardsim.trace import OUTCOMES, Trace
 from tests.common import fast_equals_reference, guardsim_command
 

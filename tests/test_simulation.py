@@ -15,9 +15,10 @@ import numpy as np
 import pytest
 
 from guardsim import load_level
+from guardsim.motion import run_episode
 from guardsim.planners import RippleFront
 from guardsim.planners.base import GuardState
-from guardsim.simulation import Scene, choose_start, default_max_steps, run_episode
+from guardsim.simulation import Scene, choose_start, default_max_steps
 from guardsim.trace import Trace
 from tests.common import SPLIT_ROOMS, TINY_LEVELS, TRACE_KEYS, level_from, scene_from, shipped_levels, tiny_levels
 

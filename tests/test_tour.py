@@ -7,10 +7,11 @@ from __future__ import annotations
 import numpy as np
 import pytest
 
+from guardsim.motion import run_episode
 from guardsim.optimum import solve
 from guardsim.planners.lawnmower import lane_routes, swath_half_width
 from guardsim.planners.tour import SEEDS, Tour
-from guardsim.simulation import Scene, run_episode
+from guardsim.simulation import Scene
 from guardsim.vision.table import view_table
 from tests.common import OPEN_ROOM, SHORT_SIGHTED, TINY_LEVELS, scene_from, short_sighted, starts
 

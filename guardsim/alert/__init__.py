@@ -17,7 +17,17 @@ from __future__ import annotations
 from guardsim.alert.episode import AlertEpisode
 from guardsim.alert.intruders import Intruder, make_intruder
 from guardsim.alert.invariants import Violation, check_alert_trace
-from guardsim.alert.model import EVENTS, GUARD_STATES, INTRUDERS, OUTCOMES, AlertEvent, AlertOutcome, AlertRules
+from guardsim.alert.model import (
+    EVENTS,
+    GUARD_STATES,
+    INTRUDERS,
+    OUTCOMES,
+    AlertEvent,
+    AlertOutcome,
+    AlertRules,
+    Event,
+    GuardState,
+)
 from guardsim.alert.player import GameGuards, GuardsFrame, PlayerIntruder
 from guardsim.alert.run import DEFAULT_MAX_SECONDS, AlertSummary, alert_episode, alert_trace_data, run_alerts, summarise
 from guardsim.alert.search import SEARCHES, Contamination, make_search
@@ -35,7 +45,9 @@ __all__ = [
     "AlertRules",
     "AlertSummary",
     "Contamination",
+    "Event",
     "GameGuards",
+    "GuardState",
     "GuardsFrame",
     "Intruder",
     "PlayerIntruder",

@@ -54,12 +54,13 @@ import numpy as np
 
 from guardsim.alert.intruders import Intruder
 from guardsim.alert.invariants import corridor_cells
-from guardsim.alert.model import AlertEvent, AlertOutcome, AlertRules
+from guardsim.alert.model import AlertEvent, AlertOutcome, AlertRules, Event, GuardState
 from guardsim.alert.movement import ContinuousMovement, GridMovement, Movement
 from guardsim.alert.search import Contamination, make_search
 from guardsim.alert.steering import cut_off_cell, escape_path, search_cell
 from guardsim.detection import AwarenessMeter, GuardDetection
 from guardsim.detection.watch import CameraAlarms, LevelWatch
+from guardsim.errors import ArgumentError
 from guardsim.grid import CoverageGrid
 from guardsim.kernels.distances import FAR, distances_from
 from guardsim.kernels.noise import heard_within
@@ -110,7 +111,7 @@ class AlertEpisode:
         distractions: Sequence[tuple[int, int, float]] = (),
     ) -> None:
         if patrol.period is None:
-            raise ValueError("an alert episode needs a repeating patrol (its period is null)")
+            raise ArgumentError("an alert episode needs a repeating patrol (its period is null)")
         self.grid, self.table, self.patrol, self.intruder = grid, table, patrol, intruder
         self.rules, self.detection = rules, detection
         self.neighbours = np.ascontiguousarray(grid.neighbours, dtype=np.int64)
@@ -126,7 +127,7 @@ class AlertEpisode:
         self.tick = 0
         self._clock = [0] * guards
         """Per guard: its route clock (see the module)."""
-        self.modes = ["patrol"] * guards
+        self.modes = [GuardState.PATROL] * guards
         self.meters = [AwarenessMeter(detection.model, detection.view_range) for _ in range(guards)]
         self.cells = [0] * guards
         self.headings = [0] * guards
@@ -197,11 +198,11 @@ class AlertEpisode:
         if self.done:
             return
         self.tick += 1
-        chased = "chase" in self.modes
-        alarmed = chased or "search" in self.modes
+        chased = GuardState.CHASE in self.modes
+        alarmed = chased or GuardState.SEARCH in self.modes
         self.intruder.advance(self.tick, self.cells, chased, alarmed)
-        if self.intruder.gone and not any(e.event == "arrived" for e in self.events):
-            self.events.append(AlertEvent(self.tick, -1, "arrived"))
+        if self.intruder.gone and not any(e.event == Event.ARRIVED for e in self.events):
+            self.events.append(AlertEvent(self.tick, -1, Event.ARRIVED))
         made = len(self.noises)
         self._make_noises()
         self._move_guards()
@@ -228,7 +229,7 @@ class AlertEpisode:
         tick = self.tick
         guards = len(self.modes)
         deciding = [self.movement.ready(g) for g in range(guards)]
-        searchers = {g: self.cells[g] for g, mode in enumerate(self.modes) if mode == "search" and deciding[g]}
+        searchers = {g: self.cells[g] for g, mode in enumerate(self.modes) if mode == GuardState.SEARCH and deciding[g]}
         fields = self.search.fields(searchers) if searchers else {}
         lead, cutters = self._chase_roles()
         chase_field: np.ndarray | None = None
@@ -236,21 +237,21 @@ class AlertEpisode:
             if not deciding[guard]:
                 continue
             self._clock[guard] += 1
-            running = mode == "chase" or guard in cutters
+            running = mode == GuardState.CHASE or guard in cutters
             if not running and self._running[guard]:
                 self._running[guard] = 0
                 self.movement.pace(guard, 1.0)
-            if mode != "chase" and self._crowded_for(guard) and self._step_aside(guard):
-                if mode in ("patrol", "return"):
+            if mode != GuardState.CHASE and self._crowded_for(guard) and self._step_aside(guard):
+                if mode in (GuardState.PATROL, GuardState.RETURN):
                     self._enter_return(guard)
                 self._target[guard] = -1
                 continue
-            if mode == "patrol":
+            if mode == GuardState.PATROL:
                 state = self.patrol.state(guard, self._clock[guard] + self.phase)
                 self.cells[guard], self.headings[guard] = int(cell_of_state(state)), int(heading_of_state(state))
-            elif mode == "suspicious":
+            elif mode == GuardState.SUSPICIOUS:
                 self.headings[guard] = self._facing(self.cells[guard], self._noticed[guard], self.headings[guard])
-            elif mode == "investigate":
+            elif mode == GuardState.INVESTIGATE:
                 stepped = False
                 if self.cells[guard] != self._noticed[guard]:
                     stepped = self._walk(guard, distances_from(self.neighbours, np.array([self._noticed[guard]])))
@@ -260,10 +261,10 @@ class AlertEpisode:
                     self._look[guard] += 1
                     if self._look[guard] >= 4:
                         self._enter_return(guard)
-            elif mode == "search" and (
+            elif mode == GuardState.SEARCH and (
                 fields.get(guard) is None or tick - self._since[guard] >= self.rules.search_ticks
             ):
-                self.events.append(AlertEvent(tick, guard, "gave_up"))
+                self.events.append(AlertEvent(tick, guard, Event.GAVE_UP))
                 if self._stats["gave_up"] is None:
                     self._stats["gave_up"] = tick
                 self._target[guard] = -1
@@ -276,23 +277,23 @@ class AlertEpisode:
                 else:
                     field = self._cut_off_field(guard, lead)
                 self._run(guard, field)
-            elif mode == "search":
+            elif mode == GuardState.SEARCH:
                 wanted = fields.get(guard)
                 if wanted is not None:
                     self._search_step(guard, wanted)
-            if self.modes[guard] == "return":
+            if self.modes[guard] == GuardState.RETURN:
                 self._walk_back(guard)
 
     def _chase_roles(self) -> tuple[int, set[int]]:
         """The lead chaser (-1: none sees the intruder) and the guards cutting it off (see the module)."""
         if self.last_known < 0:
             return -1, set()
-        seeing = [g for g, mode in enumerate(self.modes) if mode == "chase" and self.in_sight[g]]
+        seeing = [g for g, mode in enumerate(self.modes) if mode == GuardState.CHASE and self.in_sight[g]]
         if not seeing:
             return -1, set()
         field = distances_from(self.neighbours, np.array([self.last_known]))
         lead = min(seeing, key=lambda g: (int(field[self.cells[g]]), g))
-        alarmed = {g for g, mode in enumerate(self.modes) if mode in ("chase", "search") and g != lead}
+        alarmed = {g for g, mode in enumerate(self.modes) if mode in (GuardState.CHASE, GuardState.SEARCH) and g != lead}
         return lead, alarmed
 
     def _run_steps(self, guard: int) -> int:
@@ -363,7 +364,7 @@ class AlertEpisode:
         claimed = [
             cell
             for other, cell in enumerate(self._target)
-            if other != guard and cell >= 0 and self.modes[other] == "search"
+            if other != guard and cell >= 0 and self.modes[other] == GuardState.SEARCH
         ]
         return search_cell(
             goal, steps, self.grid.shape[1], last_known=self.last_known, travel=self.travel, claimed=claimed
@@ -391,7 +392,7 @@ class AlertEpisode:
             if self.neighbours[cell, direction] >= 0 and field[self.neighbours[cell, direction]] < here
         ]
         options = sorted(dict.fromkeys(options), key=lambda d: (field[self.neighbours[cell, d]], d != heading, d))
-        chasing = self.modes[guard] == "chase"
+        chasing = self.modes[guard] == GuardState.CHASE
         for direction in options:
             there = int(self.neighbours[cell, direction])
             if chasing or not self._crowds(guard, there):
@@ -421,11 +422,11 @@ class AlertEpisode:
         for other in range(len(self.modes)):
             if other == guard or self._together[guard, other] < STEP_ASIDE_TICKS:
                 continue
-            patrolling = self.modes[guard] == "patrol", self.modes[other] == "patrol"
+            patrolling = self.modes[guard] == GuardState.PATROL, self.modes[other] == GuardState.PATROL
             if patrolling[0] != patrolling[1]:
                 if not patrolling[0]:
                     return True
-            elif guard > other or self.modes[other] == "chase":
+            elif guard > other or self.modes[other] == GuardState.CHASE:
                 return True
         return False
 
@@ -457,7 +458,7 @@ class AlertEpisode:
         return True
 
     def _enter_return(self, guard: int) -> None:
-        self.modes[guard] = "return"
+        self.modes[guard] = GuardState.RETURN
         here, clock = self.cells[guard], self._clock[guard]
         steps = distances_from(self.neighbours, np.array([here]))
         for k in range(1, 2 * self.patrol.ticks + self.grid.size + 2):
@@ -486,9 +487,9 @@ class AlertEpisode:
                 return
             state = self.patrol.state(guard, clock + self.phase)
             self.cells[guard], self.headings[guard] = int(cell_of_state(state)), int(heading_of_state(state))
-            self.modes[guard] = "patrol"
+            self.modes[guard] = GuardState.PATROL
             self._rejoin[guard] = None
-            self.events.append(AlertEvent(self.tick, guard, "back_on_route"))
+            self.events.append(AlertEvent(self.tick, guard, Event.BACK_ON_ROUTE))
         elif self.cells[guard] != cell:
             self._walk(guard, field)
 
@@ -511,11 +512,11 @@ class AlertEpisode:
         look = self.movement.look(tick, intruder, self.meters)
         self.in_sight = list(look.seen)
         self.seen_now = look.cells
-        chasing_before = "chase" in self.modes
+        chasing_before = GuardState.CHASE in self.modes
         alarms = self.cameras.look(self.phase + tick, intruder)
         for camera in alarms:
             # The alarm tells every guard where the intruder is now, as a guard's detection tells its team.
-            self.events.append(AlertEvent(tick, camera, "alarm"))
+            self.events.append(AlertEvent(tick, camera, Event.ALARM))
             self.last_known = intruder
             self._stats["detected"] = tick if self._stats["detected"] is None else self._stats["detected"]
             self._radio_at = tick
@@ -523,46 +524,46 @@ class AlertEpisode:
             meter, seen = self.meters[guard], self.in_sight[guard]
             if look.spotted[guard] and not self._done_chasing[guard]:
                 self._saw_at(intruder)
-                if mode != "chase":
+                if mode != GuardState.CHASE:
                     self._enter_chase(guard, chasing_before)
-            elif mode == "chase":
-                self.modes[guard] = "search"
+            elif mode == GuardState.CHASE:
+                self.modes[guard] = GuardState.SEARCH
                 self._since[guard] = tick
                 self._target[guard] = -1
                 self._losses[guard] += 1
                 self._done_chasing[guard] = self._losses[guard] >= self.rules.give_up_losses
-                self.events.append(AlertEvent(tick, guard, "lost"))
+                self.events.append(AlertEvent(tick, guard, Event.LOST))
                 if self._stats["lost"] is None:
                     self._stats["lost"] = tick
-            elif mode == "patrol" and meter.suspicious:
-                self.modes[guard] = "suspicious"
+            elif mode == GuardState.PATROL and meter.suspicious:
+                self.modes[guard] = GuardState.SUSPICIOUS
                 self._noticed[guard], self._rising[guard] = intruder, 0
                 self._left_route = True
-                self.events.append(AlertEvent(tick, guard, "noticed"))
-            elif mode == "suspicious":
+                self.events.append(AlertEvent(tick, guard, Event.NOTICED))
+            elif mode == GuardState.SUSPICIOUS:
                 if meter.level <= 0:
                     self._enter_return(guard)
                 elif seen:
                     self._noticed[guard] = intruder
                     self._rising[guard] += 1
                     if self._rising[guard] >= 2:
-                        self.modes[guard], self._look[guard] = "investigate", 0
+                        self.modes[guard], self._look[guard] = GuardState.INVESTIGATE, 0
                 else:
                     self._rising[guard] = 0
-            elif mode == "investigate" and seen:
+            elif mode == GuardState.INVESTIGATE and seen:
                 self._noticed[guard] = intruder
         # The radio reaches the others only while the alarm is real: a camera's alarm this tick, or someone
         # still chasing or searching with the intruder still here and somewhere left to search.
-        live = any(mode in ("chase", "search") for mode in self.modes) and not self.intruder.gone
-        real = bool(alarms) or (live and (self.contamination.count > 0 or "chase" in self.modes))
+        live = any(mode in (GuardState.CHASE, GuardState.SEARCH) for mode in self.modes) and not self.intruder.gone
+        real = bool(alarms) or (live and (self.contamination.count > 0 or GuardState.CHASE in self.modes))
         if self._radio_at == tick and real:
             for guard, mode in enumerate(self.modes):
-                if mode in ("patrol", "suspicious", "investigate", "return"):
-                    self.modes[guard], self._since[guard], self._rejoin[guard] = "search", tick, None
+                if mode in (GuardState.PATROL, GuardState.SUSPICIOUS, GuardState.INVESTIGATE, GuardState.RETURN):
+                    self.modes[guard], self._since[guard], self._rejoin[guard] = GuardState.SEARCH, tick, None
                     self._left_route = True
-                    self.events.append(AlertEvent(tick, guard, "joined"))
+                    self.events.append(AlertEvent(tick, guard, Event.JOINED))
         if self.last_known >= 0:
-            if alarms or any(self.in_sight[g] and self.modes[g] == "chase" for g in range(len(self.modes))):
+            if alarms or any(self.in_sight[g] and self.modes[g] == GuardState.CHASE for g in range(len(self.modes))):
                 self.contamination.seed(self.last_known)  # in sight: exactly where it is
                 self.search.start(self.last_known, self.travel)
                 self._target = [-1] * len(self.modes)
@@ -577,9 +578,9 @@ class AlertEpisode:
         if intruder >= 0:
             for guard, mode in enumerate(self.modes):
                 # A guard that lost sight at arm's length (the cone turned away) still grabs.
-                alarmed = mode == "chase" or (mode == "search" and self.meters[guard].detected)
+                alarmed = mode == GuardState.CHASE or (mode == GuardState.SEARCH and self.meters[guard].detected)
                 if alarmed and self.movement.distance(guard, intruder) <= self.rules.capture_radius + 1e-9:
-                    self.events.append(AlertEvent(tick, guard, "captured"))
+                    self.events.append(AlertEvent(tick, guard, Event.CAPTURED))
                     self._stats["captured"] = tick
                     self.outcome, self.done = "captured", True
                     break
@@ -599,17 +600,17 @@ class AlertEpisode:
     def _hear(self, noises: list[tuple[int, int, float, str]]) -> None:
         """Guards within a noise's reach (along the grid) that are not chasing or searching investigate
         the cell they heard; their meters are untouched."""
-        self._heard = [heard and self.modes[g] == "investigate" for g, heard in enumerate(self._heard)]
+        self._heard = [heard and self.modes[g] == GuardState.INVESTIGATE for g, heard in enumerate(self._heard)]
         for _, cell, radius, _ in noises:
             hears = heard_within(self.neighbours, cell, radius, self.rules.cell_size, np.array(self.cells))
             for guard in np.flatnonzero(hears).tolist():
-                if self.modes[guard] in ("chase", "search"):
+                if self.modes[guard] in (GuardState.CHASE, GuardState.SEARCH):
                     continue  # already alarmed: it hunts by sight and the radio
-                self.modes[guard], self._noticed[guard], self._look[guard] = "investigate", cell, 0
+                self.modes[guard], self._noticed[guard], self._look[guard] = GuardState.INVESTIGATE, cell, 0
                 self._rejoin[guard] = None
                 self._heard[guard] = True
                 self._left_route = True
-                self.events.append(AlertEvent(self.tick, guard, "heard"))
+                self.events.append(AlertEvent(self.tick, guard, Event.HEARD))
 
     def _saw_at(self, cell: int) -> None:
         """The intruder is seen at ``cell``: the last known cell and its direction of travel."""
@@ -624,11 +625,11 @@ class AlertEpisode:
     def _enter_chase(self, guard: int, chasing_before: bool) -> None:
         tick = self.tick
         first = self._stats["detected"] is None
-        self.modes[guard] = "chase"
+        self.modes[guard] = GuardState.CHASE
         self._rejoin[guard] = None
         self._left_route = True
-        self.events.append(AlertEvent(tick, guard, "detected"))
-        if not chasing_before and "chase" not in [m for g, m in enumerate(self.modes) if g != guard]:
+        self.events.append(AlertEvent(tick, guard, Event.DETECTED))
+        if not chasing_before and GuardState.CHASE not in [m for g, m in enumerate(self.modes) if g != guard]:
             self._stats["detections"] += 1
             if self._stats["lost"] is not None and self._stats["reacquired"] is None:
                 self._stats["reacquired"] = tick
@@ -639,16 +640,18 @@ class AlertEpisode:
 
     def _reach(self) -> int:
         speed = self.rules.intruder_speed
-        return math.floor(self.tick * speed + 1e-9) - math.floor((self.tick - 1) * speed + 1e-9)
+        walking = math.floor(self.tick * speed + 1e-9) - math.floor((self.tick - 1) * speed + 1e-9)
+        # A running evader may have covered more this tick: the guards, who chased it, know it may run.
+        return max(walking, self.intruder.ran)
 
     # -- ending and recording ---------------------------------------------------------------------
 
     def _finish(self) -> None:
         if self.done:
             return
-        if "search" in self.modes:
+        if GuardState.SEARCH in self.modes:
             self._stats["searching"] += 1
-        calm = all(mode == "patrol" for mode in self.modes)
+        calm = all(mode == GuardState.PATROL for mode in self.modes)
         if self.intruder.gone and self._stats["detected"] is None:
             self.outcome, self.done = "undetected_arrival", True
         elif self._stats["detected"] is not None and calm:
@@ -691,7 +694,7 @@ class AlertEpisode:
                 near = (
                     abs(a // cols - b // cols) + abs(a % cols - b % cols) <= 1
                     and not (self._corridor[a] or self._corridor[b])
-                    and not (self.modes[first] == "chase" and self.modes[second] == "chase")
+                    and not (self.modes[first] == GuardState.CHASE and self.modes[second] == GuardState.CHASE)
                 )
                 count = self._together[first, second] + 1 if near else 0
                 self._together[first, second] = self._together[second, first] = count

@@ -14,22 +14,36 @@ intruder walks unless its route gives a step the ``sneak`` gait; the others walk
   call when there is none), entering the level at the tick its path starts (outside until then: no
   guard sees or catches it); chased, it flees
   as the evader does, then walks the shortest path to its goal once no guard is alarmed.
-- ``evader``: walks the shortest path to its goal; chased, it runs for the cell it reaches first whose
-  distance from every guard is largest, waits there while guards are alarmed, then resumes.
+- ``evader``: walks the shortest path to its goal; chased, it makes for the cell it reaches first whose
+  distance from every guard is largest, waits there while guards are alarmed, then resumes. With a
+  ``run_speed`` it runs while chased: that many cells a tick instead of ``speed`` (its steps are walking
+  steps, as loud).
 - ``still``: stays where it is put.
 """
 
 from __future__ import annotations
 
 from collections.abc import Sequence
-from typing import Any, NamedTuple
+from typing import Any, NamedTuple, TypeVar
 
 import numpy as np
 
+from guardsim.errors import ArgumentError
 from guardsim.kernels.distances import FAR, distances_from
 from guardsim.kernels.steps import greedy_step
 
-__all__ = ["Distraction", "Intruder", "RouteFile", "make_intruder", "read_route_file", "read_route_points"]
+__all__ = [
+    "Distraction",
+    "Intruder",
+    "RouteFile",
+    "make_intruder",
+    "read_route_file",
+    "read_route_points",
+    "route_of_path",
+]
+
+
+_Cell = TypeVar("_Cell")
 
 
 class Intruder:
@@ -47,12 +61,16 @@ class Intruder:
         wait_until: int = 0,
         gaits: Sequence[str] | None = None,
         sneak_ticks: int = 2,
+        run_speed: float | None = None,
     ) -> None:
         self.kind = kind
         self.neighbours = np.ascontiguousarray(neighbours, dtype=np.int64)
         self.cell = int(cell)
         self.goal = int(goal)
         self.speed = float(speed)
+        self.run_speed = None if run_speed is None else float(run_speed)
+        self.ran = 0
+        """Moves the intruder had this tick when it ran (an evader chased, with a ``run_speed``), else 0."""
         self.heading = 0
         self.gone = False
         """Whether it reached its goal and left."""
@@ -81,15 +99,18 @@ class Intruder:
         """Move for tick ``tick``: ``chased`` when some guard chases it, ``alarmed`` when some guard is
         chasing or searching."""
         self.landed = []
+        self.ran = 0
         if self.gone or self.kind == "still":
             return
         if not self.present:
             # Outside until the tick its path starts, when it stands at its entry; it moves from the next.
             self.present = tick >= self._wait_until
             return
-        self._credit += self.speed
+        running = self.kind == "evader" and chased and self.run_speed is not None
+        self._credit += self.run_speed if running and self.run_speed is not None else self.speed
         while self._credit >= 1.0 - 1e-9 and not self.gone:
             self._credit -= 1.0
+            self.ran += 1 if running else 0
             if self._next_gait() == "sneak" and self._sneaking < self.sneak_ticks - 1:
                 self._sneaking += 1  # still in the cell it sneaks from
                 continue
@@ -125,8 +146,9 @@ class Intruder:
         return self._towards_goal()
 
     def _next_gait(self) -> str:
-        """The gait of the next step: a route's own, else walking."""
-        if self.kind == "route" and self._route and self._gaits:
+        """The gait of the next step: a route's own (a ``sneak`` intruder's planned path, until it flees),
+        else walking."""
+        if (self.kind == "route" or (self.kind == "sneak" and not self._fled)) and self._route and self._gaits:
             return self._gaits[0]
         return "walk"
 
@@ -169,6 +191,24 @@ class Intruder:
         return self._step_to(self._hiding_cell(guard_cells))
 
 
+def route_of_path(cells: Sequence[_Cell], gaits: Sequence[str] | None) -> tuple[list[_Cell], list[str]]:
+    """A path of the sneak check (flat cells per tick, and what it does in each tick after the first, as
+    :attr:`guardsim.sneak.SneakPath.gaits`) as an intruder's route and the gait into each route cell: a
+    sneaking step's ticks before it lands are the step's own, not waits, so they leave the route.
+
+    >>> route_of_path([0, 0, 1, 2, 2], ("sneak", "sneak", "walk", "wait"))
+    ([0, 1, 2, 2], ['walk', 'sneak', 'walk', 'walk'])
+    """
+    route, steps = [cells[0]], ["walk"]
+    for tick in range(1, len(cells)):
+        gait = "walk" if gaits is None else gaits[tick - 1]
+        if gait == "sneak" and cells[tick] == cells[tick - 1]:
+            continue  # still in the cell it sneaks from
+        route.append(cells[tick])
+        steps.append("sneak" if gait == "sneak" else "walk")
+    return route, steps
+
+
 def make_intruder(
     kind: str,
     neighbours: np.ndarray,
@@ -180,6 +220,7 @@ def make_intruder(
     wait_until: int = 0,
     gaits: Sequence[str] | None = None,
     sneak_ticks: int = 2,
+    run_speed: float | None = None,
 ) -> Intruder:
     """An intruder of ``kind`` at flat ``cell``; ``route`` is the path a ``route`` or ``sneak`` intruder walks.
 
@@ -191,10 +232,10 @@ def make_intruder(
     from guardsim.alert.model import INTRUDERS
 
     if kind not in INTRUDERS:
-        raise ValueError(f"unknown intruder {kind!r}; choose from {', '.join(INTRUDERS)}")
+        raise ArgumentError(f"unknown intruder {kind!r}; choose from {', '.join(INTRUDERS)}")
     return Intruder(
         kind, neighbours, cell, goal=goal, route=route, speed=speed, wait_until=wait_until, gaits=gaits,
-        sneak_ticks=sneak_ticks,
+        sneak_ticks=sneak_ticks, run_speed=run_speed,
     )  # fmt: skip
 
 
@@ -218,12 +259,13 @@ class RouteFile(NamedTuple):
     distractions: list[Distraction]
 
 
-def read_route_file(path: str) -> RouteFile:
+def read_route_file(path: str, *, sneak_ticks: int | None = None) -> RouteFile:
     """A route intruder's file: a JSON list whose items are waypoints, ``[x, y]`` (walked to) or
     ``{"to": [x, y], "gait": "sneak"}``, and distractions, ``{"throw": [x, y], "at": seconds, "noise":
-    radius}``; or a sneak.json (its ``path``). Every fault is one :class:`~guardsim.errors.GuardsimError`
-    line naming the file and the item, numbers through the one number parser (finite, within float
-    range)."""
+    radius}``; or a sneak.json (its ``path``, and the ``gaits`` of ``sneak --unheard``, whose sneaking
+    steps must take the level's ``sneak_ticks`` when given). Every fault is one
+    :class:`~guardsim.errors.GuardsimError` line naming the file and the item, numbers through the one
+    number parser (finite, within float range)."""
     from guardsim.errors import GuardsimError
     from guardsim.files.reading import NumberError, finite_number, read_json_file
     from guardsim.level.model import GAITS
@@ -287,7 +329,36 @@ def read_route_file(path: str) -> RouteFile:
         out.gaits.append(gait)
     if not out.points:
         raise GuardsimError(f"{path}: a route file needs at least one [x, y] point")
+    gaits = data.get("gaits") if cells else None
+    if gaits is not None:
+        # sneak --unheard's path: what it does in each tick; a sneaking step's first ticks leave the route.
+        if not (isinstance(gaits, list) and len(gaits) == len(out.points) - 1 and set(gaits) <= {*GAITS, "wait"}):
+            raise GuardsimError(f"{path}: gaits: not one of walk, sneak, wait per tick of the path after the first")
+        if sneak_ticks is not None:
+            _check_sneaking_steps(path, out.points, gaits, sneak_ticks)
+        points, steps = route_of_path(out.points, gaits)
+        return RouteFile(points, steps, out.distractions)
     return out
+
+
+def _check_sneaking_steps(path: str, points: Sequence[Any], gaits: Sequence[str], sneak_ticks: int) -> None:
+    """Each sneaking step of a sneak.json's gaits stays ``sneak_ticks - 1`` ticks in its cell and lands at
+    the next: a path planned with another ``sneak_ticks`` is not one this level allows."""
+    from guardsim.errors import GuardsimError
+
+    tick = 1
+    while tick < len(points):
+        if gaits[tick - 1] != "sneak":
+            tick += 1
+            continue
+        lands = next((t for t in range(tick, len(points)) if points[t] != points[t - 1]), len(points) - 1)
+        taken = lands - tick + 1
+        if taken != sneak_ticks or any(gait != "sneak" for gait in gaits[tick - 1 : lands]):
+            raise GuardsimError(
+                f"{path}: gaits: the sneaking step landing at tick {lands} takes {taken} ticks; "
+                f"the level's sneak_ticks is {sneak_ticks}"
+            )
+        tick = lands + 1
 
 
 def read_route_points(path: str) -> list[tuple[float, float]]:

@@ -21,17 +21,67 @@ from __future__ import annotations
 
 import math
 from dataclasses import dataclass
+from enum import Enum
 from typing import NamedTuple
 
+from guardsim.errors import ArgumentError
 from guardsim.level.model import Level
 
-__all__ = ["EVENTS", "GUARD_STATES", "INTRUDERS", "OUTCOMES", "AlertEvent", "AlertOutcome", "AlertRules"]
+__all__ = [
+    "EVENTS",
+    "GUARD_STATES",
+    "INTRUDERS",
+    "OUTCOMES",
+    "AlertEvent",
+    "AlertOutcome",
+    "AlertRules",
+    "Event",
+    "GuardState",
+]
+
+
+class _Name(str, Enum):
+    """A name that is its own string (``enum.StrEnum`` from Python 3.11 on)."""
+
+    __str__ = str.__str__
+
+
+class GuardState(_Name):
+    """A guard's state, calm to alarmed, then back. Each is its name as a string (``GuardState.CHASE ==
+    "chase"``), which is what traces and pages hold.
+
+    >>> GuardState("search") is GuardState.SEARCH, str(GuardState.RETURN), GuardState.CHASE == "chase"
+    (True, 'return', True)
+    """
+
+    PATROL = "patrol"
+    SUSPICIOUS = "suspicious"
+    INVESTIGATE = "investigate"
+    CHASE = "chase"
+    SEARCH = "search"
+    RETURN = "return"
+
+
+class Event(_Name):
+    """What the ``events`` list of an alert trace records (a string, as :class:`GuardState`)."""
+
+    NOTICED = "noticed"
+    DETECTED = "detected"
+    LOST = "lost"
+    JOINED = "joined"
+    CAPTURED = "captured"
+    GAVE_UP = "gave_up"
+    BACK_ON_ROUTE = "back_on_route"
+    ARRIVED = "arrived"
+    ALARM = "alarm"
+    HEARD = "heard"
+
 
 #: Every state a guard can be in, calm to alarmed, then back.
-GUARD_STATES = ("patrol", "suspicious", "investigate", "chase", "search", "return")
+GUARD_STATES = tuple(GuardState)
 
 #: What the ``events`` list of an alert trace records.
-EVENTS = ("noticed", "detected", "lost", "joined", "captured", "gave_up", "back_on_route", "arrived", "alarm", "heard")
+EVENTS = tuple(Event)
 
 #: The intruder kinds, by the name ``guardsim alert --intruder`` takes.
 INTRUDERS = ("route", "sneak", "evader", "still")
@@ -71,29 +121,37 @@ class AlertRules:
     """Ticks a sneaking step takes."""
     cell_size: float = 1.0
     """World units per cell (noise radii are in world units)."""
+    run_speed: float | None = None
+    """Cells per tick an ``evader`` runs while some guard chases it (fractions accumulate, as for
+    ``intruder_speed``); ``None``: it walks at ``intruder_speed`` chased or not."""
 
     def __post_init__(self) -> None:
         for name in ("capture_radius", "search_seconds", "radio_delay", "intruder_speed"):
             value = getattr(self, name)
             if not (math.isfinite(value) and value >= 0):
-                raise ValueError(f"alert: {name} must be a finite number >= 0, not {value!r}")
+                raise ArgumentError(f"alert: {name} must be a finite number >= 0, not {value!r}")
         if not (math.isfinite(self.chase_speed) and self.chase_speed > 0):
-            raise ValueError(f"alert: chase_speed must be a finite number > 0, not {self.chase_speed!r}")
+            raise ArgumentError(f"alert: chase_speed must be a finite number > 0, not {self.chase_speed!r}")
         if not (isinstance(self.give_up_losses, int) and self.give_up_losses >= 1):
-            raise ValueError(f"alert: give_up_losses must be a whole number >= 1, not {self.give_up_losses!r}")
+            raise ArgumentError(f"alert: give_up_losses must be a whole number >= 1, not {self.give_up_losses!r}")
         for name in ("walk_noise", "sneak_noise"):
             value = getattr(self, name)
             if not (math.isfinite(value) and value >= 0):
-                raise ValueError(f"alert: {name} must be a finite number >= 0, not {value!r}")
+                raise ArgumentError(f"alert: {name} must be a finite number >= 0, not {value!r}")
         if not (isinstance(self.sneak_ticks, int) and self.sneak_ticks >= 1):
-            raise ValueError(f"alert: sneak_ticks must be a whole number >= 1, not {self.sneak_ticks!r}")
+            raise ArgumentError(f"alert: sneak_ticks must be a whole number >= 1, not {self.sneak_ticks!r}")
+        if self.run_speed is not None and not (math.isfinite(self.run_speed) and self.run_speed > 0):
+            raise ArgumentError(f"alert: run_speed must be a finite number > 0, not {self.run_speed!r}")
         if not (math.isfinite(self.dt) and self.dt > 0):
-            raise ValueError(f"alert: dt must be a finite number > 0, not {self.dt!r}")
+            raise ArgumentError(f"alert: dt must be a finite number > 0, not {self.dt!r}")
 
     @classmethod
-    def of_level(cls, level: Level, *, intruder_speed: float | None = None) -> AlertRules:
+    def of_level(
+        cls, level: Level, *, intruder_speed: float | None = None, run_speed: float | None = None
+    ) -> AlertRules:
         """The level's guard keys; the intruder moves at ``intruder_speed`` world units per second
-        (default: the guard's walking speed)."""
+        (default: the guard's walking speed), and an evader runs at ``run_speed`` while chased (default:
+        it walks)."""
         from guardsim.detection import grid_tick_seconds
 
         dt = grid_tick_seconds(level)
@@ -112,6 +170,7 @@ class AlertRules:
             sneak_noise=level.intruder.sneak_noise,
             sneak_ticks=level.intruder.sneak_ticks,
             cell_size=level.cell_size,
+            run_speed=None if run_speed is None else run_speed * dt / level.cell_size,
         )
 
     @property

@@ -29,6 +29,7 @@ import numpy as np
 import pymunk
 
 from guardsim.detection import AwarenessMeter, GuardDetection
+from guardsim.errors import ArgumentError
 from guardsim.grid import CoverageGrid
 from guardsim.kernels.meter import DETECTED
 from guardsim.kernels.steps import state_of
@@ -333,7 +334,7 @@ def make_movement(
         return GridMovement(scene.grid, table, detection, guards)
     if motion == "continuous":
         return ContinuousMovement(scene, GuardMotion.of_guard(scene.level.guard), dt, guards)
-    raise ValueError(f"unknown motion {motion!r}; choose from grid, continuous")
+    raise ArgumentError(f"unknown motion {motion!r}; choose from grid, continuous")
 
 
 def _remove(space: pymunk.Space, owned: list[pymunk.Body | pymunk.Shape]) -> None:

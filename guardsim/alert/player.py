@@ -98,11 +98,11 @@ class GameGuards:
     >>> import guardsim
     >>> from guardsim.patrol.model import Patrol
     >>> scene = guardsim.Scene.from_level(guardsim.parse_level({"outer": [[0, 0], [6, 0], [6, 3], [0, 3]]}))
-    >>> post = Patrol(np.array([[scene.grid.flat(0, 1) * 4]]), period=1, strategy="loop")
+    >>> post = Patrol.standing(scene.grid, [((0.5, 1.5), "right")])
     >>> guards = GameGuards(scene, post, player=(5.5, 0.5))
     >>> frame = guards.frame((5.5, 1.5), 0.25)
     >>> frame.tick, frame.states
-    (0, ['patrol'])
+    (0, [<GuardState.PATROL: 'patrol'>])
     >>> [guards.frame((5.5, 1.5), 0.25).tick for _ in range(3)]
     [1, 1, 2]
     """

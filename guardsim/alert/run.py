@@ -10,11 +10,12 @@ from typing import Any, NamedTuple
 import numpy as np
 
 from guardsim.alert.episode import AlertEpisode
-from guardsim.alert.intruders import make_intruder
+from guardsim.alert.intruders import make_intruder, route_of_path
 from guardsim.alert.model import AlertOutcome, AlertRules
 from guardsim.alert.movement import ContinuousMovement, make_movement
 from guardsim.detection import GuardDetection
 from guardsim.detection.watch import level_watch
+from guardsim.errors import ArgumentError
 from guardsim.grid import CoverageGrid
 from guardsim.kernels.distances import FAR, distances_from
 from guardsim.motion.parameters import GuardMotion
@@ -39,7 +40,7 @@ DEFAULT_MAX_SECONDS = 300.0
 def _shortest_path(grid: CoverageGrid, source: int, target: int) -> list[int]:
     field = distances_from(grid.neighbours, np.array([target], dtype=np.int64))
     if field[source] >= FAR:
-        raise ValueError("the intruder's goal cannot be reached from its start")
+        raise ArgumentError("the intruder's goal cannot be reached from its start")
     path, here = [source], source
     while here != target:
         here = min((int(n) for n in grid.neighbours[here] if n >= 0), key=lambda n: (field[n], n))
@@ -89,7 +90,7 @@ def alert_episode(
     detection = detection if detection is not None else GuardDetection.of_level(scene.level)
     wait = 0
     if intruder in ("route", "sneak") and target < 0 and route is None:
-        raise ValueError(f"a {intruder} intruder needs a goal (or a route)")
+        raise ArgumentError(f"a {intruder} intruder needs a goal (or a route)")
     if intruder == "route" and route is None:
         route = _shortest_path(grid, source, target)
     if intruder == "sneak" and route is None:
@@ -97,15 +98,18 @@ def alert_episode(
         from guardsim.sneak import closest_call, find_sneak
 
         seen = seen_timeline(table, patrol.states, grid.size)
-        path = find_sneak(grid.neighbours, seen, source, target) or closest_call(grid.neighbours, seen, source, target)
+        heard = _lap_ears(grid, patrol, rules)
+        path = find_sneak(grid.neighbours, seen, source, target, heard=heard, sneak_ticks=rules.sneak_ticks)
+        path = path or closest_call(grid.neighbours, seen, source, target, heard=heard, sneak_ticks=rules.sneak_ticks)
         if path is None:
-            raise ValueError("the intruder's goal cannot be reached from its start")
-        route = path.cells.tolist()
+            raise ArgumentError("the intruder's goal cannot be reached from its start")
+        route, gaits = route_of_path(path.cells.tolist(), path.gaits)
         # Spotted, it is already in the level (seen at its entry); else it enters when its path starts.
         wait = 0 if spotted else (path.start_tick - phase) % int(patrol.period or 1)
     runner = make_intruder(
         intruder, grid.neighbours, source, goal=target, route=route, speed=rules.intruder_speed, wait_until=wait,
-        gaits=gaits if intruder == "route" else None, sneak_ticks=rules.sneak_ticks,
+        gaits=gaits if intruder in ("route", "sneak") else None, sneak_ticks=rules.sneak_ticks,
+        run_speed=rules.run_speed,
     )  # fmt: skip
     max_ticks = max(1, int(max_seconds / rules.dt + 1e-9))
     movement = make_movement(motion, scene, table, detection, dt=rules.dt, guards=patrol.guards)
@@ -126,6 +130,19 @@ def alert_episode(
         watch=watch,
         distractions=distractions,
     )
+
+
+def _lap_ears(grid: CoverageGrid, patrol: Patrol, rules: AlertRules) -> np.ndarray | None:
+    """Where and when the patrol hears each gait's step land (the sneak planner's ears), ``None`` when no
+    walking step is ever heard (then walking is never worse than sneaking: the plan walks)."""
+    from guardsim.detection.hearing import lap_hearing
+    from guardsim.level.model import IntruderSpec
+
+    if rules.walk_noise <= 0:
+        return None
+    ears = IntruderSpec(walk_noise=rules.walk_noise, sneak_ticks=rules.sneak_ticks, sneak_noise=rules.sneak_noise)
+    heard = lap_hearing(grid.neighbours, patrol.states, ears, rules.cell_size)
+    return heard if heard[0].any() else None
 
 
 def alert_trace_data(

@@ -27,6 +27,7 @@ from typing import Protocol
 
 import numpy as np
 
+from guardsim.errors import ArgumentError
 from guardsim.kernels.distances import FAR, distance_fields, distances_from
 
 __all__ = ["SEARCHES", "Contamination", "SearchStrategy", "make_search"]
@@ -276,5 +277,5 @@ def make_search(name: str, neighbours: np.ndarray) -> SearchStrategy:
         "last-known": LastKnownSearch,
     }
     if name not in kinds:
-        raise ValueError(f"unknown search strategy {name!r}; choose from {', '.join(SEARCHES)}")
+        raise ArgumentError(f"unknown search strategy {name!r}; choose from {', '.join(SEARCHES)}")
     return kinds[name](neighbours)

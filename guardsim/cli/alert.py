@@ -17,9 +17,11 @@ from guardsim.alert.intruders import read_route_file
 from guardsim.cli.alert_batch import episode_trace, run_first, run_options, run_pending
 from guardsim.cli.common import (
     DetectionOverrides,
+    EarsOverrides,
     FiniteFloatRange,
     build_scene,
     detection_options,
+    ears_options,
     limit_options,
     load,
     parse_point,
@@ -29,7 +31,6 @@ from guardsim.cli.common import (
 from guardsim.cli.map_options import MapImport, map_options
 from guardsim.cli.motion import _SPEED_HELP, _speed_options, check_motion, motion_of
 from guardsim.cli.patrol import output_folder
-from guardsim.cli.sneak import sneak_cell
 from guardsim.errors import GuardsimError
 from guardsim.files.output import write_text_atomic
 from guardsim.motion.parameters import MOTIONS
@@ -108,14 +109,11 @@ def _motion_options(command: F) -> F:
     "--intruder-speed", type=FiniteFloatRange(min=0, max=1e6), help="World units per second [default: the guard's]."
 )
 @click.option(
-    "--walk-noise",
-    type=FiniteFloatRange(min=0, max=1e6),
-    help="World units a walking step carries [level's intruder key].",
+    "--run-speed",
+    type=FiniteFloatRange(min=0, min_open=True, max=1e6),
+    help="World units per second an evader runs while chased [default: it walks at --intruder-speed].",
 )
-@click.option(
-    "--sneak-noise", type=FiniteFloatRange(min=0, max=1e6), help="World units a sneaking step carries [level's key]."
-)
-@click.option("--sneak-ticks", type=click.IntRange(min=1, max=1000), help="Ticks a sneaking step takes [level's key].")
+@ears_options
 @click.option(
     "--spotted",
     is_flag=True,
@@ -158,9 +156,8 @@ def alert(
     seed: int,
     max_seconds: float,
     intruder_speed: float | None,
-    walk_noise: float | None,
-    sneak_noise: float | None,
-    sneak_ticks: int | None,
+    run_speed: float | None,
+    ears_overrides: EarsOverrides,
     spotted: bool,
     out_dir: str | None,
     trace_path: str | None,
@@ -211,10 +208,8 @@ def alert(
     if workers is not None and scheduler is not None and scheduler != "local":
         raise GuardsimError("--workers and --scheduler exclude each other: the scheduler's workers run the episodes")
     level = detection_overrides.apply(load(level_path, max_cells, max_vertices, max_file_bytes, map_import))
-    given: dict[str, Any] = {"walk_noise": walk_noise, "sneak_noise": sneak_noise, "sneak_ticks": sneak_ticks}
-    ears = {key: value for key, value in given.items() if value is not None}
-    if ears:
-        level = dataclasses.replace(level, intruder=dataclasses.replace(level.intruder, **ears))
+    ears = {key: value for key, value in dataclasses.asdict(ears_overrides).items() if value is not None}
+    level = ears_overrides.apply(level)
     from guardsim.kernels.ahead import compile_ahead
 
     compile_ahead("alert")
@@ -224,21 +219,21 @@ def alert(
     if patrol.motion != "grid" or patrol.period is None:
         raise GuardsimError(f"{patrol_path}: alert needs a repeating grid-motion patrol (from guardsim patrol)")
     searches = list(SEARCHES) if search == "all" else [search]
-    rules = AlertRules.of_level(level, intruder_speed=intruder_speed)
+    rules = AlertRules.of_level(level, intruder_speed=intruder_speed, run_speed=run_speed)
     detection = GuardDetection(GuardDetection.of_level(level).model, scene.cone.view_range, rules.dt)
     walking = motion_of(scene, move_speed, turn_speed, tick_hz) if motion == "continuous" else None
-    start = sneak_cell(grid, source, "--from") if source is not None else None
-    goal = sneak_cell(grid, target, "--to") if target is not None else None
+    start = grid.floor_cell(source, "--from") if source is not None else None
+    goal = grid.floor_cell(target, "--to") if target is not None else None
     route = gaits = None
     distractions: list[tuple[int, int, float]] = []
     if route_path is not None:
         if intruder != "route":
             raise GuardsimError("--route is the path of a route intruder: give --intruder route")
-        route_file = read_route_file(route_path)
+        route_file = read_route_file(route_path, sneak_ticks=level.intruder.sneak_ticks)
         points, gaits = route_file.points, route_file.gaits
-        route = [sneak_cell(grid, point, f"{route_path}: point") for point in points]
+        route = [grid.floor_cell(point, f"{route_path}: point") for point in points]
         for throw in route_file.distractions:
-            cell = sneak_cell(grid, throw.point, f"{route_path}: throw")
+            cell = grid.floor_cell(throw.point, f"{route_path}: throw")
             distractions.append((round(throw.seconds / rules.dt), cell, throw.noise))
         for index, (before, after) in enumerate(itertools.pairwise(route)):
             if after != before and after not in grid.neighbours[before].tolist():
@@ -251,7 +246,7 @@ def alert(
     if alone and start is None and level.player_starts:
         # One episode enters where the level says the player starts (many draw their entries from --seed).
         source = level.player_starts[0]
-        start = sneak_cell(grid, source, "the level's player start")
+        start = grid.floor_cell(source, "the level's player start")
         click.echo(f"from the level's player start ({source[0]:g}, {source[1]:g})")
     if alone and start is None:
         raise GuardsimError("one episode needs --from X,Y (and --to X,Y unless the intruder is still)")

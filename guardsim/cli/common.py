@@ -15,7 +15,8 @@ from typing import Any, TypeVar, cast
 import click
 import numpy as np
 
-from guardsim.cli.params import FiniteFloatRange
+from guardsim.cli.map_options import MapImport, report_import
+from guardsim.cli.types import FiniteFloatRange
 from guardsim.errors import GuardsimError, LimitError
 from guardsim.files.reading import display_path
 from guardsim.grid import CoverageGrid
@@ -27,11 +28,12 @@ from guardsim.vision.rules import LineOfSight
 __all__ = [
     "LIMIT_OPTIONS",
     "DetectionOverrides",
-    "FiniteFloatRange",
+    "EarsOverrides",
     "build_scene",
     "cell_text",
     "cli_start",
     "detection_options",
+    "ears_options",
     "gif_suffix",
     "limit_options",
     "load",
@@ -210,7 +212,6 @@ def limit_options(command: F) -> F:
 
 def load(path: str, max_cells: int, max_vertices: int, max_file_bytes: int, map_import: Any = None) -> Level:
     """:func:`guardsim.load_level` with the command's options; an imported map's summary and warnings on stderr."""
-    from guardsim.cli.map_options import MapImport, report_import
     from guardsim.importers import load_level
 
     map_import = map_import or MapImport()
@@ -286,6 +287,49 @@ def detection_options(command: F) -> F:
     for name, text in helps.items():
         upper = 1 if name == "suspicious" else None
         decorated = click.option(f"--{name}", type=FiniteFloatRange(min=0, max=upper), help=text)(decorated)
+    return cast(F, decorated)
+
+
+@dataclasses.dataclass(frozen=True)
+class EarsOverrides:
+    """The noise options a command was given (:func:`ears_options`): each replaces the level's
+    ``intruder`` key of the same name (:class:`guardsim.level.model.IntruderSpec`); ``None`` keeps it."""
+
+    walk_noise: float | None = None
+    sneak_noise: float | None = None
+    sneak_ticks: int | None = None
+
+    def apply(self, level: Level) -> Level:
+        """``level`` with the overrides given applied (the level itself when none is)."""
+        given = {key: value for key, value in dataclasses.asdict(self).items() if value is not None}
+        return dataclasses.replace(level, intruder=dataclasses.replace(level.intruder, **given)) if given else level
+
+
+def ears_options(command: F) -> F:
+    """Options that override the level's intruder noise keys: --walk-noise, --sneak-noise, --sneak-ticks.
+
+    The command receives them as one ``ears_overrides: EarsOverrides`` argument (:meth:`EarsOverrides.apply`).
+    """
+    keys = [field.name for field in dataclasses.fields(EarsOverrides)]
+
+    @functools.wraps(command)
+    def wrapper(*args: Any, **kwargs: Any) -> Any:
+        return command(*args, ears_overrides=EarsOverrides(**{key: kwargs.pop(key) for key in keys}), **kwargs)
+
+    decorated: Any = wrapper
+    decorated = click.option(
+        "--sneak-ticks", type=click.IntRange(min=1, max=1000), help="Ticks a sneaking step takes [level's key]."
+    )(decorated)
+    decorated = click.option(
+        "--sneak-noise",
+        type=FiniteFloatRange(min=0, max=1e6),
+        help="World units a sneaking step carries [level's key].",
+    )(decorated)
+    decorated = click.option(
+        "--walk-noise",
+        type=FiniteFloatRange(min=0, max=1e6),
+        help="World units a walking step carries [level's intruder key].",
+    )(decorated)
     return cast(F, decorated)
 
 

@@ -16,7 +16,7 @@ from typing import Any, TypeVar, cast
 
 import click
 
-from guardsim.cli.params import FiniteFloatRange
+from guardsim.cli.types import FiniteFloatRange
 from guardsim.importers import FORMATS, ImportedLevel, ImportOptions, load_level
 from guardsim.importers.image import DEFAULT_THRESHOLD
 from guardsim.importers.loading import is_map_json

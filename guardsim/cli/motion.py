@@ -7,7 +7,7 @@ from typing import Any, TypeVar
 
 import click
 
-from guardsim.cli.common import FiniteFloatRange
+from guardsim.cli.types import FiniteFloatRange
 from guardsim.errors import GuardsimError
 from guardsim.motion.parameters import DEFAULT_MOVE_SPEED, DEFAULT_TICK_HZ, DEFAULT_TURN_SPEED, MOTIONS, GuardMotion
 from guardsim.scene import Scene

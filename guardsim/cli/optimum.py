@@ -314,7 +314,6 @@ def _guaranteed(
     out_path: str | None,
 ) -> None:
     """``--search-from``: the guaranteed search, printed and written."""
-    from guardsim.cli.sneak import sneak_cell
     from guardsim.optimum.guaranteed import guaranteed_data, guaranteed_search, search_region, smallest_team
     from guardsim.vision.table import view_table
 
@@ -326,7 +325,7 @@ def _guaranteed(
         where = "anywhere"
     else:
         assert isinstance(search_from, tuple)
-        centre = grid.unflat(sneak_cell(grid, search_from, "--search-from"))
+        centre = grid.unflat(grid.floor_cell(search_from, "--search-from"))
         region = search_region(grid, centre, radius)
         where = f"within {radius} steps of {cell_text(grid, centre)}"
     table = view_table(grid, scene.vision())

@@ -12,7 +12,6 @@ from pathlib import Path
 import click
 
 from guardsim.cli.common import (
-    FiniteFloatRange,
     build_scene,
     limit_options,
     load,
@@ -24,6 +23,7 @@ from guardsim.cli.common import (
 )
 from guardsim.cli.map_options import MapImport, map_options
 from guardsim.cli.progress import StageLine
+from guardsim.cli.types import FiniteFloatRange
 from guardsim.errors import GuardsimError
 from guardsim.patrol.job import PatrolJob, check_job, run_patrol, tiled_source_of, write_patrol_files
 from guardsim.patrol.model import STRATEGIES

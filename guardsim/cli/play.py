@@ -20,10 +20,10 @@ from guardsim.cli.map_options import MapImport, map_options
 from guardsim.cli.motion import check_motion, check_speed_up, motion_of, motion_options, speed_up_option
 from guardsim.files.output import write_text_atomic
 from guardsim.level import HEADINGS
-from guardsim.motion import summary_text
+from guardsim.motion import run_episode, summary_text
 from guardsim.planners import FIELD_PLANNERS, PLANNERS, plain_loop_pays, planner_options
 from guardsim.render.timeline import DEFAULT_MAX_FRAMES, GifOptions
-from guardsim.simulation import Simulation, run_episode, team_starts
+from guardsim.simulation import Simulation, team_starts
 
 __all__ = ["play"]
 

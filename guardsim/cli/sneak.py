@@ -2,6 +2,7 @@
 
 from __future__ import annotations
 
+import itertools
 import sys
 from typing import cast
 
@@ -9,8 +10,10 @@ import click
 
 from guardsim.cli.common import (
     DetectionOverrides,
+    EarsOverrides,
     build_scene,
     detection_options,
+    ears_options,
     limit_options,
     load,
     parse_point,
@@ -23,26 +26,14 @@ from guardsim.cli.map_options import MapImport, map_options
 from guardsim.cli.patrol import output_folder
 from guardsim.cli.progress import StageLine
 from guardsim.errors import GuardsimError
-from guardsim.grid import CoverageGrid
 from guardsim.pictures import write_sneak_pictures
 
-__all__ = ["sneak", "sneak_cell"]
+__all__ = ["gait_runs", "sneak"]
 
 
 def _each_point(ctx: click.Context, param: click.Parameter, values: tuple[str, ...]) -> tuple[tuple[float, float], ...]:
     """Click callback of a repeatable ``X,Y`` option."""
     return tuple(point for point in (parse_point(ctx, param, value) for value in values) if point is not None)
-
-
-def sneak_cell(scene_grid: CoverageGrid, point: tuple[float, float], option: str) -> int:
-    """The flat cell of a point given as ``option``, or a one-line error saying why it cannot be used."""
-    cell = scene_grid.cell_of(point)
-    where = f"{option} {point[0]:g},{point[1]:g}"
-    if cell is None:
-        raise GuardsimError(f"{where} lies outside the level")
-    if not scene_grid.traversable[cell[1], cell[0]]:
-        raise GuardsimError(f"{where} is in cell [{cell[0]}, {cell[1]}], where a guard-sized intruder does not fit")
-    return scene_grid.flat(*cell)
 
 
 @click.command()
@@ -75,6 +66,13 @@ def sneak_cell(scene_grid: CoverageGrid, point: tuple[float, float], option: str
     help="Search for a path no guard's awareness meter fills on (seen briefly is allowed), not an unseen one.",
 )
 @click.option(
+    "--unheard",
+    is_flag=True,
+    help="Also choose a gait for every step (walk: 1 tick; sneak: --sneak-ticks) so that no guard hears one "
+    "land (the level's intruder noise keys).",
+)
+@ears_options
+@click.option(
     "--safe",
     "safe",
     multiple=True,
@@ -103,6 +101,8 @@ def sneak(
     gif_path: str | None,
     html_path: str | None,
     undetected: bool,
+    unheard: bool,
+    ears_overrides: EarsOverrides,
     safe: tuple[tuple[float, float], ...],
     max_lap: int | None,
     detection_overrides: DetectionOverrides,
@@ -123,6 +123,11 @@ def sneak(
     the fastest undetected path, else the same closest call. Either way the path is replayed through the
     meters (detected, peak awareness, risk) and the slack is counted: from how many of the lap's ticks a
     player entering gets through.
+
+    With --unheard, the search also chooses a gait for every step, walking (one tick) or sneaking
+    (--sneak-ticks ticks, in the cell it leaves for all but the last), and no guard may hear a step land
+    (the level's walk_noise and sneak_noise, along the grid: docs/alert.md); the gaits are printed and in
+    sneak.json.
     """
     from guardsim.patrol import read_patrol
     from guardsim.sneak import sneak_data
@@ -143,6 +148,7 @@ def sneak(
             check_writable(named)
     progress = StageLine(sys.stderr, "sneak").start()
     level = detection_overrides.apply(load(level_path, max_cells, max_vertices, max_file_bytes, map_import))
+    level = ears_overrides.apply(level)
     from guardsim.kernels.ahead import compile_ahead
 
     compile_ahead("sneak")
@@ -155,19 +161,21 @@ def sneak(
             raise GuardsimError(f"{level_path}: the level marks no player start: give --from X,Y")
         source = level.player_starts[0]
         click.echo(f"from the level's player start ({source[0]:g}, {source[1]:g})")
-    start, goal = sneak_cell(grid, source, "--from"), sneak_cell(grid, target, "--to")
+    start, goal = grid.floor_cell(source, "--from"), grid.floor_cell(target, "--to")
     if grid.component_labels[start] != grid.component_labels[goal]:
         raise GuardsimError(
             f"--to {target[0]:g},{target[1]:g} cannot be reached from --from {source[0]:g},{source[1]:g} at all"
         )
     for point in safe:
-        sneak_cell(grid, point, "--safe")
+        grid.floor_cell(point, "--safe")
     run = run_sneak(
-        scene, patrol, start, goal, undetected=undetected, max_lap=max_lap, patrol_name=patrol_path, progress=progress
-    )
+        scene, patrol, start, goal, undetected=undetected, unheard=unheard, max_lap=max_lap, patrol_name=patrol_path,
+        progress=progress,
+    )  # fmt: skip
     for note in run.notes:
         click.echo(f"guardsim: warning: {note}", err=True)
     result, patrol, table, detection, watch = run.result, run.patrol, run.table, run.detection, run.watch
+    rule = ("undetected" if undetected else "unseen") + (", unheard" if unheard else "")
     progress("writing", 0, 0)
     path = result.path
     assert path is not None
@@ -192,12 +200,13 @@ def sneak(
     progress.close()
     for warning in drawn.warnings:
         click.echo(f"guardsim: warning: {warning}", err=True)
-    rule = "undetected" if undetected else "unseen"
     if path.found:
         answer = f"sneaks: {rule} from tick {path.start_tick} of the lap, {path.ticks} ticks"
     else:
+        heard = f" and heard {path.steps_heard} times" if unheard else ""
         answer = (
-            f"caught: no {rule} path; the closest call is seen for {path.ticks_in_view} ticks ({path.ticks} ticks long)"
+            f"caught: no {rule} path; the closest call is seen for {path.ticks_in_view} ticks{heard} "
+            f"({path.ticks} ticks long)"
         )
     grade = result.grade
     assert grade is not None
@@ -212,3 +221,18 @@ def sneak(
         f"slack {result.slack}/{result.period} entry ticks"
     )
     click.echo(f"{level.name}: {answer}; {graded}" + (f" -> {', '.join(written)}" if written else ""))
+    if path.gaits is not None:
+        click.echo("gaits: " + gait_runs(path.gaits, level.intruder.sneak_ticks))
+
+
+def gait_runs(gaits: tuple[str, ...], sneak_ticks: int) -> str:
+    """A path's gaits per tick as runs in order: ``walk x2, sneak x5 (2 ticks each), wait 3 ticks``."""
+    runs: list[str] = []
+    for gait, ticks in ((gait, len(list(run))) for gait, run in itertools.groupby(gaits)):
+        if gait == "wait":
+            runs.append(f"wait {ticks} tick{'s' if ticks != 1 else ''}")
+        elif gait == "sneak":
+            runs.append(f"sneak x{ticks // sneak_ticks} ({sneak_ticks} tick{'s' if sneak_ticks != 1 else ''} each)")
+        else:
+            runs.append(f"walk x{ticks}")
+    return ", ".join(runs) if runs else "none (it enters at its goal)"

@@ -11,6 +11,7 @@ from __future__ import annotations
 
 import numpy as np
 
+from guardsim.errors import ArgumentError
 from guardsim.level import Level
 from guardsim.scene import Scene
 from guardsim.vision.point import PointSight
@@ -28,7 +29,7 @@ def light_values(level: Level, sight: PointSight | None) -> np.ndarray:
     if level.lit or not level.lights:
         return np.minimum(values, 1.0)
     if sight is None:
-        raise ValueError("a level with lamps and darkness needs its PointSight to light the cells")
+        raise ArgumentError("a level with lamps and darkness needs its PointSight to light the cells")
     for lamp in level.lights:
         cells, distances = sight.cells(lamp.position, lamp.radius)
         # In lamp order, so the sum (and every result built on it) is the same bytes each run.
@@ -76,6 +77,6 @@ def light_at(scene: Scene, point: tuple[float, float], light: np.ndarray | None 
     """
     cell = scene.grid.cell_of(point)
     if cell is None:
-        raise ValueError(f"({point[0]:g}, {point[1]:g}) lies outside the level")
+        raise ArgumentError(f"({point[0]:g}, {point[1]:g}) lies outside the level")
     values = light_map(scene) if light is None else light
     return float(values[cell[1], cell[0]])

@@ -16,6 +16,7 @@ from typing import Literal, NamedTuple
 
 import numpy as np
 
+from guardsim.errors import ArgumentError
 from guardsim.kernels.meter import DETECTED, meter_after, meter_gain, visibility
 from guardsim.level.model import GuardSpec, Level
 
@@ -67,9 +68,9 @@ class DetectionModel:
         for name in ("detect_near", "detect_far", "forget", "suspicious", "dark_sight"):
             value = getattr(self, name)
             if not (isinstance(value, (int, float)) and math.isfinite(value) and value >= 0):
-                raise ValueError(f"detection: {name} must be a finite number >= 0, not {value!r}")
+                raise ArgumentError(f"detection: {name} must be a finite number >= 0, not {value!r}")
         if self.suspicious > 1:
-            raise ValueError(f"detection: suspicious must be at most 1, not {self.suspicious!r}")
+            raise ArgumentError(f"detection: suspicious must be at most 1, not {self.suspicious!r}")
 
     @classmethod
     def of_guard(cls, guard: GuardSpec) -> DetectionModel:

@@ -19,7 +19,7 @@ from guardsim.detection.cameras import CameraSight, camera_gains, camera_sight, 
 from guardsim.detection.exposure import PatrolGains, patrol_gains
 from guardsim.detection.light import light_values, scene_sight
 from guardsim.detection.model import AwarenessMeter, DetectionModel, GuardDetection
-from guardsim.errors import LimitError
+from guardsim.errors import ArgumentError, LimitError
 from guardsim.grid import CoverageGrid
 from guardsim.kernels.meter import DETECTED
 from guardsim.scene import Scene
@@ -133,7 +133,7 @@ def lap_gains(
     cameras = None
     if watch is not None and watch.cameras:
         if len(watch.gains) != len(watch.cameras):
-            raise ValueError("lap_gains needs the cameras' gains: build the watch with level_watch(..., gains=True)")
+            raise ArgumentError("lap_gains needs the cameras' gains: build the watch with level_watch(..., gains=True)")
         cameras = np.stack([gain[np.arange(lap) % gain.shape[0]] for gain in watch.gains])
     gains = patrol_gains(
         grid, table, states, detection.model, view_range=detection.view_range, dt=detection.dt,

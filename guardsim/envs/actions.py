@@ -10,6 +10,7 @@ from __future__ import annotations
 
 import numpy as np
 
+from guardsim.errors import ArgumentError
 from guardsim.grid import CoverageGrid
 from guardsim.planners.base import STAY, EpisodeSetup, GuardState
 
@@ -28,7 +29,7 @@ def action_heading(action: int) -> int:
     [-1, 0, 1, 2, 3]
     """
     if not 0 <= action < len(ACTIONS):
-        raise ValueError(f"action {action} is not one of 0..{len(ACTIONS) - 1} ({', '.join(ACTIONS)})")
+        raise ArgumentError(f"action {action} is not one of 0..{len(ACTIONS) - 1} ({', '.join(ACTIONS)})")
     return STAY if action == 0 else action - 1
 
 

@@ -12,6 +12,7 @@ from guardsim.envs.actions import ACTIONS
 from guardsim.envs.observations import observation_space
 from guardsim.envs.rgb import TightCells, rgb_frame
 from guardsim.envs.task import CoverageTask, LevelSource
+from guardsim.errors import ArgumentError
 from guardsim.simulation import Simulation
 from guardsim.vision.rules import LineOfSight
 
@@ -60,7 +61,7 @@ class CoverageEnv(gymnasium.Env[dict[str, Any], np.int64]):
         cell_pixels: int = 8,
     ) -> None:
         if render_mode is not None and render_mode not in self.metadata["render_modes"]:
-            raise ValueError(f"render_mode {render_mode!r} is not one of {self.metadata['render_modes']}")
+            raise ArgumentError(f"render_mode {render_mode!r} is not one of {self.metadata['render_modes']}")
         self.task = CoverageTask(
             level, max_steps=max_steps, step_cost=step_cost, normalize=normalize, crop=crop, line_of_sight=line_of_sight
         )
@@ -95,7 +96,7 @@ class CoverageEnv(gymnasium.Env[dict[str, Any], np.int64]):
     def step(self, action: np.int64 | int) -> tuple[dict[str, Any], float, bool, bool, dict[str, Any]]:
         """Move the guard by ``action`` (0 stay, 1 right, 2 down, 3 left, 4 up) and let it look."""
         if not self.action_space.contains(action):
-            raise ValueError(f"action {action!r} is not in {self.action_space}")
+            raise ArgumentError(f"action {action!r} is not in {self.action_space}")
         reward = self.task.advance([int(action)])
         return self.task.observation(0), reward, self.task.terminated, self.task.truncated, self.task.info(0)
 

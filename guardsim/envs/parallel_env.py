@@ -13,6 +13,7 @@ from guardsim.envs.actions import ACTIONS
 from guardsim.envs.observations import observation_space, state_planes, state_space
 from guardsim.envs.rgb import TightCells, rgb_frame
 from guardsim.envs.task import CoverageTask, LevelSource
+from guardsim.errors import ArgumentError
 from guardsim.simulation import Simulation
 from guardsim.vision.rules import LineOfSight
 
@@ -49,7 +50,7 @@ class CoverageParallelEnv(ParallelEnv):
         cell_pixels: int = 8,
     ) -> None:
         if render_mode is not None and render_mode not in self.metadata["render_modes"]:
-            raise ValueError(f"render_mode {render_mode!r} is not one of {self.metadata['render_modes']}")
+            raise ArgumentError(f"render_mode {render_mode!r} is not one of {self.metadata['render_modes']}")
         self.task = CoverageTask(
             level,
             guards=guards,
@@ -118,12 +119,12 @@ class CoverageParallelEnv(ParallelEnv):
         """Move every guard by its action at once; one tick."""
         unknown = sorted(set(actions) - set(self.possible_agents))
         if unknown:
-            raise ValueError(f"actions for unknown agents {unknown}; the agents are {self.possible_agents}")
+            raise ArgumentError(f"actions for unknown agents {unknown}; the agents are {self.possible_agents}")
         if not self.agents:
             return {}, {}, {}, {}, {}
         for agent, action in actions.items():
             if not self.action_spaces[agent].contains(action):
-                raise ValueError(f"action {action!r} of {agent} is not in {self.action_spaces[agent]}")
+                raise ArgumentError(f"action {action!r} of {agent} is not in {self.action_spaces[agent]}")
         reward = self.task.advance([int(actions.get(agent, 0)) for agent in self.possible_agents])
         terminated, truncated = self.task.terminated, self.task.truncated
         agents = self.agents

@@ -21,6 +21,7 @@ import numpy as np
 
 from guardsim.envs.actions import AgentPlanner, action_mask
 from guardsim.envs.observations import observe
+from guardsim.errors import ArgumentError
 from guardsim.importers import load_level
 from guardsim.level import Level
 from guardsim.scene import Scene
@@ -64,9 +65,9 @@ class CoverageTask:
         line_of_sight: LineOfSight | str = LineOfSight.PYMUNK,
     ) -> None:
         if guards < 1:
-            raise ValueError(f"a team needs at least one guard, not {guards}")
+            raise ArgumentError(f"a team needs at least one guard, not {guards}")
         if crop is not None and crop < 0:
-            raise ValueError(f"crop must be a non-negative number of cells, not {crop}")
+            raise ArgumentError(f"crop must be a non-negative number of cells, not {crop}")
         self.scene = scene_of(level, line_of_sight)
         self.planners = [AgentPlanner() for _ in range(guards)]
         self.simulation = Simulation(self.scene, self.planners, max_steps=max_steps)
@@ -106,7 +107,7 @@ class CoverageTask:
         if options.get("episode") is not None:
             self.episode = int(options["episode"])
             if self.episode < 0:
-                raise ValueError(f"episode must be 0 or more, not {self.episode}")
+                raise ArgumentError(f"episode must be 0 or more, not {self.episode}")
         starts, headings = options.get("starts"), options.get("headings")
         facing = check_headings(headings, self.guards)
         if starts is not None:
@@ -121,7 +122,7 @@ class CoverageTask:
         """Move every guard by its action for one tick; the tick's reward (0 once the episode is over)."""
         simulation = self.simulation
         if len(actions) != self.guards:
-            raise ValueError(f"{len(actions)} actions for {self.guards} guards")
+            raise ArgumentError(f"{len(actions)} actions for {self.guards} guards")
         for planner, action in zip(self.planners, actions):
             planner.choose(int(action))
         if simulation.done:

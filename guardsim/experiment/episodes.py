@@ -14,10 +14,11 @@ import traceback
 from typing import NamedTuple
 
 from guardsim.bounds import Bounds, lower_bounds
+from guardsim.errors import ArgumentError
 from guardsim.level import HEADINGS, Level
-from guardsim.motion import GuardMotion
+from guardsim.motion import GuardMotion, run_episode
 from guardsim.motion.measures import RECORD_COLUMNS, record_columns
-from guardsim.simulation import Scene, run_episode
+from guardsim.simulation import Scene
 from guardsim.vision.table import view_table
 
 __all__ = [
@@ -188,7 +189,7 @@ class EpisodeRecord(NamedTuple):
     def from_row(cls, row: list[str]) -> EpisodeRecord:
         """Parse :meth:`to_row` output; raises ``ValueError`` naming the bad field."""
         if len(row) not in (len(CSV_COLUMNS), len(CSV_COLUMNS) - len(RECORD_COLUMNS)):
-            raise ValueError(f"expected {len(CSV_COLUMNS)} fields, found {len(row)}")
+            raise ArgumentError(f"expected {len(CSV_COLUMNS)} fields, found {len(row)}")
         # A row written before the motion columns existed is a grid row.
         values = dict(zip(CSV_COLUMNS, row)) | ({} if len(row) == len(CSV_COLUMNS) else {"motion": "grid"})
         parsed: dict[str, object] = {}
@@ -197,7 +198,7 @@ class EpisodeRecord(NamedTuple):
             try:
                 parsed[name] = None if text == "" and name not in _ALWAYS_TEXT else kind(text)
             except ValueError:
-                raise ValueError(f"{name} is not a number: {text!r}") from None
+                raise ArgumentError(f"{name} is not a number: {text!r}") from None
         return cls(**parsed)  # type: ignore[arg-type]
 
 

@@ -37,7 +37,7 @@ from collections.abc import Iterable
 from importlib import resources
 from typing import Any
 
-from guardsim.errors import GuardsimError
+from guardsim.errors import ArgumentError, GuardsimError
 from guardsim.files.reading import excerpt, json_type, quoted
 
 __all__ = [
@@ -67,7 +67,7 @@ def schema_file(name: str = "level") -> str:
     'patrol.schema.json'
     """
     if name not in SCHEMAS:
-        raise ValueError(f"unknown schema {name!r}; known: {', '.join(SCHEMAS)}")
+        raise ArgumentError(f"unknown schema {name!r}; known: {', '.join(SCHEMAS)}")
     return f"{name}.schema.json"
 
 

@@ -16,7 +16,7 @@ from typing import Any
 
 import numpy as np
 
-from guardsim.errors import LevelError
+from guardsim.errors import ArgumentError, LevelError
 from guardsim.files.reading import NumberError, finite_number
 from guardsim.importers.source import excerpt
 
@@ -271,12 +271,12 @@ def decode_tile_data(raw: Any, encoding: str | None, compression: str | None, co
                 inflater = zlib.decompressobj(wbits=15 if compression == "zlib" else 31)
                 packed = inflater.decompress(packed, count * 4 + 4)
             if len(packed) % 4:
-                raise ValueError("not whole 32-bit tile ids")
+                raise ArgumentError("not whole 32-bit tile ids")
             values = np.frombuffer(packed, dtype="<u4").astype(np.int64)
         elif isinstance(raw, list) and all(isinstance(value, int) and not isinstance(value, bool) for value in raw):
             values = np.array(raw, dtype=np.int64) if raw else np.zeros(0, dtype=np.int64)
         else:
-            raise ValueError("not a list of tile ids")
+            raise ArgumentError("not a list of tile ids")
     except (ValueError, TypeError, OverflowError, zlib.error, EOFError):
         raise LevelError(f"{where}: tile data is not valid {encoding or 'tile id list'} data") from None
     if values.size and (values.min() < 0 or values.max() >= 2**32):

@@ -13,6 +13,7 @@ from collections.abc import Sequence
 from collections.abc import Set as AbstractSet
 from typing import Any
 
+from guardsim.errors import ArgumentError
 from guardsim.files.reading import quoted
 from guardsim.importers.tiled_data import Properties
 
@@ -150,9 +151,9 @@ def parse_wall_property(text: str) -> tuple[str, str | None]:
     name, equals, value = text.partition("=")
     name, value = name.strip(), value.strip()
     if not name:
-        raise ValueError(f"{quoted(text)} has no property name: expected NAME or NAME=VALUE")
+        raise ArgumentError(f"{quoted(text)} has no property name: expected NAME or NAME=VALUE")
     if equals and not value:
-        raise ValueError(f"{quoted(text)} has no value after '=': expected NAME or NAME=VALUE")
+        raise ArgumentError(f"{quoted(text)} has no value after '=': expected NAME or NAME=VALUE")
     return name, value if equals else None
 
 

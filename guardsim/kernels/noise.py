@@ -13,7 +13,7 @@ import numpy as np
 
 from guardsim.kernels.compiler import jit
 
-__all__ = ["heard_within", "noise_reach", "noise_steps"]
+__all__ = ["heard_lap", "heard_within", "noise_reach", "noise_steps"]
 
 
 def noise_steps(radius: float, cell_size: float) -> int:
@@ -33,12 +33,28 @@ def noise_reach(neighbours: np.ndarray, source: int, steps: int, reach: np.ndarr
     ``steps`` of it, -1 elsewhere; returns how many cells the noise reaches."""
     for cell in range(reach.shape[0]):
         reach[cell] = -1
+    queue = np.empty(neighbours.shape[0], dtype=np.int64)
+    sources = np.empty(1, dtype=np.int64)
+    sources[0] = source
+    return _spread(neighbours, sources, steps, reach, queue)
+
+
+@jit
+def _spread(neighbours: np.ndarray, sources: np.ndarray, steps: int, reach: np.ndarray, queue: np.ndarray) -> int:
+    """The breadth-first fill behind every hearing rule: ``reach`` (all -1 on entry) gets the steps of
+    every cell within ``steps`` of the nearest of ``sources``; the cells filled are ``queue[:returned]``.
+    The grid's moves are symmetric, so the cells a noise made in one cell reaches are the cells from
+    which a noise reaches it."""
     if steps < 0:
         return 0
-    queue = np.empty(neighbours.shape[0], dtype=np.int64)
-    reach[source] = 0
-    queue[0] = source
-    head, tail = 0, 1
+    tail = 0
+    for index in range(sources.shape[0]):
+        source = sources[index]
+        if source >= 0 and reach[source] < 0:
+            reach[source] = 0
+            queue[tail] = source
+            tail += 1
+    head = 0
     while head < tail:
         cell = queue[head]
         head += 1
@@ -51,6 +67,39 @@ def noise_reach(neighbours: np.ndarray, source: int, steps: int, reach: np.ndarr
                 queue[tail] = other
                 tail += 1
     return tail
+
+
+@jit
+def _heard_lap(neighbours: np.ndarray, listeners: np.ndarray, steps: int) -> np.ndarray:
+    period = listeners.shape[1]
+    cells = neighbours.shape[0]
+    heard = np.zeros((period, cells), dtype=np.bool_)
+    reach = np.empty(cells, dtype=np.int32)
+    reach[:] = -1
+    queue = np.empty(cells, dtype=np.int64)
+    sources = np.empty(listeners.shape[0], dtype=np.int64)
+    for tick in range(period):
+        for guard in range(listeners.shape[0]):
+            sources[guard] = listeners[guard, tick]
+        filled = _spread(neighbours, sources, steps, reach, queue)
+        for index in range(filled):
+            heard[tick, queue[index]] = True
+            reach[queue[index]] = -1
+    return heard
+
+
+def heard_lap(neighbours: np.ndarray, listeners: np.ndarray, radius: float, cell_size: float) -> np.ndarray:
+    """``bool (period, cells)``: whether a noise of ``radius`` world units made in each cell at each tick
+    of a lap is heard by a listener, ``listeners`` (``int64 (guards, period)``) being each guard's cell
+    at each tick (the rule of :func:`heard_within`, for every cell at once).
+
+    >>> corridor = np.array([[1, -1, -1, -1], [2, -1, 0, -1], [3, -1, 1, -1], [-1, -1, 2, -1]])
+    >>> heard_lap(corridor, np.array([[0, 3]]), 1.0, 1.0).astype(int).tolist()
+    [[1, 1, 0, 0], [0, 0, 1, 1]]
+    """
+    neighbours = np.ascontiguousarray(neighbours, dtype=np.int64)
+    listeners = np.ascontiguousarray(np.asarray(listeners, dtype=np.int64).reshape(-1, np.shape(listeners)[-1]))
+    return _heard_lap(neighbours, listeners, noise_steps(radius, cell_size))
 
 
 def heard_within(

@@ -5,7 +5,8 @@
 - :mod:`~guardsim.motion.follower`: the pymunk body steered a tick at a time;
 - :mod:`~guardsim.motion.sight`: vision from a continuous pose, fast and reference;
 - :mod:`~guardsim.motion.episode`: :class:`ContinuousSimulation`, an episode tick by tick;
-- :mod:`~guardsim.motion.measures`: seconds, distance and turning of a walk.
+- :mod:`~guardsim.motion.measures`: seconds, distance and turning of a walk;
+- :mod:`~guardsim.motion.run`: :func:`run_episode`, an episode to its end, on the grid or in motion.
 
 See ``docs/motion.md``.
 """
@@ -22,6 +23,7 @@ from guardsim.motion.parameters import (
     STEER_DEGREES,
     GuardMotion,
 )
+from guardsim.motion.run import run_episode
 from guardsim.motion.sight import PoseVision, pose_visible_cells
 from guardsim.motion.smoothing import Waypoints, pull_route
 
@@ -42,5 +44,6 @@ __all__ = [
     "measures_of",
     "pose_visible_cells",
     "pull_route",
+    "run_episode",
     "summary_text",
 ]

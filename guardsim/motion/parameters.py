@@ -5,6 +5,7 @@ from __future__ import annotations
 import math
 from dataclasses import dataclass
 
+from guardsim.errors import ArgumentError
 from guardsim.level import GuardSpec
 
 __all__ = ["DEFAULT_MOVE_SPEED", "DEFAULT_TICK_HZ", "DEFAULT_TURN_SPEED", "MOTIONS", "STEER_DEGREES", "GuardMotion"]
@@ -45,7 +46,7 @@ class GuardMotion:
         for name in ("move_speed", "turn_speed", "tick_hz"):
             value = getattr(self, name)
             if not (isinstance(value, (int, float)) and math.isfinite(value) and value > 0):
-                raise ValueError(f"{name} must be a positive finite number, not {value!r}")
+                raise ArgumentError(f"{name} must be a positive finite number, not {value!r}")
 
     @classmethod
     def of_guard(

@@ -29,7 +29,7 @@ from typing import TYPE_CHECKING, Any, NamedTuple
 
 import numpy as np
 
-from guardsim.errors import LevelError, LimitError
+from guardsim.errors import ArgumentError, LevelError, LimitError
 from guardsim.search import DOMINANCE_CHECKS, route_to
 from guardsim.search.astar import (
     EXPANSIONS,
@@ -241,7 +241,7 @@ def solve(
     except (MemoryError, ValueError) as error:  # numpy: "Maximum allowed dimension exceeded"
         raise LimitError(f"cannot reserve {memory_bytes // 2**20} MB for the search nodes (memory_bytes)") from error
     if not (weight >= 1.0 and np.isfinite(weight)):
-        raise ValueError(f"weight must be a finite number >= 1, not {weight!r}")
+        raise ArgumentError(f"weight must be a finite number >= 1, not {weight!r}")
     start_search(state, heuristic, graph.views, graph.full, graph.start, greedy_steps + 1, float(weight))
     root_bound = int(state.estimate[0])
     stopped_by = "proved"

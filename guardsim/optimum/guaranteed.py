@@ -25,6 +25,7 @@ from typing import Any, NamedTuple
 
 import numpy as np
 
+from guardsim.errors import ArgumentError
 from guardsim.grid import CoverageGrid
 from guardsim.kernels.steps import cell_of_state, heading_of_state, state_of
 from guardsim.vision.table import ViewTable
@@ -85,7 +86,7 @@ class _Rules:
         for direction, shift in enumerate(self.shifts):
             ok = neighbours[:, direction] >= 0
             if not np.array_equal(neighbours[ok, direction], np.flatnonzero(ok) + shift):
-                raise ValueError("the grid's neighbours are not the cells next to each other")
+                raise ArgumentError("the grid's neighbours are not the cells next to each other")
             self.masks.append(_bits(np.flatnonzero(ok)))
         self._views: dict[int, int] = {}
         states = np.flatnonzero(np.repeat(np.asarray(grid.traversable).ravel(), 4))
@@ -158,7 +159,7 @@ def guaranteed_search(
     """
     began = time.perf_counter()
     if not starts:
-        raise ValueError("the guaranteed search needs at least one guard")
+        raise ArgumentError("the guaranteed search needs at least one guard")
     rules = _Rules(grid, table)
     first = tuple(
         sorted(int(state_of(grid.flat(*cell), heading if rules.headings_matter else 0)) for cell, heading in starts)

@@ -32,7 +32,7 @@ from typing import TYPE_CHECKING, Any, NamedTuple
 
 import numpy as np
 
-from guardsim.errors import LevelError, LimitError
+from guardsim.errors import ArgumentError, LevelError, LimitError
 from guardsim.kernels.frontier import frontier, frontier_work
 from guardsim.kernels.team_estimate import later_distances
 from guardsim.search import DOMINANCE_CHECKS
@@ -123,7 +123,7 @@ def solve_team(
 
     began = time.perf_counter()
     if not starts:
-        raise ValueError("the team search needs at least one guard")
+        raise ArgumentError("the team search needs at least one guard")
     grid = scene.grid
     table = view_table(grid, scene.vision() if vision is None else vision)
     (first, heading), others = starts[0], list(starts[1:])

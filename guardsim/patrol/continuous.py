@@ -18,6 +18,7 @@ from typing import NamedTuple
 
 import numpy as np
 
+from guardsim.errors import ArgumentError
 from guardsim.grid import cell_of_state, heading_of_state
 from guardsim.motion import GuardMotion, PoseVision
 from guardsim.motion.follower import Follower
@@ -82,7 +83,7 @@ def continuous_patrol(
 ) -> ContinuousPatrol:
     """Walk a repeating grid patrol in continuous motion and score one lap of it."""
     if patrol.period is None:
-        raise ValueError("continuous scoring needs a repeating patrol")
+        raise ArgumentError("continuous scoring needs a repeating patrol")
     motion = motion or GuardMotion.of_guard(scene.level.guard)
     laps = [_lap(scene, motion, patrol.states[guard]) for guard in range(patrol.guards)]
     period = max(lap.shape[0] for lap in laps)

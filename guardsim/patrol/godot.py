@@ -23,6 +23,7 @@ import json
 import re
 from typing import Any
 
+from guardsim.errors import ArgumentError
 from guardsim.grid import CoverageGrid
 from guardsim.patrol.export import DEFAULT_SPEED, RouteFrame, guard_routes
 from guardsim.patrol.model import Patrol
@@ -94,7 +95,7 @@ def godot_scene(
     "points": PoolVector2Array( 0, 0, 0, 0, 16, 16, 0, 0, 0, 0, 80, 16 )
     """
     if version not in GODOT_VERSIONS:
-        raise ValueError(f"Godot version must be 3 or 4, not {version}")
+        raise ArgumentError(f"Godot version must be 3 or 4, not {version}")
     frame = RouteFrame("pixels", "y-down", pixels_per_unit, grid.cell_size)
     seconds_per_tick = grid.cell_size / speed
     if routes is None:

@@ -23,6 +23,7 @@ from __future__ import annotations
 
 import numpy as np
 
+from guardsim.errors import ArgumentError
 from guardsim.grid import CoverageGrid, cell_of_state, heading_of_state, state_of
 from guardsim.kernels.distances import FAR, distance_fields
 from guardsim.kernels.laps import add_sights, leg_states
@@ -155,7 +156,7 @@ class LoopBuilder:
         """A one-tick lap: standing in the goal's first cell, facing the way that sees most of the goal."""
         cells = np.flatnonzero(self.goal)
         if cells.size == 0:
-            raise ValueError("the goal is empty: nothing to patrol")
+            raise ArgumentError("the goal is empty: nothing to patrol")
         states = state_of(np.full(4, int(cells[0]), dtype=np.int64), np.arange(4, dtype=np.int64))
         counts = [int(self.goal[self.table.sees(int(state))].sum()) for state in states]
         return np.array([states[int(np.argmax(counts))]], dtype=np.int64)
@@ -186,14 +187,14 @@ class LoopBuilder:
         if leg is None:
             entry = int(self.table.entry[target])
             if entry < 0:
-                raise ValueError(f"state {target} cannot be arrived in")
+                raise ArgumentError(f"state {target} cannot be arrived in")
             if self._scratch is None:
                 self._scratch = (np.full(self.goal.size, FAR, dtype=np.int32), np.empty(self.goal.size, dtype=np.int64))
             distance, queue = self._scratch
             cell, heading = int(cell_of_state(start)), int(heading_of_state(start))
             leg = leg_states(self.neighbours, cell, heading, entry, int(target), int(FAR), distance, queue)
             if leg.size == 0:
-                raise ValueError(f"cell {cell} cannot reach cell {entry}")
+                raise ArgumentError(f"cell {cell} cannot reach cell {entry}")
             self._legs[(start, target)] = leg
         return leg
 

@@ -9,11 +9,14 @@ ticks walked, and ``period`` is ``None``.
 
 from __future__ import annotations
 
+from collections.abc import Sequence
 from dataclasses import dataclass, field
 
 import numpy as np
 
-from guardsim.grid import CoverageGrid, cell_of_state, heading_of_state
+from guardsim.errors import PatrolError
+from guardsim.grid import CoverageGrid, cell_of_state, heading_of_state, state_of
+from guardsim.level import HEADINGS
 
 __all__ = ["STRATEGIES", "Patrol"]
 
@@ -50,10 +53,34 @@ class Patrol:
     def __post_init__(self) -> None:
         states = np.asarray(self.states, dtype=np.int64)
         if states.ndim != 2 or states.shape[0] < 1 or states.shape[1] < 1:
-            raise ValueError("a patrol needs at least one guard and one tick")
+            raise PatrolError("a patrol needs at least one guard and one tick")
         if self.period is not None and self.period != states.shape[1]:
-            raise ValueError(f"period {self.period} differs from the {states.shape[1]} ticks stored per guard")
+            raise PatrolError(f"period {self.period} differs from the {states.shape[1]} ticks stored per guard")
         object.__setattr__(self, "states", states)
+
+    @classmethod
+    def standing(cls, grid: CoverageGrid, posts: Sequence[tuple[tuple[float, float], str]]) -> Patrol:
+        """Guards that stand still: each on the cell holding a world point, facing ``"right"``, ``"down"``,
+        ``"left"`` or ``"up"``.
+
+        Raises :class:`~guardsim.errors.PointError` for a point off the floor and
+        :class:`~guardsim.errors.PatrolError` for an unknown heading.
+
+        Examples
+        --------
+        >>> from guardsim import Scene, load_level
+        >>> grid = Scene.from_level(load_level("levels/square.json")).grid
+        >>> post = Patrol.standing(grid, [((5.5, 30.5), "right"), ((40, 12), "up")])
+        >>> post.guards, post.period, post.cells(grid, 0), post.headings(1)
+        (2, 1, [(5, 30)], [3])
+        """
+        states = []
+        for number, (point, heading) in enumerate(posts):
+            if heading not in HEADINGS:
+                raise PatrolError(f"post {number}: heading {heading!r} is not one of {', '.join(HEADINGS)}")
+            cell = grid.floor_cell(point, f"post {number}")
+            states.append([int(state_of(cell, HEADINGS[heading] // 90))])
+        return cls(np.array(states, dtype=np.int64).reshape(len(states), 1), period=1, strategy="post")
 
     @property
     def guards(self) -> int:

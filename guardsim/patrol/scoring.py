@@ -13,6 +13,7 @@ from typing import NamedTuple
 
 import numpy as np
 
+from guardsim.errors import ArgumentError
 from guardsim.kernels.compiler import jit
 from guardsim.patrol.model import Patrol
 from guardsim.vision.table import ViewTable
@@ -132,7 +133,7 @@ def _score(
         scored = ticks
     else:
         if not 0 <= warmup < ticks:
-            raise ValueError(f"warm-up of {warmup} ticks leaves nothing of {ticks} ticks to score")
+            raise ArgumentError(f"warm-up of {warmup} ticks leaves nothing of {ticks} ticks to score")
         summed = _idleness(sight_start, sight, states, goal, warmup, ticks, worst, last)
         never = np.zeros_like(goal)
         scored = ticks - warmup

@@ -22,6 +22,7 @@ from collections.abc import Sequence
 
 import numpy as np
 
+from guardsim.errors import ArgumentError
 from guardsim.grid import CoverageGrid, state_of
 from guardsim.kernels.distances import FAR, distances_from
 from guardsim.kernels.states import heading_of_state
@@ -237,6 +238,6 @@ def run_strategy(
 
         planners = [make_planner("ripplefront") for _ in range(guards)]
     else:
-        raise ValueError(f"unknown walked strategy {strategy!r}")
+        raise ArgumentError(f"unknown walked strategy {strategy!r}")
     states = walk_patrol(scene, planners, starts, headings, ticks, rng=rng)
     return Patrol(states, None, strategy)

@@ -21,6 +21,7 @@ from typing import Any
 
 import numpy as np
 
+from guardsim.errors import ArgumentError
 from guardsim.kernels.distances import FAR
 from guardsim.kernels.steps import greedy_step
 from guardsim.planners.base import EpisodeSetup, GuardState
@@ -100,7 +101,7 @@ class RippleFront(GreedyField):
 
     def __init__(self, sweeps_per_tick: int = 1) -> None:
         if sweeps_per_tick < 1:
-            raise ValueError("sweeps_per_tick must be at least 1")
+            raise ArgumentError("sweeps_per_tick must be at least 1")
         super().__init__()
         self.sweeps_per_tick = sweeps_per_tick
         self._accelerator: CompiledRippleFront | None = None

@@ -36,6 +36,7 @@ from typing import NamedTuple
 
 import numpy as np
 
+from guardsim.errors import ArgumentError
 from guardsim.grid import state_of
 from guardsim.kernels.distances import distance_fields, distances_between
 from guardsim.kernels.states import cell_of_state
@@ -179,9 +180,9 @@ class Tour:
         polished: int = POLISHED,
     ) -> None:
         if not seeds or set(seeds) - set(SEEDS):
-            raise ValueError(f"seeds must be some of {', '.join(SEEDS)}")
+            raise ArgumentError(f"seeds must be some of {', '.join(SEEDS)}")
         if polish_trials < 0 or polished < 0:
-            raise ValueError("polish_trials and polished must be at least 0")
+            raise ArgumentError("polish_trials and polished must be at least 0")
         self.seeds = tuple(seeds)
         self.refine_rounds = refine_rounds
         self.polish_trials = polish_trials

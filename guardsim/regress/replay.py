@@ -15,7 +15,7 @@ import numpy as np
 from guardsim.errors import RegressionError
 from guardsim.files.reading import display_path, excerpt, parse_json
 from guardsim.level import DEFAULT_MAX_CELLS, DEFAULT_MAX_FILE_BYTES, Level, level_to_data, parse_level
-from guardsim.motion import GuardMotion
+from guardsim.motion import GuardMotion, run_episode
 from guardsim.regress.frames import DiffRow, Tolerance, compare_frames, diff_image
 from guardsim.regress.references import (
     DEFAULT_MAX_FRAME_SIZE,
@@ -40,7 +40,7 @@ from guardsim.regress.references import (
 from guardsim.regress.stored_trace import trace_from_stored
 from guardsim.render import render_frame
 from guardsim.scene import Scene
-from guardsim.simulation import Simulation, run_episode
+from guardsim.simulation import Simulation
 from guardsim.trace import Trace
 
 __all__ = ["EpisodeResult", "FrameDifference", "LevelResult", "regress_level", "replay_trace"]

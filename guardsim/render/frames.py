@@ -21,6 +21,7 @@ from typing import Any
 import numpy as np
 from PIL import Image, ImageDraw
 
+from guardsim.errors import ArgumentError
 from guardsim.level import Level
 from guardsim.render.cells import tight_cells
 from guardsim.render.layout import (
@@ -382,7 +383,7 @@ class FrameDrawer:
     def frame(self, tick: int) -> np.ndarray:
         """The frame at ``tick`` as a ``uint8 (height, width)`` array of palette indices."""
         if not 0 <= tick <= self.trace.steps:
-            raise ValueError(f"tick {tick} is outside the episode (0 to {self.trace.steps})")
+            raise ArgumentError(f"tick {tick} is outside the episode (0 to {self.trace.steps})")
         self._advance(tick)
         play = self._background.copy()
         rings = [self.cone_polygon(guard, tick) for guard in range(self.guards)]

@@ -15,6 +15,7 @@ from typing import BinaryIO
 import numpy as np
 from PIL import GifImagePlugin, Image
 
+from guardsim.errors import ArgumentError
 from guardsim.files.output import atomic_path
 from guardsim.level import Level
 from guardsim.render.frames import FrameDrawer
@@ -51,7 +52,7 @@ class GifStream:
             box = (0, 0, frame.shape[1], frame.shape[0])
         else:
             if frame.shape != self.previous.shape:
-                raise ValueError(f"frame shape {frame.shape} differs from the first frame's {self.previous.shape}")
+                raise ArgumentError(f"frame shape {frame.shape} differs from the first frame's {self.previous.shape}")
             changed = frame != self.previous
             rows, cols = np.flatnonzero(changed.any(axis=1)), np.flatnonzero(changed.any(axis=0))
             # An unchanged frame still needs an image: one pixel, redrawn as it was.

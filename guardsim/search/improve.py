@@ -25,6 +25,7 @@ from collections.abc import Callable
 
 import numpy as np
 
+from guardsim.errors import ArgumentError
 from guardsim.kernels.compiler import jit
 from guardsim.kernels.csr import watcher_csr
 from guardsim.kernels.distances import distance_fields
@@ -284,7 +285,7 @@ def improve_route(
         Every position of the best walk found (the start first) and its steps.
     """
     if graph.positions > IMPROVE_MAX_POSITIONS:
-        raise ValueError(f"improve_route keeps all-pairs steps: at most {IMPROVE_MAX_POSITIONS} positions")
+        raise ArgumentError(f"improve_route keeps all-pairs steps: at most {IMPROVE_MAX_POSITIONS} positions")
     successors, views, full = graph.successors, graph.views, graph.full
     steps = distance_fields(successors, np.arange(graph.positions, dtype=np.int64))
     watch_start, watchers = watcher_csr(views, int(graph.goal_cells.size))
@@ -297,7 +298,7 @@ def improve_route(
         views, full, successors, steps, watch_start, watchers, work, int(route.size), seen, noise, 1.0
     )
     if count < 0:
-        raise ValueError("some goal cell is seen from no position reachable from the start")
+        raise ArgumentError("some goal cell is seen from no position reachable from the start")
     current = work[:count].copy()
     current_length = length
     best, best_length = current.copy(), length

@@ -1,15 +1,13 @@
 """The simulation loop: guards, their vision and their planners, tick by tick until the level is seen.
 
 - :mod:`~guardsim.simulation.loop`: :class:`Simulation`, the one episode loop (reset, step, trace);
-- :mod:`~guardsim.simulation.reads`: what a game reads from it (positions, seen cells, who sees a point);
-- :mod:`~guardsim.simulation.run`: :func:`run_episode`, an episode run to its end (grid or continuous).
+- :mod:`~guardsim.simulation.reads`: what a game reads from it (positions, seen cells, who sees a point).
 """
 
 from __future__ import annotations
 
 from guardsim.scene import Scene
 from guardsim.simulation.loop import Simulation, default_max_steps
-from guardsim.simulation.run import run_episode
 from guardsim.starts import choose_start, episode_generator, team_starts
 
 __all__ = [
@@ -18,6 +16,5 @@ __all__ = [
     "choose_start",
     "default_max_steps",
     "episode_generator",
-    "run_episode",
     "team_starts",
 ]

@@ -28,6 +28,7 @@ from typing import TYPE_CHECKING, Any, cast
 
 import numpy as np
 
+from guardsim.errors import ArgumentError
 from guardsim.grid import CoverageGrid
 from guardsim.kernels.distances import FAR
 from guardsim.planners import make_planner
@@ -99,12 +100,12 @@ class Simulation(EpisodeReads):
     ) -> None:
         if isinstance(planner, str):
             if guards < 1:
-                raise ValueError("a team needs at least one guard")
+                raise ArgumentError("a team needs at least one guard")
             self.planners: list[Planner] = [make_planner(planner, **planner_options) for _ in range(guards)]
         else:
             self.planners = list(cast("Sequence[Planner]", planner)) if isinstance(planner, Sequence) else [planner]
             if not self.planners:
-                raise ValueError("a team needs at least one guard")
+                raise ArgumentError("a team needs at least one guard")
         self.scene = scene
         self.limit = default_max_steps(scene.grid) if max_steps is None else int(max_steps)
         self.vision: VisionFunction = vision or scene.vision(reference=reference)
@@ -164,7 +165,7 @@ class Simulation(EpisodeReads):
         if seen is not None:
             known = np.asarray(seen, dtype=bool).ravel()
             if known.size != grid.size:
-                raise ValueError(f"seen has {known.size} cells; the grid has {grid.size}")
+                raise ArgumentError(f"seen has {known.size} cells; the grid has {grid.size}")
             episode_arrays.seen[known] = True
             episode_arrays.first_seen[known] = 0
             episode_arrays.counters[UNSEEN] -= int((goal & known).sum())
@@ -269,7 +270,7 @@ class Simulation(EpisodeReads):
             return
         distance = getattr(self.planners[0], "distance", None)
         if distance is None:
-            raise ValueError(f"planner {self.planners[0].name} keeps no field to record")
+            raise ArgumentError(f"planner {self.planners[0].name} keeps no field to record")
         field = np.asarray(distance, dtype=np.int64).reshape(self.scene.grid.shape)
         self._fields.append(np.where(field >= FAR, -1, field).astype(np.int32))
 

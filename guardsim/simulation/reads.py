@@ -10,6 +10,7 @@ from typing import TYPE_CHECKING
 
 import numpy as np
 
+from guardsim.errors import ArgumentError
 from guardsim.planners.base import OUTCOME, RUNNING, TICK, UNSEEN, EpisodeArrays
 from guardsim.trace import OUTCOMES
 from guardsim.vision.rules import VisionFunction
@@ -103,10 +104,10 @@ class EpisodeReads:
         guards = episode.cells.shape[0]
         if guard is None:
             if guards > 1:
-                raise ValueError(f"a team of {guards} guards: say which guard (visible_cells(guard=k)), or use seen_by")
+                raise ArgumentError(f"a team of {guards} guards: say which guard (visible_cells(guard=k)), or use seen_by")
             guard = 0
         if not 0 <= guard < guards:
-            raise ValueError(f"guard {guard} is not one of the team's {guards} guards")
+            raise ArgumentError(f"guard {guard} is not one of the team's {guards} guards")
         grid = self.scene.grid
         col, row = grid.unflat(int(episode.cells[guard, self.tick]))
         return [grid.unflat(int(cell)) for cell in self.vision(col, row, int(episode.headings[guard, self.tick]))]

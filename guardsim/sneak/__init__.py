@@ -14,13 +14,15 @@ from typing import Any, NamedTuple
 import numpy as np
 
 from guardsim.detection import GuardDetection, PatrolGains, exposure_map, time_to_detection
+from guardsim.detection.hearing import lap_hearing
 from guardsim.detection.watch import MAX_JOINT_LAP, LevelWatch, lap_gains
-from guardsim.errors import LimitError
+from guardsim.errors import ArgumentError, LimitError
 from guardsim.grid import CoverageGrid
+from guardsim.level.model import IntruderSpec
 from guardsim.patrol.model import Patrol
 from guardsim.sneak.grade import PathGrade, grade_path, unseen_reach
 from guardsim.sneak.graded import entry_searches, undetected_search
-from guardsim.sneak.search import SneakPath, closest_call, find_sneak, hiding_windows
+from guardsim.sneak.search import SneakPath, closest_call, find_sneak, hiding_windows, tick_gaits
 from guardsim.vision.table import ViewTable
 
 __all__ = [
@@ -83,6 +85,8 @@ class SneakResult(NamedTuple):
     lap: Patrol | None = None
     """The patrol repeated over the joint lap with the level's cameras (the patrol itself without them):
     what :attr:`period` and the path's lap ticks count in."""
+    unheard: bool = False
+    """Whether the search's rule also required that no guard hear a step (the path then has gaits)."""
 
     @property
     def found(self) -> bool:
@@ -105,9 +109,16 @@ def sneak_check(
     undetected: bool = False,
     watch: LevelWatch | None = None,
     max_lap: int = MAX_JOINT_LAP,
+    unheard: bool = False,
+    intruder: IntruderSpec | None = None,
 ) -> SneakResult:
     """Search for an unseen path (``undetected=True``: an undetected one) from cell ``source`` to cell
     ``target`` (flat indices) under ``patrol``, and grade it under ``detection``.
+
+    ``unheard=True`` also chooses a gait for every step (walking: one tick; sneaking: ``sneak_ticks``) so
+    that no guard hears a step land, by the noise rule of :mod:`guardsim.kernels.noise` with the noise
+    keys of ``intruder`` (the level's ``intruder``; default: silent steps); the path's
+    :attr:`~guardsim.sneak.search.SneakPath.gaits` say what it does in each tick.
 
     ``watch`` (:func:`guardsim.detection.watch.level_watch`) adds the level's cameras as watchers and its
     light to every meter; the search then runs over the joint lap of the patrol and the cameras' swings
@@ -120,32 +131,44 @@ def sneak_check(
         or the undetected search keeps too many labels.
     """
     if patrol.period is None:
-        raise ValueError("the sneak check needs a repeating patrol (its period is null)")
+        raise ArgumentError("the sneak check needs a repeating patrol (its period is null)")
     gains, states = lap_gains(grid, table, patrol.states, detection, watch, max_lap=max_lap)
     lap = patrol if states.shape[1] == patrol.period else Patrol(states, states.shape[1], patrol.strategy)
     period = states.shape[1]
-    nodes = period * grid.size
+    intruder = IntruderSpec() if intruder is None else intruder
+    neighbours = grid.neighbours
+    heard = lap_hearing(neighbours, states, intruder, grid.cell_size) if unheard else None
+    # When no walking step is ever heard, walking is never worse than sneaking (a sneaking step is waits
+    # and a step): the searches without gaits answer exactly, with their own paths.
+    audible = heard if heard is not None and heard[0].any() else None
+    ticks = intruder.sneak_ticks
+    nodes = period * grid.size * (ticks if audible is not None else 1)
     if nodes > MAX_SNEAK_NODES:
+        layers = f" x {ticks} counts of ticks stood still" if audible is not None else ""
         raise LimitError(
-            f"the sneak search would have {nodes} (cell, lap tick) nodes ({grid.size} cells x a {period}-tick lap), "
-            f"over the limit of {MAX_SNEAK_NODES}"
+            f"the sneak search would have {nodes} (cell, lap tick) nodes ({grid.size} cells x a {period}-tick lap"
+            f"{layers}), over the limit of {MAX_SNEAK_NODES}"
         )
     seen = gains.seen
-    neighbours = grid.neighbours
-    reach = unseen_reach(neighbours, seen, target)
+    reach = unseen_reach(neighbours, seen, target, heard=audible, sneak_ticks=ticks)
     entries = reach[:, source].copy()
     # One search from every entry tick, on past the target: its first arrival is the fastest undetected
     # path, and every cell it reaches is a place the player can get to.
-    search = undetected_search(neighbours, gains.gain, gains.fall, source, target, exhaustive=True, seen=seen)
-    path = find_sneak(neighbours, seen, source, target)
+    search = undetected_search(
+        neighbours, gains.gain, gains.fall, source, target, exhaustive=True, seen=seen, heard=audible, sneak_ticks=ticks
+    )
+    path = find_sneak(neighbours, seen, source, target, heard=audible, sneak_ticks=ticks)
     if undetected and search.found >= 0:
         start, cells = search.path()
         # An unseen path as fast is the better answer: no guard's meter moves at all.
         if path is None or path.ticks > cells.size - 1:
-            path = SneakPath(True, start, cells, int(seen[(start + np.arange(cells.size)) % period, cells].sum()))
-        entries = entries | _undetected_entries(neighbours, gains, seen, source, target, reach)
+            in_view = int(seen[(start + np.arange(cells.size)) % period, cells].sum())
+            path = SneakPath(True, start, cells, in_view, search.gaits())
+        entries = entries | _undetected_entries(neighbours, gains, seen, source, target, reach, audible, ticks)
     elif path is None:
-        path = closest_call(neighbours, seen, source, target)
+        path = closest_call(neighbours, seen, source, target, heard=audible, sneak_ticks=ticks)
+    if unheard and path is not None and path.gaits is None:
+        path = path._replace(gaits=tick_gaits(path.cells, np.zeros(path.cells.size, dtype=bool), 0))
     grade = (
         None if path is None else grade_path(grid, table, states, detection, path.start_tick, path.cells, watch=watch)
     )
@@ -165,11 +188,19 @@ def sneak_check(
         _hiding_spots(reached, lasts, exposure),
         gains,
         lap,
+        unheard,
     )
 
 
 def _undetected_entries(
-    neighbours: np.ndarray, gains: PatrolGains, seen: np.ndarray, source: int, target: int, reach: np.ndarray
+    neighbours: np.ndarray,
+    gains: PatrolGains,
+    seen: np.ndarray,
+    source: int,
+    target: int,
+    reach: np.ndarray,
+    heard: np.ndarray | None,
+    sneak_ticks: int,
 ) -> np.ndarray:
     """The lap ticks from which an undetected path exists and no unseen one, one search per entry tick.
 
@@ -180,7 +211,9 @@ def _undetected_entries(
     known = reach[:, source]
     phases = np.flatnonzero(~known)
     found = np.zeros_like(known)
-    found[phases] = entry_searches(neighbours, gains.gain, gains.fall, source, goal, phases, seen=seen)
+    found[phases] = entry_searches(
+        neighbours, gains.gain, gains.fall, source, goal, phases, seen=seen, heard=heard, sneak_ticks=sneak_ticks
+    )
     return found
 
 
@@ -244,4 +277,16 @@ def sneak_data(result: SneakResult, grid: CoverageGrid, **header: Any) -> dict[s
             {"cell": list(grid.unflat(spot.cell)), "lasts": spot.lasts, "exposure": round(spot.exposure, 6)}
             for spot in result.hiding_spots
         ],
+        **(_ears_data(result) if result.unheard else {}),
+    }
+
+
+def _ears_data(result: SneakResult) -> dict[str, Any]:
+    """sneak.json's keys of an ``--unheard`` search: the rule, what the path does in each tick and the
+    steps heard (a closest call's)."""
+    path = result.path
+    return {
+        "unheard": True,
+        "gaits": None if path is None or path.gaits is None else list(path.gaits),
+        "steps_heard": None if path is None else path.steps_heard,
     }

@@ -23,6 +23,7 @@ from guardsim.detection.model import AwarenessMeter, DetectionModel, GuardDetect
 from guardsim.detection.watch import LevelWatch
 from guardsim.grid import CoverageGrid
 from guardsim.kernels.compiler import jit
+from guardsim.kernels.gaits import GAIT_MOVES, SILENT, WALK_MOVES, gait_move
 from guardsim.kernels.steps import cell_of_state
 from guardsim.vision.table import ViewTable
 
@@ -124,44 +125,74 @@ def grade_path(
 
 
 @jit
-def _unseen_reach(neighbours: np.ndarray, seen: np.ndarray, target: int) -> np.ndarray:
-    """``bool (period, cells)``: the nodes from which the target is reached without being seen, found
-    backwards from the target's unseen ticks (the grid's moves are symmetric, waiting included)."""
+def _reach(
+    neighbours: np.ndarray, seen: np.ndarray, heard: np.ndarray, cap: int, moves: int, target: int
+) -> np.ndarray:
+    """``bool (cap + 1, period, cells)``: the (ticks still, lap tick, cell) nodes from which the target is
+    reached neither seen nor heard, found backwards from the target's unseen ticks: a node's
+    predecessors are the unseen nodes a tick earlier from which some move
+    (:func:`~guardsim.kernels.gaits.gait_move`) lands on it unheard (the grid's moves are symmetric, so
+    they are its cell's and its neighbours'). Without gaits ``cap`` is 0, ``moves`` 5 and ``heard``
+    :data:`~guardsim.kernels.gaits.SILENT`."""
     period, cells = seen.shape
-    reach = np.zeros((period, cells), dtype=np.bool_)
-    queue = np.empty(period * cells, dtype=np.int64)
+    layer = period * cells
+    reach = np.zeros((cap + 1) * layer, dtype=np.bool_)
+    queue = np.empty((cap + 1) * layer, dtype=np.int64)
     tail = 0
     for phase in range(period):
         if not seen[phase, target]:
-            reach[phase, target] = True
-            queue[tail] = phase * cells + target
-            tail += 1
+            for still in range(cap + 1):
+                node = still * layer + phase * cells + target
+                reach[node] = True
+                queue[tail] = node
+                tail += 1
     head = 0
     while head < tail:
         node = queue[head]
         head += 1
-        phase, cell = node // cells, node % cells
+        still, rest = node // layer, node % layer
+        phase, cell = rest // cells, rest % cells
         before = (phase - 1) % period
-        for move in range(5):
-            other = cell if move == 4 else neighbours[cell, move]
-            if other < 0 or seen[before, other] or reach[before, other]:
+        for direction in range(5):
+            other = cell if direction == 4 else neighbours[cell, direction]
+            if other < 0 or seen[before, other]:
                 continue
-            reach[before, other] = True
-            queue[tail] = before * cells + other
-            tail += 1
-    return reach
+            for earlier in range(cap + 1):
+                previous = earlier * layer + before * cells + other
+                if reach[previous]:
+                    continue
+                for move in range(moves):
+                    lands, still_after, loud = gait_move(neighbours, heard, phase, other, earlier, cap, move)
+                    if lands == cell and still_after == still and not loud:
+                        reach[previous] = True
+                        queue[tail] = previous
+                        tail += 1
+                        break
+    return reach.reshape((cap + 1, period, cells))
 
 
-def unseen_reach(neighbours: np.ndarray, seen: np.ndarray, target: int) -> np.ndarray:
+def unseen_reach(
+    neighbours: np.ndarray,
+    seen: np.ndarray,
+    target: int,
+    *,
+    heard: np.ndarray | None = None,
+    sneak_ticks: int = 2,
+) -> np.ndarray:
     """``bool (period, cells)``: the (lap tick, cell) nodes from which ``target`` can be reached unseen;
     its column at an entry cell says from which lap ticks a player entering there gets through unseen
-    (their count is the unseen slack).
+    (their count is the unseen slack). With ``heard`` (see :func:`guardsim.sneak.search.find_sneak`),
+    unseen and unheard, choosing gaits, for a player who has just arrived in the cell (or entered): one
+    who has stood there longer gets through from these nodes and maybe others.
 
     >>> neighbours = np.array([[1, -1, -1, -1], [2, -1, 0, -1], [-1, -1, 1, -1]])
     >>> seen = np.array([[False, True, False], [False, False, False]])
     >>> unseen_reach(neighbours, seen, 2)[:, 0].tolist()
     [True, True]
     """
-    return _unseen_reach(
-        np.ascontiguousarray(neighbours, dtype=np.int64), np.ascontiguousarray(seen, dtype=np.bool_), int(target)
-    )
+    gaits = (SILENT, 0, WALK_MOVES) if heard is None else (heard, int(sneak_ticks) - 1, GAIT_MOVES)
+    reach = _reach(
+        np.ascontiguousarray(neighbours, dtype=np.int64), np.ascontiguousarray(seen, dtype=np.bool_),
+        np.ascontiguousarray(gaits[0], dtype=np.bool_), gaits[1], gaits[2], int(target),
+    )  # fmt: skip
+    return reach[0]

@@ -9,6 +9,10 @@ every guard: the meter rule is monotone (a lower meter stays lower or equal alon
 an earlier arrival can wait out the same lap), so a dominated label's every continuation is matched by
 the dominating one's. What remains is exact: when the search ends without reaching the target, no
 undetected path exists from the entry ticks it started from.
+
+With ears (``heard``, see :mod:`guardsim.kernels.gaits`) a label also holds the ticks the intruder has
+stood in its cell (up to ``sneak_ticks - 1``, when it may sneak on), a label dominates only one that
+has stood no longer, and no step may land where a guard hears it.
 """
 
 from __future__ import annotations
@@ -18,6 +22,7 @@ import numpy as np
 from guardsim.errors import LimitError
 from guardsim.kernels.arrays import copy_into
 from guardsim.kernels.compiler import jit
+from guardsim.kernels.gaits import GAIT_MOVES, SILENT, SNEAK_MOVE, WALK_MOVES, gait_move
 from guardsim.kernels.meter import DETECTED, meter_after
 
 __all__ = ["MAX_LABELS", "LabelSearch", "entry_searches", "undetected_search"]
@@ -54,11 +59,16 @@ def _label_search(
     head: np.ndarray,
     settled: np.ndarray,
     room: int,
-) -> tuple[np.ndarray, np.ndarray, np.ndarray, int, int]:
+    heard: np.ndarray,
+    cap: int,
+    moves: int,
+) -> tuple[np.ndarray, np.ndarray, np.ndarray, int, int, np.ndarray, np.ndarray]:
     """Breadth-first label search; returns (label node, label parent, label meters, labels kept, found
-    label): the first label on a ``goal`` node, -1 when none is, -2 past ``max_labels``. Stops at the
-    first unless ``exhaustive``. ``head`` (all -1) and ``settled`` (all false), one entry per node, are
-    the caller's, so that repeated searches share them; ``room`` is the labels to allocate at first."""
+    label, label ticks still, label landed a sneaking step): the found label is the first on a ``goal``
+    node, -1 when none is, -2 past ``max_labels``. Stops at the first unless ``exhaustive``. ``head``
+    (all -1) and ``settled`` (all false), one entry per node, are the caller's, so that repeated searches
+    share them; ``room`` is the labels to allocate at first. ``moves`` is 5 without gaits (``cap`` 0,
+    ``heard`` ``(2, 1, 1)``), :data:`GAIT_MOVES` with them."""
     guards, period, cells = gain.shape
     # ``settled`` marks nodes holding a label with every meter empty, which dominates all others: most
     # edges of the search lead to one, and the small array settles them without touching the labels.
@@ -66,6 +76,8 @@ def _label_search(
     parent = np.empty(room, dtype=np.int64)
     after_in_node = np.empty(room, dtype=np.int64)
     meters = np.empty((room, guards), dtype=np.float64)
+    still = np.zeros(room, dtype=np.int64)
+    sneaked = np.zeros(room, dtype=np.bool_)
     frontier = np.empty(1024, dtype=np.int64)
     upcoming = np.empty(1024, dtype=np.int64)
     candidate = np.empty(guards, dtype=np.float64)
@@ -84,7 +96,9 @@ def _label_search(
         node = phase * cells + source
         node_of[count] = node
         parent[count] = -1
-        empty = True
+        still[count] = 0
+        sneaked[count] = False
+        empty = cap == 0
         for guard in range(guards):
             meters[count, guard] = candidate[guard]
             empty = empty and candidate[guard] == 0.0
@@ -98,7 +112,7 @@ def _label_search(
         if found < 0 and goal[phase, source]:
             found = count - 1
             if not exhaustive:
-                return node_of, parent, meters, count, found
+                return node_of, parent, meters, count, found, still, sneaked
     while width > 0:
         upcoming_width = 0
         for index in range(width):
@@ -106,15 +120,15 @@ def _label_search(
             node = node_of[label]
             phase, cell = node // cells, node % cells
             after = (phase + 1) % period
-            for move in range(5):
-                other = cell if move == 4 else neighbours[cell, move]
-                if other < 0:
+            for move in range(moves):
+                other, still_after, loud = gait_move(neighbours, heard, after, cell, still[label], cap, move)
+                if other < 0 or loud:
                     continue
                 next_node = after * cells + other
                 if settled[next_node]:
                     continue
                 detected = False
-                empty = True
+                empty = still_after == cap
                 for guard in range(guards):
                     step_gain = gain[guard, after, other] if seen[after, other] else 0.0
                     candidate[guard] = meter_after(meters[label, guard], step_gain, fall)
@@ -125,8 +139,8 @@ def _label_search(
                 stored = head[next_node]
                 dominated = False
                 while stored >= 0 and not dominated:
-                    dominated = True
-                    for guard in range(guards):
+                    dominated = still[stored] >= still_after
+                    for guard in range(guards if dominated else 0):
                         if meters[stored, guard] > candidate[guard]:
                             dominated = False
                             break
@@ -134,13 +148,17 @@ def _label_search(
                 if dominated:
                     continue
                 if count >= max_labels:
-                    return node_of, parent, meters, count, -2
+                    return node_of, parent, meters, count, -2, still, sneaked
                 if count == node_of.shape[0]:
                     node_of = _grow(node_of, count + 1)
                     parent = _grow(parent, count + 1)
                     after_in_node = _grow(after_in_node, count + 1)
                     meters = _grow(meters, count + 1)
+                    still = _grow(still, count + 1)
+                    sneaked = _grow(sneaked, count + 1)
                 node_of[count] = next_node
+                still[count] = still_after
+                sneaked[count] = move >= SNEAK_MOVE
                 parent[count] = label
                 for guard in range(guards):
                     meters[count, guard] = candidate[guard]
@@ -155,10 +173,10 @@ def _label_search(
                 if found < 0 and goal[after, other]:
                     found = count - 1
                     if not exhaustive:
-                        return node_of, parent, meters, count, found
+                        return node_of, parent, meters, count, found, still, sneaked
         frontier, upcoming = upcoming, frontier
         width = upcoming_width
-    return node_of, parent, meters, count, found
+    return node_of, parent, meters, count, found, still, sneaked
 
 
 @jit
@@ -171,6 +189,9 @@ def _entry_searches(
     goal: np.ndarray,
     phases: np.ndarray,
     max_labels: int,
+    heard: np.ndarray,
+    cap: int,
+    moves: int,
 ) -> np.ndarray:
     """One search per lap tick in ``phases``, entering then only; whether each reaches a goal node (-2 in
     the first entry past ``max_labels``). The node arrays are cleaned between searches, not rebuilt."""
@@ -183,8 +204,22 @@ def _entry_searches(
     room = 1024
     for index in range(phases.size):
         entries[phases[index]] = True
-        node_of, _, _, count, found = _label_search(
-            neighbours, gain, seen, fall, source, goal, entries, False, max_labels, head, settled, room
+        node_of, _, _, count, found, _, _ = _label_search(
+            neighbours,
+            gain,
+            seen,
+            fall,
+            source,
+            goal,
+            entries,
+            False,
+            max_labels,
+            head,
+            settled,
+            room,
+            heard,
+            cap,
+            moves,
         )
         entries[phases[index]] = False
         if found == -2:
@@ -208,9 +243,12 @@ def entry_searches(
     *,
     seen: np.ndarray | None = None,
     max_labels: int = MAX_LABELS,
+    heard: np.ndarray | None = None,
+    sneak_ticks: int = 2,
 ) -> np.ndarray:
     """``bool (len(phases),)``: for each lap tick in ``phases``, whether a player entering ``source`` then
-    (and only then) reaches a ``goal`` node (``bool (period, cells)``) undetected.
+    (and only then) reaches a ``goal`` node (``bool (period, cells)``) undetected (with ``heard``, as in
+    :func:`undetected_search`, unheard too).
 
     >>> neighbours = np.array([[1, -1, -1, -1], [2, -1, 0, -1], [-1, -1, 1, -1]])
     >>> gain = np.array([[[0.0, 1.0, 0.0], [0.0, 0.0, 0.0]]])
@@ -223,35 +261,69 @@ def entry_searches(
     out = _entry_searches(
         np.ascontiguousarray(neighbours, dtype=np.int64), gain, seen, float(fall), int(source),
         np.ascontiguousarray(goal, dtype=np.bool_), np.ascontiguousarray(phases, dtype=np.int64), int(max_labels),
+        *_gait_arguments(heard, sneak_ticks),
     )  # fmt: skip
     if (out == -2).any():
         raise LimitError(f"a slack search passed {max_labels} labels; the level, lap or guards are too large for it")
     return out == 1
 
 
+def _gait_arguments(heard: np.ndarray | None, sneak_ticks: int) -> tuple[np.ndarray, int, int]:
+    """``heard``, ``cap`` and ``moves`` of the label search: without ears, no gaits at all."""
+    if heard is None:
+        return SILENT, 0, WALK_MOVES
+    return np.ascontiguousarray(heard, dtype=np.bool_), int(sneak_ticks) - 1, GAIT_MOVES
+
+
 class LabelSearch:
     """The labels of one graded search, kept to read paths and reached cells from."""
 
-    def __init__(self, node_of: np.ndarray, parent: np.ndarray, meters: np.ndarray, count: int, found: int, cells: int):
+    def __init__(
+        self,
+        node_of: np.ndarray,
+        parent: np.ndarray,
+        meters: np.ndarray,
+        count: int,
+        found: int,
+        cells: int,
+        sneaked: np.ndarray | None = None,
+        sneak_ticks: int = 0,
+    ):
         self.node_of = node_of[:count]
         self.parent = parent[:count]
         self.meters = meters[:count]
         self.found = found
         self.cells = cells
+        self.sneaked = None if sneaked is None else sneaked[:count]
+        """With gaits: whether each label landed a sneaking step."""
+        self.sneak_ticks = sneak_ticks
 
     @property
     def labels(self) -> int:
         """Labels kept."""
         return int(self.node_of.size)
 
-    def path(self) -> tuple[int, np.ndarray]:
-        """The found label's entry lap tick and its flat cell per tick."""
+    def _chain(self) -> list[int]:
         chain = [self.found]
         while self.parent[chain[-1]] >= 0:
             chain.append(int(self.parent[chain[-1]]))
         chain.reverse()
-        nodes = self.node_of[chain]
+        return chain
+
+    def path(self) -> tuple[int, np.ndarray]:
+        """The found label's entry lap tick and its flat cell per tick."""
+        nodes = self.node_of[self._chain()]
         return int(nodes[0] // self.cells), (nodes % self.cells).astype(np.int64)
+
+    def gaits(self) -> tuple[str, ...] | None:
+        """With gaits, what the found path does in each tick after entering (see
+        :attr:`guardsim.sneak.search.SneakPath.gaits`); ``None`` without."""
+        if self.sneaked is None:
+            return None
+        from guardsim.sneak.search import tick_gaits
+
+        chain = self._chain()
+        return tick_gaits(self.node_of[chain] % self.cells, self.sneaked[chain], self.sneak_ticks - 1)
 
     def reached_cells(self) -> np.ndarray:
         """``bool (cells,)``: the cells some undetected path reaches (after an exhaustive search)."""
@@ -271,8 +343,14 @@ def undetected_search(
     exhaustive: bool = False,
     seen: np.ndarray | None = None,
     max_labels: int = MAX_LABELS,
+    heard: np.ndarray | None = None,
+    sneak_ticks: int = 2,
 ) -> LabelSearch:
     """Search for the fastest undetected path from ``source`` to ``target`` (flat cells).
+
+    With ``heard`` (``bool (2, period, cells)``, :func:`guardsim.detection.hearing.lap_hearing`), the
+    path chooses a gait for every step (a sneaking step takes ``sneak_ticks`` ticks) and no step lands
+    where a guard hears it; :meth:`LabelSearch.gaits` says what it does in each tick.
 
     ``target`` may instead be a ``bool (period, cells)`` array of goal nodes (a path ends on reaching
     any). ``entries`` (``bool (period,)``) limits the lap ticks the intruder may enter at (default: all).
@@ -306,17 +384,20 @@ def undetected_search(
     else:
         goal = np.zeros((period, cells), dtype=np.bool_)
         goal[:, int(target)] = True
-    node_of, parent, meters, count, found = _label_search(
+    gaits = _gait_arguments(heard, sneak_ticks)
+    node_of, parent, meters, count, found, _, sneaked = _label_search(
         np.ascontiguousarray(neighbours, dtype=np.int64), gain,
         (gain > 0).any(axis=0) if seen is None else np.ascontiguousarray(seen, dtype=np.bool_), float(fall),
         int(source), goal, entries, bool(exhaustive), int(max_labels),
         np.full(period * cells, -1, dtype=np.int64), np.zeros(period * cells, dtype=np.bool_),
         # Room for a label per node to start with: most nodes keep one (all meters empty).
-        period * cells + 1,
+        period * cells + 1, *gaits,
     )  # fmt: skip
     if found == -2:
         raise LimitError(
             f"the undetected-path search passed {max_labels} labels ((cell, lap tick, meters) states kept); "
             "the level, lap or guards are too large for it"
         )
-    return LabelSearch(node_of, parent, meters, count, found, cells)
+    if heard is None:
+        return LabelSearch(node_of, parent, meters, count, found, cells)
+    return LabelSearch(node_of, parent, meters, count, found, cells, sneaked, int(sneak_ticks))

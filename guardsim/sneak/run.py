@@ -38,13 +38,14 @@ class SneakRun(NamedTuple):
 def sneak_header(scene: Scene, detection: GuardDetection, max_lap: int | None) -> dict[str, Any]:
     """What sneak.json records of how the check ran, so that it can be run again exactly (``guardsim view``
     does, for the page): the vision (``los``, ``fov``, ``view_range``, ``null`` when unlimited), the
-    detection keys and the joint lap's limit (``null``: the default)."""
+    detection keys, the intruder's keys and the joint lap's limit (``null``: the default)."""
     reach = scene.cone.view_range
     return {
         "los": scene.rule.value,
         "fov": scene.cone.fov_degrees,
         "view_range": None if math.isinf(reach) else reach,
         "detection": dataclasses.asdict(detection.model),
+        "intruder": dataclasses.asdict(scene.level.intruder),
         "max_lap": max_lap,
     }
 
@@ -67,12 +68,14 @@ def run_sneak(
     goal: int,
     *,
     undetected: bool = False,
+    unheard: bool = False,
     max_lap: int | None = None,
     patrol_name: str = "patrol",
     progress: Callable[[str, int, int], None] | None = None,
 ) -> SneakRun:
     """Search ``scene`` for a path from flat cell ``start`` to ``goal`` unseen by ``patrol`` (``undetected``:
-    no guard's meter fills) under the level's detection keys, cameras and light, over a joint lap of at
+    no guard's meter fills; ``unheard``: nor hears a step, under the level's intruder keys) under the
+    level's detection keys, cameras and light, over a joint lap of at
     most ``max_lap`` ticks (default :data:`~guardsim.detection.watch.MAX_JOINT_LAP`). A patrol that is
     not a repeating grid-motion one is a :class:`~guardsim.errors.PatrolError` naming ``patrol_name``."""
     from guardsim.detection import GuardDetection
@@ -87,9 +90,11 @@ def run_sneak(
     limit = MAX_JOINT_LAP if max_lap is None else max_lap
     watch = level_watch(scene, detection.dt, max_lap=limit) if level.cameras or not level.lit else None
     if progress is not None:
-        progress("searching" + (" for an undetected path" if undetected else " for an unseen path"), 0, 0)
+        rule = ("undetected" if undetected else "unseen") + (", unheard" if unheard else "")
+        progress(f"searching for an {rule} path", 0, 0)
     result = sneak_check(
-        grid, table, patrol, start, goal, detection=detection, undetected=undetected, watch=watch, max_lap=limit
-    )
+        grid, table, patrol, start, goal, detection=detection, undetected=undetected, watch=watch, max_lap=limit,
+        unheard=unheard, intruder=level.intruder,
+    )  # fmt: skip
     lap = patrol if result.lap is None else result.lap
     return SneakRun(result, lap, table, detection, watch, () if watch is None else tuple(watch.notes))

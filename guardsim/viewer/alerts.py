@@ -21,7 +21,7 @@ from guardsim.detection import intruder_state
 from guardsim.kernels.steps import state_of
 from guardsim.level import Level
 from guardsim.patrol.model import Patrol
-from guardsim.render.alert import CONTAMINATED_INDEX, LAST_KNOWN_INDEX, STATE_LETTERS
+from guardsim.render.alert import CONTAMINATED_INDEX, HEARD_LETTER, LAST_KNOWN_INDEX, STATE_LETTERS
 from guardsim.render.palette import PALETTE
 from guardsim.scene import Scene
 from guardsim.viewer.layers import AlertLayers, Intruder, Overlays
@@ -32,8 +32,8 @@ from guardsim.vision.table import ViewTable
 __all__ = ["ALERT_LAYERS", "alert_overlays", "write_alert_page", "write_alert_trace_page"]
 
 #: Layers an alert page opens with: the routes, the cones, the contaminated set, the last known cell,
-#: the intruder, and each guard's meter and state.
-ALERT_LAYERS = ("route", "trail", "cone", "contaminated", "last-known", "intruder", "meters", "states")
+#: the intruder, each guard's meter and state, and the noises made (when there are any).
+ALERT_LAYERS = ("route", "trail", "cone", "contaminated", "last-known", "intruder", "meters", "states", "noises")
 
 
 def alert_overlays(
@@ -97,6 +97,10 @@ def alert_overlays(
         suspicious=suspicious,
         events=[(e.tick, e.guard, e.event) for e in episode.events],
         counts=[int(count) for count in record["contaminated"]],
+        # The episode's own noises and hearing, as the alert GIF reads them.
+        noises=[(int(tick), int(cell), float(radius)) for tick, cell, radius, _ in episode.noises if tick < ticks],
+        heard=np.asarray(record["heard"], dtype=bool).reshape(ticks, guards) if record.get("heard") else None,
+        heard_letter=HEARD_LETTER,
     )
     watch = episode.cameras.watch
     layers = None

@@ -10,6 +10,7 @@
 // - safe: the safe spots given, each cell outlined (green: holds, magenta: broken);
 // - an alert episode's (data.alert): states, each guard's state as the alert GIF's letter over it;
 //   meters at every tick; contaminated, the cells the intruder may be in as dots; last-known, a cross;
+//   noises, a ring of its radius where each noise is made at its tick (H over a guard that heard one);
 // - light: the level's light, darkness shaded over the floor; cameras: each camera's cone at the lap tick
 //   and its meter over it while the intruder is in (data.watch).
 "use strict";
@@ -59,6 +60,7 @@ const GuardsimLayers = (function () {
           meters: decode(data.alert.meters, Float32Array),
           contaminated: decode(data.alert.contaminated, Uint8Array),
           lastKnown: decode(data.alert.last_known, Int32Array),
+          heard: decode(data.alert.heard, Uint8Array),
         }
       : null;
     const watch = data.watch
@@ -241,6 +243,22 @@ const GuardsimLayers = (function () {
       context.stroke();
     }
 
+    // The noises made at page tick `tick` (each lasts its tick): where they are made, a ring of their radius,
+    // as the alert GIF draws them.
+    const noisesAt = (tick) => alert.info.noises.filter(([at]) => at === tick);
+    function drawNoises(tick) {
+      context.strokeStyle = data.colours.outline;
+      context.lineWidth = 2;
+      for (const [, cell, reach] of noisesAt(tick)) {
+        const [x, y] = centre(cell);
+        context.beginPath();
+        context.arc(x, y, (reach / data.cell_size) * scale, 0, 2 * Math.PI);
+        context.stroke();
+      }
+    }
+    // Whether `guard` is investigating a noise it heard at alert row `row`.
+    const heardAt = (row, guard) => alert.heard[row * alert.guards + guard] === 1;
+
     // Each guard's state as the alert GIF's letter, up beside it (left of it near the canvas's right edge).
     function drawStates(row, radius, spots) {
       const size = Math.max(11, Math.round(radius * 1.3));
@@ -249,7 +267,7 @@ const GuardsimLayers = (function () {
       context.lineJoin = "round";
       spots.forEach(([x, y], guard) => {
         if (guard >= alert.guards) return;
-        const letter = alert.info.state_letters[alert.states[row * alert.guards + guard]];
+        const letter = heardAt(row, guard) ? alert.info.heard_letter : alert.info.state_letters[alert.states[row * alert.guards + guard]];
         const width = context.measureText(letter).width;
         const left = x + radius + width + 4 > context.canvas.width ? x - radius - width - 2 : x + radius + 2;
         // Below the guard when there is no room above it.
@@ -274,7 +292,12 @@ const GuardsimLayers = (function () {
       const cellText = (cell) => (cell < 0 ? "" : (cell % data.cols) + "," + Math.floor(cell / data.cols));
       const known = alert.lastKnown[row];
       const count = alert.info.contaminated_counts[row];
-      const parts = names.map((name, guard) => (alert.guards > 1 ? "guard " + (guard + 1) + " " : "") + name);
+      const heard = names.map((name, guard) => heardAt(row, guard));
+      const parts = names.map(
+        (name, guard) => (alert.guards > 1 ? "guard " + (guard + 1) + " " : "") + name + (heard[guard] ? " (heard a noise)" : "")
+      );
+      const noises = tick === row ? noisesAt(tick) : [];
+      if (noises.length) parts.push(noises.length + (noises.length === 1 ? " noise" : " noises"));
       if (known >= 0) parts.push("last known " + worldText(known));
       parts.push(count + (count === 1 ? " cell" : " cells") + " contaminated");
       return {
@@ -283,6 +306,8 @@ const GuardsimLayers = (function () {
         intruder: inside ? cellText(intruder.path[step]) : "",
         lastKnown: cellText(known),
         contaminated: String(count),
+        heard: heard.map((flag) => (flag ? "1" : "0")).join(","),
+        noises: noises.map(([, cell, reach]) => cellText(cell) + "," + reach).join(";"),
       };
     }
 
@@ -361,6 +386,7 @@ const GuardsimLayers = (function () {
       if (alert) {
         const row = alertRow(tick);
         if (layers["last-known"]) drawLastKnown(row);
+        if (layers.noises) drawNoises(tick);
         if (layers.meters) drawMeters(alert.meters, alert.guards, alert.info, row, radius, spots || []);
         if (layers.states) drawStates(row, radius, spots || []);
       }
@@ -550,6 +576,7 @@ const GuardsimLayers = (function () {
     if (intruder) present.push("intruder");
     if (meters || alert) present.push("meters");
     if (alert) present.push("contaminated", "last-known", "states");
+    if (alert && alert.info.noises.length) present.push("noises");
     if (data.safe) present.push("safe");
     if (watch && watch.light) present.push("light");
     if (watch && watch.cameras.length) present.push("cameras");
@@ -581,6 +608,9 @@ const GuardsimLayers = (function () {
         items.push([data.colours.outline, "guard state: " + letters]);
         items.push([hex(alert.info.contaminated_colour), "contaminated: where the intruder may be (dots)"]);
         items.push([hex(alert.info.last_known_colour), "last known position (cross)"]);
+        if (alert.info.noises.length) {
+          items.push([data.colours.outline, "noise: a ring of its radius where and when it is made; " + alert.info.heard_letter + " over a guard that heard one"]);
+        }
       }
       if (data.safe) {
         items.push([hex(data.safe_colours.holds), "safe spot (holds)"]);

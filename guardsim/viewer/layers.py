@@ -183,6 +183,14 @@ class AlertLayers:
     counts: Sequence[int] | None = None
     """Per tick, the contaminated set's size as read out; ``None``: counted from :attr:`contaminated` (a
     page drawn from a trace knows the sizes, not the cells)."""
+    noises: Sequence[tuple[int, int, float]] = ()
+    """``(tick, flat cell, radius in world units)``: each noise made, drawn as a ring of its radius around
+    the cell's centre at the tick it is made (the tick it lasts)."""
+    heard: np.ndarray | None = None
+    """``bool (ticks, guards)``: whether each guard is investigating a noise it heard (its letter is then
+    :attr:`heard_letter`)."""
+    heard_letter: str = "H"
+    """The letter over a guard that heard a noise (the alert GIF's)."""
 
 
 @dataclass(frozen=True, eq=False)
@@ -367,6 +375,11 @@ def _alert_data(alert: AlertLayers, trace: Trace) -> dict[str, Any]:
         raise GuardsimError("the alert's guard states index past its state names")
     if any(not -1 <= cell < cells for cell in alert.last_known):
         raise GuardsimError(f"a last known cell lies off the trace's grid of {cells} cells")
+    heard = np.zeros((ticks, guards), dtype=bool) if alert.heard is None else np.asarray(alert.heard, dtype=bool)
+    if heard.shape != (ticks, guards):
+        raise GuardsimError(f"the alert's heard flags have shape {heard.shape}, expected {(ticks, guards)}")
+    if any(not (0 <= cell < cells and 0 <= tick < ticks) for tick, cell, _ in alert.noises):
+        raise GuardsimError("a noise lies off the trace's grid or its ticks")
     return {
         "guards": guards,
         "states": packed(states.ravel(), "u1"),
@@ -382,6 +395,9 @@ def _alert_data(alert: AlertLayers, trace: Trace) -> dict[str, Any]:
         "last_known_colour": list(alert.last_known_colour),
         "suspicious": float(alert.suspicious),
         "events": [[int(tick), int(guard), str(event)] for tick, guard, event in alert.events],
+        "noises": [[int(tick), int(cell), float(radius)] for tick, cell, radius in alert.noises],
+        "heard": packed(heard.ravel().astype(np.uint8), "u1"),
+        "heard_letter": alert.heard_letter,
         "state_colours": {name: list(colour) for name, colour in STATE_COLOURS.items()},
     }
 

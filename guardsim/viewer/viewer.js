@@ -474,6 +474,8 @@
           alertReadout.dataset.intruder = alert.intruder;
           alertReadout.dataset.lastKnown = alert.lastKnown;
           alertReadout.dataset.contaminated = alert.contaminated;
+          alertReadout.dataset.heard = alert.heard;
+          alertReadout.dataset.noises = alert.noises;
         }
         cellReadout.textContent = inspected
           ? GuardsimLayers.worldPoint(data, inspected[0], inspected[1]) + " (cell [" + inspected[0] + ", " + inspected[1] + "]): " +

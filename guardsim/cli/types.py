@@ -1,5 +1,5 @@
-"""Click parameter types the commands share, below every other command-line module (so that
-:mod:`guardsim.cli.common` and :mod:`guardsim.cli.map_options` both use them without importing each other)."""
+"""Click parameter types the commands share (below :mod:`guardsim.cli.common` and
+:mod:`guardsim.cli.map_options`, which both use them)."""
 
 from __future__ import annotations
 

@@ -1,20 +1,22 @@
-"""The one convenience beside :class:`~guardsim.simulation.Simulation`: an episode run to its end."""
+"""The one convenience beside :class:`~guardsim.simulation.Simulation`: an episode run to its end, on the
+grid or in continuous motion (it lives here, downstream of both, so that the simulation never imports
+the motion that plugs into it)."""
 
 from __future__ import annotations
 
 from collections.abc import Sequence
-from typing import TYPE_CHECKING, Any
+from typing import Any
 
 import numpy as np
 
+from guardsim.errors import ArgumentError
+from guardsim.motion.episode import ContinuousSimulation
+from guardsim.motion.parameters import GuardMotion
 from guardsim.planners.base import Planner
 from guardsim.scene import Scene
 from guardsim.simulation.loop import Simulation
 from guardsim.trace import Trace
 from guardsim.vision.rules import VisionFunction
-
-if TYPE_CHECKING:
-    from guardsim.motion import GuardMotion
 
 __all__ = ["run_episode"]
 
@@ -58,18 +60,16 @@ def run_episode(
     """
     if motion is None or motion == "grid":
         if max_seconds is not None:
-            raise ValueError("max_seconds limits continuous motion; grid episodes take max_steps")
+            raise ArgumentError("max_seconds limits continuous motion; grid episodes take max_steps")
         simulation = Simulation(
             scene, planner, guards=guards, max_steps=max_steps, vision=vision, reference=reference, **planner_options
         )
         simulation.reset(seed=seed, episode=episode, starts=starts, headings=headings, rng=rng)
         return simulation.run()
-    from guardsim.motion import ContinuousSimulation, GuardMotion
-
     if not isinstance(planner, str) or guards != 1 or vision is not None:
-        raise ValueError("continuous motion walks one guard with a planner name and the scene's own vision")
+        raise ArgumentError("continuous motion walks one guard with a planner name and the scene's own vision")
     if isinstance(motion, str) and motion != "continuous":
-        raise ValueError(f"motion is 'grid', 'continuous' or a GuardMotion, not {motion!r}")
+        raise ArgumentError(f"motion is 'grid', 'continuous' or a GuardMotion, not {motion!r}")
     continuous = ContinuousSimulation(
         scene,
         planner,
