@@ -96,7 +96,7 @@ def main() -> None:
                     f"| {level.name} | {guards} | {a[0]:g},{a[1]:g} -> {b[0]:g},{b[1]:g} | {answer} | {seconds:.2f} |"
                 )
                 if args.out is not None:
-                    from guardsim.sneak.gif import write_sneak_gif
+                    from guardsim.render.sneak import write_sneak_gif
 
                     args.out.mkdir(parents=True, exist_ok=True)
                     trace = patrol_trace(

@@ -45,9 +45,9 @@ from guardsim import load_level
 from guardsim.bounds import lower_bounds
 from guardsim.cli.common import build_scene
 from guardsim.experiment import RESULTS_NAME, EpisodeRecord, read_results
-from guardsim.experiment.plots import StepsBox, plot_steps
 from guardsim.motion import run_episode
 from guardsim.planners import PLANNERS, make_planner
+from guardsim.render.plots import StepsBox, plot_steps
 from guardsim.simulation import Scene, choose_start, episode_generator
 
 REPO = Path(__file__).resolve().parent.parent

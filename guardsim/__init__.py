@@ -35,6 +35,7 @@ _SOURCES = {
     "ArgumentError": "guardsim.errors",
     "PlannerError": "guardsim.errors",
     "RegressionError": "guardsim.errors",
+    "TraceError": "guardsim.errors",
     "GuardSpec": "guardsim.level",
     "IntruderSpec": "guardsim.level",
     "Level": "guardsim.level",
@@ -113,6 +114,7 @@ if TYPE_CHECKING:
     from guardsim.errors import PlannerError as PlannerError
     from guardsim.errors import PointError as PointError
     from guardsim.errors import RegressionError as RegressionError
+    from guardsim.errors import TraceError as TraceError
     from guardsim.grid import CoverageGrid as CoverageGrid
     from guardsim.importers.imported import ImportedLevel as ImportedLevel
     from guardsim.importers.loading import load_level as load_level

@@ -18,6 +18,7 @@ __all__ = [
     "PlannerError",
     "PointError",
     "RegressionError",
+    "TraceError",
 ]
 
 
@@ -46,6 +47,10 @@ class RegressionError(GuardsimError):
 
 class PatrolError(GuardsimError):
     """A patrol file cannot be read or describes a patrol the level does not allow."""
+
+
+class TraceError(GuardsimError):
+    """A trace file cannot be read as the trace it claims to be, or does not fit the level given with it."""
 
 
 class CheckError(GuardsimError):

@@ -761,13 +761,13 @@ def test_alert_gif_caption_legend_and_letters_describe_the_alert(tmp_path: Path)
     """The alert GIF's legend names what an alert frame draws (not the coverage legend), its caption gives
     the guards' states and the search area (no "reachable cells unseen"), and a state letter beside a
     guard stands at least 11 pixels tall."""
-    from guardsim.alert.gif import ALERT_LEGEND, STATE_LETTERS, write_alert_gif
     from guardsim.alert.trace import guard_trace
+    from guardsim.render.alert import ALERT_LEGEND, STATE_LETTERS, write_alert_gif
     from guardsim.render.layout import CAPTION_SIZE, MIN_GUARD_RADIUS
     from guardsim.render.legend import draw_legend
     from guardsim.render.palette import Index, palette_rgb, text_index
+    from guardsim.render.sneak import SneakFrames
     from guardsim.render.text import Typesetter
-    from guardsim.sneak.gif import SneakFrames
 
     scene, table = setup()
     grid = scene.grid

@@ -124,7 +124,7 @@ def test_walking_past_is_heard_and_sneaking_is_not() -> None:
 def test_noises_and_hearing_are_in_the_trace_and_the_gif(tmp_path: Path) -> None:
     import imageio.v3 as iio
 
-    from guardsim.alert.gif import write_alert_gif
+    from guardsim.render.alert import write_alert_gif
 
     scene, table, post = door_scene()
     grid = scene.grid

@@ -24,8 +24,8 @@ import pytest
 from click.testing import CliRunner
 
 from guardsim.alert import GUARD_STATES, alert_episode
-from guardsim.alert.gif import CONTAMINATED_INDEX, LAST_KNOWN_INDEX, STATE_LETTERS
 from guardsim.cli import main
+from guardsim.render.alert import CONTAMINATED_INDEX, LAST_KNOWN_INDEX, STATE_LETTERS
 from guardsim.render.palette import PALETTE
 from guardsim.viewer.alerts import ALERT_LAYERS
 from tests.common import write_level
@@ -43,6 +43,7 @@ class Episode:
         level = write_level(folder, ROOM)
         scene, table = setup()
         patrol = write_patrol(folder, scene.grid)
+        self.level_path, self.patrol_path = level, patrol
         self.page, self.trace_path = folder / "alert.html", folder / "trace.json"
         args = ["--intruder", "route", "--from", "4.5,0.5", "--to", "7.5,6.5", "--spotted"]
         outputs = ["--html", str(self.page), "--trace", str(self.trace_path)]
@@ -95,6 +96,29 @@ def test_the_episode_has_every_part_to_show(alert_page: Episode) -> None:
     assert {"patrol", "chase", "search", "return"} <= states
     assert alert_page.trace["outcome"]["outcome"] == "escaped"
     assert alert_page.chase_tick() < alert_page.search_tick() < alert_page.return_tick()
+
+
+def test_view_draws_the_saved_trace_as_alert_html_drew_the_episode(alert_page: Episode, tmp_path: Path) -> None:
+    """``guardsim view TRACE --level --patrol`` writes the page ``alert --html`` wrote, from the trace
+    alone: the same data but the search area's cells (a trace keeps their count, which the page reads
+    out the same)."""
+    page = tmp_path / "view.html"
+    args = ["view", alert_page.trace_path, "--level", alert_page.level_path, "--patrol", alert_page.patrol_path]
+    result = CliRunner().invoke(main, [*map(str, args), "--html", str(page)])
+    assert result.exit_code == 0, result.output
+    ticks = alert_page.ticks - 1
+    assert result.stdout == f"alert room: alert episode, ripple search, {ticks} ticks, 2 guard(s) -> {page}\n"
+    viewed, written = page_json(page.read_text()), dict(alert_page.data)
+    assert decoded(viewed["alert"].pop("contaminated"), "u1").sum() == 0
+    written["alert"] = {key: value for key, value in written["alert"].items() if key != "contaminated"}
+    assert viewed == written
+    # Without the level there is no grid to draw on: one line.
+    missing = CliRunner().invoke(main, ["view", str(alert_page.trace_path), "--html", str(page)])
+    assert missing.exit_code == 2
+    assert missing.stderr == (
+        f"guardsim: error: {alert_page.trace_path}: an alert episode's trace: give --level LEVEL, the level it "
+        "was played on\n"
+    )
 
 
 def test_page_data_is_the_trace(alert_page: Episode) -> None:
@@ -167,9 +191,10 @@ def test_page_loads_and_the_alert_readout_is_the_trace(alert_page: Episode, tmp_
         assert text.startswith(f"guard 1 {alert_page.states(tick)[0]} \u00b7 guard 2 {alert_page.states(tick)[1]}")
         count = trace["contaminated"][tick]
         assert text.endswith(f"{count} {'cell' if count == 1 else 'cells'} contaminated")
-        intruder = trace["intruder_path"][tick]
+        intruder = trace["intruder_positions"][tick]
         if intruder is not None:
-            assert element(dom, "intruder-readout").startswith(f"intruder at [{intruder[0]}, {intruder[1]}]: ")
+            # In world units, as the command line takes a point.
+            assert element(dom, "intruder-readout").startswith(f"intruder at {intruder[0]:g},{intruder[1]:g}: ")
         else:
             assert element(dom, "intruder-readout").startswith("intruder left the level at tick ")
     # Every alert layer has its toggle shown, and the timeline marks the detection and the give-ups.

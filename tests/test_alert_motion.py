@@ -222,10 +222,10 @@ def test_gif_draws_guards_at_their_bodies(tmp_path: Path) -> None:
     """Each frame's guard discs stand where the bodies were at that tick, not at their cells' centres."""
     import imageio.v3 as iio
 
-    from guardsim.alert.gif import write_alert_gif
     from guardsim.alert.trace import guard_trace
+    from guardsim.render.alert import write_alert_gif
     from guardsim.render.palette import PALETTE, guard_index
-    from guardsim.sneak.gif import SneakFrames
+    from guardsim.render.sneak import SneakFrames
 
     episode = continuous_episode("route-escaped")
     episode.run()

@@ -118,6 +118,30 @@ def test_the_first_episode_run_for_trace_is_not_counted_as_done(files, one_worke
     assert contents(out) == contents(reference_out)
 
 
+def test_episode_k_runs_one_episode_of_the_batch_again_exactly(files, one_worker, tmp_path: Path) -> None:
+    """``--episode K`` with the batch's seed writes the trace the batch wrote for episode K, byte for byte
+    (the trace records K and the seed); it runs one episode alone, so --episodes and --out are refused."""
+    _, reference_out = one_worker
+    trace = tmp_path / "again.json"
+    result = run(files, "--search", "team", "--spotted", "--seed", "4", "--episode", "4", "--trace", trace)
+    assert result.exit_code == 0, result.output
+    assert result.stdout.startswith("alert room: episode 4 of seed 4: ")
+    assert trace.read_bytes() == (reference_out / "team-0004.json").read_bytes()
+    data = json.loads(trace.read_text())
+    assert (data["episode"], data["seed"]) == (4, 4) and data["phase"] >= 0 and data["goal"] is not None
+    # A batch of one draws its start from the seed like any batch: episode 0's.
+    one = tmp_path / "one.json"
+    result = run(files, "--search", "team", "--spotted", "--seed", "4", "--episodes", "1", "--trace", one)
+    assert result.exit_code == 0, result.output
+    assert one.read_bytes() == (reference_out / "team-0000.json").read_bytes()
+    refused = run(files, *EPISODES, "--episode", "4")
+    assert refused.exit_code == 2
+    assert refused.stderr == (
+        "guardsim: error: --episode 4 runs one episode of a batch again: give it without --episodes and --out "
+        "(write it with --trace, --gif or --html)\n"
+    )
+
+
 def test_other_options_are_not_resumed(files, one_worker, tmp_path: Path) -> None:
     """A folder holding a run with another seed is refused in one line; nothing is overwritten."""
     _, reference_out = one_worker

@@ -27,8 +27,8 @@ from guardsim.cli import main
 from guardsim.cli.bench import ProgressLine
 from guardsim.experiment import CSV_COLUMNS, RUN_NAME, EpisodeRecord, read_results
 from guardsim.experiment.executors import LocalPool
-from guardsim.experiment.plots import StepsBox, plot_steps
 from guardsim.motion import run_episode
+from guardsim.render.plots import StepsBox, plot_steps
 from guardsim.simulation import Scene
 from guardsim.trace import Trace
 from tests.common import (

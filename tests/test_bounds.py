@@ -254,7 +254,7 @@ def test_cli_prints_the_bounds(tmp_path: Path) -> None:
     path = write_level(tmp_path, STRIP)
     result = CliRunner().invoke(main, ["bounds", str(path), "--start", "3.5,0.5", "--heading", "right"])
     assert result.exit_code == 0, result.output
-    assert result.stdout.startswith("corridor: from cell [3, 0] facing right (7 reachable cells): ")
+    assert result.stdout.startswith("corridor: from 3.5,0.5 (cell [3, 0]) facing right (7 reachable cells): ")
     assert "eccentricity bound 2, cluster bound 6 (2 clusters), path bound 6, best bound 6 steps;" in result.stdout
     assert "view table " in result.stdout and "bounds " in result.stdout
 
@@ -265,7 +265,7 @@ def test_cli_episode_start_matches_bench(tmp_path: Path) -> None:
     result = CliRunner().invoke(main, ["bounds", str(path), "--seed", "4", "--episode", "2"])
     trace = run_episode(scene_from(SHORT_SIGHTED["pillar"]), seed=4, episode=2)
     (col, row), heading = trace.path[0], trace.headings[0]
-    assert f"from cell [{col}, {row}] facing {['right', 'down', 'left', 'up'][heading]} " in result.stdout
+    assert f"(cell [{col}, {row}]) facing {['right', 'down', 'left', 'up'][heading]} " in result.stdout
 
 
 def test_cli_bad_start_is_one_line(tmp_path: Path) -> None:

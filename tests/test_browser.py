@@ -548,7 +548,8 @@ def test_cell_readout_gives_a_cells_worst_gap_and_idleness_now(pages: Path, tmp_
         dom = dump(page, f"tick={2 * period + k}&cell={col},{row}", tmp_path / "profile")
         worst = patrol_json["idleness"][row][col]
         assert (
-            element(dom, "cell-readout") == f"cell [{col}, {row}]: worst gap {worst} ticks \u00b7 idle now {idle} ticks"
+            element(dom, "cell-readout")
+            == f"{col + 0.5:g},{row + 0.5:g} (cell [{col}, {row}]): worst gap {worst} ticks \u00b7 idle now {idle} ticks"
         )
 
 

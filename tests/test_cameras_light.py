@@ -759,7 +759,7 @@ def test_the_alert_gif_and_page_draw_the_cameras_on_their_own_clock(tmp_path: Pa
     import imageio.v3 as iio
 
     from guardsim.alert import alert_episode
-    from guardsim.alert.gif import write_alert_gif
+    from guardsim.render.alert import write_alert_gif
     from guardsim.render.palette import GUARD_COLOURS
     from guardsim.viewer.alerts import alert_overlays
 

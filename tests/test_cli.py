@@ -278,16 +278,23 @@ def test_no_command_prints_the_help() -> None:
     assert "error" not in result.stderr
 
 
-def test_view_of_an_alert_trace_points_to_alert_html(tmp_path: Path) -> None:
-    """An alert trace is not a play trace: `view` says where its page comes from, in one line."""
+def test_view_of_an_alert_trace_needs_its_level_and_fits_it(tmp_path: Path) -> None:
+    """An alert trace is drawn on the level it was played on: without --level, and on another level, one
+    line each."""
     trace = tmp_path / "al.json"
-    trace.write_text('{"level": "x", "guard_states": [["patrol"]], "events": []}')
+    trace.write_text('{"level": "x", "shape": [2, 2], "guard_states": [["patrol"]], "events": []}')
     result = run("view", trace, "--html", tmp_path / "x.html")
     assert result.exit_code == 2
     assert result.stderr.splitlines() == [
-        f"guardsim: error: {trace}: an alert episode's trace (from guardsim alert --trace); its page is written "
-        "by guardsim alert ... --html FILE"
+        f"guardsim: error: {trace}: an alert episode's trace: give --level LEVEL, the level it was played on"
     ]
+    other = run("view", trace, "--level", SQUARE, "--html", tmp_path / "x.html")
+    assert other.exit_code == 2
+    assert other.stderr.splitlines() == [
+        f"guardsim: error: {trace}: not an alert trace of this level (ValueError: its grid is 2 x 2, the level's "
+        "60 x 60)"
+    ]
+    assert not (tmp_path / "x.html").exists()
 
 
 def test_patrol_refuses_an_unwritable_export_before_its_work(tmp_path: Path) -> None:

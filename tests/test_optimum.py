@@ -282,7 +282,7 @@ def test_cli_prints_and_writes_the_optimum(tmp_path: Path) -> None:
         main, ["optimum", str(path), "--start", "3.5,0.5", "--heading", "right", "--out", str(out)]
     )
     assert result.exit_code == 0, result.output
-    assert result.stdout.startswith("corridor: from cell [3, 0] facing right: optimum 6 steps; proved: true;")
+    assert result.stdout.startswith("corridor: from 3.5,0.5 (cell [3, 0]) facing right: optimum 6 steps; proved: true;")
     data = json.loads(out.read_text())
     assert (data["steps"], data["proved"], data["lower_bound"]) == (6, True, 6)
     assert data["path"][0] == [3, 0, 0] and len(data["path"]) == 7

@@ -173,7 +173,9 @@ def test_the_command_prints_and_writes_the_team(tmp_path: Path) -> None:
     team = ["--guards", "2", "--start", "0.5,0.5", "--start", "4.5,2.5", "--heading", "right"]
     result = CliRunner().invoke(main, ["optimum", str(level), *team, "--out", str(out)])
     assert result.exit_code == 0, result.output
-    assert "2 guards from [0, 0] facing right, [4, 2] facing right: optimum" in result.output
+    assert (
+        "2 guards from 0.5,0.5 (cell [0, 0]) facing right, 4.5,2.5 (cell [4, 2]) facing right: optimum" in result.output
+    )
     data = json.loads(out.read_text())
     assert data["guards"] == 2 and data["objective"] == "makespan" and data["proved"] is True
     assert data["starts"] == [[0, 0, "right"], [4, 2, "right"]]
@@ -182,7 +184,7 @@ def test_the_command_prints_and_writes_the_team(tmp_path: Path) -> None:
     assert data["steps"] == team_steps(scene, [((0, 0), 0), ((4, 2), 0)], scene.vision())
     # --guards 3 with one start: all three from it.
     three = CliRunner().invoke(main, ["optimum", str(level), "--start", "0.5,0.5", "--guards", "3"])
-    assert three.exit_code == 0 and "3 guards from [0, 0] facing" in three.output
+    assert three.exit_code == 0 and "3 guards from 0.5,0.5 (cell [0, 0]) facing" in three.output
 
 
 @pytest.mark.parametrize(
@@ -224,4 +226,4 @@ def test_the_command_runs_as_a_process(tmp_path: Path) -> None:
         check=False,
     )
     assert done.returncode == 0, done.stderr
-    assert "2 guards from [3, 0]" in done.stdout and "proved: true" in done.stdout
+    assert "2 guards from 3.5,0.5 (cell [3, 0])" in done.stdout and "proved: true" in done.stdout

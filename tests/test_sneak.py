@@ -175,7 +175,7 @@ def test_sneak_gif_caption_counts_the_sneaks_ticks_and_the_laps(tmp_path: Path) 
     from guardsim.render.frames import FrameDrawer
     from guardsim.render.gif import GifOptions
     from guardsim.render.palette import palette_rgb
-    from guardsim.sneak.gif import SneakFrames, write_sneak_gif
+    from guardsim.render.sneak import SneakFrames, write_sneak_gif
 
     level = level_from(TWO_ROOMS)
     scene = Scene.from_level(level)
@@ -223,11 +223,12 @@ def test_sneak_gif_draws_each_guards_meter_and_colours_the_intruder_by_state(tmp
     white where empty), and the intruder's disc is white while unseen and red once detected."""
     import imageio.v3 as iio
 
+    from guardsim.detection import path_states
     from guardsim.patrol.replay import patrol_trace
     from guardsim.render.gif import GifOptions
     from guardsim.render.palette import COLOURS, GUARD_COLOURS
+    from guardsim.render.sneak import SneakFrames, write_sneak_gif
     from guardsim.sneak import sneak_data
-    from guardsim.sneak.gif import SneakFrames, path_states, write_sneak_gif
 
     level = level_from(TWO_ROOMS)
     scene = Scene.from_level(level)

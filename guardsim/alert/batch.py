@@ -71,6 +71,9 @@ class AlertTask(NamedTuple):
     """A route intruder's gait into each cell of ``route``; ``None``: it walks."""
     distractions: tuple[tuple[int, int, float], ...] = ()
     """Noises away from the intruder: ``(tick, cell, radius)``."""
+    seed: int | None = None
+    """The seed of the batch its start was drawn from (``None``: a start given, not drawn); the trace
+    records it with :attr:`episode`."""
 
     @property
     def key(self) -> tuple[str, int]:
@@ -155,7 +158,11 @@ def _run(task: AlertTask, scene: Scene, table: ViewTable) -> TaskResult:
     episode.run()
     text = None
     if task.trace:
-        text = trace_text(alert_trace_data(episode, scene, search=task.search, intruder=task.intruder))
+        text = trace_text(
+            alert_trace_data(
+                episode, scene, search=task.search, intruder=task.intruder, index=task.episode, seed=task.seed
+            )
+        )
     return TaskResult(episode.result(), text)
 
 
@@ -194,13 +201,16 @@ def tasks_of(
     motion: GuardMotion | None = None,
     gaits: Sequence[str] | None = None,
     distractions: Sequence[tuple[int, int, float]] = (),
+    seed: int | None = None,
+    first: int = 0,
 ) -> list[AlertTask]:
-    """Every episode of every strategy, strategy by strategy, in episode order; ``motion``: continuous
-    motion at these speeds (``None``: grid)."""
+    """Every episode of every strategy, strategy by strategy, in episode order, numbered from ``first``;
+    ``motion``: continuous motion at these speeds (``None``: grid); ``seed``: the batch's, when the
+    starts were drawn from it."""
     path = None if route is None else tuple(int(cell) for cell in route)
     tasks = []
     for name in searches:
-        for index, (lap, entry, goal) in enumerate(starts):
+        for index, (lap, entry, goal) in enumerate(starts, start=first):
             tasks.append(
                 AlertTask(
                     level=level,
@@ -221,6 +231,7 @@ def tasks_of(
                     motion=motion,
                     gaits=None if gaits is None else tuple(gaits),
                     distractions=tuple(distractions),
+                    seed=seed,
                 )
             )
     return tasks

@@ -3,6 +3,7 @@ traces as JSON and their summary per search strategy."""
 
 from __future__ import annotations
 
+import math
 from collections.abc import Sequence
 from typing import Any, NamedTuple
 
@@ -144,9 +145,21 @@ def _lap_ears(grid: CoverageGrid, patrol: Patrol, rules: AlertRules) -> np.ndarr
     return heard if heard[0].any() else None
 
 
-def alert_trace_data(episode: AlertEpisode, scene: Scene, *, search: str, intruder: str) -> dict[str, Any]:
+def alert_trace_data(
+    episode: AlertEpisode,
+    scene: Scene,
+    *,
+    search: str,
+    intruder: str,
+    index: int | None = None,
+    seed: int | None = None,
+) -> dict[str, Any]:
     """The episode's trace as JSON data: per tick each guard's cell, heading, state and meter, the
-    intruder's cell and position, the contaminated count, and the events. In continuous motion the
+    intruder's cell and position, the contaminated count, and the events. ``phase`` (the lap tick the
+    guards start at) and ``goal`` (the world position the intruder heads for, ``null`` for none) say how
+    it started, and ``los``, ``fov``, ``view_range`` (``null``: unlimited) and ``suspicious`` what it
+    saw with; an episode of a seeded batch also records its ``episode`` number and the batch's ``seed``
+    (``guardsim alert --seed S --episode K`` runs it again). In continuous motion the
     cell is the one the body is in and the heading the nearest heading number. ``noises``: every noise
     made (tick, world position, radius, ``step`` or ``throw``); ``heard``: per guard and tick, whether it
     is investigating a noise. In continuous motion the trace adds
@@ -170,6 +183,13 @@ def alert_trace_data(episode: AlertEpisode, scene: Scene, *, search: str, intrud
         "dt": episode.rules.dt,
         "search": search,
         "intruder": intruder,
+        "phase": episode.phase,
+        # The vision and the suspicious level the episode ran with, so that its page can be drawn again.
+        "los": scene.rule.value,
+        "fov": scene.cone.fov_degrees,
+        "view_range": None if math.isinf(scene.cone.view_range) else scene.cone.view_range,
+        "suspicious": episode.detection.model.suspicious,
+        "goal": None if episode.intruder.goal < 0 else list(grid.centre(*grid.unflat(episode.intruder.goal))),
         "outcome": episode.result()._asdict(),
         "paths": [[cell_pair(tick[g]) for tick in record["cells"]] for g in range(guards)],
         "headings": [[tick[g] for tick in record["headings"]] for g in range(guards)],
@@ -186,6 +206,8 @@ def alert_trace_data(episode: AlertEpisode, scene: Scene, *, search: str, intrud
         ],
         "heard": [[tick[g] for tick in record["heard"]] for g in range(guards)],
     }
+    if index is not None and seed is not None:
+        data.update(episode=index, seed=seed)
     movement = episode.movement
     if isinstance(movement, ContinuousMovement):
         motion = movement.motion

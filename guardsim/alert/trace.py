@@ -5,6 +5,7 @@ from __future__ import annotations
 import numpy as np
 
 from guardsim.alert.episode import AlertEpisode
+from guardsim.alert.recorded import RecordedEpisode
 from guardsim.kernels.steps import state_of
 from guardsim.patrol.model import Patrol
 from guardsim.patrol.replay import patrol_trace
@@ -15,7 +16,7 @@ from guardsim.vision.table import ViewTable
 __all__ = ["guard_trace"]
 
 
-def guard_trace(scene: Scene, table: ViewTable, episode: AlertEpisode) -> Trace:
+def guard_trace(scene: Scene, table: ViewTable, episode: AlertEpisode | RecordedEpisode) -> Trace:
     """The guards' walk of ``episode`` (states as recorded, whatever their alert state) as a trace."""
     cells = np.asarray(episode.record["cells"], dtype=np.int64).T
     headings = np.asarray(episode.record["headings"], dtype=np.int64).T

@@ -90,7 +90,19 @@ def _motion_options(command: F) -> F:
     show_default=True,
     help="Search strategy once sight is lost; 'all' compares the four.",
 )
-@click.option("--episodes", type=click.IntRange(min=1, max=100_000), default=1, show_default=True)
+@click.option(
+    "--episodes",
+    type=click.IntRange(min=1, max=100_000),
+    help="Episodes whose entries, goals and patrol phases are drawn from --seed, one as any other number "
+    "[default: one episode from --from (or the level's player start) at lap tick 0].",
+)
+@click.option(
+    "--episode",
+    type=click.IntRange(min=0, max=99_999),
+    metavar="K",
+    help="Run episode K of a batch seeded with --seed again, alone (its phase, entry and goal drawn as the "
+    "batch draws them; an episode trace records K and the seed): for its --trace, --gif or --html.",
+)
 @click.option("--seed", type=click.IntRange(min=0), default=0, show_default=True, help="Seed for drawn starts.")
 @click.option("--max-seconds", type=FiniteFloatRange(min=0, min_open=True, max=1e6), default=300.0, show_default=True)
 @click.option(
@@ -139,7 +151,8 @@ def alert(
     target: tuple[float, float] | None,
     route_path: str | None,
     search: str,
-    episodes: int,
+    episodes: int | None,
+    episode: int | None,
     seed: int,
     max_seconds: float,
     intruder_speed: float | None,
@@ -172,7 +185,7 @@ def alert(
     goal; a still intruder needs only --from. Episodes run on --workers local processes or a Dask
     --scheduler, with the same results wherever they run. With --out DIR, running the same command
     again resumes: episodes whose trace is in DIR are not run again (but the first, for --trace,
-    --gif or --html).
+    --gif or --html). --episode K runs episode K of such a batch again, alone, exactly as the batch ran it.
 
     Exit status: 0 every episode ran; 1 some did not run (a worker was lost; with --out, run the same
     command again to resume); 2 bad input or an output that cannot be written.
@@ -187,6 +200,11 @@ def alert(
 
     # Teams are fine here (each guard walks its own body): one guard is passed so that only the speeds are checked.
     check_motion(motion, 1, los, move_speed=move_speed, turn_speed=turn_speed, tick_hz=tick_hz)
+    if episode is not None and (episodes is not None or out_dir is not None):
+        raise GuardsimError(
+            f"--episode {episode} runs one episode of a batch again: give it without --episodes and --out "
+            "(write it with --trace, --gif or --html)"
+        )
     if workers is not None and scheduler is not None and scheduler != "local":
         raise GuardsimError("--workers and --scheduler exclude each other: the scheduler's workers run the episodes")
     level = detection_overrides.apply(load(level_path, max_cells, max_vertices, max_file_bytes, map_import))
@@ -221,29 +239,35 @@ def alert(
             if after != before and after not in grid.neighbours[before].tolist():
                 raise GuardsimError(f"{route_path}: point {index + 1} is not a 4-neighbour of point {index}")
         start, goal = route[0], route[-1]
-    if episodes == 1 and start is None and level.player_starts:
+    # Without --episodes and --episode, one episode at the given entry and lap tick 0; a batch, even of one
+    # episode (and a rerun episode of one), draws what it is not given from the seed.
+    alone = episodes is None and episode is None
+    episodes = 1 if episodes is None else episodes
+    if alone and start is None and level.player_starts:
         # One episode enters where the level says the player starts (many draw their entries from --seed).
         source = level.player_starts[0]
         start = grid.floor_cell(source, "the level's player start")
         click.echo(f"from the level's player start ({source[0]:g}, {source[1]:g})")
-    if episodes == 1 and start is None:
+    if alone and start is None:
         raise GuardsimError("one episode needs --from X,Y (and --to X,Y unless the intruder is still)")
     if start is not None and goal is not None and grid.component_labels[start] != grid.component_labels[goal]:
         raise GuardsimError("--to cannot be reached from --from")
     if intruder != "still" and start is not None and goal is None and route is None:
         raise GuardsimError(f"a {intruder} intruder needs --to X,Y (or --route)")
     table = view_table(grid, scene.vision())
-    if episodes == 1 and intruder == "still" and goal is None:
+    if alone and intruder == "still" and goal is None:
         goal = -1
     # One episode starts at lap tick 0; many draw their phases (and any entry or goal not given) from --seed.
+    # Episode K's start is the K-th drawn from the seed's one generator, however many follow it.
+    first_index = 0 if episode is None else episode
     starts = plan_starts(
-        scene, patrol, episodes=episodes, seed=seed, source=start, target=goal, spotted=spotted,
-        phase=0 if episodes == 1 else None, table=table,
-    )  # fmt: skip
+        scene, patrol, episodes=first_index + episodes, seed=seed, source=start, target=goal, spotted=spotted,
+        phase=0 if alone else None, table=table,
+    )[first_index:]  # fmt: skip
     tasks = tasks_of(
         scene.level, scene.rule.value, patrol, starts, searches=searches, intruder=intruder, route=route,
         max_seconds=max_seconds, rules=rules, detection=detection, spotted=spotted, trace=out_dir is not None,
-        motion=walking, gaits=gaits, distractions=distractions,
+        motion=walking, gaits=gaits, distractions=distractions, seed=None if alone else seed, first=first_index,
     )  # fmt: skip
     folder = output_folder(out_dir) if out_dir is not None else None
     outcomes: dict[tuple[str, int], AlertOutcome] = {}
@@ -283,7 +307,7 @@ def alert(
         ran = f", the first run here for {here}" if here else ""
         already = "all" if done_before == len(tasks) else f"{done_before} of"
         click.echo(f"{folder}: {already} {len(tasks)} episodes already done{ran}", err=True)
-    runs = {name: [outcomes[(name, index)] for index in range(episodes)] for name in searches}
+    runs = {name: [outcomes[(name, first_index + index)] for index in range(episodes)] for name in searches}
     rows = [summarise(name, found) for name, found in runs.items()]
     if first is not None and trace_path is not None:
         write_text_atomic(trace_path, episode_trace(first, scene, tasks[0]))
@@ -301,7 +325,7 @@ def alert(
         write_text_atomic(folder / "alert.json", json.dumps(summary, indent=1) + "\n")
         written.append(str(folder / "alert.json"))
     if first is not None and gif_path is not None:
-        from guardsim.alert.gif import write_alert_gif
+        from guardsim.render.alert import write_alert_gif
 
         write_alert_gif(gif_path, scene, table, first, suspicious=detection.model.suspicious)
         written.append(gif_path)
@@ -313,6 +337,8 @@ def alert(
     if episodes == 1:
         for name, found in runs.items():
             prefix = f"{name}: " if len(runs) > 1 else ""
+            if episode is not None:
+                prefix += f"episode {episode} of seed {seed}: "
             click.echo(f"{level.name}: {prefix}{found[0].summary()}")
     else:
         click.echo(f"{level.name}: {episodes} episodes, {intruder} intruder, seed {seed}")

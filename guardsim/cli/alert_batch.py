@@ -49,7 +49,9 @@ def episode_trace(episode: AlertEpisode, scene: Scene, task: AlertTask) -> str:
     from guardsim.alert import alert_trace_data
     from guardsim.alert.batch import trace_text
 
-    return trace_text(alert_trace_data(episode, scene, search=task.search, intruder=task.intruder))
+    return trace_text(
+        alert_trace_data(episode, scene, search=task.search, intruder=task.intruder, index=task.episode, seed=task.seed)
+    )
 
 
 def _digest(path: str) -> str:

@@ -145,7 +145,7 @@ def bench(
     if workers is not None and scheduler is not None:
         raise GuardsimError("--workers and --scheduler exclude each other: the scheduler's workers run the episodes")
     if plot:
-        from guardsim.experiment.plots import require_matplotlib
+        from guardsim.render.plots import require_matplotlib
 
         require_matplotlib()
     limits = {"max_cells": max_cells, "max_vertices": max_vertices, "max_file_bytes": max_file_bytes}
@@ -236,7 +236,7 @@ def run_pending(
 
 def draw_plot(batch: Batch, folder: Path, records: list[EpisodeRecord], groups: list[GroupSummary]) -> list[Path]:
     """Write the box plot of steps per level and planner; returns the files written."""
-    from guardsim.experiment.plots import StepsBox, plot_steps
+    from guardsim.render.plots import StepsBox, plot_steps
 
     boxes = [
         StepsBox(

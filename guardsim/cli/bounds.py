@@ -10,7 +10,16 @@ from typing import TYPE_CHECKING, Any, TypeVar
 import click
 
 from guardsim.bounds import lower_bounds
-from guardsim.cli.common import build_scene, cli_start, limit_options, load, parse_point, reports_errors, vision_options
+from guardsim.cli.common import (
+    build_scene,
+    cell_text,
+    cli_start,
+    limit_options,
+    load,
+    parse_point,
+    reports_errors,
+    vision_options,
+)
 from guardsim.cli.map_options import MapImport, map_options
 from guardsim.cli.progress import StageLine, Throttle
 from guardsim.level import HEADINGS
@@ -121,7 +130,7 @@ def bounds(
         best = max(best, search[0])
     progress.close()
     click.echo(
-        f"{level.name}: from cell [{cell[0]}, {cell[1]}] facing {list(HEADINGS)[first_heading]} "
+        f"{level.name}: from {cell_text(scene.grid, cell)} facing {list(HEADINGS)[first_heading]} "
         f"({reachable} reachable cells): eccentricity bound {result.eccentricity}, "
         f"cluster bound {result.cluster} ({result.clusters} cluster{'' if result.clusters == 1 else 's'}), "
         f"path bound {result.path}, best bound {best} steps; {search[1]}; "

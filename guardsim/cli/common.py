@@ -9,6 +9,7 @@ import os
 import re
 import sys
 from collections.abc import Callable
+from pathlib import Path
 from typing import Any, TypeVar, cast
 
 import click
@@ -18,6 +19,7 @@ from guardsim.cli.map_options import MapImport, report_import
 from guardsim.cli.types import FiniteFloatRange
 from guardsim.errors import GuardsimError, LimitError
 from guardsim.files.reading import display_path
+from guardsim.grid import CoverageGrid
 from guardsim.level import DEFAULT_MAX_CELLS, DEFAULT_MAX_FILE_BYTES, DEFAULT_MAX_VERTICES, Level
 from guardsim.scene import Scene
 from guardsim.starts import episode_start
@@ -28,6 +30,7 @@ __all__ = [
     "DetectionOverrides",
     "EarsOverrides",
     "build_scene",
+    "cell_text",
     "cli_start",
     "detection_options",
     "ears_options",
@@ -36,6 +39,8 @@ __all__ = [
     "load",
     "one_line",
     "parse_point",
+    "picture_option",
+    "picture_path",
     "reports_errors",
     "vision_options",
     "with_options",
@@ -130,6 +135,40 @@ def gif_suffix(_ctx: click.Context, param: click.Parameter, value: str | None) -
         if suffix and suffix.lower() != ".gif":
             raise click.BadParameter(f"{value!r} ends in {suffix!r}, but a GIF is written: name it .gif", param=param)
     return value
+
+
+def picture_option(name: str, dest: str, text: str) -> Callable[[F], F]:
+    """A picture option that takes a file name, ``--gif FILE``; given bare (``--gif``, the spelling of
+    old) it writes the picture's default name in the ``--out`` folder."""
+    return click.option(
+        name,
+        dest,
+        is_flag=False,
+        flag_value="",
+        default=None,
+        metavar="FILE",
+        callback=gif_suffix if name == "--gif" else None,
+        help=text,
+    )
+
+
+def picture_path(value: str | None, folder: str | None, default_name: str, option: str) -> Path | None:
+    """Where a picture option (:func:`picture_option`) writes: its file name, or ``default_name`` in the
+    ``--out`` folder when given bare; ``None`` when not given."""
+    if value is None:
+        return None
+    if value:
+        return Path(value)
+    if folder is None:
+        raise GuardsimError(f"{option} FILE: give a file name (a bare {option} writes into the --out folder)")
+    return Path(folder) / default_name
+
+
+def cell_text(grid: CoverageGrid, cell: tuple[int, int]) -> str:
+    """A cell as a summary gives it: its centre in world units as the command line takes a point, then the
+    cell, ``3.5,0.5 (cell [3, 0])``."""
+    x, y = grid.centre(*cell)
+    return f"{x:g},{y:g} (cell [{cell[0]}, {cell[1]}])"
 
 
 def parse_point(_ctx: click.Context, param: click.Parameter, value: str | None) -> tuple[float, float] | None:

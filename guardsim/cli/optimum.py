@@ -10,6 +10,7 @@ import click
 from guardsim.cli.common import (
     FiniteFloatRange,
     build_scene,
+    cell_text,
     cli_start,
     limit_options,
     load,
@@ -233,7 +234,7 @@ def optimum(
     else:
         verdict = f"best found {result.steps} steps (stopped by {result.stopped_by}; optimum >= {result.lower_bound})"
     click.echo(
-        f"{level.name}: from cell [{cell[0]}, {cell[1]}] facing {names[first_heading]}: {verdict}; "
+        f"{level.name}: from {cell_text(scene.grid, cell)} facing {names[first_heading]}: {verdict}; "
         f"proved: {str(result.proved).lower()}; start bound {result.root_bound}; "
         f"{result.expansions} expansions, {result.nodes} nodes, {result.seconds:.1f} s"
     )
@@ -284,7 +285,7 @@ def _team(
         progress=_Progress(),
     )
     names = list(HEADINGS)
-    where = ", ".join(f"[{cell[0]}, {cell[1]}] facing {names[facing]}" for cell, facing in teams)
+    where = ", ".join(f"{cell_text(scene.grid, cell)} facing {names[facing]}" for cell, facing in teams)
     if result.proved:
         verdict = f"optimum {result.steps} ticks"
     else:
@@ -326,7 +327,7 @@ def _guaranteed(
         assert isinstance(search_from, tuple)
         centre = grid.unflat(grid.floor_cell(search_from, "--search-from"))
         region = search_region(grid, centre, radius)
-        where = f"within {radius} steps of cell [{centre[0]}, {centre[1]}]"
+        where = f"within {radius} steps of {cell_text(grid, centre)}"
     table = view_table(grid, scene.vision())
     told = _PairsProgress()
     result = guaranteed_search(grid, table, teams, region, progress=told)

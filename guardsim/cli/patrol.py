@@ -1,6 +1,7 @@
 """``guardsim patrol``: a repeating patrol of a level, its idleness, and the route for a game or editor.
 
-The work is :func:`guardsim.patrol.job.run_patrol`; this module parses the options and prints.
+The work is :func:`guardsim.patrol.job.run_patrol` and its pictures
+:func:`guardsim.pictures.write_patrol_pictures`; this module parses the options and prints.
 """
 
 from __future__ import annotations
@@ -10,13 +11,23 @@ from pathlib import Path
 
 import click
 
-from guardsim.cli.common import build_scene, limit_options, load, reports_errors, vision_options
+from guardsim.cli.common import (
+    build_scene,
+    limit_options,
+    load,
+    parse_point,
+    picture_option,
+    picture_path,
+    reports_errors,
+    vision_options,
+)
 from guardsim.cli.map_options import MapImport, map_options
 from guardsim.cli.progress import StageLine
 from guardsim.cli.types import FiniteFloatRange
 from guardsim.errors import GuardsimError
-from guardsim.patrol.job import PatrolJob, check_job, run_patrol, tiled_source_of
+from guardsim.patrol.job import PatrolJob, check_job, run_patrol, tiled_source_of, write_patrol_files
 from guardsim.patrol.model import STRATEGIES
+from guardsim.pictures import write_patrol_pictures
 from guardsim.planners import PLANNERS
 
 __all__ = ["output_folder", "patrol"]
@@ -51,6 +62,12 @@ def output_folder(path: str) -> Path:
 @click.option("--motion", type=click.Choice(["grid", "continuous"]), default="grid", show_default=True)
 @click.option("--seed", type=click.IntRange(min=0), default=0, show_default=True, help="Start and random choices.")
 @click.option(
+    "--start",
+    callback=parse_point,
+    metavar="X,Y",
+    help="Where the first guard starts (world units), as in play; the patrol watches the cells reachable from there [default: the level's guard.start, else drawn from --seed].",
+)
+@click.option(
     "--laps",
     type=click.IntRange(min=1),
     default=10,
@@ -65,8 +82,8 @@ def output_folder(path: str) -> Path:
     type=str,
     help="Score this patrol.json (hand-written ones too) instead of making one.",
 )
-@click.option("--gif", "gif", is_flag=True, help="Write DIR/patrol.gif: one lap.")
-@click.option("--html", "html", is_flag=True, help="Write DIR/patrol.html: one lap in the viewer.")
+@picture_option("--gif", "gif_path", "Write one lap as a GIF to FILE (a bare --gif: DIR/patrol.gif).")
+@picture_option("--html", "html_path", "Write one lap in the viewer page to FILE (a bare --html: DIR/patrol.html).")
 @click.option("--export", "export_path", type=str, help="Write the route as waypoints (route.json).")
 @click.option(
     "--speed",
@@ -134,12 +151,13 @@ def patrol(
     planner: str,
     motion: str,
     seed: int,
+    start: tuple[float, float] | None,
     laps: int,
     warmup_laps: int,
     compare: bool,
     evaluate_path: str | None,
-    gif: bool,
-    html: bool,
+    gif_path: str | None,
+    html_path: str | None,
     export_path: str | None,
     speed: float | None,
     tiled_out: str | None,
@@ -171,12 +189,11 @@ def patrol(
         planner=planner,
         motion=motion,
         seed=seed,
+        start=start,
         laps=laps,
         warmup_laps=warmup_laps,
         compare=compare,
         evaluate_path=evaluate_path,
-        gif=gif,
-        html=html,
         export_path=export_path,
         speed=speed,
         tiled_out=tiled_out,
@@ -196,8 +213,10 @@ def patrol(
 
     # Before the output folder is made: a failed command leaves nothing behind, not even an empty folder.
     # A target inside the output folder is written once that folder is made.
+    gif = picture_path(gif_path, out_dir, "patrol.gif", "--gif")
+    html = picture_path(html_path, out_dir, "patrol.html", "--html")
     inside = Path(out_dir).resolve()
-    for named in (export_path, tiled_out, godot_out):
+    for named in (export_path, tiled_out, godot_out, gif, html):
         if named is not None and not Path(named).resolve().is_relative_to(inside):
             check_writable(named)
     with StageLine(sys.stderr, "patrol") as progress:
@@ -209,9 +228,13 @@ def patrol(
         compile_ahead("patrol:team" if guards > 1 else "patrol")
         progress("building the scene", 0, 0)
         scene = build_scene(level, los, fov, view_range)
-        done = run_patrol(scene, output_folder(out_dir), job, progress=progress)
-    for warning in done.warnings:
+        done = run_patrol(scene, job, progress=progress)
+        folder = output_folder(out_dir)
+        files = write_patrol_files(scene, folder, done, job, progress=progress)
+        progress("drawing", 0, 0)
+        drawn = write_patrol_pictures(scene, done, heat_map=folder / "idleness.png", gif=gif, html=html)
+    for warning in (*files.warnings, *drawn.warnings):
         click.echo(f"guardsim: warning: {warning}", err=True)
-    for line in done.lines:
+    for line in done.printed(files, drawn.written):
         click.echo(line)
     sys.stdout.flush()

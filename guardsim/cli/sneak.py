@@ -4,6 +4,7 @@ from __future__ import annotations
 
 import itertools
 import sys
+from typing import cast
 
 import click
 
@@ -16,6 +17,8 @@ from guardsim.cli.common import (
     limit_options,
     load,
     parse_point,
+    picture_option,
+    picture_path,
     reports_errors,
     vision_options,
 )
@@ -23,6 +26,7 @@ from guardsim.cli.map_options import MapImport, map_options
 from guardsim.cli.patrol import output_folder
 from guardsim.cli.progress import StageLine
 from guardsim.errors import GuardsimError
+from guardsim.pictures import write_sneak_pictures
 
 __all__ = ["gait_runs", "sneak"]
 
@@ -48,9 +52,13 @@ def _each_point(ctx: click.Context, param: click.Parameter, values: tuple[str, .
     "--to", "target", required=True, callback=parse_point, metavar="X,Y", help="Where the player must get to."
 )
 @click.option("--out", "out_dir", type=click.Path(file_okay=False), help="Folder for sneak.json and hiding.png.")
-@click.option("--gif", is_flag=True, help="Write DIR/sneak.gif: the guards and the intruder's path.")
-@click.option(
-    "--html", is_flag=True, help="Write DIR/sneak.html: the viewer, with the lap, the hiding spots and the intruder."
+@picture_option(
+    "--gif", "gif_path", "Write the guards and the intruder's path as a GIF to FILE (a bare --gif: DIR/sneak.gif)."
+)
+@picture_option(
+    "--html",
+    "html_path",
+    "Write the viewer page, with the lap, the hiding spots and the intruder, to FILE (a bare --html: DIR/sneak.html).",
 )
 @click.option(
     "--undetected",
@@ -90,8 +98,8 @@ def sneak(
     source: tuple[float, float] | None,
     target: tuple[float, float],
     out_dir: str | None,
-    gif: bool,
-    html: bool,
+    gif_path: str | None,
+    html_path: str | None,
     undetected: bool,
     unheard: bool,
     ears_overrides: EarsOverrides,
@@ -121,16 +129,23 @@ def sneak(
     (the level's walk_noise and sneak_noise, along the grid: docs/alert.md); the gaits are printed and in
     sneak.json.
     """
-    from guardsim.detection import GuardDetection
-    from guardsim.detection.watch import MAX_JOINT_LAP, level_watch
     from guardsim.patrol import read_patrol
-    from guardsim.sneak import sneak_check, sneak_data
-    from guardsim.vision.table import view_table
+    from guardsim.sneak import sneak_data
+    from guardsim.sneak.run import check_sneak_patrol, run_sneak, sneak_header
 
-    if (gif or html) and out_dir is None:
-        raise GuardsimError("--gif and --html write into the --out folder: give --out DIR")
-    if safe and not html:
+    gif = picture_path(gif_path, out_dir, "sneak.gif", "--gif")
+    html = picture_path(html_path, out_dir, "sneak.html", "--html")
+    if safe and html is None:
         raise GuardsimError("--safe outlines spots on the page: give --html")
+    from pathlib import Path
+
+    from guardsim.files.output import check_writable
+
+    # A picture named outside the --out folder is checked before the search (the folder is made later).
+    inside = None if out_dir is None else Path(out_dir).resolve()
+    for named in (gif, html):
+        if named is not None and (inside is None or not named.resolve().is_relative_to(inside)):
+            check_writable(named)
     progress = StageLine(sys.stderr, "sneak").start()
     level = detection_overrides.apply(load(level_path, max_cells, max_vertices, max_file_bytes, map_import))
     level = ears_overrides.apply(level)
@@ -140,12 +155,7 @@ def sneak(
     scene = build_scene(level, los, fov, view_range)
     grid = scene.grid
     patrol = read_patrol(patrol_path, grid, level=level.name)
-    if patrol.motion != "grid":
-        raise GuardsimError(
-            f"{patrol_path}: motion is {patrol.motion!r}: the sneak check runs on grid-motion patrols (ticks) only"
-        )
-    if patrol.period is None:
-        raise GuardsimError(f"{patrol_path}: period is null: the sneak check needs a repeating patrol")
+    check_sneak_patrol(patrol, patrol_path)
     if source is None:
         if not level.player_starts:
             raise GuardsimError(f"{level_path}: the level marks no player start: give --from X,Y")
@@ -158,48 +168,38 @@ def sneak(
         )
     for point in safe:
         grid.floor_cell(point, "--safe")
-    table = view_table(grid, scene.vision())
-    detection = GuardDetection.of_level(scene.level)
-    limit = MAX_JOINT_LAP if max_lap is None else max_lap
-    watch = level_watch(scene, detection.dt, max_lap=limit) if level.cameras or not level.lit else None
-    for note in () if watch is None else watch.notes:
-        click.echo(f"guardsim: warning: {note}", err=True)
-    rule = ("undetected" if undetected else "unseen") + (", unheard" if unheard else "")
-    progress(f"searching for an {rule} path", 0, 0)
-    result = sneak_check(
-        grid, table, patrol, start, goal, detection=detection, undetected=undetected, watch=watch,
-        max_lap=limit, unheard=unheard, intruder=level.intruder,
+    run = run_sneak(
+        scene, patrol, start, goal, undetected=undetected, unheard=unheard, max_lap=max_lap, patrol_name=patrol_path,
+        progress=progress,
     )  # fmt: skip
-    if result.lap is not None:
-        patrol = result.lap
+    for note in run.notes:
+        click.echo(f"guardsim: warning: {note}", err=True)
+    result, patrol, table, detection, watch = run.result, run.patrol, run.table, run.detection, run.watch
+    rule = ("undetected" if undetected else "unseen") + (", unheard" if unheard else "")
     progress("writing", 0, 0)
     path = result.path
     assert path is not None
-    data = sneak_data(result, grid, level=level.name, patrol=patrol_path, **{"from": list(source), "to": list(target)})
+    data = sneak_data(
+        result, grid, level=level.name, patrol=patrol_path, **{"from": list(source), "to": list(target)},
+        **sneak_header(scene, detection, max_lap),
+    )  # fmt: skip
     written: list[str] = []
+    heat_map = None
     if out_dir is not None:
-        from guardsim.sneak.outputs import write_sneak_outputs
+        from guardsim.sneak.outputs import write_sneak_json
 
-        written, warnings = write_sneak_outputs(
-            output_folder(out_dir),
-            scene,
-            table,
-            patrol,
-            result,
-            data,
-            start=start,
-            source=source,
-            target=target,
-            detection=detection,
-            gif=gif,
-            html=html,
-            safe=safe,
-            watch=watch,
-        )
-        progress.close()
-        for warning in warnings:
-            click.echo(f"guardsim: warning: {warning}", err=True)
+        folder = output_folder(out_dir)
+        write_sneak_json(folder / "sneak.json", data)
+        written.append(str(folder / "sneak.json"))
+        heat_map = folder / "hiding.png"
+    drawn = write_sneak_pictures(
+        scene, table, patrol, result, start=start, source=source, target=target, detection=detection,
+        never_seen=cast(int, data["never_seen_cells"]), heat_map=heat_map, gif=gif, html=html, safe=safe, watch=watch,
+    )  # fmt: skip
+    written += drawn.written
     progress.close()
+    for warning in drawn.warnings:
+        click.echo(f"guardsim: warning: {warning}", err=True)
     if path.found:
         answer = f"sneaks: {rule} from tick {path.start_tick} of the lap, {path.ticks} ticks"
     else:

@@ -17,6 +17,8 @@ from guardsim.detection.model import (
     GuardDetection,
     grid_tick_seconds,
     intruder_state,
+    meter_state,
+    path_states,
 )
 
 __all__ = [
@@ -29,6 +31,8 @@ __all__ = [
     "exposure_map",
     "grid_tick_seconds",
     "intruder_state",
+    "meter_state",
+    "path_states",
     "patrol_gains",
     "time_to_detection",
 ]

@@ -10,8 +10,11 @@ detected the first tick a meter reaches 1. ``detect_near = detect_far = 0`` is "
 from __future__ import annotations
 
 import math
+from collections.abc import Sequence
 from dataclasses import dataclass
 from typing import Literal, NamedTuple
+
+import numpy as np
 
 from guardsim.errors import ArgumentError
 from guardsim.kernels.meter import DETECTED, meter_after, meter_gain, visibility
@@ -24,6 +27,8 @@ __all__ = [
     "GuardDetection",
     "grid_tick_seconds",
     "intruder_state",
+    "meter_state",
+    "path_states",
 ]
 
 #: What a guard (or the team) makes of the intruder at a tick, from calm to caught.
@@ -158,6 +163,32 @@ def intruder_state(
     if any(level > 0 and level >= suspicious for level in levels):
         return "suspicious"
     return "in view" if in_view else "unseen"
+
+
+def path_states(
+    meters: np.ndarray, in_view: Sequence[bool] | np.ndarray, detected_at: int | None, suspicious: float
+) -> list[IntruderState]:
+    """The intruder's state at each tick of a graded path (:func:`intruder_state`):
+    ``meters`` ``(ticks + 1, guards)`` and ``in_view`` from its :class:`~guardsim.sneak.PathGrade`."""
+    return [
+        intruder_state(
+            [float(v) for v in meters[tick]],
+            bool(in_view[tick]),
+            suspicious,
+            detected_at is not None and tick >= detected_at,
+        )
+        for tick in range(len(meters))
+    ]
+
+
+def meter_state(level: float, suspicious: float) -> IntruderState:
+    """The state one meter's level says by itself, which colours its bar's fill: ``detected`` full,
+    ``suspicious`` at or above ``suspicious``, ``in view`` above 0, ``unseen`` empty."""
+    if level >= DETECTED:
+        return "detected"
+    if level > 0 and level >= suspicious:
+        return "suspicious"
+    return "in view" if level > 0 else "unseen"
 
 
 def grid_tick_seconds(level: Level) -> float:

@@ -1,15 +1,19 @@
-"""``guardsim patrol`` as a library call: plan or read a patrol, score it, and write what is asked.
+"""``guardsim patrol`` as library calls: plan or read a patrol and score it, then write its files.
 
-:func:`run_patrol` does everything the command does after the level is loaded: patrol.json and
-idleness.png in the output folder, the GIF and the viewer page, route.json, the Godot scene and the
-Tiled map (cleaned routes with ``clean``), and returns the lines the command prints. The command only
-parses options into a :class:`PatrolJob` and prints.
+:func:`run_patrol` plans: it makes (or reads) the patrol and scores it, and writes nothing. The
+:class:`PatrolRun` it returns holds patrol.json's contents and what a picture needs (the patrol, its view
+table and goal, the idleness shown). :func:`write_patrol_files` writes patrol.json into the output
+folder and the route files a :class:`PatrolJob` names (route.json, the Godot scene, the Tiled map;
+cleaned routes with ``clean``); :func:`guardsim.pictures.write_patrol_pictures` draws the heat map, the
+GIF and the page. The command parses options into a :class:`PatrolJob`, makes the three calls and prints
+:meth:`PatrolRun.printed`.
 """
 
 from __future__ import annotations
 
 import json
 import math
+from collections.abc import Sequence
 from dataclasses import dataclass, field
 from pathlib import Path
 from typing import TYPE_CHECKING, Any, NamedTuple
@@ -20,15 +24,27 @@ from guardsim.errors import GuardsimError
 from guardsim.files.output import check_writable, write_text_atomic
 from guardsim.importers.imported import counted
 from guardsim.level import DEFAULT_MAX_FILE_BYTES
-from guardsim.patrol.model import STRATEGIES
+from guardsim.patrol.model import STRATEGIES, Patrol
 from guardsim.patrol.scoring import NEVER, PatrolScore
 from guardsim.scene import Scene
 
 if TYPE_CHECKING:
-    from guardsim.detection.watch import LevelWatch
     from guardsim.patrol.plan import Progress
+    from guardsim.trace import Trace
+    from guardsim.vision.table import ViewTable
 
-__all__ = ["PatrolJob", "PatrolRun", "check_job", "run_patrol", "tiled_source_of"]
+__all__ = [
+    "PatrolFiles",
+    "PatrolJob",
+    "PatrolRun",
+    "ShownIdleness",
+    "check_job",
+    "idleness_text",
+    "lap_trace",
+    "run_patrol",
+    "tiled_source_of",
+    "write_patrol_files",
+]
 
 
 @dataclass(frozen=True)
@@ -40,12 +56,12 @@ class PatrolJob:
     planner: str = "auto"
     motion: str = "grid"
     seed: int = 0
+    start: tuple[float, float] | None = None
+    """Where the first guard starts (world units); the patrol watches the cells reachable from there."""
     laps: int = 10
     warmup_laps: int = 2
     compare: bool = False
     evaluate_path: str | None = None
-    gif: bool = False
-    html: bool = False
     export_path: str | None = None
     speed: float | None = None
     tiled_out: str | None = None
@@ -63,16 +79,104 @@ class PatrolJob:
     """The memory budget: a level whose patrol would need more is refused before any work."""
 
 
+class ShownIdleness(NamedTuple):
+    """A patrol's idleness as reported: in ticks (grid motion) or seconds (continuous)."""
+
+    unit: str
+    """``"ticks"`` or ``"seconds"``."""
+    worst: float | None
+    """The worst idleness, ``None`` when a goal cell is never seen."""
+    mean: float | None
+    gaps: np.ndarray
+    """``float (cells,)``: worst gap per cell, NaN outside the goal and where never seen."""
+    never: np.ndarray
+    """``bool (cells,)``: goal cells never seen."""
+    never_seen: int
+
+    @classmethod
+    def ticks(cls, score: PatrolScore) -> ShownIdleness:
+        return cls._of(score, "ticks", 1.0)
+
+    @classmethod
+    def seconds(cls, score: PatrolScore, tick_hz: float) -> ShownIdleness:
+        return cls._of(score, "seconds", tick_hz)
+
+    @classmethod
+    def _of(cls, score: PatrolScore, unit: str, per_second: float) -> ShownIdleness:
+        never = score.worst_gap == NEVER
+        gaps = score.worst_gap.astype(float)
+        gaps[score.worst_gap < 0] = math.nan
+        scale = 1.0 / per_second
+        worst = score.worst_idleness
+        return cls(
+            unit,
+            None if worst is None else (worst if unit == "ticks" else round(worst * scale, 3)),
+            None if score.mean_idleness is None else score.mean_idleness * scale,
+            gaps * scale,
+            never,
+            score.never_seen,
+        )
+
+
 @dataclass
 class PatrolRun:
-    """What :func:`run_patrol` did."""
+    """What :func:`run_patrol` did, and what a picture of the patrol needs."""
 
     lines: list[str]
-    """What the command prints, in order: the comparison table, cleaned routes, the summary, notes."""
-    warnings: list[str] = field(default_factory=list)
-    written: list[str] = field(default_factory=list)
+    """What the command prints before its summary: the comparison table."""
+    summary: str
+    """The summary line, without the files written."""
+    patrol: Patrol
+    """The patrol made (or read)."""
+    table: ViewTable
+    goal: np.ndarray
+    """``bool (cells,)``: the cells the patrol must watch."""
+    warmup: int
+    """Ticks before the scored (and drawn) part begins."""
+    shown: ShownIdleness
+    what: str
+    """What was scored: ``"loop patrol"``, ``"patrol.json evaluated"``."""
+    speed: float
+    """The guards' walking speed, world units per second: the route files' times."""
+    notes: list[str] = field(default_factory=list)
     data: dict[str, Any] = field(default_factory=dict)
     """patrol.json's contents."""
+
+    def printed(self, files: PatrolFiles, pictures: Sequence[str] = ()) -> list[str]:
+        """The lines the command prints: :attr:`lines`, the cleaned routes, the summary naming every file
+        written (``files``, then ``pictures``), and the patrol's notes."""
+        named = [*files.written, *pictures]
+        return [
+            *self.lines,
+            *files.lines,
+            f"{self.summary} -> {', '.join(named)}",
+            *(f"  {note}" for note in self.notes),
+        ]
+
+
+class PatrolFiles(NamedTuple):
+    """What :func:`write_patrol_files` wrote."""
+
+    written: list[str]
+    """The paths written, patrol.json first."""
+    warnings: list[str]
+    """What was assumed (pixels per unit, tile sizes) for want of a record of it."""
+    lines: list[str]
+    """One line per route cleaned, as the command prints it."""
+
+
+def lap_trace(scene: Scene, run: PatrolRun) -> Trace:
+    """The trace a picture of ``run`` shows: one lap from the end of the warm-up (a repeating patrol),
+    else a twelfth of the walk, at least one tick."""
+    from guardsim.patrol.replay import patrol_trace
+
+    chosen = run.patrol
+    ticks = (
+        chosen.ticks if chosen.period is not None else min(chosen.ticks - run.warmup - 1, max(1, chosen.ticks // 12))
+    )
+    return patrol_trace(
+        scene, run.table, chosen, run.goal, start=run.warmup, ticks=ticks, label=f"patrol {chosen.strategy}"
+    )
 
 
 def check_job(job: PatrolJob) -> None:
@@ -110,36 +214,22 @@ def tiled_source_of(level_path: str, tiled_source: str | None) -> str | None:
     return None
 
 
-def run_patrol(scene: Scene, folder: Path, job: PatrolJob, *, progress: Progress | None = None) -> PatrolRun:
-    """Make (or read and score) the patrol of ``scene`` and write what ``job`` asks into ``folder``;
-    ``progress(what, done, total)`` hears of each stage."""
+def run_patrol(scene: Scene, job: PatrolJob, *, progress: Progress | None = None) -> PatrolRun:
+    """Make (or read and score) the patrol of ``scene`` that ``job`` asks for; ``progress(what, done,
+    total)`` hears of each stage. Writes and draws nothing (:func:`write_patrol_files` and
+    :func:`guardsim.pictures.write_patrol_pictures` do, from the run)."""
     tell: Progress = progress or _silent
     from guardsim.patrol import patrol_data, patrol_setup, plan_loop, plan_patrol, read_patrol, score_patrol
 
     level = scene.level
     guards, strategy, planner, motion, seed = job.guards, job.strategy, job.planner, job.motion, job.seed
     laps, warmup_laps, compare, evaluate_path = job.laps, job.warmup_laps, job.compare, job.evaluate_path
-    gif, html, export_path, speed = job.gif, job.html, job.export_path, job.speed
-    tiled_out, tiled_source, godot_out, godot_version = (
-        job.tiled_out,
-        job.tiled_source,
-        job.godot_out,
-        job.godot_version,
-    )
-    clean, clean_tolerance, units, axis = job.clean, job.clean_tolerance, job.units, job.axis
-    pixels_per_unit, max_file_bytes = job.pixels_per_unit, job.max_file_bytes
-    # Outputs named outside the folder are checked first: a bad one found after the work would leave the
-    # folder's files written and the command failed.
-    for named in (export_path, tiled_out, godot_out):
-        if named is not None:
-            check_writable(named)
     lines: list[str] = []
-    warnings: list[str] = []
     tell("view table", 0, 0)
     from guardsim.patrol.plan import check_patrol_memory
 
     check_patrol_memory(scene, job.memory_bytes)
-    setup = patrol_setup(scene, guards, seed=seed)
+    setup = patrol_setup(scene, guards, seed=seed, start=job.start)
     extra: dict[str, object] = {}
     if evaluate_path is not None:
         chosen = read_patrol(evaluate_path, scene.grid, level=scene.level.name)
@@ -186,16 +276,15 @@ def run_patrol(scene: Scene, folder: Path, job: PatrolJob, *, progress: Progress
             }
     from guardsim.motion import GuardMotion
 
-    walk = GuardMotion.of_guard(level.guard, move_speed=speed)
-    speed = walk.move_speed
-    shown = _Shown.ticks(score)
+    walk = GuardMotion.of_guard(level.guard, move_speed=job.speed)
+    shown = ShownIdleness.ticks(score)
     if motion == "continuous":
         if chosen.period is None:
             raise GuardsimError("--motion continuous walks repeating patrols; this one has period null")
         from guardsim.patrol.continuous import continuous_patrol
 
         walked = continuous_patrol(scene, chosen, setup.goal, walk)
-        shown = _Shown.seconds(walked.score, walk.tick_hz)
+        shown = ShownIdleness.seconds(walked.score, walk.tick_hz)
         extra.update(
             {
                 "period_seconds": round(walked.period_seconds, 4),
@@ -218,69 +307,66 @@ def run_patrol(scene: Scene, folder: Path, job: PatrolJob, *, progress: Progress
         idleness_unit=shown.unit,
         never_seen=shown.never_seen,
     )
+    team = f", {chosen.guards} guards" if chosen.guards > 1 else ""
+    if chosen.team:
+        team += f" ({chosen.team})"
+    period_text = f", period {chosen.period} ticks" if chosen.period is not None else ""
+    if motion == "continuous":
+        period_text = f", continuous lap {data['period_seconds']:.1f} s"
+    worst = (
+        f"never seen: {shown.never_seen} cells"
+        if shown.worst is None
+        else f"worst idleness {idleness_text(shown.worst)} {shown.unit}"
+    )
+    summary = f"{level.name}: {what}{team}{period_text}, {worst}, mean {idleness_text(shown.mean)}"
+    return PatrolRun(
+        lines,
+        summary,
+        chosen,
+        setup.table,
+        setup.goal,
+        warmup,
+        shown,
+        what,
+        walk.move_speed,
+        list(chosen.notes),
+        data,
+    )
+
+
+def write_patrol_files(
+    scene: Scene, folder: Path, run: PatrolRun, job: PatrolJob, *, progress: Progress | None = None
+) -> PatrolFiles:
+    """Write ``run``'s patrol.json into ``folder`` and the route files ``job`` names (route.json, the
+    Godot scene, the Tiled map; routes cleaned first with ``job.clean``). Outputs named outside the folder
+    are checked before anything is written."""
+    tell: Progress = progress or _silent
+    level, chosen, speed = scene.level, run.patrol, run.speed
+    export_path, tiled_out, tiled_source, godot_out = job.export_path, job.tiled_out, job.tiled_source, job.godot_out
+    units, axis, pixels_per_unit, max_file_bytes = job.units, job.axis, job.pixels_per_unit, job.max_file_bytes
+    # A bad output found after patrol.json is written would leave it written and the command failed.
+    for named in (export_path, tiled_out, godot_out):
+        if named is not None:
+            check_writable(named)
+    lines: list[str] = []
+    warnings: list[str] = []
     tell("writing", 0, 0)
     written = [str(folder / "patrol.json")]
-    write_text_atomic(folder / "patrol.json", json.dumps(data, separators=(",", ":")) + "\n")
-    try:
-        from guardsim.patrol.heatmap import write_heat_map
-
-        gaps = shown.gaps.reshape(scene.grid.shape)
-        title = f"{level.name}: {what}, worst gap per cell (worst {_mean(shown.worst)}, mean {_mean(shown.mean)} {shown.unit})"
-        write_heat_map(
-            folder / "idleness.png",
-            level,
-            scene.grid,
-            gaps,
-            title=title,
-            unit=f"{shown.unit} unseen in a row",
-            never=shown.never.reshape(scene.grid.shape),
-        )
-        written.append(str(folder / "idleness.png"))
-    except GuardsimError as error:
-        warnings.append(f"idleness.png not written: {error}")
-    if gif or html:
-        from guardsim.patrol.replay import patrol_trace
-
-        ticks = (
-            chosen.ticks if chosen.period is not None else min(chosen.ticks - warmup - 1, max(1, chosen.ticks // 12))
-        )
-        trace = patrol_trace(
-            scene, setup.table, chosen, setup.goal, start=warmup, ticks=ticks, label=f"patrol {chosen.strategy}"
-        )
-        if gif:
-            from guardsim.render.gif import write_gif
-
-            write_gif(folder / "patrol.gif", level, trace)
-            written.append(str(folder / "patrol.gif"))
-        if html:
-            from guardsim.viewer import write_viewer
-            from guardsim.viewer.patrols import patrol_overlays
-
-            overlays = patrol_overlays(
-                chosen,
-                scene.grid,
-                setup.table,
-                idleness=shown.gaps.reshape(scene.grid.shape),
-                never=shown.never.reshape(scene.grid.shape),
-                unit=shown.unit,
-                watch=_level_watch(scene),
-            )
-            write_viewer(folder / "patrol.html", level, trace, overlays=overlays)
-            written.append(str(folder / "patrol.html"))
+    write_text_atomic(folder / "patrol.json", json.dumps(run.data, separators=(",", ":")) + "\n")
     routes = None
-    if clean and (export_path or godot_out or tiled_out):
+    if job.clean and (export_path or godot_out or tiled_out):
         from guardsim.patrol.cleaning import clean_routes
         from guardsim.patrol.export import guard_routes
 
         routes, reports = clean_routes(
-            scene, guard_routes(chosen, scene.grid, speed=speed), setup.goal, speed=speed, tolerance=clean_tolerance
+            scene, guard_routes(chosen, scene.grid, speed=speed), run.goal, speed=speed, tolerance=job.clean_tolerance
         )
         for number, report in enumerate(reports, start=1):
             if report is not None:
                 lines.append(
                     f"  route {number} cleaned: {report.waypoints_before} -> {report.waypoints_after} waypoints "
                     f"({counted(report.jogs, 'jog')}, {counted(report.spurs, 'spur')} taken out), worst idleness "
-                    f"{_mean(report.worst_before)} -> {_mean(report.worst_after)} s replayed"
+                    f"{idleness_text(report.worst_before)} -> {idleness_text(report.worst_after)} s replayed"
                 )
     if export_path or godot_out:
         pixels = _pixels_per_unit(pixels_per_unit, tiled_source, level.tile_pixels, max_file_bytes)
@@ -308,7 +394,7 @@ def run_patrol(scene: Scene, folder: Path, job: PatrolJob, *, progress: Progress
             level=level.name,
             speed=speed,
             pixels_per_unit=pixels,
-            version=godot_version,
+            version=job.godot_version,
             routes=routes,
         )
         write_text_atomic(godot_out, text)
@@ -335,21 +421,7 @@ def run_patrol(scene: Scene, folder: Path, job: PatrolJob, *, progress: Progress
         with atomic_path(tiled_out) as temporary:
             temporary.write_bytes(copy)
         written.append(tiled_out)
-    team = f", {chosen.guards} guards" if chosen.guards > 1 else ""
-    if chosen.team:
-        team += f" ({chosen.team})"
-    period_text = f", period {chosen.period} ticks" if chosen.period is not None else ""
-    if motion == "continuous":
-        period_text = f", continuous lap {data['period_seconds']:.1f} s"
-    worst = (
-        f"never seen: {shown.never_seen} cells"
-        if shown.worst is None
-        else f"worst idleness {_mean(shown.worst)} {shown.unit}"
-    )
-    lines.append(f"{level.name}: {what}{team}{period_text}, {worst}, mean {_mean(shown.mean)} -> {', '.join(written)}")
-    for note in chosen.notes:
-        lines.append(f"  {note}")
-    return PatrolRun(lines, warnings, written, data)
+    return PatrolFiles(written, warnings, lines)
 
 
 def _silent(_what: str, _done: int, _total: int) -> None:
@@ -377,54 +449,8 @@ def _pixels_per_unit(
     return DEFAULT_PIXELS_PER_UNIT, DEFAULT_PIXELS_PER_UNIT
 
 
-def _mean(value: float | None) -> str:
+def idleness_text(value: float | None) -> str:
+    """An idleness as printed: ``-`` for none, an int as it is, else one decimal."""
     if value is None:
         return "-"
     return str(value) if isinstance(value, int) else f"{value:.1f}"
-
-
-class _Shown(NamedTuple):
-    """A score as reported: in ticks (grid motion) or seconds (continuous)."""
-
-    unit: str
-    worst: float | None
-    mean: float | None
-    gaps: np.ndarray
-    """``float (cells,)``: worst gap per cell, NaN outside the goal and where never seen."""
-    never: np.ndarray
-    """``bool (cells,)``: goal cells never seen."""
-    never_seen: int
-
-    @classmethod
-    def ticks(cls, score: PatrolScore) -> _Shown:
-        return cls._of(score, "ticks", 1.0)
-
-    @classmethod
-    def seconds(cls, score: PatrolScore, tick_hz: float) -> _Shown:
-        return cls._of(score, "seconds", tick_hz)
-
-    @classmethod
-    def _of(cls, score: PatrolScore, unit: str, per_second: float) -> _Shown:
-        never = score.worst_gap == NEVER
-        gaps = score.worst_gap.astype(float)
-        gaps[score.worst_gap < 0] = math.nan
-        scale = 1.0 / per_second
-        worst = score.worst_idleness
-        return cls(
-            unit,
-            None if worst is None else (worst if unit == "ticks" else round(worst * scale, 3)),
-            None if score.mean_idleness is None else score.mean_idleness * scale,
-            gaps * scale,
-            never,
-            score.never_seen,
-        )
-
-
-def _level_watch(scene: Scene) -> LevelWatch | None:
-    """The level's cameras and light for the page, ``None`` on a fully lit level without cameras."""
-    from guardsim.detection import grid_tick_seconds
-    from guardsim.detection.watch import level_watch
-
-    if not scene.level.cameras and scene.level.lit:
-        return None
-    return level_watch(scene, grid_tick_seconds(scene.level), gains=False)

@@ -103,11 +103,15 @@ def check_patrol_memory(scene: Scene, memory_bytes: int = DEFAULT_PATROL_MEMORY)
         )
 
 
-def patrol_setup(scene: Scene, guards: int = 1, *, seed: int = 0) -> PatrolSetup:
-    """The view table, goal and starts of a level's patrols."""
+def patrol_setup(
+    scene: Scene, guards: int = 1, *, seed: int = 0, start: tuple[float, float] | None = None
+) -> PatrolSetup:
+    """The view table, goal and starts of a level's patrols: the first guard starts at ``start`` (world
+    units), else at the level's ``guard.start``, else at a cell drawn from ``seed``, as in ``guardsim
+    play`` (:func:`~guardsim.starts.episode_start`); the goal is the cells reachable from there."""
     if guards < 1:
         raise PatrolError("a patrol needs at least one guard")
-    rng, cell, heading = episode_start(scene, seed=seed)
+    rng, cell, heading = episode_start(scene, seed=seed, point=start)
     starts, headings = team_starts(scene, (cell, heading), guards, rng=rng)
     table = view_table(scene.grid, scene.vision())
     goal = scene.grid.component(*cell).ravel()

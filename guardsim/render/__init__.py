@@ -1,4 +1,5 @@
-"""Headless drawing: episode frames and animated GIFs drawn from the trace, and level previews as PNG.
+"""Headless drawing, every picture but the page: episode frames and animated GIFs drawn from the trace, level
+previews, heat maps and figures as PNG.
 
 - :mod:`~guardsim.render.palette`: the one fixed palette frames are drawn in.
 - :mod:`~guardsim.render.sight`: what a guard sees, as a visibility polygon from pymunk ray casts.
@@ -8,6 +9,8 @@
 - :mod:`~guardsim.render.timeline`: which ticks become frames (no drawing library needed).
 - :mod:`~guardsim.render.gif`: frames streamed into an animated GIF.
 - :mod:`~guardsim.render.preview`: the level designer's preview (``guardsim render``).
+- :mod:`~guardsim.render.sneak` and :mod:`~guardsim.render.alert`: the sneak and alert GIFs.
+- :mod:`~guardsim.render.heatmap` and :mod:`~guardsim.render.plots`: heat maps and figures (matplotlib).
 
 Names are loaded from their module when first used, so that reading :data:`DEFAULT_MAX_FRAMES` (a
 command-line default) does not import Pillow. See ``docs/rendering.md``.

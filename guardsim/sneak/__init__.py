@@ -3,7 +3,6 @@
 - :mod:`~guardsim.sneak.search`: the exact space-time search (unseen path, closest call, hiding windows).
 - :mod:`~guardsim.sneak.graded`: the same search under the detection model (undetected paths).
 - :mod:`~guardsim.sneak.grade`: a path's meters replayed, its risk, and the slack of the lap.
-- :mod:`~guardsim.sneak.gif`: the intruder drawn over the patrol's frames.
 
 See ``docs/patrols.md`` and ``docs/detection.md``.
 """

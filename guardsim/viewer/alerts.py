@@ -2,22 +2,26 @@
 intruder, and the alert layers (each guard's state and meter, the contaminated set, the last known cell).
 
 Downstream of :mod:`guardsim.alert`, which never imports the viewer. The colours and letters are the
-alert GIF's (:mod:`guardsim.alert.gif`), from the one palette.
+alert GIF's (:mod:`guardsim.render.alert`), from the one palette.
 """
 
 from __future__ import annotations
 
+import math
 from pathlib import Path
+from typing import Any
 
 import numpy as np
 
 from guardsim.alert.episode import AlertEpisode
-from guardsim.alert.gif import CONTAMINATED_INDEX, HEARD_LETTER, LAST_KNOWN_INDEX, STATE_LETTERS
 from guardsim.alert.model import GUARD_STATES
+from guardsim.alert.recorded import RecordedEpisode, recorded_episode
 from guardsim.alert.trace import guard_trace
 from guardsim.detection import intruder_state
 from guardsim.kernels.steps import state_of
+from guardsim.level import Level
 from guardsim.patrol.model import Patrol
+from guardsim.render.alert import CONTAMINATED_INDEX, HEARD_LETTER, LAST_KNOWN_INDEX, STATE_LETTERS
 from guardsim.render.palette import PALETTE
 from guardsim.scene import Scene
 from guardsim.viewer.layers import AlertLayers, Intruder, Overlays
@@ -25,7 +29,7 @@ from guardsim.viewer.page import write_viewer
 from guardsim.viewer.patrols import patrol_routes, watch_layers
 from guardsim.vision.table import ViewTable
 
-__all__ = ["ALERT_LAYERS", "alert_overlays", "write_alert_page"]
+__all__ = ["ALERT_LAYERS", "alert_overlays", "write_alert_page", "write_alert_trace_page"]
 
 #: Layers an alert page opens with: the routes, the cones, the contaminated set, the last known cell,
 #: the intruder, each guard's meter and state, and the noises made (when there are any).
@@ -33,7 +37,12 @@ ALERT_LAYERS = ("route", "trail", "cone", "contaminated", "last-known", "intrude
 
 
 def alert_overlays(
-    scene: Scene, table: ViewTable, episode: AlertEpisode, *, patrol: Patrol | None = None, suspicious: float = 0.5
+    scene: Scene,
+    table: ViewTable,
+    episode: AlertEpisode | RecordedEpisode,
+    *,
+    patrol: Patrol | None = None,
+    suspicious: float = 0.5,
 ) -> Overlays:
     """The page layers of ``episode`` (the page's tick ``t`` is the episode's tick ``t``)."""
     grid = scene.grid
@@ -87,6 +96,7 @@ def alert_overlays(
         last_known_colour=PALETTE[LAST_KNOWN_INDEX],
         suspicious=suspicious,
         events=[(e.tick, e.guard, e.event) for e in episode.events],
+        counts=[int(count) for count in record["contaminated"]],
         # The episode's own noises and hearing, as the alert GIF reads them.
         noises=[(int(tick), int(cell), float(radius)) for tick, cell, radius, _ in episode.noises if tick < ticks],
         heard=np.asarray(record["heard"], dtype=bool).reshape(ticks, guards) if record.get("heard") else None,
@@ -125,7 +135,7 @@ def write_alert_page(
     path: str | Path,
     scene: Scene,
     table: ViewTable,
-    episode: AlertEpisode,
+    episode: AlertEpisode | RecordedEpisode,
     *,
     patrol: Patrol | None = None,
     suspicious: float = 0.5,
@@ -138,3 +148,35 @@ def write_alert_page(
     write_viewer(
         path, scene.level, trace, overlays=overlays, guard_poses=None if poses is None else poses.transpose(1, 0, 2)
     )
+
+
+def write_alert_trace_page(
+    path: str | Path,
+    level: Level,
+    data: dict[str, Any],
+    *,
+    patrol_path: str | None = None,
+    source: str = "trace",
+) -> RecordedEpisode:
+    """Write the viewer page of a saved alert trace (``data``, :func:`~guardsim.alert.alert_trace_data`,
+    read from ``source``) played on ``level``, with the vision and suspicious level it records; the
+    patrol at ``patrol_path`` adds the guards' routes. The page has no search-area dots: a trace keeps the
+    search area's size, not its cells (:mod:`guardsim.alert.recorded`). Returns the episode read back."""
+    from guardsim.detection import GuardDetection
+    from guardsim.patrol import read_patrol
+    from guardsim.vision.table import view_table
+
+    vision: dict[str, Any] = {}
+    if "los" in data:
+        reach = data["view_range"]
+        vision = {
+            "line_of_sight": data["los"],
+            "fov_degrees": data["fov"],
+            "view_range": math.inf if reach is None else float(reach),
+        }
+    scene = Scene.from_level(level, **vision)
+    episode = recorded_episode(data, scene.grid, source=source)
+    patrol = None if patrol_path is None else read_patrol(patrol_path, scene.grid, level=level.name)
+    suspicious = data.get("suspicious", GuardDetection.of_level(level).model.suspicious)
+    write_alert_page(path, scene, view_table(scene.grid, scene.vision()), episode, patrol=patrol, suspicious=suspicious)
+    return episode

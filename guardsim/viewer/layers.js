@@ -74,6 +74,8 @@ const GuardsimLayers = (function () {
     const alertTicks = alert ? alert.lastKnown.length : 0;
     // The alert row shown at page tick `tick` (the last once the episode is over).
     const alertRow = (tick) => Math.max(0, Math.min(tick, alertTicks - 1));
+    // A cell's centre in world units, written as the command line takes a point: "29.5,48.5".
+    const worldText = (cell) => GuardsimLayers.worldPoint(data, cell % data.cols, Math.floor(cell / data.cols));
     const colour = (value, top) => ramp(data.ramp, top > 0 ? value / top : 0);
 
     // The timeline: whole laps (from the address, else the page's default), and the intruder's walk.
@@ -296,7 +298,7 @@ const GuardsimLayers = (function () {
       );
       const noises = tick === row ? noisesAt(tick) : [];
       if (noises.length) parts.push(noises.length + (noises.length === 1 ? " noise" : " noises"));
-      if (known >= 0) parts.push("last known [" + cellText(known).replace(",", ", ") + "]");
+      if (known >= 0) parts.push("last known " + worldText(known));
       parts.push(count + (count === 1 ? " cell" : " cells") + " contaminated");
       return {
         text: parts.join(" \u00b7 "),
@@ -344,7 +346,7 @@ const GuardsimLayers = (function () {
     // The path tick shown at page tick `tick` while the intruder is in (entered, not yet arrived), else -1.
     const walking = (tick) => (intruder && tick >= intruder.start && tick - intruder.start < intruder.path.length ? tick - intruder.start : -1);
 
-    // What one meter's level says by itself (guardsim.sneak.gif.meter_state): its bar's fill colour.
+    // What one meter's level says by itself (guardsim.detection.meter_state): its bar's fill colour.
     function meterState(level, suspicious) {
       if (level >= 1 - 1e-6) return "detected";
       if (level > 0 && level >= suspicious) return "suspicious";
@@ -352,7 +354,7 @@ const GuardsimLayers = (function () {
     }
 
     // A bar over each guard (at `spots`, where viewer.js drew it), framed in the outline colour, white
-    // inside, filled from the left by its meter: the box of guardsim.sneak.gif.meter_bar_box. `levels`
+    // inside, filled from the left by its meter: the box of guardsim.render.sneak.meter_bar_box. `levels`
     // holds `guards` meters per step; `info` the suspicious level and the state colours.
     function drawMeters(levels, guards, info, step, radius, spots, only) {
       spots.forEach(([x, y], spot) => {
@@ -466,7 +468,7 @@ const GuardsimLayers = (function () {
         // An alert's intruder is in from tick 0 until it is captured or leaves at its goal.
         if (tick - intruder.start >= intruder.path.length) return name + " left the level at tick " + (intruder.start + intruder.path.length);
         const cell = intruder.path[step];
-        return name + " at [" + (cell % data.cols) + ", " + Math.floor(cell / data.cols) + "]: " + (intruder.inView[step] === 1 ? "IN VIEW" : "unseen");
+        return name + " at " + worldText(cell) + ": " + (intruder.inView[step] === 1 ? "IN VIEW" : "unseen");
       }
       const ticks = intruder.path.length - 1;
       if (tick - intruder.start >= ticks) {
@@ -625,5 +627,12 @@ const GuardsimLayers = (function () {
     };
   }
 
-  return { make: make };
+
+  // A cell's centre in world units as the command line takes a point, "29.5,48.5" (at most three decimals).
+  function worldPoint(data, col, row) {
+    const at = (origin, index) => String(Math.round((origin + (index + 0.5) * data.cell_size) * 1000) / 1000);
+    return at(data.origin[0], col) + "," + at(data.origin[1], row);
+  }
+
+  return { make: make, worldPoint: worldPoint };
 })();

@@ -58,7 +58,7 @@ IDLENESS_RAMP: tuple[tuple[float, tuple[int, int, int]], ...] = (
 DEFAULT_LAPS = 3
 
 #: The intruder's states (its readout) and a meter bar's fill, as the sneak GIF draws them
-#: (:data:`guardsim.sneak.gif.STATE_INDEX`): white unseen, the walls' grey in view, orange suspicious,
+#: (:data:`guardsim.render.sneak.STATE_INDEX`): white unseen, the walls' grey in view, orange suspicious,
 #: red detected.
 STATE_COLOURS: dict[str, tuple[int, int, int]] = {
     "unseen": COLOURS["white"],
@@ -165,7 +165,7 @@ class AlertLayers:
     state_names: Sequence[str]
     """:data:`guardsim.alert.GUARD_STATES`."""
     state_letters: Sequence[str]
-    """The letter drawn over a guard in each state (the alert GIF's, :data:`guardsim.alert.gif.STATE_LETTERS`)."""
+    """The letter drawn over a guard in each state (the alert GIF's, :data:`guardsim.render.alert.STATE_LETTERS`)."""
     meters: np.ndarray
     """``float (ticks, guards)``: each guard's awareness meter, drawn as a bar over it at every tick."""
     contaminated: np.ndarray
@@ -180,6 +180,9 @@ class AlertLayers:
     """The meter level at which a guard is suspicious (its bar turns orange)."""
     events: Sequence[tuple[int, int, str]] = ()
     """``(tick, guard, event)``, marked on the timeline (guard -1: the intruder's own)."""
+    counts: Sequence[int] | None = None
+    """Per tick, the contaminated set's size as read out; ``None``: counted from :attr:`contaminated` (a
+    page drawn from a trace knows the sizes, not the cells)."""
     noises: Sequence[tuple[int, int, float]] = ()
     """``(tick, flat cell, radius in world units)``: each noise made, drawn as a ring of its radius around
     the cell's centre at the tick it is made (the tick it lasts)."""
@@ -386,7 +389,7 @@ def _alert_data(alert: AlertLayers, trace: Trace) -> dict[str, Any]:
         # A bit per cell, little-endian within each byte; each tick's row starts on a byte.
         "contaminated": packed(np.packbits(contaminated, axis=1, bitorder="little").ravel(), "u1"),
         "contaminated_stride": (cells + 7) // 8,
-        "contaminated_counts": [int(count) for count in contaminated.sum(axis=1)],
+        "contaminated_counts": [int(count) for count in (contaminated.sum(axis=1) if alert.counts is None else alert.counts)],
         "last_known": packed(list(alert.last_known), "i4"),
         "contaminated_colour": list(alert.contaminated_colour),
         "last_known_colour": list(alert.last_known_colour),

@@ -9,7 +9,7 @@ from collections.abc import Sequence
 
 import numpy as np
 
-from guardsim.detection import NEVER_DETECTED, DetectionModel, GuardDetection
+from guardsim.detection import NEVER_DETECTED, DetectionModel, GuardDetection, path_states
 from guardsim.detection.watch import LevelWatch
 from guardsim.errors import GuardsimError
 from guardsim.grid import CoverageGrid
@@ -17,7 +17,6 @@ from guardsim.patrol.export import waypoints
 from guardsim.patrol.model import Patrol
 from guardsim.patrol.scoring import seen_timeline
 from guardsim.sneak import SneakResult
-from guardsim.sneak.gif import path_states
 from guardsim.viewer.layers import DEFAULT_LAPS, IdlenessMap, Intruder, LapViews, Overlays, SafeSpot, WatchLayers
 from guardsim.vision.table import ViewTable
 

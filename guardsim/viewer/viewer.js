@@ -478,7 +478,8 @@
           alertReadout.dataset.noises = alert.noises;
         }
         cellReadout.textContent = inspected
-          ? "cell [" + inspected[0] + ", " + inspected[1] + "]: " + extra.cellText(inspected[1] * cols + inspected[0], tick)
+          ? GuardsimLayers.worldPoint(data, inspected[0], inspected[1]) + " (cell [" + inspected[0] + ", " + inspected[1] + "]): " +
+            extra.cellText(inspected[1] * cols + inspected[0], tick)
           : "";
         extra.colourBar(layers, bar);
       }

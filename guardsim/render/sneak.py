@@ -1,4 +1,4 @@
-"""The sneak as an animated GIF: the patrol's frames, with the intruder's trail and position drawn on top,
+"""A sneak as an animated GIF: the patrol's frames, with the intruder's trail and position drawn on top,
 coloured by its state, and each guard's awareness meter as a bar over the guard."""
 
 from __future__ import annotations
@@ -10,9 +10,8 @@ from collections.abc import Callable, Sequence
 import numpy as np
 from PIL import Image, ImageDraw
 
-from guardsim.detection.model import IntruderState, intruder_state
+from guardsim.detection.model import meter_state
 from guardsim.files.output import atomic_path
-from guardsim.kernels.meter import DETECTED
 from guardsim.level import Level
 from guardsim.render.frames import FrameDrawer
 from guardsim.render.gif import GifOptions, GifStream, frame_ticks
@@ -26,8 +25,6 @@ __all__ = [
     "SneakFrames",
     "camera_overlay",
     "meter_bar_box",
-    "meter_state",
-    "path_states",
     "write_sneak_gif",
 ]
 
@@ -50,32 +47,6 @@ STATE_INDEX: dict[str, int] = {
     "suspicious": guard_index(3),
     "detected": guard_index(0),
 }
-
-
-def path_states(
-    meters: np.ndarray, in_view: Sequence[bool] | np.ndarray, detected_at: int | None, suspicious: float
-) -> list[IntruderState]:
-    """The intruder's state at each tick of a graded path (:func:`~guardsim.detection.intruder_state`):
-    ``meters`` ``(ticks + 1, guards)`` and ``in_view`` from its :class:`~guardsim.sneak.PathGrade`."""
-    return [
-        intruder_state(
-            [float(v) for v in meters[tick]],
-            bool(in_view[tick]),
-            suspicious,
-            detected_at is not None and tick >= detected_at,
-        )
-        for tick in range(len(meters))
-    ]
-
-
-def meter_state(level: float, suspicious: float) -> IntruderState:
-    """The state one meter's level says by itself, which colours its bar's fill: ``detected`` full,
-    ``suspicious`` at or above ``suspicious``, ``in view`` above 0, ``unseen`` empty."""
-    if level >= DETECTED:
-        return "detected"
-    if level > 0 and level >= suspicious:
-        return "suspicious"
-    return "in view" if level > 0 else "unseen"
 
 
 def meter_bar_box(x: float, y: float, radius: float) -> tuple[int, int, int, int]:

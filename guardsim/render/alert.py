@@ -13,13 +13,14 @@ import numpy as np
 from PIL import ImageDraw
 
 from guardsim.alert.episode import AlertEpisode
+from guardsim.alert.recorded import RecordedEpisode
 from guardsim.alert.trace import guard_trace
 from guardsim.detection import grid_tick_seconds, intruder_state
 from guardsim.render.layout import MIN_GUARD_RADIUS
 from guardsim.render.palette import Index, guard_index
+from guardsim.render.sneak import SneakFrames, write_sneak_gif
 from guardsim.render.text import font
 from guardsim.scene import Scene
-from guardsim.sneak.gif import SneakFrames, write_sneak_gif
 from guardsim.vision.table import ViewTable
 
 __all__ = [
@@ -69,7 +70,12 @@ LAST_KNOWN_INDEX = guard_index(0)
 
 
 def write_alert_gif(
-    path: str | os.PathLike[str], scene: Scene, table: ViewTable, episode: AlertEpisode, *, suspicious: float
+    path: str | os.PathLike[str],
+    scene: Scene,
+    table: ViewTable,
+    episode: AlertEpisode | RecordedEpisode,
+    *,
+    suspicious: float,
 ) -> int:
     """Write ``episode`` as a GIF; returns the number of frames."""
     grid = scene.grid
