@@ -7,7 +7,7 @@ import json
 import click
 
 from guardsim.cli.common import limit_options, load, reports_errors
-from guardsim.cli.design_common import guards_option, pair_options, pairs_of, progress_line
+from guardsim.cli.design_common import check_outputs, guards_option, pair_options, pairs_of, progress_line
 from guardsim.cli.map_options import MapImport, map_options
 
 __all__ = ["report"]
@@ -54,6 +54,7 @@ def report(
     from guardsim.kernels.ahead import compile_ahead
 
     pairs = pairs_of(sources, targets)
+    check_outputs(json=json_path, html=html_path)
     level = load(level_path, max_cells, max_vertices, max_file_bytes, map_import)
     compile_ahead("sneak")
     analysis = analyse(level, patrol=patrol_path, guards=guards, pairs=pairs, seed=seed, progress=progress_line)
