@@ -157,6 +157,12 @@ def _report(
     print(
         f"\n{sum(total.values())} cases (seed {args.seed}) in {seconds:.0f} s; slowest {slowest[0]:.1f} s ({slowest[1]})"
     )
+    found = sum(count for name, count in total.items() if name != "ok")
+    print(
+        f"findings: {found} ({total['traceback']} tracebacks, {total['hang']} hangs, "
+        f"{total['accepted-bad']} wrong acceptances, {found - total['traceback'] - total['hang'] - total['accepted-bad']} "
+        "other)"
+    )
     for (kind, command, outcome), note in sorted(examples.items()):
         print(f"  {outcome}: {kind} {command}: {note}")
 

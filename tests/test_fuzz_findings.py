@@ -433,3 +433,29 @@ def test_tick_hz_in_a_level_is_bounded_as_the_option_is() -> None:
     with pytest.raises(jsonschema.ValidationError):
         jsonschema.validate(data, level_schema())
     assert parse_level({**PILLAR, "guard": {"tick_hz": MAX_TICK_HZ}}).guard.tick_hz == MAX_TICK_HZ
+
+
+@pytest.mark.parametrize(
+    ("item", "phrase"),
+    [({"throw": [5.5, 5.5], "at": 1, "noise": 2, "x" * 3000: 1}, "unknown key 'xxxx"),
+     ({"to": [1.5, 1.5], "gait": "s" * 5000}, "gait 'ssss")],
+    ids=["throw-key", "gait"],
+)  # fmt: skip
+def test_a_long_key_or_gait_in_a_route_file_is_quoted_short(tmp_path: Path, item: dict[str, Any], phrase: str) -> None:
+    # Echoed whole: a 3,000-character line.
+    from guardsim.alert.intruders import read_route_file
+    from guardsim.errors import GuardsimError
+
+    route = _write(tmp_path / "route.json", [[0.5, 0.5], item])
+    with pytest.raises(GuardsimError, match=r"route\.json: item 1: ") as error:
+        read_route_file(str(route))
+    assert phrase in str(error.value) and len(str(error.value)) < 300
+
+
+def test_report_alert_episodes_are_bounded_as_alert_s(tmp_path: Path) -> None:
+    # report --alert 10**400 ran past any timeout: alert --episodes stops at 100,000.
+    from guardsim.design.report import MAX_ALERT_EPISODES
+
+    level = _write(tmp_path / "watched.json", _watched())
+    result = run("report", level, "--alert", str(MAX_ALERT_EPISODES + 1))
+    assert result.exit_code == 2 and "--alert" in result.stderr and "Traceback" not in result.output

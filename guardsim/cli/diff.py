@@ -63,7 +63,7 @@ def diff(
     check_outputs(json=json_path, png=png_path, html=html_path)
     old = load(old_path, max_cells, max_vertices, max_file_bytes, map_import)
     new = load(new_path, max_cells, max_vertices, max_file_bytes, map_import)
-    compile_ahead("sneak")
+    compile_ahead("report")
     found = compare(
         old,
         new,

@@ -373,6 +373,9 @@ def watch(
     if not Path(path).parent.resolve().is_dir():
         raise GuardsimError(f"{path}: its folder does not exist, so there is nothing to watch")
     sock = _listen(host, port)
+    from guardsim.kernels.ahead import compile_ahead
+
+    compile_ahead("report")  # each save is analysed as report analyses a level: its kernels, on two cores
     analyser = LiveAnalyser(path, patrol=patrol, guards=guards, pairs=pairs, echo=echo)
     bound = sock.getsockname()[1]
     echo(f"serving http://{host}:{bound}/ : the analysis of {path}, redrawn on each save (Ctrl-C stops)")
