@@ -459,3 +459,15 @@ def test_report_alert_episodes_are_bounded_as_alert_s(tmp_path: Path) -> None:
     level = _write(tmp_path / "watched.json", _watched())
     result = run("report", level, "--alert", str(MAX_ALERT_EPISODES + 1))
     assert result.exit_code == 2 and "--alert" in result.stderr and "Traceback" not in result.output
+
+
+def test_watch_refuses_an_empty_host_and_quotes_a_long_one_short(tmp_path: Path) -> None:
+    # --host '' listened on every address of the machine; a 3,000-character host was echoed whole.
+    # (A non-ASCII name too long for IDNA fails before any name is looked up: nothing is contacted.)
+    pytest.importorskip("uvicorn")
+    level = _write(tmp_path / "watched.json", _watched())
+    empty = run("watch", level, "--host", "", "--port", "0")
+    assert empty.exit_code == 2 and empty.stderr.startswith("guardsim: error: --host: an empty address")
+    long = run("watch", level, "--host", "\u00fc" * 3000, "--port", "0")
+    assert long.exit_code == 2 and len(long.stderr.splitlines()) == 1 and len(long.stderr) < 300, long.stderr
+    assert "cannot be listened on (not an address): give another --host or --port" in long.stderr
