@@ -31,7 +31,7 @@ sys.path.insert(0, str(REPO))
 from tests.fuzz_cases import KINDS, Templates, cases, generate, make_templates, run_in_process  # noqa: E402
 
 OUTCOMES = (
-    "ok", "traceback", "hang", "memory", "huge-line", "multi-line", "unnamed", "accepted-bad", "wrong-result",
+    "ok", "traceback", "hang", "memory", "huge-line", "multi-line", "unnamed", "unplaced", "accepted-bad", "wrong-result",
     "half-written", "warning", "bad-status",
 )  # fmt: skip
 

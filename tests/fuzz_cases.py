@@ -119,6 +119,8 @@ class Case:
     """Whether a failed command must leave none of ``outputs`` behind."""
     note: str = ""
     """What the generator did, for the report."""
+    place: str = ""
+    """Where in the file the fault is (a key), when known: an error line must name it too."""
 
     def write(self, folder: Path) -> None:
         """Create the files under ``folder``."""
@@ -1058,7 +1060,7 @@ MAX_LINE_CHARS = 2000
 
 
 def verdict(case: Case, folder: Path, exit_code: int, stdout: str, stderr: str, exception: str = "") -> str:
-    """``ok`` or the class of failure: ``traceback``, ``huge-line``, ``multi-line``, ``unnamed``,
+    """``ok`` or the class of failure: ``traceback``, ``huge-line``, ``multi-line``, ``unnamed``, ``unplaced``,
     ``accepted-bad``, ``wrong-result``, ``half-written`` or ``bad-status``."""
     if exception or "Traceback (most recent call last)" in stderr + stdout:
         return "traceback"
@@ -1089,7 +1091,11 @@ def verdict(case: Case, folder: Path, exit_code: int, stdout: str, stderr: str, 
     if len(lines) != 1:
         return "multi-line"
     named = case.named.replace("\n", "\\n")
-    return "ok" if named in lines[0] or case.kind == "option" else "unnamed"
+    if not (named in lines[0] or case.kind == "option"):
+        return "unnamed"
+    # validate lists each problem, with its place, on stdout; the error line counts them.
+    said = lines[0] + (stdout if case.command.startswith("validate") else "")
+    return "unplaced" if case.place and case.place not in said else "ok"
 
 
 _PROGRESS = re.compile(r"\d+ of \d+ episodes|guardsim regress: ")

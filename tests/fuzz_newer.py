@@ -110,29 +110,28 @@ _PLACED: tuple[tuple[tuple[Any, ...], Any, str], ...] = (
 _TOP_KEYS = {"cameras": ("cameras",), "lights": ("lights", "ambient_light"), "noise": ("intruder", "guard")}
 
 
-def _level(kind: str, rng: np.random.Generator) -> tuple[bytes, str]:
-    """A damaged level of ``kind`` (its keys targeted), and what was done."""
+def _level(kind: str, rng: np.random.Generator) -> tuple[bytes, str, str]:
+    """A damaged level of ``kind`` (its keys targeted), what was done, and the top key at fault when one
+    is (``""`` otherwise): an error must name it."""
     data = copy.deepcopy(BASE)
     roll = rng.random()
     if roll < 0.04:
-        return special_file(rng)
+        return (*special_file(rng), "")
     if roll < 0.5:
         path = _PATHS[kind][int(rng.integers(len(_PATHS[kind])))]
         value = NASTY[int(rng.integers(len(NASTY)))]
-        shown = repr(value)[:20]
-        return json.dumps(
-            _set(data, path, value), allow_nan=True
-        ).encode(), f"{'.'.join(map(str, path))[:40]} = {shown}"
+        note = f"{'.'.join(map(str, path))[:40]} = {repr(value)[:20]}"
+        return json.dumps(_set(data, path, value), allow_nan=True).encode(), note, str(path[0])
     if roll < 0.65:
         fitting = [item for item in _PLACED if item[0][0] in _TOP_KEYS[kind]]
         path, value, note = fitting[int(rng.integers(len(fitting)))]
-        return json.dumps(_set(data, path, copy.deepcopy(value))).encode(), note
+        return json.dumps(_set(data, path, copy.deepcopy(value))).encode(), note, str(path[0])
     if roll < 0.85:
         key = {"cameras": "cameras", "lights": "lights", "noise": "intruder"}[kind]
         sub, note = mutate_json({key: data[key]}, rng)
         data.update(sub if isinstance(sub, dict) else {key: sub})
-        return json.dumps(data, allow_nan=True).encode(), note
-    return mutate_text(json.dumps(data).encode(), rng)
+        return json.dumps(data, allow_nan=True).encode(), note, ""
+    return (*mutate_text(json.dumps(data).encode(), rng), "")
 
 
 def _known_bad(content: bytes) -> bool:
@@ -142,7 +141,7 @@ def _known_bad(content: bytes) -> bool:
 
 def level_kind_case(kind: str, command: str, rng: np.random.Generator, templates: Templates) -> Case:
     """A level whose cameras, light or noise keys are damaged, read by ``command``."""
-    content, note = _level(kind, rng)
+    content, note, place = _level(kind, rng)
     files = {"level.json": content, "in.patrol.json": templates.patrol}
     level = "{dir}/level.json"
     args, outputs = {
@@ -155,7 +154,8 @@ def level_kind_case(kind: str, command: str, rng: np.random.Generator, templates
         "alert": (["alert", level, "--patrol", "{dir}/in.patrol.json", "--from", _FROM, "--to", _TO,
                    "--max-seconds", "20", "--trace", "{dir}/out.json"], ["out.json"]),
     }[command]  # fmt: skip
-    return Case(kind, command, files, args, "level.json", outputs, bad=_known_bad(content), clean=True, note=note)
+    return Case(kind, command, files, args, "level.json", outputs, bad=_known_bad(content), clean=True, note=note,
+                place=place)  # fmt: skip
 
 
 def noise_route_case(rng: np.random.Generator, templates: Templates) -> Case:
@@ -229,12 +229,12 @@ def _design_args(command: str, level: str, patrol: str | None, old: str = "{dir}
 def design_level_case(command: str, rng: np.random.Generator, templates: Templates) -> Case:
     """A damaged level (any of the newer keys, or the plain level's) given to a design command."""
     kind = ("cameras", "lights", "noise")[int(rng.integers(3))]
-    content, note = _level(kind, rng)
+    content, note, place = _level(kind, rng)
     files = {"level.json": content, "old.json": json.dumps(BASE).encode(), "in.patrol.json": templates.patrol}
     args = _design_args(command, "{dir}/level.json", None)
     outputs = ["r.json"] if command in ("report", "diff") else []
     return Case("design-level", command, files, args, "level.json", outputs, bad=_known_bad(content), clean=True,
-                note=f"{kind}: {note}")  # fmt: skip
+                note=f"{kind}: {note}", place=place)  # fmt: skip
 
 
 def design_patrol_case(command: str, rng: np.random.Generator, templates: Templates) -> Case:
