@@ -136,7 +136,10 @@ def main() -> None:
             if args.rev:
                 subprocess.run(["git", "-C", str(REPO), "worktree", "remove", "--force", str(checkout)], check=False)
     label = args.rev or "working tree"
-    print(f"first use on {label} ({'fresh venv' if args.fresh_venv else 'this venv'}, empty caches), seconds")
+    # Other work on the two cores changes these figures more than most code changes: say how busy it was.
+    load = ", ".join(f"{value:.1f}" for value in os.getloadavg())
+    print(f"first use on {label} ({'fresh venv' if args.fresh_venv else 'this venv'}, empty caches), seconds;"
+          f" load average at the end {load}")  # fmt: skip
     print("| command | first run s | second run s | said compiling |")
     print("| --- | --- | --- | --- |")
     for row in rows:
