@@ -471,3 +471,15 @@ def test_watch_refuses_an_empty_host_and_quotes_a_long_one_short(tmp_path: Path)
     long = run("watch", level, "--host", "\u00fc" * 3000, "--port", "0")
     assert long.exit_code == 2 and len(long.stderr.splitlines()) == 1 and len(long.stderr) < 300, long.stderr
     assert "cannot be listened on (not an address): give another --host or --port" in long.stderr
+
+
+def test_starts_on_no_part_of_the_floor_keep_the_whole_level() -> None:
+    # A mutated village map whose only start lies in a wall: every part was dropped, the kept floor was
+    # empty and its bounds NaN (ValueError from math.floor inside the importer).
+    from guardsim.importers.tiled_spawns import keep_spawn_areas
+    from guardsim.level import parse_level
+    from tests.common import SPLIT_ROOMS
+
+    level = parse_level(SPLIT_ROOMS, source="split.tmj")
+    kept, said = keep_spawn_areas(level, [(3.0, 1.5)], source="split.tmj", max_cells=10_000, max_vertices=1_000)
+    assert kept is level and said == ""
