@@ -63,6 +63,9 @@ ROUTE: list[Any] = [
     {"throw": [5.5, 5.5], "at": 1.0, "noise": 4},
 ]  # fmt: skip
 
+#: A sneak.json as ``guardsim sneak`` writes it (its path in cells of its grid), walked as a route.
+SNEAK_ROUTE: dict[str, Any] = {"cell_size": 1.0, "origin": [0, 0], "path": [[0, 0], [0, 1], [1, 1], [1, 2]]}
+
 #: Values tried at a key: the ones that broke number parsers before, and the wrong types.
 NASTY: tuple[Any, ...] = (math.nan, math.inf, -math.inf, 1e308, -1e308, 1e-300, 5e-324, 0, -1, 361, 1e15, HUGE_INT, 2**63, 0.5,
          "1", None, True, [], {}, [1, 2], "x" * 5000)  # fmt: skip
@@ -189,9 +192,13 @@ def noise_route_case(rng: np.random.Generator, templates: Templates) -> Case:
         route.append(throw)
         bad = choice in (0, 1, 4, 5)
         content = json.dumps(route).encode()
-    elif roll < 0.85:
+    elif roll < 0.78:
         mutated, note = mutate_json(route, rng)
         content = json.dumps(mutated, allow_nan=True).encode()
+    elif roll < 0.9:
+        # sneak.json's route: [col, row] cells of its grid (cell size, origin), read as their centres.
+        mutated, note = mutate_json(SNEAK_ROUTE, rng)
+        content, note = json.dumps(mutated, allow_nan=True).encode(), f"sneak.json: {note}"
     else:
         content, note = mutate_text(json.dumps(route).encode(), rng)
     files = {"level.json": json.dumps(BASE).encode(), "in.patrol.json": templates.patrol, "route.json": content}
