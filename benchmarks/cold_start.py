@@ -25,7 +25,26 @@ from pathlib import Path
 REPO = Path(__file__).resolve().parents[1]
 
 #: The commands measured, in table order (``--commands`` picks among them).
-NAMES = ("play", "tour", "patrol", "sneak", "bounds", "optimum", "bench", "optimum-team", "patrol-team")
+NAMES = (
+    "play",
+    "tour",
+    "patrol",
+    "sneak",
+    "bounds",
+    "optimum",
+    "bench",
+    "optimum-team",
+    "patrol-team",
+    "sneak-undetected",
+    "alert",
+    "check",
+    "report",
+    "diff",
+    "render",
+    "validate",
+)
+#: The commands that read the patrol made beforehand (in a cache of its own, so that theirs is cold).
+NEEDS_PATROL = frozenset({"sneak", "sneak-undetected", "alert", "check"})
 
 #: A 12 x 9 room with one pillar, for ``optimum``.
 ROOM = {
@@ -39,17 +58,28 @@ ROOM = {
 def command_lines(scratch: Path, checkout: Path, run: str) -> dict[str, list[str]]:
     """Each measured command's arguments (after ``guardsim``); ``run`` keeps output folders apart."""
     square = str(checkout / "levels" / "square.json")
+    patrol = str(scratch / "setup" / "patrol.json")
     return {
         "play": ["play", square],
         "tour": ["play", square, "--planner", "tour"],
         "patrol": ["patrol", square, "--out", str(scratch / f"patrol-{run}")],
-        "sneak": ["sneak", square, "--patrol", str(scratch / "setup" / "patrol.json"),
+        "sneak": ["sneak", square, "--patrol", patrol,
                   "--from", "2.5,2.5", "--to", "57.5,57.5"],
         "bounds": ["bounds", square],
         "optimum": ["optimum", str(scratch / "room.json")],
         "bench": ["bench", square, "--episodes", "4", "--workers", "1", "--out", str(scratch / f"bench-{run}")],
         "optimum-team": ["optimum", str(scratch / "room.json"), "--start", "0.5,0.5", "--start", "11.5,8.5", "--guards", "2"],
         "patrol-team": ["patrol", square, "--guards", "2", "--out", str(scratch / f"patrol-team-{run}")],
+        "sneak-undetected": ["sneak", square, "--patrol", patrol, "--from", "2.5,2.5", "--to", "57.5,57.5",
+                             "--undetected"],
+        "alert": ["alert", square, "--patrol", patrol, "--from", "2.5,2.5", "--to", "57.5,57.5",
+                  "--trace", str(scratch / f"alert-{run}.json")],
+        "check": ["check", square, "--patrol", patrol, "--max-idleness", "1000", "--sneak", "2.5,2.5", "57.5,57.5",
+                  "--expect", "sneaks"],
+        "report": ["report", square],
+        "diff": ["diff", square, str(checkout / "levels" / "passages.json")],
+        "render": ["render", square, "--png", str(scratch / f"render-{run}.png")],
+        "validate": ["validate", square],
     }  # fmt: skip
 
 
@@ -106,7 +136,10 @@ def main() -> None:
             if args.rev:
                 subprocess.run(["git", "-C", str(REPO), "worktree", "remove", "--force", str(checkout)], check=False)
     label = args.rev or "working tree"
-    print(f"first use on {label} ({'fresh venv' if args.fresh_venv else 'this venv'}, empty caches), seconds")
+    # Other work on the two cores changes these figures more than most code changes: say how busy it was.
+    load = ", ".join(f"{value:.1f}" for value in os.getloadavg())
+    print(f"first use on {label} ({'fresh venv' if args.fresh_venv else 'this venv'}, empty caches), seconds;"
+          f" load average at the end {load}")  # fmt: skip
     print("| command | first run s | second run s | said compiling |")
     print("| --- | --- | --- | --- |")
     for row in rows:
@@ -121,7 +154,7 @@ def measure(args: argparse.Namespace, scratch: Path, checkout: Path) -> list[str
                        check=True)  # fmt: skip
         python, base_env = str(scratch / "venv" / "bin" / "python"), dict(os.environ)
     else:
-        python, base_env = str(REPO / ".venv" / "bin" / "python"), dict(os.environ)
+        python, base_env = sys.executable, dict(os.environ)
     base_env.pop("GUARDSIM_COMPILE_NOTICE", None)
 
     def environment(cache: Path, copy: Path | None) -> dict[str, str]:
@@ -133,9 +166,9 @@ def measure(args: argparse.Namespace, scratch: Path, checkout: Path) -> list[str
     def run_line(name: str, run: str) -> list[str]:
         return [python, "-m", "guardsim.cli", *command_lines(scratch, checkout, run)[name]]
 
-    # sneak reads a patrol, made beforehand in a cache of its own, so that sneak's own first run is cold.
+    # sneak, alert and check read a patrol, made beforehand in a cache of its own, so that theirs is cold.
     setup_failed = ""
-    if "sneak" in args.commands:
+    if NEEDS_PATROL & set(args.commands):
         setup_copy = None if args.fresh_venv else fresh_copy(checkout, scratch / "copy-setup")
         setup = [*run_line("patrol", "setup")[:5], "--out", str(scratch / "setup")]
         _, status, stderr = timed(setup, environment(scratch / "cache-setup", setup_copy), scratch)
@@ -148,7 +181,7 @@ def measure(args: argparse.Namespace, scratch: Path, checkout: Path) -> list[str
         cold: list[float] = []
         warm: list[float] = []
         said: list[bool] = []
-        failed = setup_failed if name == "sneak" else ""
+        failed = setup_failed if name in NEEDS_PATROL else ""
         for run in range(args.runs):
             if failed:
                 break

@@ -48,6 +48,11 @@ def commands(scratch: Path) -> dict[str, list[str]]:
         "optimum:team": ["optimum", str(scratch / "room.json"), "--start", "0.5,0.5", "--start", "11.5,8.5",
                          "--guards", "2"],
         "patrol:team": ["patrol", square, "--guards", "2", "--out", str(scratch / "patrol-team")],
+        "check": ["check", square, "--patrol", str(scratch / "patrol" / "patrol.json"), "--max-idleness", "1000",
+                  "--no-unreachable", "--safe", "30.5,30.5", "--sneak", "2.5,2.5", "57.5,57.5", "--expect", "sneaks",
+                  "--undetected"],
+        # report, diff, check --baseline and watch: one analysis (loop patrol, sneak checks, ways, risk).
+        "report": ["report", square],
     }  # fmt: skip
 
 

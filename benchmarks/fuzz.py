@@ -31,7 +31,7 @@ sys.path.insert(0, str(REPO))
 from tests.fuzz_cases import KINDS, Templates, cases, generate, make_templates, run_in_process  # noqa: E402
 
 OUTCOMES = (
-    "ok", "traceback", "hang", "memory", "huge-line", "multi-line", "unnamed", "accepted-bad", "wrong-result",
+    "ok", "traceback", "hang", "memory", "huge-line", "multi-line", "unnamed", "unplaced", "accepted-bad", "wrong-result",
     "half-written", "warning", "bad-status",
 )  # fmt: skip
 
@@ -156,6 +156,12 @@ def _report(
     print(f"{'total':<{width}}  " + "  ".join(f"{total[name]:>{max(len(name), 5)}}" for name in shown))
     print(
         f"\n{sum(total.values())} cases (seed {args.seed}) in {seconds:.0f} s; slowest {slowest[0]:.1f} s ({slowest[1]})"
+    )
+    found = sum(count for name, count in total.items() if name != "ok")
+    print(
+        f"findings: {found} ({total['traceback']} tracebacks, {total['hang']} hangs, "
+        f"{total['accepted-bad']} wrong acceptances, {found - total['traceback'] - total['hang'] - total['accepted-bad']} "
+        "other)"
     )
     for (kind, command, outcome), note in sorted(examples.items()):
         print(f"  {outcome}: {kind} {command}: {note}")

@@ -73,6 +73,18 @@ KINDS: dict[str, tuple[str, ...]] = {
     "round4-option": ("patrol", "check", "alert", "import"),
     "tiled-cases": ("import",),
 }
+#: The newer inputs (``tests/fuzz_newer.py``): cameras, light and noise keys, route files with gaits and
+#: throws, and the design commands' levels, patrols and options (``watch`` analyses one save in process).
+NEWER_KINDS: dict[str, tuple[str, ...]] = {
+    "cameras": ("validate", "sneak", "check", "render", "alert"),
+    "lights": ("validate", "sneak", "render", "alert"),
+    "noise": ("validate", "alert"),
+    "noise-route": ("alert",),
+    "design-level": ("report", "diff", "check-baseline", "watch"),
+    "design-patrol": ("report", "diff", "check-baseline", "watch"),
+    "design-option": ("report", "diff", "check-baseline"),
+}
+KINDS.update(NEWER_KINDS)
 #: Kinds of the fourth round of robustness work (issue 44's findings): run in the slow tier.
 ROUND4_KINDS = frozenset({"checks-toml", "round4-option", "tiled-cases"})
 #: Kinds read by the importers (counted, not fixed here: guardsim/importers/ has its own owner).
@@ -107,6 +119,8 @@ class Case:
     """Whether a failed command must leave none of ``outputs`` behind."""
     note: str = ""
     """What the generator did, for the report."""
+    place: str = ""
+    """Where in the file the fault is (a key), when known: an error line must name it too."""
 
     def write(self, folder: Path) -> None:
         """Create the files under ``folder``."""
@@ -962,6 +976,11 @@ def tiled_cases_case(rng: np.random.Generator) -> Case:
 
 def generate(kind: str, command: str, rng: np.random.Generator, templates: Templates | None) -> Case:
     """One case of ``kind`` read by ``command``."""
+    if kind in NEWER_KINDS:
+        from tests.fuzz_newer import generate_newer
+
+        assert templates is not None
+        return generate_newer(kind, command, rng, templates)
     if kind == "checks-toml":
         assert templates is not None
         return checks_toml_case(rng, templates)
@@ -1041,7 +1060,7 @@ MAX_LINE_CHARS = 2000
 
 
 def verdict(case: Case, folder: Path, exit_code: int, stdout: str, stderr: str, exception: str = "") -> str:
-    """``ok`` or the class of failure: ``traceback``, ``huge-line``, ``multi-line``, ``unnamed``,
+    """``ok`` or the class of failure: ``traceback``, ``huge-line``, ``multi-line``, ``unnamed``, ``unplaced``,
     ``accepted-bad``, ``wrong-result``, ``half-written`` or ``bad-status``."""
     if exception or "Traceback (most recent call last)" in stderr + stdout:
         return "traceback"
@@ -1056,7 +1075,7 @@ def verdict(case: Case, folder: Path, exit_code: int, stdout: str, stderr: str, 
         return "half-written"
     if exit_code == 1 and case.command == "regress":
         return "ok" if "DIFFERS" in stdout or "no references" in stdout else "bad-status"
-    if exit_code == 1 and case.command == "check":
+    if exit_code == 1 and case.command in ("check", "check-baseline"):
         # A damaged patrol may break a rule: one "broken:" line per rule, nothing else.
         lines = stdout.splitlines()
         return "ok" if lines and all(": broken: " in line for line in lines) else "bad-status"
@@ -1066,13 +1085,23 @@ def verdict(case: Case, folder: Path, exit_code: int, stdout: str, stderr: str, 
     if case.command in ("regress", "bench"):
         # Progress lines (the run folder's, the episode count) are not part of the error.
         lines = [line for line in lines if not (line.startswith(str(folder)) or _PROGRESS.match(line))]
+    # A long stage's progress line ("guardsim: bounds: view table (2s)") may come first on a busy machine.
+    lines = [line for line in lines if not _STAGE.match(line)]
+    if case.kind in NEWER_KINDS:
+        # Progress and warning lines (the design commands' steps, a camera's rounded swing) come first.
+        lines = [line for line in lines if line.startswith("guardsim: error:") or not line.startswith("guardsim: ")]
     if len(lines) != 1:
         return "multi-line"
     named = case.named.replace("\n", "\\n")
-    return "ok" if named in lines[0] or case.kind == "option" else "unnamed"
+    if not (named in lines[0] or case.kind == "option"):
+        return "unnamed"
+    # validate lists each problem, with its place, on stdout; the error line counts them.
+    said = lines[0] + (stdout if case.command.startswith("validate") else "")
+    return "unplaced" if case.place and case.place not in said else "ok"
 
 
 _PROGRESS = re.compile(r"\d+ of \d+ episodes|guardsim regress: ")
+_STAGE = re.compile(r"guardsim: (?!error:|warning:)[a-z-]+: .* \(\d+(m\d+)?s\)$")
 
 
 def run_in_process(case: Case, folder: Path) -> str:
@@ -1082,6 +1111,10 @@ def run_in_process(case: Case, folder: Path) -> str:
 
     from guardsim.cli import main
 
+    if case.command == "watch":
+        from tests.fuzz_newer import run_watch
+
+        return run_watch(case, folder)
     case.write(folder)
     try:
         with warnings.catch_warnings(record=True) as caught:

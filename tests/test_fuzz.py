@@ -48,6 +48,14 @@ CASES = {
     "checks-toml": 40,
     "round4-option": 40,
     "tiled-cases": 40,
+    # The newer inputs (tests/fuzz_newer.py): the fast tier draws one case a command, the slow tier four.
+    "cameras": 20,
+    "lights": 16,
+    "noise": 8,
+    "noise-route": 4,
+    "design-level": 16,
+    "design-patrol": 16,
+    "design-option": 12,
 }
 #: The seed of the CI cases: derandomised, so a failure here fails the same way on every machine.
 SEED = 16

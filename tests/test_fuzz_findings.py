@@ -328,3 +328,157 @@ def test_toml_numbers_json_cannot_hold_are_one_line(tmp_path: Path, text: str, p
     with pytest.raises(CheckError, match=r"checks\.toml: ") as error:
         read_checks(path)
     assert phrase in str(error.value) and "\n" not in str(error.value)
+
+
+# --- the newer inputs: cameras, light, noise, the design commands (tests/fuzz_newer.py) -------------------
+
+
+def _watched(**changes: Any) -> dict[str, Any]:
+    from tests.fuzz_newer import BASE
+
+    return {**json.loads(json.dumps(BASE)), **changes}
+
+
+@pytest.mark.parametrize(
+    ("camera", "phrase"),
+    [({"position": [4, 3], "sweep": 360, "turn_speed": 0.001, "pause": 0}, "swing is 1440000 ticks, over the limit"),
+     ({"position": [4, 3], "sweep": 90, "turn_speed": 1e-300}, "swing of 1.8e+302 s is over")],
+    ids=["past-the-lap", "past-any-tick-count"],
+)  # fmt: skip
+def test_a_camera_swing_too_long_names_the_level_file(camera: dict[str, Any], phrase: str) -> None:
+    # The limit's line named the camera but not the file it is in.
+    from guardsim.detection.watch import level_watch
+    from guardsim.errors import LimitError
+    from guardsim.level import parse_level
+    from guardsim.scene import Scene
+
+    level = parse_level(_watched(cameras=[camera]), source="watched.json")
+    with pytest.raises(LimitError, match=r"^watched\.json: cameras\[0\]'s ") as error:
+        level_watch(Scene.from_level(level), 0.5)
+    assert phrase in str(error.value)
+
+
+def test_a_joint_lap_past_the_limit_names_the_level_file() -> None:
+    from guardsim.detection.watch import joint_lap, level_watch
+    from guardsim.errors import LimitError
+    from guardsim.level import parse_level
+    from guardsim.scene import Scene
+
+    watch = level_watch(Scene.from_level(parse_level(_watched(), source="watched.json")), 0.5)
+    assert watch.periods == (10,)
+    with pytest.raises(LimitError, match=r"^watched\.json: the joint lap of the patrol's 7 ticks .* is 70 ticks"):
+        joint_lap(7, watch, max_lap=20)
+
+
+@pytest.mark.parametrize(
+    "changes",
+    [{"ambient_light": None}, {"cameras": None}, {"lights": None},
+     {"cameras": [{"position": [4, 3], "heading": None}]}, {"lights": [{"position": [1, 5], "radius": 3, "intensity": None}]}],
+    ids=["ambient", "cameras", "lights", "camera-heading", "light-intensity"],
+)  # fmt: skip
+def test_null_where_the_schema_wants_a_number_or_list_is_refused(changes: dict[str, Any]) -> None:
+    # null was read as the default where the schema (and guardsim schema's users) refuse it.
+    import jsonschema
+
+    from guardsim.files.schema import level_schema
+    from guardsim.level import parse_level
+
+    data = _watched(**changes)
+    with pytest.raises(jsonschema.ValidationError):
+        jsonschema.validate(data, level_schema())
+    with pytest.raises(LevelError, match=r"^watched\.json: (ambient_light|cameras|lights)\S*: must be .*not null"):
+        parse_level(data, source="watched.json")
+
+
+def test_a_noise_heard_everywhere_is_heard_everywhere() -> None:
+    # A walk_noise of 1e308 made a 309-digit step count the compiled search could not take (TypingError).
+    from guardsim.kernels.noise import MAX_NOISE_STEPS, heard_within, noise_steps
+
+    assert noise_steps(1e308, 1.0) == noise_steps(1e308, 1e-300) == MAX_NOISE_STEPS
+    corridor = np.array([[1, -1, -1, -1], [2, -1, 0, -1], [-1, -1, 1, -1], [-1, -1, -1, -1]])
+    assert heard_within(corridor, 0, 1e308, 1.0, np.array([1, 2, 3])).tolist() == [True, True, False]
+
+
+@pytest.mark.parametrize(("command", "option"), [("report", "--html"), ("diff", "--png"), ("diff", "--json")])
+def test_a_design_output_that_cannot_be_written_is_refused_before_any_work(
+    tmp_path: Path, command: str, option: str
+) -> None:
+    # report wrote report.json, then failed on --html into a folder: half its outputs were left behind.
+    level = _write(tmp_path / "watched.json", _watched())
+    folder = tmp_path / "adir"
+    folder.mkdir()
+    first: list[str | Path] = ["--json", tmp_path / "r.json"] if option != "--json" else ["--png", tmp_path / "r.png"]
+    levels: list[str | Path] = [level] if command == "report" else [level, level]
+    line = assert_one_line_error(run(command, *levels, *first, option, folder), folder)
+    assert line.startswith(f"guardsim: error: {option} ") and "Is a directory" in line
+    assert not (tmp_path / "r.json").exists() and not (tmp_path / "r.png").exists()
+
+
+def test_an_empty_design_output_name_is_refused(tmp_path: Path) -> None:
+    result = run("report", _write(tmp_path / "watched.json", _watched()), "--json", "")
+    assert result.exit_code == 2 and "--json" in result.stderr and "Traceback" not in result.output
+
+
+def test_tick_hz_in_a_level_is_bounded_as_the_option_is() -> None:
+    import jsonschema
+
+    from guardsim.files.schema import level_schema
+    from guardsim.level import parse_level
+    from guardsim.level.limits import MAX_TICK_HZ
+
+    data = {**PILLAR, "guard": {"tick_hz": 100_000}}
+    with pytest.raises(LevelError, match=r"^ten\.json: guard\.tick_hz: must be at most 1000, not 100000$"):
+        parse_level(data, source="ten.json")
+    with pytest.raises(jsonschema.ValidationError):
+        jsonschema.validate(data, level_schema())
+    assert parse_level({**PILLAR, "guard": {"tick_hz": MAX_TICK_HZ}}).guard.tick_hz == MAX_TICK_HZ
+
+
+@pytest.mark.parametrize(
+    ("item", "phrase"),
+    [({"throw": [5.5, 5.5], "at": 1, "noise": 2, "x" * 3000: 1}, "unknown key 'xxxx"),
+     ({"to": [1.5, 1.5], "gait": "s" * 5000}, "gait 'ssss")],
+    ids=["throw-key", "gait"],
+)  # fmt: skip
+def test_a_long_key_or_gait_in_a_route_file_is_quoted_short(tmp_path: Path, item: dict[str, Any], phrase: str) -> None:
+    # Echoed whole: a 3,000-character line.
+    from guardsim.alert.intruders import read_route_file
+    from guardsim.errors import GuardsimError
+
+    route = _write(tmp_path / "route.json", [[0.5, 0.5], item])
+    with pytest.raises(GuardsimError, match=r"route\.json: item 1: ") as error:
+        read_route_file(str(route))
+    assert phrase in str(error.value) and len(str(error.value)) < 300
+
+
+def test_report_alert_episodes_are_bounded_as_alert_s(tmp_path: Path) -> None:
+    # report --alert 10**400 ran past any timeout: alert --episodes stops at 100,000.
+    from guardsim.design.report import MAX_ALERT_EPISODES
+
+    level = _write(tmp_path / "watched.json", _watched())
+    result = run("report", level, "--alert", str(MAX_ALERT_EPISODES + 1))
+    assert result.exit_code == 2 and "--alert" in result.stderr and "Traceback" not in result.output
+
+
+def test_watch_refuses_an_empty_host_and_quotes_a_long_one_short(tmp_path: Path) -> None:
+    # --host '' listened on every address of the machine; a 3,000-character host was echoed whole.
+    # (A non-ASCII name too long for IDNA fails before any name is looked up: nothing is contacted.)
+    pytest.importorskip("uvicorn")
+    level = _write(tmp_path / "watched.json", _watched())
+    empty = run("watch", level, "--host", "", "--port", "0")
+    assert empty.exit_code == 2 and empty.stderr.startswith("guardsim: error: --host: an empty address")
+    long = run("watch", level, "--host", "\u00fc" * 3000, "--port", "0")
+    assert long.exit_code == 2 and len(long.stderr.splitlines()) == 1 and len(long.stderr) < 300, long.stderr
+    assert "cannot be listened on (not an address): give another --host or --port" in long.stderr
+
+
+def test_starts_on_no_part_of_the_floor_keep_the_whole_level() -> None:
+    # A mutated village map whose only start lies in a wall: every part was dropped, the kept floor was
+    # empty and its bounds NaN (ValueError from math.floor inside the importer).
+    from guardsim.importers.tiled_spawns import keep_spawn_areas
+    from guardsim.level import parse_level
+    from tests.common import SPLIT_ROOMS
+
+    level = parse_level(SPLIT_ROOMS, source="split.tmj")
+    kept, said = keep_spawn_areas(level, [(3.0, 1.5)], source="split.tmj", max_cells=10_000, max_vertices=1_000)
+    assert kept is level and said == ""

@@ -256,7 +256,18 @@ print(json.dumps(unplanned))
         "play:tour",
         *(
             pytest.param(name, marks=pytest.mark.slow)
-            for name in ("patrol", "sneak", "alert", "bounds", "optimum", "bench", "optimum:team", "patrol:team")
+            for name in (
+                "patrol",
+                "sneak",
+                "alert",
+                "bounds",
+                "optimum",
+                "bench",
+                "optimum:team",
+                "patrol:team",
+                "check",
+                "report",
+            )
         ),
     ],
 )
@@ -277,9 +288,12 @@ def test_compiling_ahead_covers_what_the_command_compiles(command: str, tmp_path
         "bench": ["bench", square, "--episodes", "2", "--workers", "1", "--out", str(tmp_path / "bench")],
         "optimum:team": ["optimum", str(room), "--start", "0.5,0.5", "--start", "11.5,8.5", "--guards", "2"],
         "patrol:team": ["patrol", square, "--guards", "2", "--out", str(patrol)],
-    }
+        "check": ["check", square, "--patrol", str(patrol / "patrol.json"), "--max-idleness", "1000",
+                  "--no-unreachable", "--sneak", "2.5,2.5", "57.5,57.5", "--expect", "sneaks"],
+        "report": ["report", square],
+    }  # fmt: skip
     env = dict(os.environ, GUARDSIM_COMPILE_NOTICE="0")
-    if command in ("sneak", "alert"):
+    if command in ("sneak", "alert", "check"):
         subprocess.run([sys.executable, "-m", "guardsim.cli", *lines["patrol"]], env=env, cwd=tmp_path,
                        check=True, capture_output=True)  # fmt: skip
     done = subprocess.run([sys.executable, "-c", _UNPLANNED, command, *lines[command]], env=env, cwd=tmp_path,

@@ -83,6 +83,9 @@ def test_a_grid_that_cuts_a_passage_the_guard_fits_says_which_cell_size_keeps_it
     _, imported = walkable(path)
     warning = next(w for w in imported.warnings if "guard's grid falls into" in w)  # type: ignore[attr-defined]
     assert "falls into 2 parts where its circle can move in 1" in warning and "--cell-size 0.25" in warning
+    # The half tile at column 4, row 2 of the 'Collision' layer: the cell that cuts the path, named.
+    assert "no room for the guard's circle (radius 0.3) at their centre" in warning
+    assert "as the cell at (4.5, 2.5) does" in warning
     finer = import_map(path, cell_size=0.25)
     assert not [w for w in finer.warnings if "guard's grid falls into" in w]
     grid = Scene.from_level(finer.level).grid

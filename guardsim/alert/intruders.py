@@ -267,7 +267,7 @@ def read_route_file(path: str, *, sneak_ticks: int | None = None) -> RouteFile:
     :class:`~guardsim.errors.GuardsimError` line naming the file and the item, numbers through the one
     number parser (finite, within float range)."""
     from guardsim.errors import GuardsimError
-    from guardsim.files.reading import NumberError, finite_number, read_json_file
+    from guardsim.files.reading import NumberError, excerpt, finite_number, quoted, read_json_file
     from guardsim.level.model import GAITS
 
     data = read_json_file(path, max_file_bytes=16 * 2**20, kind="route file", error=GuardsimError)
@@ -304,7 +304,9 @@ def read_route_file(path: str, *, sneak_ticks: int | None = None) -> RouteFile:
         if isinstance(item, dict) and "throw" in item:
             unknown = sorted(set(item) - {"throw", "at", "noise"}, key=str)
             if unknown:
-                raise GuardsimError(f"{path}: item {index}: unknown key {unknown[0]!r} (a throw has throw, at, noise)")
+                raise GuardsimError(
+                    f"{path}: item {index}: unknown key {quoted(str(unknown[0]))} (a throw has throw, at, noise)"
+                )
             point = pair(item["throw"], index, "item")
             numbers = {}
             for key in ("at", "noise"):
@@ -322,7 +324,7 @@ def read_route_file(path: str, *, sneak_ticks: int | None = None) -> RouteFile:
             gait = item.get("gait", "walk")
             if gait not in GAITS:
                 raise GuardsimError(
-                    f"{path}: item {index}: gait {gait!r} is not one the level allows ({', '.join(GAITS)})"
+                    f"{path}: item {index}: gait {quoted(gait) if isinstance(gait, str) else excerpt(gait, 40)} is not one the level allows ({', '.join(GAITS)})"
                 )
             item = item["to"]
         out.points.append(pair(item, index, "point"))

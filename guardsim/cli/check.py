@@ -218,6 +218,12 @@ def check(
     progress = StageLine(sys.stderr, "check").start()
     level = detection_overrides.apply(load(level_path, max_cells, max_vertices, max_file_bytes, map_import))
     scene = build_scene(level, los, fov, view_range)
+    from guardsim.kernels.ahead import compile_ahead
+
+    progress("compiling", 0, 0)
+    compile_ahead("check")
+    if baseline_path is not None:
+        compile_ahead("report")  # the baseline's analysis is report's
     progress(f"checking {rules.count} rule{'' if rules.count == 1 else 's'}", 0, 0)
     results = run_checks(scene, rules, seed=seed) if rules.count else []
     if baseline_path is not None:

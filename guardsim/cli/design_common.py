@@ -10,7 +10,7 @@ import click
 from guardsim.cli.common import parse_point
 from guardsim.errors import GuardsimError
 
-__all__ = ["guards_option", "pair_options", "pairs_of", "progress_line"]
+__all__ = ["check_outputs", "guards_option", "pair_options", "pairs_of", "progress_line"]
 
 F = TypeVar("F", bound=Callable[..., Any])
 Point = tuple[float, float]
@@ -58,3 +58,20 @@ def pairs_of(sources: tuple[Point, ...], targets: tuple[Point, ...]) -> list[tup
 def progress_line(line: str) -> None:
     """A progress line on standard error, so that nothing sits silent."""
     click.echo(f"guardsim: {line}", err=True)
+
+
+def check_outputs(**outputs: str | None) -> None:
+    """Refuse, before any work, an output that cannot be written (``--json=path`` given as ``json=path``):
+    a command that fails leaves none of its outputs behind, so each is checked before the first is written."""
+    from guardsim.files.output import check_writable
+
+    for name, target in outputs.items():
+        if target is None:
+            continue
+        option = "--" + name.replace("_", "-")
+        if not target.strip():
+            raise click.BadParameter("an empty file name; give the file to write", param_hint=option)
+        try:
+            check_writable(target)
+        except GuardsimError as error:
+            raise GuardsimError(f"{option} {error}") from None

@@ -7,7 +7,7 @@ import json
 import click
 
 from guardsim.cli.common import limit_options, load, reports_errors
-from guardsim.cli.design_common import guards_option, pair_options, pairs_of, progress_line
+from guardsim.cli.design_common import check_outputs, guards_option, pair_options, pairs_of, progress_line
 from guardsim.cli.map_options import MapImport, map_options
 
 __all__ = ["diff"]
@@ -60,9 +60,10 @@ def diff(
     from guardsim.kernels.ahead import compile_ahead
 
     pairs = pairs_of(sources, targets)
+    check_outputs(json=json_path, png=png_path, html=html_path)
     old = load(old_path, max_cells, max_vertices, max_file_bytes, map_import)
     new = load(new_path, max_cells, max_vertices, max_file_bytes, map_import)
-    compile_ahead("sneak")
+    compile_ahead("report")
     found = compare(
         old,
         new,

@@ -9,6 +9,7 @@ import click
 
 from guardsim.cli.types import FiniteFloatRange
 from guardsim.errors import GuardsimError
+from guardsim.level.limits import MAX_TICK_HZ
 from guardsim.motion.parameters import DEFAULT_MOVE_SPEED, DEFAULT_TICK_HZ, DEFAULT_TURN_SPEED, MOTIONS, GuardMotion
 from guardsim.scene import Scene
 
@@ -35,11 +36,6 @@ _MOTION_HELP = (
     "grid: a cell per tick, turning free (the paper's model); continuous: a physics body walking and turning "
     "at game speeds along the planner's route (docs/motion.md)."
 )
-
-
-#: Most physics ticks per second on the command line: a game's physics runs at 30 to 240; past this a
-#: 20-second episode is hours of stepping (100 000 Hz was killed after a minute of silence).
-MAX_TICK_HZ = 1000.0
 
 
 def _speed_options(command: F, options: tuple[tuple[str, str], ...]) -> F:

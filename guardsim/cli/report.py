@@ -7,8 +7,9 @@ import json
 import click
 
 from guardsim.cli.common import limit_options, load, reports_errors
-from guardsim.cli.design_common import guards_option, pair_options, pairs_of, progress_line
+from guardsim.cli.design_common import check_outputs, guards_option, pair_options, pairs_of, progress_line
 from guardsim.cli.map_options import MapImport, map_options
+from guardsim.design.report import MAX_ALERT_EPISODES
 
 __all__ = ["report"]
 
@@ -19,7 +20,11 @@ __all__ = ["report"]
 @guards_option
 @pair_options
 @click.option(
-    "--alert", "alert", type=click.IntRange(min=0), default=0, help="Run N seeded alert episodes for the capture rate."
+    "--alert",
+    "alert",
+    type=click.IntRange(min=0, max=MAX_ALERT_EPISODES),
+    default=0,
+    help="Run N seeded alert episodes for the capture rate.",
 )
 @click.option("--seed", type=click.IntRange(min=0), default=0, show_default=True)
 @click.option("--html", "html_path", type=str, help="Write the report as a page (the level, the paths, the formula).")
@@ -54,8 +59,9 @@ def report(
     from guardsim.kernels.ahead import compile_ahead
 
     pairs = pairs_of(sources, targets)
+    check_outputs(json=json_path, html=html_path)
     level = load(level_path, max_cells, max_vertices, max_file_bytes, map_import)
-    compile_ahead("sneak")
+    compile_ahead("report")
     analysis = analyse(level, patrol=patrol_path, guards=guards, pairs=pairs, seed=seed, progress=progress_line)
     found = report_of(analysis, alert=alert, seed=seed, progress=progress_line)
     data = report_data(found)

@@ -25,11 +25,25 @@ import numpy as np
 
 from guardsim.design.analysis import Analysis, PairResult, Point, analyse
 from guardsim.design.measures import MAX_WAYS, GuardReadability, distinct_ways, path_distance_risk, readability
+from guardsim.errors import GuardsimError
 from guardsim.grid import cell_of_state
 from guardsim.level import Level
 from guardsim.patrol import Patrol
 
-__all__ = ["WEIGHTS", "LevelReport", "PairReport", "formula", "report", "report_data", "report_of", "score_of"]
+__all__ = [
+    "MAX_ALERT_EPISODES",
+    "WEIGHTS",
+    "LevelReport",
+    "PairReport",
+    "formula",
+    "report",
+    "report_data",
+    "report_of",
+    "score_of",
+]
+
+#: Most alert episodes a report runs for its capture rate: ``alert --episodes``' own limit.
+MAX_ALERT_EPISODES = 100_000
 
 #: Weight of each part of the score.
 WEIGHTS = {
@@ -155,6 +169,8 @@ def report_of(
 ) -> LevelReport:
     """The report of an analysis already made (:func:`~guardsim.design.analysis.analyse`); ``ways=False``
     leaves the distinct ways uncounted (and out of the score)."""
+    if not 0 <= alert <= MAX_ALERT_EPISODES:
+        raise GuardsimError(f"alert: {alert} episodes; from 0 to {MAX_ALERT_EPISODES}")
     tell = progress or (lambda line: None)
     if ways and analysis.pairs:
         tell("counting the distinct ways through")

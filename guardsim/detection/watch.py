@@ -44,6 +44,8 @@ class LevelWatch(NamedTuple):
     """Each camera's ``float64 (ticks, cells)`` gains over its own swing (empty when not computed)."""
     notes: tuple[str, ...]
     """One line per camera whose period was rounded to whole ticks."""
+    source: str = ""
+    """The level's file, named by the errors about its cameras."""
 
     @property
     def periods(self) -> tuple[int, ...]:
@@ -75,15 +77,18 @@ def level_watch(scene: Scene, dt: float, *, max_lap: int = MAX_JOINT_LAP, gains:
     notes = []
     for index, camera in enumerate(level.cameras):
         assert sight is not None  # scene_sight gives one whenever the level has a camera
-        ticks, _ = camera_ticks(camera, dt, name=f"cameras[{index}]")
+        try:
+            ticks, _ = camera_ticks(camera, dt, name=f"cameras[{index}]")
+        except LimitError as error:
+            raise LimitError(f"{level.source}: {error}") from None
         if ticks > max_lap:
             raise LimitError(
-                f"cameras[{index}]'s swing is {ticks} ticks, over the limit of {max_lap} for the joint lap "
+                f"{level.source}: cameras[{index}]'s swing is {ticks} ticks, over the limit of {max_lap} for the joint lap "
                 "(raise it with --max-lap)"
             )
         if gains and ticks * scene.grid.size > MAX_GAIN_ENTRIES:
             raise LimitError(
-                f"cameras[{index}]'s swing of {ticks} ticks over {scene.grid.size} cells is over "
+                f"{level.source}: cameras[{index}]'s swing of {ticks} ticks over {scene.grid.size} cells is over "
                 f"{MAX_GAIN_ENTRIES} (tick, cell) gains: shorten its swing or use a larger cell_size"
             )
         watch = camera_sight(camera, level.guard, sight, dt, name=f"cameras[{index}]")
@@ -92,7 +97,7 @@ def level_watch(scene: Scene, dt: float, *, max_lap: int = MAX_JOINT_LAP, gains:
             tables.append(camera_gains(watch, light, dt, scene.grid.size))
         if watch.note:
             notes.append(watch.note)
-    return LevelWatch(light, tuple(cameras), tuple(tables), tuple(notes))
+    return LevelWatch(light, tuple(cameras), tuple(tables), tuple(notes), level.source)
 
 
 def joint_lap(period: int, watch: LevelWatch | None, *, max_lap: int = MAX_JOINT_LAP) -> int:
@@ -107,7 +112,7 @@ def joint_lap(period: int, watch: LevelWatch | None, *, max_lap: int = MAX_JOINT
     if lap > max_lap and watch is not None and watch.cameras:
         periods = ", ".join(str(ticks) for ticks in watch.periods)
         raise LimitError(
-            f"the joint lap of the patrol's {period} ticks and the cameras' swings ({periods} ticks) is {lap} ticks, "
+            f"{watch.source + ': ' if watch.source else ''}the joint lap of the patrol's {period} ticks and the cameras' swings ({periods} ticks) is {lap} ticks, "
             f"over the limit of {max_lap} (raise it with --max-lap)"
         )
     return lap

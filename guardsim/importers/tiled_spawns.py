@@ -109,7 +109,8 @@ def keep_spawn_areas(
         return level, ""
     points = [ShapelyPoint(point) for point in starts]
     drop = [part for part in parts if not any(part.intersects(point) for point in points)]
-    if not drop:
+    if not drop or len(drop) == len(parts):
+        # No start on the free area at all: nothing tells which parts to keep (the starts are warned of).
         return level, ""
     area = sum(part.area for part in drop)
     kept = shapely.union_all([part for part in parts if not any(part is other for other in drop)])

@@ -13,7 +13,10 @@ import numpy as np
 
 from guardsim.kernels.compiler import jit
 
-__all__ = ["heard_lap", "heard_within", "noise_reach", "noise_steps"]
+__all__ = ["MAX_NOISE_STEPS", "heard_lap", "heard_within", "noise_reach", "noise_steps"]
+
+#: Most steps a noise carries: more than any grid has cells (``reach`` holds them as ``int32``).
+MAX_NOISE_STEPS = 2**31 - 2
 
 
 def noise_steps(radius: float, cell_size: float) -> int:
@@ -24,7 +27,10 @@ def noise_steps(radius: float, cell_size: float) -> int:
     """
     if radius < 0:
         return -1
-    return math.floor(radius / cell_size + 1e-9)
+    steps = radius / cell_size + 1e-9
+    # A noise heard farther than any grid's longest path is heard everywhere it can reach; the compiled
+    # search takes a 32-bit count (a radius of 1e308 gave an integer of 309 digits).
+    return MAX_NOISE_STEPS if steps >= MAX_NOISE_STEPS else math.floor(steps)
 
 
 @jit

@@ -24,7 +24,7 @@ from guardsim.files.reading import (
     warning_note,
 )
 from guardsim.level.geometry import MAX_OVERLAPS_LISTED, check_geometry
-from guardsim.level.limits import DEFAULT_MAX_CELLS, DEFAULT_MAX_VERTICES
+from guardsim.level.limits import DEFAULT_MAX_CELLS, DEFAULT_MAX_VERTICES, MAX_TICK_HZ
 from guardsim.level.model import (
     HEADINGS,
     MAX_TILE_PIXELS,
@@ -145,8 +145,8 @@ def _check(data: Any, source: str, max_cells: int, max_vertices: int) -> tuple[L
     starts = _points(data.get("starts", []), "starts", problems)
     players = _points(data.get("player_starts", []), "player_starts", problems)
     tile_pixels = _tile_pixels(data.get("tile_pixels"), problems)
-    cameras = parse_cameras(data.get("cameras"), problems)
-    lights = parse_lights(data.get("lights"), problems)
+    cameras = parse_cameras(data.get("cameras", []), problems)
+    lights = parse_lights(data.get("lights", []), problems)
     ambient = parse_ambient(data, problems)
     intruder = _intruder(data.get("intruder", {}), problems)
 
@@ -332,10 +332,13 @@ def _guard(value: Any, problems: list[Problem]) -> GuardSpec | None:
             )
         )
     motion: dict[str, Any] = {
-        key: _number(value, key, 1.0, problems, where=f"guard.{key}", positive=True)
+        key: _number(
+            value, key, 1.0, problems, where=f"guard.{key}", positive=True,
+            maximum=MAX_TICK_HZ if key == "tick_hz" else None,
+        )
         for key in _MOTION_KEYS
         if value.get(key) is not None
-    }
+    }  # fmt: skip
     detection: dict[str, Any] = {}
     for key in (*_DETECTION_KEYS, *_ALERT_KEYS, "dark_sight"):
         number = None

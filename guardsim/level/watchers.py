@@ -36,7 +36,7 @@ def _number(
     minimum: float | None = None,
     maximum: float | None = None,
 ) -> float | None:
-    if key not in value or value[key] is None:
+    if key not in value:
         return default
     try:
         return finite_number(value[key], positive=positive, minimum=minimum, maximum=maximum, magnitude=math.inf)
@@ -65,8 +65,7 @@ def _position(value: dict[str, Any], where: str, problems: list[Problem]) -> Poi
 
 
 def _objects(data: Any, key: str, known: tuple[str, ...], problems: list[Problem]) -> list[tuple[str, dict[str, Any]]]:
-    if data is None:
-        return []
+    # null is refused as the schema refuses it (an absent key is the default; null says neither 0 nor 1).
     if not isinstance(data, list):
         problems.append(Problem(key, f"must be a list of objects, not {json_type(data)}"))
         return []
@@ -120,10 +119,10 @@ def parse_lights(data: Any, problems: list[Problem]) -> list[Light] | None:
 
 
 def parse_ambient(data: dict[str, Any], problems: list[Problem]) -> float | None:
-    """The ``ambient_light`` key, in [0, 1] (default 1)."""
-    value = data.get("ambient_light")
-    if value is None:
+    """The ``ambient_light`` key, in [0, 1] (default 1 when absent)."""
+    if "ambient_light" not in data:
         return 1.0
+    value = data["ambient_light"]
     try:
         return finite_number(value, minimum=0, maximum=1)
     except NumberError as error:

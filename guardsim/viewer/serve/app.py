@@ -273,14 +273,25 @@ def _watched(path: Path, patrol: Path | None) -> Callable[[Any, str], bool]:
 
 
 def _listen(host: str, port: int) -> socket.socket:
+    from guardsim.files.reading import quoted
+
+    if not host.strip():
+        # An empty host binds every address of the machine: the page would be open to the network.
+        raise GuardsimError("--host: an empty address listens on every network; give one (127.0.0.1 is this machine)")
     family = socket.AF_INET6 if ":" in host else socket.AF_INET
     sock = socket.socket(family, socket.SOCK_STREAM)
     try:
         sock.bind((host, port))
-    except OSError as error:
+    except (OSError, ValueError, TypeError) as error:
+        # Not an address at all: a name IDNA cannot encode (TypeError), a NUL in it (ValueError).
         sock.close()
-        reason = "is in use" if error.errno in (98, 48, 10048) else f"cannot be listened on ({error.strerror})"
-        raise GuardsimError(f"port {port} on {host} {reason}: give another with --port N") from None
+        shown = host if len(host) <= 60 and host.isprintable() else quoted(host, 60)
+        if isinstance(error, OSError) and error.errno in (98, 48, 10048):
+            raise GuardsimError(f"port {port} on {shown} is in use: give another with --port N") from None
+        reason = error.strerror if isinstance(error, OSError) else "not an address"
+        raise GuardsimError(
+            f"port {port} on {shown} cannot be listened on ({reason}): give another --host or --port"
+        ) from None
     sock.listen(64)
     sock.setblocking(False)
     return sock
@@ -374,6 +385,9 @@ def watch(
     if not Path(path).parent.resolve().is_dir():
         raise GuardsimError(f"{path}: its folder does not exist, so there is nothing to watch")
     sock = _listen(host, port)
+    from guardsim.kernels.ahead import compile_ahead
+
+    compile_ahead("report")  # each save is analysed as report analyses a level: its kernels, on two cores
     analyser = LiveAnalyser(path, patrol=patrol, guards=guards, pairs=pairs, echo=echo)
     bound = sock.getsockname()[1]
     echo(f"serving http://{host}:{bound}/ : the analysis of {path}, redrawn on each save (Ctrl-C stops)")
