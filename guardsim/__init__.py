@@ -63,6 +63,7 @@ _SOURCES = {
     ),
     **dict.fromkeys(("ContinuousSimulation", "GuardMotion"), "guardsim.motion"),
     **dict.fromkeys(("analyse", "report", "diff"), "guardsim.design"),
+    "fortify": "guardsim.design.fortify",
 }
 
 __all__ = ["__version__", *_SOURCES]
@@ -91,6 +92,7 @@ if TYPE_CHECKING:
     from guardsim.alert import run_alerts as run_alerts
     from guardsim.design import analyse as analyse
     from guardsim.design import diff as diff
+    from guardsim.design.fortify import fortify as fortify
     from guardsim.design import report as report
     from guardsim.detection import AwarenessMeter as AwarenessMeter
     from guardsim.detection import DetectionModel as DetectionModel
