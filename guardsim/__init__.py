@@ -92,8 +92,8 @@ if TYPE_CHECKING:
     from guardsim.alert import run_alerts as run_alerts
     from guardsim.design import analyse as analyse
     from guardsim.design import diff as diff
-    from guardsim.design.fortify import fortify as fortify
     from guardsim.design import report as report
+    from guardsim.design.fortify import fortify as fortify
     from guardsim.detection import AwarenessMeter as AwarenessMeter
     from guardsim.detection import DetectionModel as DetectionModel
     from guardsim.detection import GuardDetection as GuardDetection

@@ -44,8 +44,22 @@ def _point_pairs(
 @click.command()
 @click.argument("level_path", metavar="LEVEL")
 @click.option("--patrol", "patrol_path", help="patrol.json of the guards already there [default: none].")
-@click.option("--from", "sources", multiple=True, callback=_each_point, metavar="X,Y", help="An entry (world units); repeatable, one --to each.")
-@click.option("--to", "targets", multiple=True, callback=_each_point, metavar="X,Y", help="The goal of the --from at the same place.")
+@click.option(
+    "--from",
+    "sources",
+    multiple=True,
+    callback=_each_point,
+    metavar="X,Y",
+    help="An entry (world units); repeatable, one --to each.",
+)
+@click.option(
+    "--to",
+    "targets",
+    multiple=True,
+    callback=_each_point,
+    metavar="X,Y",
+    help="The goal of the --from at the same place.",
+)
 @click.option("--cameras", type=click.IntRange(min=0), default=8, show_default=True, help="Most cameras to add.")
 @click.option("--posts", type=click.IntRange(min=0), default=8, show_default=True, help="Most guard posts to add.")
 @click.option(
@@ -61,15 +75,48 @@ def _point_pairs(
     "--undetected", "rule", flag_value="undetected", default=True,
     help="Seal against undetected paths: a watcher's meter must fill [the default].",
 )  # fmt: skip
-@click.option("--camera-fov", type=click.FloatRange(min=0, max=360, min_open=True), default=60.0, show_default=True, help="Candidate cameras' field of view, degrees.")
-@click.option("--camera-range", type=click.FloatRange(min=0, min_open=True), help="Candidate cameras' view range [default: the guard's].")
-@click.option("--camera-sweep", type=click.FloatRange(min=0, max=360), default=90.0, show_default=True, help="Candidate cameras' swing, degrees (0: fixed).")
-@click.option("--candidates", type=click.IntRange(min=0), default=64, show_default=True, help="Candidates considered (cameras and posts).")
+@click.option(
+    "--camera-fov",
+    type=click.FloatRange(min=0, max=360, min_open=True),
+    default=60.0,
+    show_default=True,
+    help="Candidate cameras' field of view, degrees.",
+)
+@click.option(
+    "--camera-range",
+    type=click.FloatRange(min=0, min_open=True),
+    help="Candidate cameras' view range [default: the guard's].",
+)
+@click.option(
+    "--camera-sweep",
+    type=click.FloatRange(min=0, max=360),
+    default=90.0,
+    show_default=True,
+    help="Candidate cameras' swing, degrees (0: fixed).",
+)
+@click.option(
+    "--candidates",
+    type=click.IntRange(min=0),
+    default=64,
+    show_default=True,
+    help="Candidates considered (cameras and posts).",
+)
 @click.option("--max-rounds", type=click.IntRange(min=0), default=64, show_default=True, help="Search rounds at most.")
 @click.option("--max-lap", type=click.IntRange(min=1), default=None, help="Longest joint lap, ticks [default: 10000].")
-@click.option("--out", "out_dir", type=click.Path(file_okay=False), help="Folder for level.json, patrol.json, fortify.json and fortify.png.")
+@click.option(
+    "--out",
+    "out_dir",
+    type=click.Path(file_okay=False),
+    help="Folder for level.json, patrol.json, fortify.json and fortify.png.",
+)
 @click.option("--picture", type=str, help="Write the picture here [default: DIR/fortify.png with --out].")
-@click.option("--workers", type=click.IntRange(min=1), default=1, show_default=True, help="Local worker processes for the candidates.")
+@click.option(
+    "--workers",
+    type=click.IntRange(min=1),
+    default=1,
+    show_default=True,
+    help="Local worker processes for the candidates.",
+)
 @click.option("--scheduler", metavar="ADDRESS", help="Compute the candidates on a dask.distributed scheduler.")
 @detection_options
 @vision_options
@@ -124,7 +171,9 @@ def fortify(
     if min_slacks and not keep_open:
         raise GuardsimError("--min-slack applies to --keep-open pairs: give --keep-open FROM TO")
     if len(min_slacks) not in (0, 1, len(keep_open)):
-        raise GuardsimError(f"--min-slack: give one for all or one per --keep-open ({len(keep_open)}), not {len(min_slacks)}")
+        raise GuardsimError(
+            f"--min-slack: give one for all or one per --keep-open ({len(keep_open)}), not {len(min_slacks)}"
+        )
     slacks = list(min_slacks) * len(keep_open) if len(min_slacks) == 1 else list(min_slacks) or [1] * len(keep_open)
     progress = StageLine(sys.stderr, "fortify").start()
     level = detection_overrides.apply(load(level_path, max_cells, max_vertices, max_file_bytes, map_import))
@@ -159,9 +208,10 @@ def fortify(
     for keep in document["keep_open"]:
         if not keep["kept"]:
             click.echo(f"guardsim: warning: {keep['message']}", err=True)
-    added = ", ".join(
-        f"{w['kind']} at ({w['position'][0]:g}, {w['position'][1]:g})" for w in document["watchers"]
-    ) or "nothing"
+    added = (
+        ", ".join(f"{w['kind']} at ({w['position'][0]:g}, {w['position'][1]:g})" for w in document["watchers"])
+        or "nothing"
+    )
     bound = "unknown" if document["lower_bound"] is None else str(document["lower_bound"])
     if result.sealed:
         line = (

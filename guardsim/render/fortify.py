@@ -82,13 +82,21 @@ def fortify_picture(
         x, y = pixel(post)
         draw.ellipse((x - reach, y - reach, x + reach, y + reach), outline=FORTIFY_COLOURS["post"], width=width)
         radius = max(3.0, 0.45 * scale)
-        draw.ellipse((x - radius, y - radius, x + radius, y + radius), fill=FORTIFY_COLOURS["post"], outline=COLOURS["outline"])
+        draw.ellipse(
+            (x - radius, y - radius, x + radius, y + radius), fill=FORTIFY_COLOURS["post"], outline=COLOURS["outline"]
+        )
     for entry, goal in pairs:
         x, y = pixel(entry)
         half = max(3.0, 0.45 * scale)
-        draw.rectangle((x - half, y - half, x + half, y + half), fill=FORTIFY_COLOURS["entry"], outline=COLOURS["outline"])
+        draw.rectangle(
+            (x - half, y - half, x + half, y + half), fill=FORTIFY_COLOURS["entry"], outline=COLOURS["outline"]
+        )
         x, y = pixel(goal)
-        draw.polygon([(x, y - half), (x + half, y), (x, y + half), (x - half, y)], fill=FORTIFY_COLOURS["goal"], outline=COLOURS["outline"])
+        draw.polygon(
+            [(x, y - half), (x + half, y), (x, y + half), (x - half, y)],
+            fill=FORTIFY_COLOURS["goal"],
+            outline=COLOURS["outline"],
+        )
     framed[margin : margin + rows * scale, margin : margin + cols * scale] = np.asarray(image)
     items = [
         (COLOURS["wall"], "wall"),

@@ -58,6 +58,7 @@ def swing_ticks(period: int) -> int:
     """
     return next((ticks for ticks in SWING_RANGE if period % ticks == 0), SWING_TICKS)
 
+
 #: Ticks of a post's turn through its four headings and of a candidate camera's swing there and back,
 #: unless the patrol's lap has a divisor from :data:`SWING_RANGE` (the smallest is taken: the joint lap
 #: then stays the patrol's).
@@ -167,7 +168,9 @@ def fortify_candidates(
     floor[np.asarray(exclude, dtype=np.int64)] = False
     cells = np.flatnonzero(floor)
     neighbours = grid.neighbours
-    walled = np.asarray([cell for cell in cells.tolist() if _away_heading(neighbours, cell) is not None], dtype=np.int64)
+    walled = np.asarray(
+        [cell for cell in cells.tolist() if _away_heading(neighbours, cell) is not None], dtype=np.int64
+    )
     camera_budget = (budget if not posts else (budget + 1) // 2) if cameras else 0
     post_budget = budget - camera_budget if posts else 0
     if cameras and posts and walled.size < camera_budget:
@@ -203,7 +206,7 @@ def post_states(cells: Sequence[int], swing: int = SWING_TICKS) -> np.ndarray:
 class _GainJob(NamedTuple):
     """A chunk of candidates to compute the gains of on a worker: all it needs to rebuild the scene."""
 
-    index: int
+    number: int
     level: Level
     scene_options: dict[str, Any]
     candidates: tuple[Candidate, ...]
@@ -294,5 +297,5 @@ def candidate_gains(
         for done in executor.run_unordered(_chunk_gains, jobs):
             if done.failure is not None:
                 raise GuardsimError(f"a worker computing candidate gains failed: {done.failure}")
-            results[done.item.index] = done.result
+            results[done.item.number] = done.result
     return [gain for index in range(len(jobs)) for gain in results[index]]

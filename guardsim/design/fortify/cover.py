@@ -34,9 +34,7 @@ def _fills(values: np.ndarray, fall: float) -> np.ndarray:
     return out
 
 
-def catches(
-    gains: Sequence[np.ndarray], start: int, cells: np.ndarray, fall: float, *, undetected: bool
-) -> np.ndarray:
+def catches(gains: Sequence[np.ndarray], start: int, cells: np.ndarray, fall: float, *, undetected: bool) -> np.ndarray:
     """``bool (len(gains),)``: which watchers catch a path entering at lap tick ``start``.
 
     ``gains`` holds each watcher's ``float64 (period, cells)`` gains over its own period (the lap the
@@ -57,11 +55,8 @@ def catches(
         periods.setdefault(int(gain.shape[0]), []).append(index)
     for period, members in periods.items():
         values = np.stack([gains[index][ticks % period, cells] for index in members])
-        if undetected:
-            caught = _fills(np.ascontiguousarray(values), float(fall))
-        else:
-            caught = (values > 0).any(axis=1)
-        out[members] = caught
+        # Unseen: any sighting catches.
+        out[members] = _fills(np.ascontiguousarray(values), float(fall)) if undetected else (values > 0).any(axis=1)
     return out
 
 
@@ -95,7 +90,9 @@ class HittingSet:
     [1, 3]
     """
 
-    def __init__(self, sets: Sequence[frozenset[int]], kinds: Sequence[int], caps: Sequence[int], *, budget: int = 200_000):
+    def __init__(
+        self, sets: Sequence[frozenset[int]], kinds: Sequence[int], caps: Sequence[int], *, budget: int = 200_000
+    ):
         self.sets = [tuple(sorted(members)) for members in sets]
         self.kinds = list(kinds)
         self.caps = list(caps)
@@ -121,9 +118,7 @@ class HittingSet:
             return
         if len(chosen) + disjoint_bound([frozenset(s) for s in open_sets]) >= self._below:
             return
-        allowed = [
-            [c for c in members if counts[self.kinds[c]] < self.caps[self.kinds[c]]] for members in open_sets
-        ]
+        allowed = [[c for c in members if counts[self.kinds[c]] < self.caps[self.kinds[c]]] for members in open_sets]
         # Branch on the open set with the fewest choices, lowest candidates first: a fixed order.
         options = min(allowed, key=len)
         for candidate in options:

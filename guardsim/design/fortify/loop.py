@@ -29,11 +29,11 @@ import numpy as np
 
 from guardsim.design.fortify.candidates import (
     DEFAULT_CANDIDATES,
-    post_headings,
     CameraShape,
     Candidate,
     candidate_gains,
     fortify_candidates,
+    post_headings,
     post_states,
     swing_ticks,
 )
@@ -139,7 +139,9 @@ class _Fortress:
     def watcher_gains(self, chosen: Sequence[int]) -> np.ndarray:
         """``float64 (watchers, lap, cells)``: the base's and the chosen candidates' gains over the lap."""
         ticks = np.arange(self.lap)
-        rows = [self.base[:, ticks % self.base.shape[1]]] + [self.gains[c][ticks % self.gains[c].shape[0]][None] for c in chosen]
+        rows = [self.base[:, ticks % self.base.shape[1]]] + [
+            self.gains[c][ticks % self.gains[c].shape[0]][None] for c in chosen
+        ]
         gains = np.concatenate(rows, axis=0)
         if gains.shape[0] == 0:
             # Nobody watches: one watcher who sees nothing keeps the search's shapes.
@@ -279,7 +281,8 @@ def fortify(
         if labels[source] != labels[target]:
             raise GuardsimError(f"--to {b[0]:g},{b[1]:g} cannot be reached from --from {a[0]:g},{a[1]:g} at all")
     open_cells = [
-        (_point_cell(grid, k.source, "--keep-open FROM"), _point_cell(grid, k.target, "--keep-open TO")) for k in keep_open
+        (_point_cell(grid, k.source, "--keep-open FROM"), _point_cell(grid, k.target, "--keep-open TO"))
+        for k in keep_open
     ]
     for keep, (source, target) in zip(keep_open, open_cells):
         if (source, target) in cells:
@@ -350,7 +353,9 @@ def fortify(
     def add_paths(found: list[Counterexample]) -> None:
         for path in found:
             paths.append(path)
-            caught.append(frozenset(np.flatnonzero(catches(gains, path.start, path.cells, fall, undetected=undetected)).tolist()))
+            caught.append(
+                frozenset(np.flatnonzero(catches(gains, path.start, path.cells, fall, undetected=undetected)).tolist())
+            )
 
     def keeps_open(placement: Sequence[int]) -> bool:
         return all(
@@ -386,10 +391,8 @@ def fortify(
         order = sorted(scores, key=lambda c: (-scores[c], c))
         pick = next((c for c in order if not keep_open or keeps_open([*chosen, c])), None)
         if pick is None:
-            reason = (
-                "no candidate left within --cameras {} --posts {} catches the new way through{}".format(
-                    cameras, posts, " and keeps the --keep-open pairs open" if keep_open and order else ""
-                )
+            reason = "no candidate left within --cameras {} --posts {} catches the new way through{}".format(
+                cameras, posts, " and keeps the --keep-open pairs open" if keep_open and order else ""
             )
             break
         chosen.append(pick)
@@ -444,7 +447,12 @@ def fortify(
         result = fortress.search(chosen, source, target)
         if not result.found:
             ways.append(None)
-            proofs.append({"sealed": True, "proof": {"no_path": True, "expansions": result.expansions, "lap": lap, "entry_ticks": lap}})
+            proofs.append(
+                {
+                    "sealed": True,
+                    "proof": {"no_path": True, "expansions": result.expansions, "lap": lap, "entry_ticks": lap},
+                }
+            )
             continue
         way = Counterexample(index, result.start, result.cells, used)
         ways.append(way)
@@ -494,12 +502,19 @@ def fortify(
         "candidates": {
             "cameras": sum(1 for c in pool if c.kind == "camera"),
             "posts": sum(1 for c in pool if c.kind == "post"),
-            "camera": {"fov_degrees": shape.fov_degrees, "view_range": shape.view_range, "sweep": shape.sweep,
-                       "swing_ticks": swing if shape.sweep > 0 else 1},
+            "camera": {
+                "fov_degrees": shape.fov_degrees,
+                "view_range": shape.view_range,
+                "sweep": shape.sweep,
+                "swing_ticks": swing if shape.sweep > 0 else 1,
+            },
             "post": {"turn_ticks": swing, "headings": post_headings(swing).tolist()},
-        },  # fmt: skip
+        },
         "watchers": [
-            {**_watcher_data(grid, candidate, index), **({"guard": guards + post_cells.index(candidate.cell)} if candidate.kind == "post" else {})}
+            {
+                **_watcher_data(grid, candidate, index),
+                **({"guard": guards + post_cells.index(candidate.cell)} if candidate.kind == "post" else {}),
+            }
             for candidate, index in zip(watchers, chosen)
         ],
         "rounds": rounds,
@@ -507,7 +522,12 @@ def fortify(
         "searches": searches,
         "pruned": [_watcher_data(grid, pool[c], c) for c in pruned],
         "counterexamples": [
-            {**_path_data(grid, path), "pair": path.pair, "round": path.round, "caught_by": [chosen.index(c) for c in sorted(members) if c in chosen]}
+            {
+                **_path_data(grid, path),
+                "pair": path.pair,
+                "round": path.round,
+                "caught_by": [chosen.index(c) for c in sorted(members) if c in chosen],
+            }
             for path, members in zip(paths, caught)
         ],
         "pairs": [{"from": list(a), "to": list(b), **proof} for (a, b), proof in zip(pairs, proofs)],

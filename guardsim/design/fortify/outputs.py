@@ -60,10 +60,10 @@ def write_fortify_outputs(result: FortifyResult, folder: Path | None, picture: s
         post_points = [tuple(w["position"]) for w in document["watchers"] if w["kind"] == "post"]
         image = fortify_picture(
             result.level, grid.traversable, grid.origin,
-            posts=post_points,  # type: ignore[arg-type]
-            counterexamples=[[tuple(p) for p in c["path"]] for c in document["counterexamples"]],  # type: ignore[misc]
-            ways_through=[[tuple(p) for p in pair["way_through"]["path"]] for pair in document["pairs"] if not pair["sealed"]],  # type: ignore[misc]
-            pairs=[(tuple(pair["from"]), tuple(pair["to"])) for pair in document["pairs"]],  # type: ignore[misc]
+            posts=post_points,
+            counterexamples=[[tuple(p) for p in c["path"]] for c in document["counterexamples"]],
+            ways_through=[[tuple(p) for p in pair["way_through"]["path"]] for pair in document["pairs"] if not pair["sealed"]],
+            pairs=[(tuple(pair["from"]), tuple(pair["to"])) for pair in document["pairs"]],
         )  # fmt: skip
         with atomic_path(picture) as temporary:
             Image.fromarray(np.ascontiguousarray(image)).save(temporary, format="PNG")
