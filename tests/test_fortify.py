@@ -207,8 +207,8 @@ def test_cli_writes_a_level_that_check_holds_to(tmp_path: Path) -> None:
 @pytest.mark.parametrize(
     ("args", "message"),
     [
-        (["--from", "-3,0.5", "--to", "7.5,0.5"], "--from (pair 1) -3,0.5 lies outside the level"),
-        (["--from", "0.5,0.5", "--to", "4.5,2.5"], "--to (pair 1) 4.5,2.5 lies outside the level"),
+        (["--from", "-3,0.5", "--to", "7.5,0.5"], "pair 1's entry -3,0.5 lies outside the level"),
+        (["--from", "0.5,0.5", "--to", "4.5,2.5"], "pair 1's goal 4.5,2.5 lies outside the level"),
         (["--from", "0.5,0.5", "--to", "7.5,0.5", "--cameras", "0", "--posts", "0"], "a budget of 0 watchers"),
         (
             ["--from", "0.5,0.5", "--to", "7.5,0.5", "--keep-open", "0.5,0.5", "7.5,0.5"],
@@ -237,9 +237,11 @@ def test_entry_in_a_wall_and_a_pair_with_no_path_are_refused(tmp_path: Path) -> 
     level = tmp_path / "two.json"
     level.write_text(json.dumps(two_rooms))
     walled = _run([str(level), "--from", "4.5,1.5", "--to", "8.5,1.5"])
-    assert walled.exit_code == 2 and "--from (pair 1) 4.5,1.5 is in cell [4, 1]" in walled.output
+    assert walled.exit_code == 2 and "pair 1's entry 4.5,1.5 is in cell [4, 1]" in walled.output
     apart = _run([str(level), "--from", "0.5,1.5", "--to", "8.5,1.5"])
-    assert apart.exit_code == 2 and "--to 8.5,1.5 cannot be reached from --from 0.5,1.5 at all" in apart.output
+    assert (
+        apart.exit_code == 2 and "pair 1's goal 8.5,1.5 cannot be reached from its entry 0.5,1.5 at all" in apart.output
+    )
 
 
 @pytest.mark.slow

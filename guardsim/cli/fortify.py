@@ -168,6 +168,12 @@ def fortify(
         raise GuardsimError("--from: give at least one entry (--from X,Y --to X,Y)")
     if len(sources) != len(targets):
         raise GuardsimError(f"each --from needs its --to: {len(sources)} --from, {len(targets)} --to")
+    if cameras + posts == 0:
+        raise GuardsimError("--cameras 0 --posts 0: a budget of 0 watchers cannot fortify anything")
+    if max_rounds == 0:
+        raise GuardsimError("--max-rounds 0: a budget of 0 rounds cannot fortify anything")
+    if candidates == 0:
+        raise GuardsimError("--candidates 0: a budget of 0 candidates cannot fortify anything")
     if min_slacks and not keep_open:
         raise GuardsimError("--min-slack applies to --keep-open pairs: give --keep-open FROM TO")
     if len(min_slacks) not in (0, 1, len(keep_open)):

@@ -54,7 +54,7 @@ Point = tuple[float, float]
 Progress = Callable[[str, int, int], None]
 
 #: Entry ticks searched one by one to list a pair's open ticks in fortify.json (the undetected rule).
-MAX_TICK_SEARCHES = 256
+MAX_TICK_SEARCHES = 32
 #: Searches rounds (one search of every open pair each) fortify may run when the caller gives no budget.
 DEFAULT_ROUNDS = 64
 
@@ -257,46 +257,48 @@ def fortify(
     options = dict(scene_options or {})
     shape = camera or CameraShape()
     if cameras < 0 or posts < 0:
-        raise GuardsimError("--cameras and --posts must be 0 or more")
+        raise GuardsimError(f"cameras={cameras}, posts={posts}: each must be 0 or more")
     if cameras + posts == 0:
-        raise GuardsimError("--cameras 0 --posts 0: a budget of 0 watchers cannot fortify anything")
+        raise GuardsimError("cameras=0 and posts=0: a budget of 0 watchers cannot fortify anything")
     if max_rounds < 1:
-        raise GuardsimError(f"--max-rounds {max_rounds}: a budget of 0 rounds cannot fortify anything")
+        raise GuardsimError(f"max_rounds={max_rounds}: a budget of 0 rounds cannot fortify anything")
     if candidates < 1:
-        raise GuardsimError(f"--candidates {candidates}: a budget of 0 candidates cannot fortify anything")
+        raise GuardsimError(f"candidates={candidates}: a budget of 0 candidates cannot fortify anything")
     if not pairs:
-        raise GuardsimError("no pair to seal: give --from X,Y --to X,Y")
+        raise GuardsimError("pairs is empty: no entry-goal pair to seal")
     if patrol is not None and (patrol.period is None or patrol.motion != "grid"):
-        raise GuardsimError("--patrol: fortify needs a repeating grid-motion patrol")
+        raise GuardsimError("the patrol must be a repeating grid-motion patrol (its period set, motion grid)")
     report = progress or (lambda _what, _done, _total: None)
     report("building the scene", 0, 0)
     scene = Scene.from_level(level, **options)
     grid = scene.grid
     cells = [
-        (_point_cell(grid, a, f"--from (pair {n + 1})"), _point_cell(grid, b, f"--to (pair {n + 1})"))
+        (_point_cell(grid, a, f"pair {n + 1}'s entry"), _point_cell(grid, b, f"pair {n + 1}'s goal"))
         for n, (a, b) in enumerate(pairs)
     ]
     labels = grid.component_labels
-    for (a, b), (source, target) in zip(pairs, cells):
+    for n, ((a, b), (source, target)) in enumerate(zip(pairs, cells)):
         if labels[source] != labels[target]:
-            raise GuardsimError(f"--to {b[0]:g},{b[1]:g} cannot be reached from --from {a[0]:g},{a[1]:g} at all")
+            raise GuardsimError(
+                f"pair {n + 1}'s goal {b[0]:g},{b[1]:g} cannot be reached from its entry {a[0]:g},{a[1]:g} at all"
+            )
     open_cells = [
-        (_point_cell(grid, k.source, "--keep-open FROM"), _point_cell(grid, k.target, "--keep-open TO"))
-        for k in keep_open
+        (
+            _point_cell(grid, k.source, f"keep-open pair {n + 1}'s entry"),
+            _point_cell(grid, k.target, f"keep-open pair {n + 1}'s goal"),
+        )
+        for n, k in enumerate(keep_open)
     ]
-    for keep, (source, target) in zip(keep_open, open_cells):
+    for n, (keep, (source, target)) in enumerate(zip(keep_open, open_cells)):
+        where = (
+            f"keep-open pair {n + 1} ({keep.source[0]:g},{keep.source[1]:g} to {keep.target[0]:g},{keep.target[1]:g})"
+        )
         if (source, target) in cells:
-            raise GuardsimError(
-                f"--keep-open {keep.source[0]:g},{keep.source[1]:g} {keep.target[0]:g},{keep.target[1]:g} "
-                "is also a pair to seal: it cannot be both"
-            )
+            raise GuardsimError(f"{where} is also a pair to seal: it cannot be both")
         if labels[source] != labels[target]:
-            raise GuardsimError(
-                f"--keep-open {keep.source[0]:g},{keep.source[1]:g} {keep.target[0]:g},{keep.target[1]:g}: "
-                "no path at all between them"
-            )
+            raise GuardsimError(f"{where}: no path at all between them")
         if keep.min_slack < 0:
-            raise GuardsimError(f"--min-slack {keep.min_slack}: must be 0 or more")
+            raise GuardsimError(f"{where}: min_slack {keep.min_slack} must be 0 or more")
 
     from guardsim.vision.table import view_table
 
@@ -378,7 +380,7 @@ def fortify(
             break
         add_paths(found)
         if any(not caught[-1 - n] for n in range(len(found))):
-            reason = "a way through that no candidate catches (widen --candidates or change the camera cone)"
+            reason = "a way through that no candidate catches (more candidates or another camera cone may)"
             break
         hit = set(chosen)
         uncaught = [members for members in caught if hit.isdisjoint(members)]
@@ -391,8 +393,8 @@ def fortify(
         order = sorted(scores, key=lambda c: (-scores[c], c))
         pick = next((c for c in order if not keep_open or keeps_open([*chosen, c])), None)
         if pick is None:
-            reason = "no candidate left within --cameras {} --posts {} catches the new way through{}".format(
-                cameras, posts, " and keeps the --keep-open pairs open" if keep_open and order else ""
+            reason = "no candidate left within the budget ({} cameras, {} posts) catches the new way through{}".format(
+                cameras, posts, " and keeps the keep-open pairs open" if keep_open and order else ""
             )
             break
         chosen.append(pick)
@@ -474,8 +476,8 @@ def fortify(
         }  # fmt: skip
         if slack < keep.min_slack:
             entry["message"] = (
-                f"--keep-open {keep.source[0]:g},{keep.source[1]:g} {keep.target[0]:g},{keep.target[1]:g} cannot be "
-                f"kept: a way through from {slack} entry ticks, fewer than --min-slack {keep.min_slack}"
+                f"keep-open pair {keep.source[0]:g},{keep.source[1]:g} to {keep.target[0]:g},{keep.target[1]:g} cannot "
+                f"be kept: a way through from {slack} entry ticks, fewer than its min_slack {keep.min_slack}"
             )
         keep_data.append(entry)
 
