@@ -231,8 +231,8 @@ def fortify(
         line = (
             f"{level.name}: not sealed: {document['reason']}; {len(open_pairs)} pair"
             f"{'' if len(open_pairs) == 1 else 's'} still open (from ({first['from'][0]:g}, {first['from'][1]:g}): "
-            f"entry ticks {_ticks(first['open_entry_ticks'])} of {document['lap']}); {document['count']} watchers "
-            f"placed ({added}); at least {bound} needed"
+            f"entry ticks {_ticks(first['open_entry_ticks'])} of {document['lap']}); {document['count']} watcher"
+            f"{'' if document['count'] == 1 else 's'} placed ({added}); lower bound {bound}"
         )
     click.echo(line + (f" -> {', '.join(written)}" if written else ""))
     if not result.sealed:

@@ -4,7 +4,7 @@ counterexample paths the loop found, crossed out, and any way still through.
 Drawn over the designer's preview (:func:`~guardsim.render.preview.render_preview`): the level's cameras,
 old and added, with their swings (:func:`~guardsim.render.watchers.draw_cameras`); each added post as a
 guard dot ringed by its view range (it turns through all four headings); each counterexample as a grey
-line with a cross at its middle; a way still through as a red line; entries as green squares and goals
+line with a dark cross at its middle; a way still through as a red line; entries as green squares and goals
 as gold diamonds.
 """
 
@@ -26,6 +26,7 @@ __all__ = ["FORTIFY_COLOURS", "fortify_picture"]
 #: Colours of the fortify picture's own marks.
 FORTIFY_COLOURS: dict[str, tuple[int, int, int]] = {
     "counterexample": (120, 120, 128),
+    "cross": (40, 40, 48),
     "through": (220, 30, 30),
     "entry": (20, 150, 60),
     "goal": (220, 170, 0),
@@ -70,7 +71,7 @@ def fortify_picture(
             draw.line(points, fill=FORTIFY_COLOURS["counterexample"], width=width)
         x, y = points[len(points) // 2]
         arm = max(3.0, 0.8 * scale)
-        cross = FORTIFY_COLOURS["through"]
+        cross = FORTIFY_COLOURS["cross"]
         draw.line((x - arm, y - arm, x + arm, y + arm), fill=cross, width=width + 1)
         draw.line((x - arm, y + arm, x + arm, y - arm), fill=cross, width=width + 1)
     for path in ways_through:

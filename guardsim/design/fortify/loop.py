@@ -78,7 +78,7 @@ class Counterexample(NamedTuple):
     cells: np.ndarray
     """``int64 (ticks + 1,)``: flat cell at each tick."""
     round: int
-    """Round it was found in (0 first)."""
+    """Search round it was found in (0 first; pruning and the search for fewer watchers count on)."""
 
 
 class FortifyResult(NamedTuple):
@@ -413,6 +413,7 @@ def fortify(
             trial = [c for c in chosen if c != candidate]
             report(f"pruning: without watcher {chosen.index(candidate) + 1} of {len(chosen)}", 0, 0)
             extra = seal_searches(trial, used)
+            used += 1
             if not extra:
                 chosen = trial
                 pruned.append(candidate)
@@ -527,7 +528,7 @@ def fortify(
             {
                 **_path_data(grid, path),
                 "pair": path.pair,
-                "round": path.round,
+                "round": path.round + 1,
                 "caught_by": [chosen.index(c) for c in sorted(members) if c in chosen],
             }
             for path, members in zip(paths, caught)
