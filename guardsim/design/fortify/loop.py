@@ -7,7 +7,8 @@ The loop (see ``docs/fortify.md``):
    level's own cameras and the watchers added so far, over their joint lap, from every entry tick.
 2. If a pair has a way through, keep it as a counterexample; add the candidate
    (:mod:`~guardsim.design.fortify.candidates`) that catches the most counterexamples not caught yet, among
-   those that leave every keep-open pair a way through from at least its ``min_slack`` entry ticks; repeat.
+   those that leave every keep-open pair a way through from at least its ``min_slack`` entry ticks (on a
+   tie, the one watching the most floor); repeat.
 3. Once sealed, drop every watcher the seal does not need (each tried in the order added).
 4. Then look for fewer: the smallest set of candidates that catches every counterexample found is a lower
    bound on any sealing placement (:mod:`~guardsim.design.fortify.cover`); when it is smaller than the
@@ -334,6 +335,7 @@ def fortify(
     )
     fortress = _Fortress(grid, base, gains, lap, fall, undetected)
     kinds = [0 if candidate.kind == "camera" else 1 for candidate in pool]
+    watching = [float((gain > 0).sum()) / gain.shape[0] for gain in gains]
     caps = [cameras, posts]
 
     paths: list[Counterexample] = []
@@ -390,7 +392,8 @@ def fortify(
             for candidate in members:
                 if counts[kinds[candidate]] < caps[kinds[candidate]]:
                     scores[candidate] = scores.get(candidate, 0) + 1
-        order = sorted(scores, key=lambda c: (-scores[c], c))
+        # Ties go to the candidate watching the most floor over its turn, then the lowest index.
+        order = sorted(scores, key=lambda c: (-scores[c], -watching[c], c))
         pick = next((c for c in order if not keep_open or keeps_open([*chosen, c])), None)
         if pick is None:
             reason = "no candidate left within the budget ({} cameras, {} posts) catches the new way through{}".format(
