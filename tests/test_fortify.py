@@ -251,3 +251,17 @@ def test_same_bytes_whatever_the_worker_count() -> None:
     one = fortify(level, None, pairs, candidates=10, workers=1).document
     two = fortify(level, None, pairs, candidates=10, workers=2).document
     assert json.dumps(one) == json.dumps(two)
+
+
+def test_a_post_in_patrol_json_turns_in_place_and_stays_on_one_cell() -> None:
+    from guardsim.errors import PatrolError
+    from guardsim.patrol.format import parse_patrol
+
+    grid = Scene.from_level(parse_level(CORRIDOR)).grid
+    post = {"loop": [[3, 0]] * 5, "headings": [0, 1, 2, 3, 0], "post": True}
+    patrol = parse_patrol({"shape": [1, 8], "guards": [post]}, grid)
+    assert patrol.period == 4 and patrol.headings(0) == [0, 1, 2, 3]
+    with pytest.raises(PatrolError, match="a guard standing still keeps its heading"):
+        parse_patrol({"shape": [1, 8], "guards": [{**post, "post": False}]}, grid)
+    with pytest.raises(PatrolError, match="a post stands on one cell"):
+        parse_patrol({"shape": [1, 8], "guards": [{**post, "loop": [[3, 0], [4, 0], [3, 0], [3, 0], [3, 0]]}]}, grid)
