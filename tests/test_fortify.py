@@ -111,7 +111,7 @@ def test_count_is_the_fewest_over_the_candidates_and_the_proof_holds(tmp_path: P
     pair = ((0.5, 0.5), (6.5, 3.5))
     result = fortify(level, None, [pair], candidates=10)
     document = result.document
-    assert document["sealed"] and document["count"] == 3 and document["lower_bound"] == 3 and document["gap"] == 0
+    assert document["sealed"] and document["count"] == 2 and document["lower_bound"] == 2 and document["gap"] == 0
     # The candidate set, rebuilt with the same public functions: no subset of fewer watchers seals.
     scene = Scene.from_level(level)
     grid = scene.grid
@@ -119,7 +119,7 @@ def test_count_is_the_fewest_over_the_candidates_and_the_proof_holds(tmp_path: P
     detection = GuardDetection.of_level(level)
     swing = swing_ticks(1)
     pool = fortify_candidates(
-        grid, [source], exclude=[source, target], shape=CameraShape(), dt=detection.dt, swing=swing, cameras=True,
+        grid, [source], exclude=[source, target], near=[source, target], shape=CameraShape(), dt=detection.dt, swing=swing, cameras=True,
         posts=True, budget=10,
     )  # fmt: skip
     assert [w["candidate"] for w in document["watchers"]] and len(pool) == 10
@@ -155,7 +155,7 @@ def test_unseen_rule_seals_against_any_sighting_and_keep_open_keeps_its_slack(tm
     level = parse_level(ROOM)
     sealed_pair = ((0.5, 0.5), (6.5, 0.5))
     keep = KeepOpen((0.5, 3.5), (6.5, 3.5), 2)
-    result = fortify(level, None, [sealed_pair], keep_open=[keep], undetected=False, candidates=10)
+    result = fortify(level, None, [sealed_pair], keep_open=[keep], undetected=False, candidates=16)
     document = result.document
     assert document["sealed"] and document["rule"] == "unseen"
     kept = document["keep_open"][0]

@@ -14,10 +14,12 @@ The turn (:func:`swing_ticks`) is the smallest divisor of the watchers' lap from
 :data:`SWING_TICKS`, so that adding candidates lengthens the joint lap as little as it can.
 
 Only cells in the parts of the floor that hold an entry count, and not the entries and goals themselves
-(a watcher on the player's spawn point seals nothing a designer wants). When there are more such cells than the
-``candidates`` budget, the budget is split evenly between the two kinds (all of it to one kind when the
-other's cap is 0) and each kind keeps one cell per square block of the floor, the blocks as small as the
-budget allows (:func:`_spread`), so the set is spread over the floor and the same for the same inputs.
+(a watcher on the player's spawn point seals nothing a designer wants). When there are more cells than
+the ``candidates`` budget, the budget is split evenly between the two kinds (all of it to one kind when
+the other's cap is 0); in each kind, the cells around the entries and goals (the eight about each) take
+up to three quarters of it, since every way through passes by them, and the rest keeps one cell per
+square block of the floor, the blocks as small as the budget allows (:func:`_spread`): the set is spread
+over the floor and the same for the same inputs.
 """
 
 from __future__ import annotations
@@ -154,6 +156,7 @@ def fortify_candidates(
     entries: Sequence[int],
     *,
     exclude: Sequence[int] = (),
+    near: Sequence[int] = (),
     shape: CameraShape,
     dt: float,
     swing: int = SWING_TICKS,
@@ -161,7 +164,10 @@ def fortify_candidates(
     posts: bool,
     budget: int = DEFAULT_CANDIDATES,
 ) -> tuple[Candidate, ...]:
-    """The candidate set (see the module): cameras first, then posts, each in row-major cell order."""
+    """The candidate set (see the module): cameras first, then posts, each in row-major cell order.
+
+    The floor cells around each of ``near`` (the entries and goals: the eight cells about each) take up
+    to three quarters of each kind's budget, since every way through passes by them; the rest is spread."""
     labels = grid.component_labels
     floor = np.isin(labels, np.asarray([labels[cell] for cell in entries], dtype=labels.dtype))
     floor &= grid.traversable.ravel()
@@ -175,12 +181,27 @@ def fortify_candidates(
     post_budget = budget - camera_budget if posts else 0
     if cameras and posts and walled.size < camera_budget:
         post_budget = budget - int(walled.size)
+    cols = grid.shape[1]
+    ring = np.zeros(grid.size, dtype=bool)
+    for centre in near:
+        row, col = divmod(int(centre), cols)
+        for dr in (-1, 0, 1):
+            for dc in (-1, 0, 1):
+                if 0 <= row + dr < grid.shape[0] and 0 <= col + dc < cols:
+                    ring[(row + dr) * cols + col + dc] = True
+
+    def pick(pool: np.ndarray, count: int) -> np.ndarray:
+        # At most three quarters of the budget: the spread keeps the rest of the floor watched.
+        close = _spread(grid, pool[ring[pool]], count - count // 4)
+        rest = pool[~ring[pool]]
+        return np.sort(np.concatenate([close, _spread(grid, rest, count - close.size)]))
+
     out: list[Candidate] = []
-    for cell in _spread(grid, walled, camera_budget).tolist():
+    for cell in pick(walled, camera_budget).tolist():
         heading = _away_heading(neighbours, cell)
         assert heading is not None
         out.append(Candidate("camera", cell, camera_at(grid, cell, heading, shape, dt, swing)))
-    out.extend(Candidate("post", cell, None) for cell in _spread(grid, cells, post_budget).tolist())
+    out.extend(Candidate("post", cell, None) for cell in pick(cells, post_budget).tolist())
     return tuple(out)
 
 

@@ -326,7 +326,7 @@ def fortify(
     fall = detection.model.fall(dt)
 
     pool = fortify_candidates(
-        grid, [source for source, _ in cells], exclude=[cell for pair in cells + open_cells for cell in pair], shape=shape, dt=dt, swing=swing, cameras=cameras > 0, posts=posts > 0,
+        grid, [source for source, _ in cells], exclude=[cell for pair in cells + open_cells for cell in pair], near=[cell for pair in cells for cell in pair], shape=shape, dt=dt, swing=swing, cameras=cameras > 0, posts=posts > 0,
         budget=candidates,
     )  # fmt: skip
     report(f"computing the gains of {len(pool)} candidates", 0, len(pool))
