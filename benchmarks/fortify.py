@@ -7,13 +7,14 @@ cells farthest apart), and fortify runs with its defaults but ``--candidates``. 
 re-checked by the sneak search (on the fortified level's own watch of its cameras and the patrol with
 the posts) from every entry tick: it must find no path. Prints a Markdown table.
 
-    python benchmarks/fortify.py
+    python benchmarks/fortify.py                 # the real maps from ../shared/maps (or $GUARDSIM_SHARED/maps)
     python benchmarks/fortify.py levels/square.json --unseen --candidates 128
 """
 
 from __future__ import annotations
 
 import argparse
+import os
 import sys
 import time
 from pathlib import Path
@@ -27,7 +28,7 @@ from guardsim.patrol import patrol_setup, plan_loop
 from guardsim.sneak import find_sneak, undetected_search
 
 REPO = Path(__file__).resolve().parent.parent
-MAPS = REPO.parent / "shared" / "maps"
+MAPS = Path(os.environ.get("GUARDSIM_SHARED") or REPO.parent / "shared") / "maps"
 REAL = [
     MAPS / "movingai" / "room-64-64-8.map",
     MAPS / "tiled" / "sneaktime_tilemap1.json",
