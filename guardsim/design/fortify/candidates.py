@@ -5,13 +5,13 @@ The candidate set is fixed before the loop starts, so that "the fewest watchers"
 - **cameras**: one per wall-adjacent floor cell (a traversable cell with a blocked side), at the cell's
   centre, its swing's middle facing away from the wall (away from both walls in a corner; along the
   corridor where walls face each other). Its cone, range and sweep are the :class:`CameraShape`'s; it
-  pauses one tick at each end of its swing and turns so that the swing lasts :data:`SWING_TICKS` ticks,
-  the same as a post's turn, so the joint lap grows by at most that factor.
+  pauses one tick at each end of its swing and turns so that the swing lasts as many ticks as a post's
+  turn, so the joint lap grows by at most that factor.
 - **posts**: a guard standing on a floor cell, turning through its four headings (right, down, left, up),
   holding each a quarter of the turn: a patrol loop of one cell (:func:`post_headings`).
 
-The turn (:func:`swing_ticks`) is the smallest divisor of the watchers' lap from 4 to 16 ticks, else
-:data:`SWING_TICKS`, so that adding candidates lengthens the joint lap as little as it can.
+The turn (:func:`swing_ticks`) is the smallest divisor of the watchers' lap from 4 to 16 ticks, else 4
+ticks, so that adding candidates lengthens the joint lap as little as it can.
 
 Only cells in the parts of the floor that hold an entry count, and not the entries and goals themselves
 (a watcher on the player's spawn point seals nothing a designer wants). When there are more cells than
@@ -55,15 +55,15 @@ __all__ = [
 def swing_ticks(period: int) -> int:
     """The candidates' turn in ticks for watchers whose joint lap is ``period`` ticks.
 
-    >>> swing_ticks(474), swing_ticks(1), swing_ticks(40)
-    (6, 8, 4)
+    >>> swing_ticks(474), swing_ticks(1), swing_ticks(40), swing_ticks(337)
+    (6, 4, 4, 4)
     """
-    return next((ticks for ticks in SWING_RANGE if period % ticks == 0), SWING_TICKS)
+    # The joint lap grows least with a divisor of the period (it stays the period), else with the shortest turn.
+    return min(SWING_RANGE, key=lambda ticks: (math.lcm(period, ticks), ticks))
 
 
-#: Ticks of a post's turn through its four headings and of a candidate camera's swing there and back,
-#: unless the patrol's lap has a divisor from :data:`SWING_RANGE` (the smallest is taken: the joint lap
-#: then stays the patrol's).
+#: Ticks of a post's turn through its four headings and of a candidate camera's swing there and back
+#: where the caller gives none (``fortify`` takes :func:`swing_ticks` of the watchers' lap).
 SWING_TICKS = 8
 #: The turns fortify may choose to fit the patrol's lap.
 SWING_RANGE = range(4, 17)
