@@ -105,7 +105,6 @@ def _run(args: Sequence[str]) -> Any:
     return CliRunner().invoke(main, ["fortify", *args])
 
 
-@pytest.mark.slow
 def test_count_is_the_fewest_over_the_candidates_and_the_proof_holds(tmp_path: Path) -> None:
     level = parse_level(ROOM)
     pair = ((0.5, 0.5), (6.5, 3.5))
