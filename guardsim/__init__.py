@@ -69,6 +69,7 @@ _SOURCES = {
     ),
     **dict.fromkeys(("ContinuousSimulation", "GuardMotion"), "guardsim.motion"),
     **dict.fromkeys(("analyse", "report", "diff"), "guardsim.design"),
+    "fortify": "guardsim.design.fortify",
 }
 
 __all__ = ["__version__", *_SOURCES]
@@ -98,6 +99,7 @@ if TYPE_CHECKING:
     from guardsim.design import analyse as analyse
     from guardsim.design import diff as diff
     from guardsim.design import report as report
+    from guardsim.design.fortify import fortify as fortify
     from guardsim.detection import AwarenessMeter as AwarenessMeter
     from guardsim.detection import DetectionModel as DetectionModel
     from guardsim.detection import GuardDetection as GuardDetection

@@ -41,6 +41,11 @@ COMMANDS: dict[str, tuple[str, str, str]] = {
         "check",
         "CI gates: exit 1 when LEVEL breaks a rule (cover steps, idleness, sneaks).",
     ),
+    "fortify": (
+        "guardsim.cli.fortify",
+        "fortify",
+        "Add cameras and guard posts until no player gets through, with a proof.",
+    ),
     "play": ("guardsim.cli.play", "play", "Walk a guard over LEVEL until it has seen every reachable cell."),
     "regress": ("guardsim.cli.regress", "regress", "Re-play levels and compare them with stored references."),
     "render": ("guardsim.cli.render", "render", "Draw a level preview as a PNG."),

@@ -189,8 +189,12 @@ def _read_guard(guard: dict[str, Any], grid: CoverageGrid, repeating: bool, sour
         if not grid.traversable[row, col]:
             raise _fail(source, f"{where}.loop[{index}]", f"[{col}, {row}] is not a cell the guard can stand in")
         cells.append(grid.flat(col, row))
+    post = bool(guard.get("post", False))
+    if post and len(set(cells)) != 1:
+        raise _fail(source, f"{where}.loop", "a post stands on one cell: every loop cell must be the same")
     for index in range(1, len(cells)):
-        _check_move(grid, loop, headings, cells, index, source, where)
+        if not post:
+            _check_move(grid, loop, headings, cells, index, source, where)
     states = state_of(np.asarray(cells, dtype=np.int64), np.asarray(headings, dtype=np.int64))
     if not repeating or len(cells) == 1:
         return states
