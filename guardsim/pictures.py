@@ -1,4 +1,4 @@
-"""The pictures of ``guardsim patrol`` and ``guardsim sneak``, drawn from what their computing step returned.
+"""The pictures of ``guardsim patrol``, ``sneak`` and ``fortify``, drawn from what their computing step returned.
 
 The computing packages draw nothing: :func:`guardsim.patrol.job.run_patrol` returns a
 :class:`~guardsim.patrol.job.PatrolRun` and :func:`guardsim.sneak.sneak_check` a
@@ -18,6 +18,7 @@ import numpy as np
 from guardsim.errors import GuardsimError, TraceError
 
 if TYPE_CHECKING:
+    from guardsim.design.fortify.loop import FortifyResult
     from guardsim.detection import GuardDetection
     from guardsim.detection.watch import LevelWatch
     from guardsim.level import Level
@@ -27,7 +28,7 @@ if TYPE_CHECKING:
     from guardsim.sneak import SneakResult
     from guardsim.vision.table import ViewTable
 
-__all__ = ["Drawn", "write_patrol_pictures", "write_sneak_json_page", "write_sneak_pictures"]
+__all__ = ["Drawn", "write_fortify_picture", "write_patrol_pictures", "write_sneak_json_page", "write_sneak_pictures"]
 
 
 class Drawn(NamedTuple):
@@ -287,3 +288,26 @@ def _level_watch(scene: Scene) -> LevelWatch | None:
     if not scene.level.cameras and scene.level.lit:
         return None
     return level_watch(scene, grid_tick_seconds(scene.level), gains=False)
+
+
+def write_fortify_picture(result: FortifyResult, picture: str) -> str:
+    """Draw what :func:`guardsim.fortify` placed (each watcher with its cone or swing, the counterexamples
+    crossed out, the ways still through) to the PNG ``picture``; returns its path."""
+    from PIL import Image
+
+    from guardsim.files.output import atomic_path
+    from guardsim.render.fortify import fortify_picture
+
+    grid = result.scene.grid
+    document = result.document
+    post_points = [tuple(w["position"]) for w in document["watchers"] if w["kind"] == "post"]
+    image = fortify_picture(
+        result.level, grid.traversable, grid.origin,
+        posts=post_points,
+        counterexamples=[[tuple(p) for p in c["path"]] for c in document["counterexamples"]],
+        ways_through=[[tuple(p) for p in pair["way_through"]["path"]] for pair in document["pairs"] if not pair["sealed"]],
+        pairs=[(tuple(pair["from"]), tuple(pair["to"])) for pair in document["pairs"]],
+    )  # fmt: skip
+    with atomic_path(picture) as temporary:
+        Image.fromarray(np.ascontiguousarray(image)).save(temporary, format="PNG")
+    return picture

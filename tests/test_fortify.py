@@ -142,7 +142,7 @@ def test_count_is_the_fewest_over_the_candidates_and_the_proof_holds(tmp_path: P
     out.mkdir()
     from guardsim.design.fortify.outputs import write_fortify_outputs
 
-    write_fortify_outputs(result, out, None)
+    write_fortify_outputs(result, out)
     written, gain, written_fall = _written_gains(out)
     assert gain.shape[1] == lap
     assert _way_through(written.grid.neighbours, gain, written_fall, source, target, undetected=True) == set()
@@ -161,7 +161,7 @@ def test_unseen_rule_seals_against_any_sighting_and_keep_open_keeps_its_slack(tm
     assert kept["kept"] and kept["slack"] >= 2 and kept["path"]["path"][0] == [0.5, 3.5]
     from guardsim.design.fortify.outputs import write_fortify_outputs
 
-    write_fortify_outputs(result, tmp_path, None)
+    write_fortify_outputs(result, tmp_path)
     scene, gain, fall = _written_gains(tmp_path)
     neighbours = scene.grid.neighbours
     source, target = _cell(scene, sealed_pair[0]), _cell(scene, sealed_pair[1])

@@ -163,6 +163,7 @@ def fortify(
     from guardsim.design.fortify import fortify as run_fortify
     from guardsim.design.fortify.outputs import write_fortify_outputs
     from guardsim.detection.watch import MAX_JOINT_LAP
+    from guardsim.pictures import write_fortify_picture
 
     if not sources:
         raise GuardsimError("--from: give at least one entry (--from X,Y --to X,Y)")
@@ -208,7 +209,9 @@ def fortify(
     if picture is None and folder is not None:
         picture = str(folder / "fortify.png")
     progress("writing", 0, 0)
-    written = write_fortify_outputs(result, folder, picture)
+    written = write_fortify_outputs(result, folder)
+    if picture is not None:
+        written.append(write_fortify_picture(result, picture))
     progress.close()
     document = result.document
     for keep in document["keep_open"]:

@@ -1,5 +1,5 @@
-"""What ``guardsim fortify`` writes: the fortified level, the patrol with its posts, fortify.json and the
-picture; each through a temporary file renamed into place, so an interrupted run leaves no half file."""
+"""What ``guardsim fortify`` writes: the fortified level, the patrol with its posts and fortify.json (the
+picture is drawn downstream, in :mod:`guardsim.pictures`); each through a temporary file renamed into place, so an interrupted run leaves no half file."""
 
 from __future__ import annotations
 
@@ -7,10 +7,8 @@ import json
 from pathlib import Path
 from typing import Any
 
-import numpy as np
-
 from guardsim.design.fortify.loop import FortifyResult
-from guardsim.files.output import atomic_path, write_text_atomic
+from guardsim.files.output import write_text_atomic
 from guardsim.level.writing import level_json_text, level_to_data
 
 __all__ = ["fortify_patrol_data", "write_fortify_outputs"]
@@ -36,9 +34,9 @@ def fortify_patrol_data(result: FortifyResult) -> dict[str, Any] | None:
     return data
 
 
-def write_fortify_outputs(result: FortifyResult, folder: Path | None, picture: str | None) -> list[str]:
-    """Write into ``folder`` level.json, patrol.json (when there are guards) and fortify.json, and the
-    picture to ``picture``; the paths written. The level is written last of the files a check reads, so
+def write_fortify_outputs(result: FortifyResult, folder: Path | None) -> list[str]:
+    """Write into ``folder`` level.json, patrol.json (when there are guards) and fortify.json; the paths
+    written (the picture is :func:`guardsim.pictures.write_fortify_picture`). The level is written last of the files a check reads, so
     a folder holding it holds the rest."""
     written: list[str] = []
     if folder is not None:
@@ -50,22 +48,4 @@ def write_fortify_outputs(result: FortifyResult, folder: Path | None, picture: s
             written.append(str(folder / "patrol.json"))
         write_text_atomic(folder / "level.json", level_json_text(level_to_data(result.level)))
         written.append(str(folder / "level.json"))
-    if picture is not None:
-        from PIL import Image
-
-        from guardsim.render.fortify import fortify_picture
-
-        grid = result.scene.grid
-        document = result.document
-        post_points = [tuple(w["position"]) for w in document["watchers"] if w["kind"] == "post"]
-        image = fortify_picture(
-            result.level, grid.traversable, grid.origin,
-            posts=post_points,
-            counterexamples=[[tuple(p) for p in c["path"]] for c in document["counterexamples"]],
-            ways_through=[[tuple(p) for p in pair["way_through"]["path"]] for pair in document["pairs"] if not pair["sealed"]],
-            pairs=[(tuple(pair["from"]), tuple(pair["to"])) for pair in document["pairs"]],
-        )  # fmt: skip
-        with atomic_path(picture) as temporary:
-            Image.fromarray(np.ascontiguousarray(image)).save(temporary, format="PNG")
-        written.append(picture)
     return written
