@@ -88,9 +88,9 @@ def write_sneak_outputs(
             seen_at = {
                 tick
                 for tick, cell in enumerate(path.cells)
-                if result.seen[(path.start_tick + tick) % result.period, cell]
+                if result.sight.seen_at(path.start_tick + tick, int(cell))
             }
-            guards = grade.meters.shape[1] - result.gains.cameras
+            guards = grade.meters.shape[1] - result.sight.cameras
             write_sneak_gif(
                 folder / "sneak.gif",
                 level,
@@ -107,7 +107,7 @@ def write_sneak_outputs(
                     (sight.camera.position, sight.headings, sight.camera.fov_degrees, sight.view_range)
                     for sight in (() if watch is None else watch.cameras)
                 ],
-                camera_meters=grade.meters[:, guards:] if result.gains.cameras else None,
+                camera_meters=grade.meters[:, guards:] if result.sight.cameras else None,
             )
             written.append(str(folder / "sneak.gif"))
         if html:
