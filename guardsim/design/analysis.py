@@ -25,7 +25,7 @@ from guardsim.kernels.distances import FAR, distances_from
 from guardsim.level import Level
 from guardsim.patrol import Patrol, PatrolScore, PatrolSetup, plan_loop, read_patrol, score_patrol, seen_timeline
 from guardsim.scene import Scene
-from guardsim.sneak import MAX_SNEAK_NODES, SneakResult, sneak_check
+from guardsim.sneak import SneakResult, sneak_check
 from guardsim.starts import episode_start, team_starts
 from guardsim.vision.table import ViewTable, view_table
 

@@ -249,8 +249,15 @@ def _longest_unseen(start: np.ndarray, tick: np.ndarray, period: int) -> np.ndar
 
 @jit
 def _apply(
-    levels: np.ndarray, gains: np.ndarray, tick: np.ndarray, watcher: np.ndarray, gain: np.ndarray, event: int, end: int,
-    phase: int, fall: float,
+    levels: np.ndarray,
+    gains: np.ndarray,
+    tick: np.ndarray,
+    watcher: np.ndarray,
+    gain: np.ndarray,
+    event: int,
+    end: int,
+    phase: int,
+    fall: float,
 ) -> tuple[int, bool]:
     """One tick at lap tick ``phase`` for the meters ``levels``: the events from ``event`` on at that tick
     are its gains (0 for the other watchers). Returns the next event and whether a meter filled."""
@@ -269,16 +276,21 @@ def _apply(
 
 @jit
 def _all_empty(levels: np.ndarray) -> bool:
-    for index in range(levels.shape[0]):
-        if levels[index] != 0.0:
-            return False
-    return True
+    return all(levels[index] == 0.0 for index in range(levels.shape[0]))
 
 
 @jit
 def _standing(
-    tick: np.ndarray, watcher: np.ndarray, gain: np.ndarray, first: int, end: int, watchers: int, period: int,
-    fall: float, entry: int, limit: int,
+    tick: np.ndarray,
+    watcher: np.ndarray,
+    gain: np.ndarray,
+    first: int,
+    end: int,
+    watchers: int,
+    period: int,
+    fall: float,
+    entry: int,
+    limit: int,
 ) -> int:
     """:func:`guardsim.detection.exposure._standing` on one cell's events ``first:end``: ticks a player
     entering at lap tick ``entry`` stands before a meter fills, -1 when none does within ``limit``. Ticks
@@ -307,8 +319,15 @@ def _standing(
 
 @jit
 def _ever_detected(
-    tick: np.ndarray, watcher: np.ndarray, gain: np.ndarray, first: int, end: int, watchers: int, period: int,
-    fall: float, max_laps: int,
+    tick: np.ndarray,
+    watcher: np.ndarray,
+    gain: np.ndarray,
+    first: int,
+    end: int,
+    watchers: int,
+    period: int,
+    fall: float,
+    max_laps: int,
 ) -> int:
     """:func:`guardsim.detection.exposure._ever_detected` on one cell's events: 1, 0 or -1."""
     levels = np.zeros(watchers)
@@ -338,8 +357,16 @@ def _ever_detected(
 
 @jit
 def _time_to_detection(
-    start: np.ndarray, tick: np.ndarray, watcher: np.ndarray, gain: np.ndarray, watchers: int, period: int,
-    fall: float, traversable: np.ndarray, max_laps: int, out: np.ndarray,
+    start: np.ndarray,
+    tick: np.ndarray,
+    watcher: np.ndarray,
+    gain: np.ndarray,
+    watchers: int,
+    period: int,
+    fall: float,
+    traversable: np.ndarray,
+    max_laps: int,
+    out: np.ndarray,
 ) -> int:
     unsettled = 0
     for cell in range(out.shape[0]):

@@ -30,8 +30,8 @@ from guardsim.vision.table import ViewTable
 
 __all__ = [
     "HIDING_SPOTS_LISTED",
-    "MAX_SNEAK_NODES",
     "MAX_CLOSEST_CALL_NODES",
+    "MAX_SNEAK_NODES",
     "HidingSpot",
     "PathGrade",
     "SneakPath",

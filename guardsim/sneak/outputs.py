@@ -55,7 +55,9 @@ def write_sneak_outputs(
         windows[windows < 0] = float("nan")
         cells = [grid.unflat(int(cell)) for cell in path.cells]
         label = "unseen path" if path.found else f"closest call ({path.ticks_in_view} ticks in view)"
-        title = f"{level.name}: hiding spots, longest unseen window per cell ({data['never_seen_cells']} never seen, black)"
+        title = (
+            f"{level.name}: hiding spots, longest unseen window per cell ({data['never_seen_cells']} never seen, black)"
+        )
         write_heat_map(
             folder / "hiding.png",
             level,
@@ -86,9 +88,7 @@ def write_sneak_outputs(
             from guardsim.sneak.gif import path_states, write_sneak_gif
 
             seen_at = {
-                tick
-                for tick, cell in enumerate(path.cells)
-                if result.sight.seen_at(path.start_tick + tick, int(cell))
+                tick for tick, cell in enumerate(path.cells) if result.sight.seen_at(path.start_tick + tick, int(cell))
             }
             guards = grade.meters.shape[1] - result.sight.cameras
             write_sneak_gif(

@@ -228,24 +228,21 @@ def _shift(word: int, value: np.uint64, words: int, last: int, forward: bool, ou
 
 
 @jit
-def _reverse(value: np.uint64) -> np.uint64:
-    """``value``'s 64 bits in reverse order."""
-    value = ((value >> np.uint64(1)) & np.uint64(0x5555555555555555)) | ((value & np.uint64(0x5555555555555555)) << np.uint64(1))
-    value = ((value >> np.uint64(2)) & np.uint64(0x3333333333333333)) | ((value & np.uint64(0x3333333333333333)) << np.uint64(2))
-    value = ((value >> np.uint64(4)) & np.uint64(0x0F0F0F0F0F0F0F0F)) | ((value & np.uint64(0x0F0F0F0F0F0F0F0F)) << np.uint64(4))
-    value = ((value >> np.uint64(8)) & np.uint64(0x00FF00FF00FF00FF)) | ((value & np.uint64(0x00FF00FF00FF00FF)) << np.uint64(8))
-    value = ((value >> np.uint64(16)) & np.uint64(0x0000FFFF0000FFFF)) | ((value & np.uint64(0x0000FFFF0000FFFF)) << np.uint64(16))
-    return (value >> np.uint64(32)) | (value << np.uint64(32))
-
-
-@jit
 def _runs(free: np.uint64, seeds: np.uint64, forward: bool) -> np.uint64:
     """The bits of ``free`` (a word, containing ``seeds``) reached from ``seeds`` by waiting: on through each
-    run of free bits, towards the higher bits (``forward``) or the lower ones."""
-    if forward:
-        return ((free + seeds) ^ free) & free
-    turned = _reverse(free)
-    return _reverse(((turned + _reverse(seeds)) ^ turned) & turned)
+    run of free bits, towards the higher bits (``forward``) or the lower ones (an occluded fill, doubling
+    its reach each step)."""
+    reach = seeds
+    through = free
+    for step in (1, 2, 4, 8, 16, 32):
+        shift = np.uint64(step)
+        if forward:
+            reach |= through & (reach << shift)
+            through &= through << shift
+        else:
+            reach |= through & (reach >> shift)
+            through &= through >> shift
+    return reach & free
 
 
 @jit
@@ -300,6 +297,257 @@ def _push(
         if (bits[cell, word] | reached[cell, word]) & new:
             break
     return item_cell, item_word, item_bits, count
+
+
+@jit
+def _seed(
+    reached: np.ndarray,
+    bits: np.ndarray,
+    pending: np.ndarray,
+    cell: int,
+    word: int,
+    new: np.uint64,
+    last: int,
+    forward: bool,
+) -> None:
+    """Mark ``new`` (unseen, unreached bits of word ``word`` of ``cell``) reached, with every lap tick
+    reached from them by waiting, and pending (to pass on to the neighbours)."""
+    words = reached.shape[1]
+    while True:
+        free = ~bits[cell, word] & ~reached[cell, word]
+        if word == words - 1 and last < 63:
+            free &= (_ONE << np.uint64(last + 1)) - _ONE
+        new = _runs(free | new, new, forward)
+        reached[cell, word] |= new
+        pending[cell, word] |= new
+        # On past the word's edge (round the lap's end) while the run goes on.
+        if forward:
+            edge = last if word == words - 1 else 63
+            if ((new >> np.uint64(edge)) & _ONE) == np.uint64(0):
+                return
+            word = 0 if word == words - 1 else word + 1
+            new = _ONE
+        else:
+            if (new & _ONE) == np.uint64(0):
+                return
+            if word == 0:
+                word = words - 1
+                new = _ONE << np.uint64(last)
+            else:
+                word -= 1
+                new = _ONE << np.uint64(63)
+        if (bits[cell, word] | reached[cell, word]) & new:
+            return
+
+
+@jit
+def _shift_row(row: np.ndarray, last: int, forward: bool, out: np.ndarray) -> None:
+    """``out``: the lap ticks of ``row`` one tick later (``forward``) or earlier, round the lap."""
+    words = row.shape[0]
+    carry = np.uint64(0)
+    if forward:
+        for word in range(words):
+            value = row[word]
+            out[word] = (value << _ONE) | carry
+            carry = value >> np.uint64(63)
+        if last < 63:
+            carry = (out[words - 1] >> np.uint64(last + 1)) & _ONE
+            out[words - 1] &= (_ONE << np.uint64(last + 1)) - _ONE
+        out[0] |= carry
+    else:
+        for word in range(words - 1, -1, -1):
+            value = row[word]
+            out[word] = (value >> _ONE) | (carry << np.uint64(63))
+            carry = value & _ONE
+        if carry:
+            out[words - 1] |= _ONE << np.uint64(last)
+
+
+@jit
+def _flood(
+    neighbours: np.ndarray,
+    start: np.ndarray,
+    tick: np.ndarray,
+    watcher: np.ndarray,
+    gain: np.ndarray,
+    bits: np.ndarray,
+    watchers: int,
+    period: int,
+    fall: float,
+    source: int,
+    entries: np.ndarray,
+    graded: bool,
+    forward: bool,
+    max_labels: int,
+    reached: np.ndarray,
+    touched: np.ndarray,
+) -> int:
+    """Every node reached from the entry ticks ``entries`` at ``source``, in no particular order: a cell's
+    newly reached ticks pass on to its neighbours a whole row of words at a time, each run of unseen ticks
+    filled at once. Labels with some meter up (``graded``) are kept as :func:`_sweep` keeps them. Returns
+    the labels kept (-1 past ``max_labels``)."""
+    cells = neighbours.shape[0]
+    words = reached.shape[1]
+    last = (period - 1) & 63
+    pending = np.zeros(reached.shape, dtype=np.uint64)
+    queued = np.zeros(cells, dtype=np.bool_)
+    queue = np.empty(cells + 1, dtype=np.int64)
+    head = 0
+    tail = 0
+    shifted = np.empty(words, dtype=np.uint64)
+    moved_words = np.empty(words, dtype=np.int64)
+    label_key = np.empty(1024, dtype=np.int64)
+    label_meters = np.empty((1024, watchers), dtype=np.float64)
+    label_after = np.empty(1024, dtype=np.int64)
+    nodes = _Nodes(
+        np.zeros(1024, dtype=np.int64), np.zeros(512, dtype=np.int64), np.zeros(512, dtype=np.int64),
+        np.zeros(512, dtype=np.bool_), np.zeros(512, dtype=np.int64), np.full(1, -1, dtype=np.int64),
+        np.zeros(8, dtype=np.int64), np.zeros((512, 0), dtype=np.uint64),
+    )  # fmt: skip
+    gains = np.zeros(watchers, dtype=np.float64)
+    zero = np.zeros(watchers, dtype=np.float64)
+    candidate = np.zeros(watchers, dtype=np.float64)
+    labels = 0
+    done = 0
+    for phase in range(period):
+        if not entries[phase]:
+            continue
+        if not _is_bit(bits, source, phase):
+            if not _is_bit(reached, source, phase):
+                _seed(reached, bits, pending, source, phase >> 6, _ONE << np.uint64(phase & 63), last, forward)
+        elif graded:
+            _gains_at(start, tick, watcher, gain, source, phase, gains)
+            if _step(zero, gains, fall, candidate) == 1:
+                continue
+            nodes, node = _add(nodes, phase * cells + source)
+            label_key = _grow_int(label_key, labels + 1)
+            label_after = _grow_int(label_after, labels + 1)
+            label_meters = _grow_rows(label_meters, labels + 1)
+            label_key[labels] = phase * cells + source
+            _copy_row(label_meters, labels, candidate)
+            label_after[labels] = nodes.head[node]
+            nodes.head[node] = labels
+            labels += 1
+        touched[source] = True
+    queue[tail] = source
+    tail += 1
+    queued[source] = True
+    while head != tail or done < labels:
+        while head != tail:
+            cell = queue[head]
+            head = (head + 1) % queue.shape[0]
+            queued[cell] = False
+            _shift_row(pending[cell], last, forward, shifted)
+            # The words that moved, once (most pops move a few words of the row, not all of them), in the
+            # direction waiting fills: one seed then fills a run across many words.
+            count = 0
+            for index in range(words):
+                word = index if forward else words - 1 - index
+                pending[cell, word] = 0
+                if shifted[word]:
+                    moved_words[count] = word
+                    count += 1
+            for move in range(5):
+                other = cell if move == 4 else neighbours[cell, move]
+                if other < 0:
+                    continue
+                grew = False
+                for index in range(count):
+                    word = moved_words[index]
+                    moved = shifted[word]
+                    fresh = moved & ~reached[other, word]
+                    new = fresh & ~bits[other, word]
+                    if new:
+                        _seed(reached, bits, pending, other, word, new, last, forward)
+                        grew = True
+                    hit = fresh & bits[other, word] if graded else np.uint64(0)
+                    while hit:
+                        low = hit & (~hit + _ONE)
+                        bit = 0
+                        while (low >> np.uint64(bit)) != _ONE:
+                            bit += 1
+                        hit &= hit - _ONE
+                        phase = word * 64 + bit
+                        _gains_at(start, tick, watcher, gain, other, phase, gains)
+                        if _step(zero, gains, fall, candidate) == 1:
+                            continue
+                        nodes, node = _add(nodes, phase * cells + other)
+                        stored = nodes.head[node]
+                        dominated = False
+                        while stored >= 0 and not dominated:
+                            dominated = True
+                            for guard in range(watchers):
+                                if label_meters[stored, guard] > candidate[guard]:
+                                    dominated = False
+                                    break
+                            stored = label_after[stored]
+                        if dominated:
+                            continue
+                        if labels >= max_labels:
+                            return -1
+                        label_key = _grow_int(label_key, labels + 1)
+                        label_after = _grow_int(label_after, labels + 1)
+                        label_meters = _grow_rows(label_meters, labels + 1)
+                        label_key[labels] = phase * cells + other
+                        _copy_row(label_meters, labels, candidate)
+                        label_after[labels] = nodes.head[node]
+                        nodes.head[node] = labels
+                        labels += 1
+                        touched[other] = True
+                if grew:
+                    touched[other] = True
+                    if not queued[other]:
+                        queued[other] = True
+                        queue[tail] = other
+                        tail = (tail + 1) % queue.shape[0]
+        while done < labels:
+            label = done
+            done += 1
+            key = label_key[label]
+            phase, cell = key // cells, key % cells
+            if _is_bit(reached, cell, phase):
+                continue
+            after = (phase + 1) % period
+            for move in range(5):
+                other = cell if move == 4 else neighbours[cell, move]
+                if other < 0 or _is_bit(reached, other, after):
+                    continue
+                _gains_at(start, tick, watcher, gain, other, after, gains)
+                state = _step(label_meters[label], gains, fall, candidate)
+                if state == 1:
+                    continue
+                touched[other] = True
+                if state == 0:
+                    _seed(reached, bits, pending, other, after >> 6, _ONE << np.uint64(after & 63), last, forward)
+                    if not queued[other]:
+                        queued[other] = True
+                        queue[tail] = other
+                        tail = (tail + 1) % queue.shape[0]
+                    continue
+                key = after * cells + other
+                nodes, node = _add(nodes, key)
+                stored = nodes.head[node]
+                dominated = False
+                while stored >= 0 and not dominated:
+                    dominated = True
+                    for guard in range(watchers):
+                        if label_meters[stored, guard] > candidate[guard]:
+                            dominated = False
+                            break
+                    stored = label_after[stored]
+                if dominated:
+                    continue
+                if labels >= max_labels:
+                    return -1
+                label_key = _grow_int(label_key, labels + 1)
+                label_after = _grow_int(label_after, labels + 1)
+                label_meters = _grow_rows(label_meters, labels + 1)
+                label_key[labels] = key
+                _copy_row(label_meters, labels, candidate)
+                label_after[labels] = nodes.head[node]
+                nodes.head[node] = labels
+                labels += 1
+    return labels
 
 
 @jit
@@ -575,9 +823,21 @@ def sweep(
     if not forward and graded:
         raise ValueError("the backward sweep is unseen only")
     period = sight.period
-    reached = np.zeros_like(sight.bits)
+    reached = np.zeros(sight.bits.shape, dtype=np.uint64)
     touched = np.zeros(sight.cells, dtype=np.bool_)
     chosen = np.ones(period, dtype=np.bool_) if entries is None else np.ascontiguousarray(entries, dtype=np.bool_)
+    if flood:
+        labels = _flood(
+            np.ascontiguousarray(neighbours, dtype=np.int64), sight.start, sight.tick, sight.watcher, sight.gain,
+            sight.bits, sight.watchers, period, float(sight.fall), int(source), chosen, bool(graded), bool(forward),
+            int(max_labels), reached, touched,
+        )  # fmt: skip
+        if labels < 0:
+            raise LimitError(
+                f"the undetected-path search passed {max_labels} labels ((cell, lap tick, meters) states kept); "
+                "the level, lap or guards are too large for it"
+            )
+        return Sweep(-1, -1, reached, touched, labels)
     ticks, entry, labels = _sweep(
         np.ascontiguousarray(neighbours, dtype=np.int64), sight.start, sight.tick, sight.watcher, sight.gain,
         sight.bits, sight.watchers, period, float(sight.fall), int(source), int(target), chosen, bool(graded),
