@@ -276,7 +276,11 @@ def _apply(
 
 @jit
 def _all_empty(levels: np.ndarray) -> bool:
-    return all(levels[index] == 0.0 for index in range(levels.shape[0]))
+    # A loop, not all(): numba compiles no generator.
+    for index in range(levels.shape[0]):  # noqa: SIM110
+        if levels[index] != 0.0:
+            return False
+    return True
 
 
 @jit
