@@ -5,20 +5,29 @@ the tiny levels, with light and a dark sight so that meters rise and drain."""
 
 from __future__ import annotations
 
+from collections.abc import Iterator
+from typing import Any
+
 import numpy as np
 import pytest
 
-from guardsim.detection import GuardDetection, exposure_map, patrol_gains, time_to_detection
+from guardsim.detection import GuardDetection, PatrolGains, exposure_map, patrol_gains, time_to_detection
 from guardsim.detection.sight import lap_sight
+from guardsim.grid import CoverageGrid
 from guardsim.patrol import Patrol, patrol_setup
+from guardsim.scene import Scene
 from guardsim.sneak import closest_call, find_sneak, hiding_windows, sneak_check, undetected_search
 from guardsim.sneak.grade import unseen_reach
 from guardsim.sneak.graded import entry_searches
 from guardsim.sneak.sweep import entry_search, sweep
+from guardsim.vision.table import ViewTable
 from tests.common import TINY_LEVELS, random_loop, scene_from
 
 
-def _dense(grid, table, patrol, detection, source, target, undetected):  # type: ignore[no-untyped-def]
+def _dense(
+    grid: CoverageGrid, table: ViewTable, patrol: Patrol, detection: GuardDetection, source: int, target: int,
+    undetected: bool,
+) -> tuple[tuple[int, list[int], int] | None, int, np.ndarray, PatrolGains]:  # fmt: skip
     """The sneak check as the dense searches answer it: (start, cells, ticks in view), slack, reached cells."""
     gains = patrol_gains(grid, table, patrol.states, detection.model, view_range=detection.view_range, dt=detection.dt)
     seen = gains.seen
@@ -42,7 +51,7 @@ def _dense(grid, table, patrol, detection, source, target, undetected):  # type:
     return answer, int(entries.sum()), search.reached_cells(), gains
 
 
-def _trials(name: str, seed: int):  # type: ignore[no-untyped-def]
+def _trials(name: str, seed: int) -> Iterator[tuple[Scene, ViewTable, Patrol, int, int]]:
     level = TINY_LEVELS[name] | {
         "guard": {"start": [0.5, 0.5], "heading": "right", "view_range": 3.5, "detect_near": 0.6, "detect_far": 1.6}
     }
@@ -87,7 +96,7 @@ def test_the_sparse_sight_holds_the_dense_gains_exactly() -> None:
         detection = GuardDetection.of_level(scene.level)
         grid = scene.grid
         light = np.linspace(0.0, 1.0, grid.size)
-        arguments = {"view_range": detection.view_range, "dt": detection.dt, "light": light}
+        arguments: dict[str, Any] = {"view_range": detection.view_range, "dt": detection.dt, "light": light}
         dense = patrol_gains(grid, table, patrol.states, detection.model, **arguments)
         sparse = lap_sight(grid, table, patrol.states, detection.model, **arguments)
         assert np.array_equal(sparse.dense_gains().gain, dense.gain)
@@ -101,7 +110,7 @@ def test_the_sweeps_reach_what_the_dense_searches_reach() -> None:
     for scene, table, patrol, source, target in _trials("square-with-hole", 5):
         detection = GuardDetection.of_level(scene.level)
         grid = scene.grid
-        arguments = {"view_range": detection.view_range, "dt": detection.dt}
+        arguments: dict[str, Any] = {"view_range": detection.view_range, "dt": detection.dt}
         gains = patrol_gains(grid, table, patrol.states, detection.model, **arguments)
         sight = lap_sight(grid, table, patrol.states, detection.model, **arguments)
         neighbours = grid.neighbours
