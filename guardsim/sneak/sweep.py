@@ -248,55 +248,21 @@ def _runs(free: np.uint64, seeds: np.uint64, forward: bool) -> np.uint64:
 @jit
 def _push(
     reached: np.ndarray,
-    bits: np.ndarray,
     cell: int,
     word: int,
     new: np.uint64,
-    last: int,
-    forward: bool,
-    flood: bool,
     item_cell: np.ndarray,
     item_word: np.ndarray,
     item_bits: np.ndarray,
     count: int,
 ) -> tuple[np.ndarray, np.ndarray, np.ndarray, int]:
-    """Mark ``new`` (unseen, unreached bits of word ``word`` of ``cell``) reached and queue them as items;
-    with ``flood``, with every lap tick reached from them by waiting (the order of arrival then does not
-    matter: a cell's unseen run fills at once, not one tick a layer)."""
-    words = reached.shape[1]
-    while True:
-        if flood:
-            free = ~bits[cell, word] & ~reached[cell, word]
-            if word == words - 1 and last < 63:
-                free &= (_ONE << np.uint64(last + 1)) - _ONE
-            new = _runs(free | new, new, forward)
-        reached[cell, word] |= new
-        item_cell = _grow_int(item_cell, count + 1)
-        item_word = _grow_int(item_word, count + 1)
-        item_bits = _grow_int(item_bits, count + 1)
-        item_cell[count], item_word[count], item_bits[count] = cell, word, new
-        count += 1
-        if not flood:
-            break
-        # On past the word's edge (round the lap's end) while the run goes on.
-        if forward:
-            edge = last if word == words - 1 else 63
-            if ((new >> np.uint64(edge)) & _ONE) == np.uint64(0):
-                break
-            word = 0 if word == words - 1 else word + 1
-            new = _ONE
-        else:
-            if (new & _ONE) == np.uint64(0):
-                break
-            if word == 0:
-                word = words - 1
-                new = _ONE << np.uint64(last)
-            else:
-                word -= 1
-                new = _ONE << np.uint64(63)
-        if (bits[cell, word] | reached[cell, word]) & new:
-            break
-    return item_cell, item_word, item_bits, count
+    """Mark ``new`` (unseen, unreached bits of word ``word`` of ``cell``) reached and queue them as an item."""
+    reached[cell, word] |= new
+    item_cell = _grow_int(item_cell, count + 1)
+    item_word = _grow_int(item_word, count + 1)
+    item_bits = _grow_int(item_bits, count + 1)
+    item_cell[count], item_word[count], item_bits[count] = cell, word, new
+    return item_cell, item_word, item_bits, count + 1
 
 
 @jit
@@ -567,7 +533,6 @@ def _sweep(
     graded: bool,
     forward: bool,
     exhaustive: bool,
-    flood: bool,
     bound: int,
     remaining: np.ndarray,
     max_labels: int,
@@ -578,8 +543,8 @@ def _sweep(
 
     ``reached`` (zeros) receives the nodes reached with empty meters, ``touched`` (false) the cells
     reached at all. Backwards (``forward`` false, unseen only) the moves run from a node to those it
-    is reached from. ``flood``: reach everything, in no order (no fewest ticks). ``bound`` >= 0: leave out
-    the nodes more than ``bound`` ticks from entering by ``remaining`` (steps to the target)."""
+    is reached from. ``bound`` >= 0: leave out the nodes more than ``bound`` ticks from entering by
+    ``remaining`` (steps to the target). :func:`_flood` reaches every node in no order, faster."""
     cells = neighbours.shape[0]
     words = reached.shape[1]
     last = (period - 1) & 63
@@ -642,7 +607,7 @@ def _sweep(
             seeds = reached[source, word]
             reached[source, word] = 0
             item_cell, item_word, item_bits, items = _push(
-                reached, bits, source, word, seeds, last, forward, flood, item_cell, item_word, item_bits, items
+                reached, source, word, seeds, item_cell, item_word, item_bits, items
             )
     layer = 0
     if best >= 0:
@@ -667,9 +632,8 @@ def _sweep(
                     if new:
                         touched[other] = True
                         next_cell, next_word, next_bits, following = _push(
-                            reached, bits, other, into, new, last, forward, flood, next_cell, next_word, next_bits,
-                            following,
-                        )  # fmt: skip
+                            reached, other, into, new, next_cell, next_word, next_bits, following
+                        )
                         if other == target:
                             left = new
                             while left:
@@ -744,8 +708,8 @@ def _sweep(
                 if state == 0:
                     touched[other] = True
                     next_cell, next_word, next_bits, following = _push(
-                        reached, bits, other, after >> 6, _ONE << np.uint64(after & 63), last, forward, flood,
-                        next_cell, next_word, next_bits, following,
+                        reached, other, after >> 6, _ONE << np.uint64(after & 63), next_cell, next_word, next_bits,
+                        following,
                     )  # fmt: skip
                 else:
                     key = after * cells + other
@@ -841,7 +805,7 @@ def sweep(
     ticks, entry, labels = _sweep(
         np.ascontiguousarray(neighbours, dtype=np.int64), sight.start, sight.tick, sight.watcher, sight.gain,
         sight.bits, sight.watchers, period, float(sight.fall), int(source), int(target), chosen, bool(graded),
-        bool(forward), bool(exhaustive or flood), bool(flood), int(bound),
+        bool(forward), bool(exhaustive), int(bound),
         np.zeros(sight.cells, dtype=np.int64) if remaining is None else np.ascontiguousarray(remaining, dtype=np.int64),
         int(max_labels), reached, touched,
     )  # fmt: skip
