@@ -129,7 +129,7 @@ def sneak_check(
 
     ``watch`` (:func:`guardsim.detection.watch.level_watch`) adds the level's cameras as watchers and its
     light to every meter; the search then runs over the joint lap of the patrol and the cameras' swings
-    (at most ``max_lap`` ticks).
+    (at most ``max_lap`` ticks). ``max_labels`` bounds the labels with some meter up a search keeps.
 
     The answer is that of :func:`find_sneak`, :func:`undetected_search` (from every entry tick, on past the
     target), :func:`~guardsim.sneak.grade.unseen_reach` and :func:`entry_searches` over the dense lap, path
