@@ -171,9 +171,9 @@ def write_sneak_pictures(
         if grade is None:
             raise GuardsimError("the sneak result holds no graded path to draw")
         seen_at = {
-            tick for tick, cell in enumerate(path.cells) if result.seen[(path.start_tick + tick) % result.period, cell]
+            tick for tick, cell in enumerate(path.cells) if result.sight.seen_at(path.start_tick + tick, int(cell))
         }
-        guards = grade.meters.shape[1] - result.gains.cameras
+        guards = grade.meters.shape[1] - result.sight.cameras
         write_sneak_gif(
             gif,
             level,
@@ -190,7 +190,7 @@ def write_sneak_pictures(
                 (sight.camera.position, sight.headings, sight.camera.fov_degrees, sight.view_range)
                 for sight in (() if watch is None else watch.cameras)
             ],
-            camera_meters=grade.meters[:, guards:] if result.gains.cameras else None,
+            camera_meters=grade.meters[:, guards:] if result.sight.cameras else None,
         )
         written.append(str(gif))
     if html is not None:

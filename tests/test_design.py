@@ -218,7 +218,7 @@ def test_a_lap_over_the_sneak_limit_is_unchecked_and_its_exposure_counted_in_sli
         guardsim.Scene.from_level(level).grid,
     )
     whole = analyse(level, patrol=post, pairs=PAIR)
-    monkeypatch.setattr(analysis_module, "MAX_SNEAK_NODES", 10)
+    monkeypatch.setattr(analysis_module, "MAX_DENSE_NODES", 10)
     monkeypatch.setattr(analysis_module, "EXPOSURE_SLICE", 3)
     monkeypatch.setattr(sneak_module, "MAX_SNEAK_NODES", 10)
     sliced = analyse(level, patrol=post, pairs=PAIR)

@@ -211,9 +211,9 @@ def sneak(
     grade = result.grade
     assert grade is not None
     peaks = grade.peak_by_guard
-    guards = len(peaks) - result.gains.cameras
+    guards = len(peaks) - result.sight.cameras
     peak = ", ".join(f"{value:.2f}" for value in peaks[:guards])
-    if result.gains.cameras:
+    if result.sight.cameras:
         peak += "; by camera: " + ", ".join(f"{value:.2f}" for value in peaks[guards:])
     graded = (
         f"detected: {'yes, at tick ' + str(grade.detected_at) if grade.detected else 'no'}; "

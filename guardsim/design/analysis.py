@@ -19,12 +19,13 @@ import numpy as np
 
 from guardsim.design.reuse import reused_view_table
 from guardsim.detection import GuardDetection, PatrolGains, exposure_map, patrol_gains
+from guardsim.detection.exposure import MAX_DENSE_NODES
 from guardsim.errors import LimitError, PatrolError
 from guardsim.kernels.distances import FAR, distances_from
 from guardsim.level import Level
 from guardsim.patrol import Patrol, PatrolScore, PatrolSetup, plan_loop, read_patrol, score_patrol, seen_timeline
 from guardsim.scene import Scene
-from guardsim.sneak import MAX_SNEAK_NODES, SneakResult, sneak_check
+from guardsim.sneak import SneakResult, sneak_check
 from guardsim.starts import episode_start, team_starts
 from guardsim.vision.table import ViewTable, view_table
 
@@ -82,8 +83,8 @@ class Analysis(NamedTuple):
     idleness: PatrolScore
     detection: GuardDetection
     gains: PatrolGains | None
-    """The detection model applied to the lap; ``None`` when the lap times the cells is over the sneak
-    check's limit (:data:`guardsim.sneak.MAX_SNEAK_NODES`): its pairs are then ``unchecked``."""
+    """The detection model applied to the lap; ``None`` when the lap times the cells is over
+    :data:`guardsim.detection.exposure.MAX_DENSE_NODES` (the report then counts no distinct ways)."""
     exposure: np.ndarray
     """``float64 (cells,)``: fraction of the lap each cell is in some guard's view."""
     pairs: tuple[PairResult, ...]
@@ -234,7 +235,7 @@ def analyse(
     idleness = score_patrol(table, chosen, goal)
     detection = GuardDetection.of_level(level)
     grid = scene.grid
-    if chosen.period * grid.size <= MAX_SNEAK_NODES:
+    if chosen.period * grid.size <= MAX_DENSE_NODES:
         found = patrol_gains(
             grid, table, chosen.states, detection.model, view_range=detection.view_range, dt=detection.dt
         )

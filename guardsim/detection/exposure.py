@@ -21,7 +21,11 @@ from guardsim.kernels.meter import DETECTED, meter_after, meter_gain, visibility
 from guardsim.kernels.steps import cell_of_state
 from guardsim.vision.table import ViewTable
 
-__all__ = ["NEVER_DETECTED", "PatrolGains", "exposure_map", "patrol_gains", "time_to_detection"]
+__all__ = ["MAX_DENSE_NODES", "NEVER_DETECTED", "PatrolGains", "exposure_map", "patrol_gains", "time_to_detection"]
+
+#: Most (lap tick, cell) nodes an array over all of them is built for (the dense gains are 8 bytes a
+#: watcher each; :class:`guardsim.detection.sight.LapSight` holds a longer lap sparse).
+MAX_DENSE_NODES = 20_000_000
 
 #: :func:`time_to_detection` of a cell where a player standing still is never detected.
 NEVER_DETECTED = -1

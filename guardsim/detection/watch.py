@@ -19,13 +19,23 @@ from guardsim.detection.cameras import CameraSight, camera_gains, camera_sight, 
 from guardsim.detection.exposure import PatrolGains, patrol_gains
 from guardsim.detection.light import light_values, scene_sight
 from guardsim.detection.model import AwarenessMeter, DetectionModel, GuardDetection
+from guardsim.detection.sight import LapSight, lap_sight
 from guardsim.errors import ArgumentError, LimitError
 from guardsim.grid import CoverageGrid
 from guardsim.kernels.meter import DETECTED
 from guardsim.scene import Scene
 from guardsim.vision.table import ViewTable
 
-__all__ = ["MAX_GAIN_ENTRIES", "MAX_JOINT_LAP", "CameraAlarms", "LevelWatch", "joint_lap", "lap_gains", "level_watch"]
+__all__ = [
+    "MAX_GAIN_ENTRIES",
+    "MAX_JOINT_LAP",
+    "CameraAlarms",
+    "LevelWatch",
+    "joint_lap",
+    "lap_gains",
+    "lap_sight_of",
+    "level_watch",
+]
 
 #: Longest joint lap (patrol lap and camera swings), in ticks, before the exact checks refuse a level.
 MAX_JOINT_LAP = 10_000
@@ -129,6 +139,37 @@ def lap_gains(
 ) -> tuple[PatrolGains, np.ndarray]:
     """The gains of every watcher over the joint lap, and the patrol's states repeated over it
     (``int64 (guards, joint lap)``). ``watch`` ``None`` is a fully lit level without cameras."""
+    states, light, cameras = _joint(states, watch, max_lap)
+    gains = patrol_gains(
+        grid, table, states, detection.model, view_range=detection.view_range, dt=detection.dt,
+        light=light, cameras=cameras,
+    )  # fmt: skip
+    return gains, states
+
+
+def lap_sight_of(
+    grid: CoverageGrid,
+    table: ViewTable,
+    states: np.ndarray,
+    detection: GuardDetection,
+    watch: LevelWatch | None,
+    *,
+    max_lap: int = MAX_JOINT_LAP,
+) -> tuple[LapSight, np.ndarray]:
+    """:func:`lap_gains` kept sparse (:class:`~guardsim.detection.sight.LapSight`): the same gains, without
+    an array over every (watcher, lap tick, cell)."""
+    states, light, cameras = _joint(states, watch, max_lap)
+    sight = lap_sight(
+        grid, table, states, detection.model, view_range=detection.view_range, dt=detection.dt,
+        light=light, cameras=cameras,
+    )  # fmt: skip
+    return sight, states
+
+
+def _joint(
+    states: np.ndarray, watch: LevelWatch | None, max_lap: int
+) -> tuple[np.ndarray, np.ndarray | None, np.ndarray | None]:
+    """The states over the joint lap, the light (``None``: fully lit) and the cameras' gains over it."""
     states = np.asarray(states, dtype=np.int64)
     period = states.shape[1]
     lap = joint_lap(period, watch, max_lap=max_lap)
@@ -140,11 +181,7 @@ def lap_gains(
         if len(watch.gains) != len(watch.cameras):
             raise ArgumentError("lap_gains needs the cameras' gains: build the watch with level_watch(..., gains=True)")
         cameras = np.stack([gain[np.arange(lap) % gain.shape[0]] for gain in watch.gains])
-    gains = patrol_gains(
-        grid, table, states, detection.model, view_range=detection.view_range, dt=detection.dt,
-        light=light, cameras=cameras,
-    )  # fmt: skip
-    return gains, states
+    return states, light, cameras
 
 
 class CameraAlarms:

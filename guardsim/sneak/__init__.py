@@ -13,20 +13,25 @@ from typing import Any, NamedTuple
 
 import numpy as np
 
-from guardsim.detection import GuardDetection, PatrolGains, exposure_map, time_to_detection
+from guardsim.detection import GuardDetection, PatrolGains
+from guardsim.detection.exposure import MAX_DENSE_NODES
 from guardsim.detection.hearing import lap_hearing
-from guardsim.detection.watch import MAX_JOINT_LAP, LevelWatch, lap_gains
+from guardsim.detection.sight import LapSight
+from guardsim.detection.watch import MAX_JOINT_LAP, LevelWatch, lap_sight_of
 from guardsim.errors import ArgumentError, LimitError
 from guardsim.grid import CoverageGrid
+from guardsim.kernels.distances import distances_from
 from guardsim.level.model import IntruderSpec
 from guardsim.patrol.model import Patrol
 from guardsim.sneak.grade import PathGrade, grade_path, unseen_reach
-from guardsim.sneak.graded import entry_searches, undetected_search
+from guardsim.sneak.graded import MAX_LABELS, entry_searches, undetected_search
 from guardsim.sneak.search import SneakPath, closest_call, find_sneak, hiding_windows, tick_gaits
+from guardsim.sneak.sweep import entry_search, sweep
 from guardsim.vision.table import ViewTable
 
 __all__ = [
     "HIDING_SPOTS_LISTED",
+    "MAX_CLOSEST_CALL_NODES",
     "MAX_SNEAK_NODES",
     "HidingSpot",
     "PathGrade",
@@ -64,8 +69,8 @@ class SneakResult(NamedTuple):
     """The fastest path meeting the search's rule when one exists (unseen; undetected with
     ``undetected=True``), else the closest call; ``None`` when the target cannot be reached at all."""
     period: int
-    seen: np.ndarray
-    """``bool (period, cells)``: what the patrol sees at each tick of its lap."""
+    sight: LapSight
+    """What the patrol (and the level's cameras) see at each tick of the lap, and the gains then."""
     hiding: np.ndarray
     """``int64 (cells,)``: each cell's longest unseen window (see :func:`hiding_windows`)."""
     undetected: bool
@@ -81,7 +86,6 @@ class SneakResult(NamedTuple):
     hiding_spots: tuple[HidingSpot, ...]
     """The best places to wait reachable undetected from the entry, safest first (at most
     :data:`HIDING_SPOTS_LISTED`)."""
-    gains: PatrolGains
     lap: Patrol | None = None
     """The patrol repeated over the joint lap with the level's cameras (the patrol itself without them):
     what :attr:`period` and the path's lap ticks count in."""
@@ -89,13 +93,25 @@ class SneakResult(NamedTuple):
     """Whether the search's rule also required that no guard hear a step (the path then has gaits)."""
 
     @property
+    def seen(self) -> np.ndarray:
+        """``bool (period, cells)``: what the patrol sees at each tick of its lap (built on each call:
+        ``period x cells`` bytes; :meth:`LapSight.seen_at` reads one node)."""
+        return self.sight.dense_seen()
+
+    @property
+    def gains(self) -> PatrolGains:
+        """The gains as one dense array (built on each call: ``8 x watchers x period x cells`` bytes)."""
+        return self.sight.dense_gains()
+
+    @property
     def found(self) -> bool:
         """Whether a path meeting the search's rule exists."""
         return self.path is not None and self.path.found
 
 
-#: Most (cell, lap tick) nodes a sneak search may have (about 30 bytes of memory each).
-MAX_SNEAK_NODES = 20_000_000
+#: Most (cell, lap tick) nodes a sneak search may cover: about 3 bits of memory each (the lap's seen ticks,
+#: the nodes reached unseen backwards from the target and undetected forwards from the entry, as bitsets).
+MAX_SNEAK_NODES = 2_000_000_000
 
 
 def sneak_check(
@@ -111,6 +127,7 @@ def sneak_check(
     max_lap: int = MAX_JOINT_LAP,
     unheard: bool = False,
     intruder: IntruderSpec | None = None,
+    max_labels: int = MAX_LABELS,
 ) -> SneakResult:
     """Search for an unseen path (``undetected=True``: an undetected one) from cell ``source`` to cell
     ``target`` (flat indices) under ``patrol``, and grade it under ``detection``.
@@ -122,19 +139,23 @@ def sneak_check(
 
     ``watch`` (:func:`guardsim.detection.watch.level_watch`) adds the level's cameras as watchers and its
     light to every meter; the search then runs over the joint lap of the patrol and the cameras' swings
-    (at most ``max_lap`` ticks).
+    (at most ``max_lap`` ticks). ``max_labels`` bounds the labels with some meter up a search keeps.
+
+    The answer is that of :func:`find_sneak`, :func:`undetected_search` (from every entry tick, on past the
+    target), :func:`~guardsim.sneak.grade.unseen_reach` and :func:`entry_searches` over the dense lap, path
+    for path; it is found without an array over every (lap tick, cell) (:mod:`guardsim.sneak.sweep`).
 
     Raises
     ------
     LimitError
         When the period times the cells is over :data:`MAX_SNEAK_NODES`, the joint lap over ``max_lap``,
-        or the undetected search keeps too many labels.
+        or a search keeps more than ``max_labels`` labels with some meter up.
     """
     if patrol.period is None:
         raise ArgumentError("the sneak check needs a repeating patrol (its period is null)")
-    gains, states = lap_gains(grid, table, patrol.states, detection, watch, max_lap=max_lap)
+    sight, states = lap_sight_of(grid, table, patrol.states, detection, watch, max_lap=max_lap)
     lap = patrol if states.shape[1] == patrol.period else Patrol(states, states.shape[1], patrol.strategy)
-    period = states.shape[1]
+    period = sight.period
     intruder = IntruderSpec() if intruder is None else intruder
     neighbours = grid.neighbours
     heard = lap_hearing(neighbours, states, intruder, grid.cell_size) if unheard else None
@@ -149,63 +170,217 @@ def sneak_check(
             f"the sneak search would have {nodes} (cell, lap tick) nodes ({grid.size} cells x a {period}-tick lap"
             f"{layers}), over the limit of {MAX_SNEAK_NODES}"
         )
-    seen = gains.seen
-    reach = unseen_reach(neighbours, seen, target, heard=audible, sneak_ticks=ticks)
-    entries = reach[:, source].copy()
-    # One search from every entry tick, on past the target: its first arrival is the fastest undetected
-    # path, and every cell it reaches is a place the player can get to.
-    search = undetected_search(
-        neighbours, gains.gain, gains.fall, source, target, exhaustive=True, seen=seen, heard=audible, sneak_ticks=ticks
-    )
-    path = find_sneak(neighbours, seen, source, target, heard=audible, sneak_ticks=ticks)
-    if undetected and search.found >= 0:
-        start, cells = search.path()
-        # An unseen path as fast is the better answer: no guard's meter moves at all.
-        if path is None or path.ticks > cells.size - 1:
-            in_view = int(seen[(start + np.arange(cells.size)) % period, cells].sum())
-            path = SneakPath(True, start, cells, in_view, search.gaits())
-        entries = entries | _undetected_entries(neighbours, gains, seen, source, target, reach, audible, ticks)
-    elif path is None:
-        path = closest_call(neighbours, seen, source, target, heard=audible, sneak_ticks=ticks)
+    if audible is not None:
+        path, entries, reached = _with_gaits(sight, neighbours, source, target, undetected, audible, ticks, nodes)
+    else:
+        path, entries, reached = _without_gaits(sight, neighbours, source, target, undetected, nodes, max_labels)
     if unheard and path is not None and path.gaits is None:
         path = path._replace(gaits=tick_gaits(path.cells, np.zeros(path.cells.size, dtype=bool), 0))
     grade = (
         None if path is None else grade_path(grid, table, states, detection, path.start_tick, path.cells, watch=watch)
     )
-    reached = search.reached_cells()
-    exposure = exposure_map(gains)
-    lasts = time_to_detection(gains, grid.traversable)
+    lasts = sight.time_to_detection(grid.traversable)
+    exposure = sight.exposure()
     return SneakResult(
         path,
         period,
-        seen,
-        hiding_windows(seen, grid.traversable),
+        sight,
+        sight.longest_unseen(grid.traversable),
         undetected,
         grade,
         int(entries.sum()),
         exposure,
         lasts,
         _hiding_spots(reached, lasts, exposure),
-        gains,
         lap,
         unheard,
     )
 
 
+def _without_gaits(
+    sight: LapSight,
+    neighbours: np.ndarray,
+    source: int,
+    target: int,
+    undetected: bool,
+    nodes: int,
+    max_labels: int,
+) -> tuple[SneakPath | None, np.ndarray, np.ndarray]:
+    """The path, the entry ticks that get through and the cells reached from the entry, found without an
+    array over every (lap tick, cell) (:mod:`guardsim.sneak.sweep`)."""
+    period = sight.period
+    remaining = distances_from(neighbours, np.array([target])).astype(np.int64)
+    # Backwards from the target: the nodes from which it is reached unseen (the unseen slack).
+    reach = sweep(sight, neighbours, target, -1, graded=False, forward=False, flood=True, max_labels=max_labels)
+    entries = _ticks_of(reach.reached[source], period)
+    path: SneakPath | None = None
+    if entries.any():
+        ticks, entry, cells = _fastest(
+            sight, neighbours, source, target, remaining, graded=False, entries=entries, max_labels=max_labels
+        )
+        if cells is None:
+            cells = entry_search(
+                sight, neighbours, source, entry, target, graded=False, bound=ticks, remaining=remaining,
+                max_labels=max_labels,
+            ).cells  # fmt: skip
+        path = SneakPath(True, entry, cells, 0)
+    # Every entry tick at once, on past the target: every cell it reaches is a place the player can get to.
+    search = sweep(sight, neighbours, source, target, graded=True, flood=True, max_labels=max_labels)
+    if undetected and search.cells[target]:
+        # An unseen path as fast is the better answer (no guard's meter moves at all): only a faster
+        # undetected one replaces it.
+        ticks, entry, cells = _fastest(
+            sight, neighbours, source, target, remaining, graded=True, entries=np.ones(period, dtype=bool),
+            ceiling=-1 if path is None else path.ticks - 1, max_labels=max_labels,
+        )  # fmt: skip
+        if ticks >= 0:
+            if cells is None:
+                cells = entry_search(
+                    sight, neighbours, source, entry, target, graded=True, bound=ticks, remaining=remaining,
+                    max_labels=max_labels,
+                ).cells  # fmt: skip
+            phases = (entry + np.arange(cells.size)) % period
+            in_view = (sight.bits[cells, phases >> 6] >> (phases & 63).astype(np.uint64)) & np.uint64(1)
+            path = SneakPath(True, entry, cells, int(in_view.sum()))
+        entries = entries | _undetected_entries(sight, neighbours, source, target, reach.reached, entries, max_labels)
+    elif path is None:
+        if nodes > MAX_CLOSEST_CALL_NODES:
+            raise LimitError(
+                f"no unseen path, and the closest call's search would have {nodes} (cell, lap tick) nodes, over "
+                f"the limit of {MAX_CLOSEST_CALL_NODES}: ask for an undetected path instead"
+            )
+        path = closest_call(neighbours, sight.dense_seen(), source, target)
+    return path, entries, search.cells
+
+
+def _with_gaits(
+    sight: LapSight,
+    neighbours: np.ndarray,
+    source: int,
+    target: int,
+    undetected: bool,
+    heard: np.ndarray,
+    sneak_ticks: int,
+    nodes: int,
+) -> tuple[SneakPath | None, np.ndarray, np.ndarray]:
+    """:func:`_without_gaits` when a walking step can be heard: the searches choose a gait for every step
+    (:mod:`guardsim.kernels.gaits`), over the dense lap (the sweeps take no gaits)."""
+    if nodes > MAX_DENSE_NODES:
+        raise LimitError(
+            f"the unheard search would have {nodes} (cell, lap tick, ticks stood still) nodes, over the limit of "
+            f"{MAX_DENSE_NODES} for a search with gaits"
+        )
+    gains = sight.dense_gains()
+    seen = gains.seen
+    reach = unseen_reach(neighbours, seen, target, heard=heard, sneak_ticks=sneak_ticks)
+    entries = reach[:, source].copy()
+    # One search from every entry tick, on past the target: its first arrival is the fastest undetected
+    # path, and every cell it reaches is a place the player can get to.
+    search = undetected_search(
+        neighbours, gains.gain, gains.fall, source, target, exhaustive=True, seen=seen, heard=heard,
+        sneak_ticks=sneak_ticks,
+    )  # fmt: skip
+    path = find_sneak(neighbours, seen, source, target, heard=heard, sneak_ticks=sneak_ticks)
+    if undetected and search.found >= 0:
+        start, cells = search.path()
+        # An unseen path as fast is the better answer: no guard's meter moves at all.
+        if path is None or path.ticks > cells.size - 1:
+            in_view = int(seen[(start + np.arange(cells.size)) % sight.period, cells].sum())
+            path = SneakPath(True, start, cells, in_view, search.gaits())
+        entries = entries | _gaited_undetected_entries(neighbours, gains, seen, source, target, reach, heard, sneak_ticks)
+    elif path is None:
+        path = closest_call(neighbours, seen, source, target, heard=heard, sneak_ticks=sneak_ticks)
+    return path, entries, search.reached_cells()
+
+
+#: Most (cell, lap tick) nodes of the closest-call search (:func:`closest_call`), dense: about 30 bytes each.
+MAX_CLOSEST_CALL_NODES = MAX_DENSE_NODES
+
+
+def _fastest(
+    sight: LapSight,
+    neighbours: np.ndarray,
+    source: int,
+    target: int,
+    remaining: np.ndarray,
+    *,
+    graded: bool,
+    entries: np.ndarray,
+    ceiling: int = -1,
+    max_labels: int,
+) -> tuple[int, int, np.ndarray | None]:
+    """The fewest ticks to ``target`` from the lap ticks ``entries``, the least entry tick doing it and,
+    when found on the way, its path (ticks -1: none within ``ceiling``, when given).
+
+    No path is shorter than the steps to the target: the first entry ticks are tried alone within that
+    bound (the first that manages it is the answer). Then bounded sweeps of every entry tick at once, the
+    bound raised until the target is reached, then unbounded."""
+    shortest = int(remaining[source])
+    if ceiling < 0 or shortest <= ceiling:
+        for phase in np.flatnonzero(entries)[:ENTRIES_TRIED_ALONE]:
+            alone = entry_search(
+                sight, neighbours, source, int(phase), target, graded=graded, bound=shortest, remaining=remaining,
+                max_labels=max_labels,
+            )  # fmt: skip
+            if alone.found:
+                return shortest, int(phase), alone.cells
+    slack = 0
+    while True:
+        bound = shortest + slack
+        if ceiling >= 0:
+            bound = min(bound, ceiling)
+        elif slack > 4 * sight.period:
+            bound = -1
+        found = sweep(
+            sight, neighbours, source, target, graded=graded, bound=bound, remaining=remaining,
+            entries=entries, max_labels=max_labels,
+        )  # fmt: skip
+        if found.ticks >= 0 or bound < 0 or bound == ceiling:
+            return found.ticks, found.entry, None
+        slack = max(16, 4 * slack)
+
+
+#: Entry ticks :func:`_fastest` tries one at a time before searching all of them at once.
+ENTRIES_TRIED_ALONE = 32
+
+
+def _ticks_of(words: np.ndarray, period: int) -> np.ndarray:
+    """``bool (period,)``: the lap ticks set in one cell's row of bitset words."""
+    return np.unpackbits(words.view(np.uint8), bitorder="little")[:period].astype(bool)
+
+
 def _undetected_entries(
+    sight: LapSight,
+    neighbours: np.ndarray,
+    source: int,
+    target: int,
+    reach: np.ndarray,
+    unseen: np.ndarray,
+    max_labels: int,
+) -> np.ndarray:
+    """The lap ticks from which an undetected path exists and no unseen one, one search per entry tick.
+
+    A search may stop on any node an unseen path leads on from (``reach``): out of sight the meters only
+    drain, so what got there undetected gets through."""
+    found = np.zeros_like(unseen)
+    for phase in np.flatnonzero(~unseen):
+        found[phase] = entry_search(
+            sight, neighbours, source, int(phase), target, graded=True, goal=reach, max_labels=max_labels
+        ).found
+    return found
+
+
+def _gaited_undetected_entries(
     neighbours: np.ndarray,
     gains: PatrolGains,
     seen: np.ndarray,
     source: int,
     target: int,
     reach: np.ndarray,
-    heard: np.ndarray | None,
+    heard: np.ndarray,
     sneak_ticks: int,
 ) -> np.ndarray:
-    """The lap ticks from which an undetected path exists and no unseen one, one search per entry tick.
-
-    A search may stop on any node an unseen path leads on from (``reach``): out of sight the meters only
-    drain, so what got there undetected gets through."""
+    """:func:`_undetected_entries` with gaits, over the dense lap."""
     goal = reach.copy()
     goal[:, target] = True
     known = reach[:, source]

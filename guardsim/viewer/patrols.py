@@ -98,7 +98,7 @@ def safe_spots(grid: CoverageGrid, result: SneakResult, points: Sequence[tuple[f
             holds = lasts == NEVER_DETECTED
             label = "never detected" if holds else ("no floor" if lasts < 0 else f"detected after {lasts} ticks")
         else:
-            holds = not bool(result.seen[:, flat].any())
+            holds = int(result.sight.seen_counts()[flat]) == 0
             label = "never seen" if holds else f"seen {result.exposure[flat]:.0%} of the lap"
         spots.append(SafeSpot(cell, holds, label))
     return spots
@@ -140,11 +140,11 @@ def sneak_overlays(
     suspicious = (detection.model if detection is not None else DetectionModel()).suspicious
     intruder = None
     laps = 1
-    guards = result.gains.gain.shape[0] - result.gains.cameras
+    guards = result.sight.watchers - result.sight.cameras
     camera_meters = None
     if path is not None:
         cells = [int(cell) for cell in path.cells]
-        in_view = [bool(result.seen[(path.start_tick + tick) % result.period, cell]) for tick, cell in enumerate(cells)]
+        in_view = [result.sight.seen_at(path.start_tick + tick, cell) for tick, cell in enumerate(cells)]
         grade = result.grade
         intruder = Intruder(
             [grid.unflat(cell) for cell in cells],
@@ -159,7 +159,7 @@ def sneak_overlays(
             detected_at=None if grade is None else grade.detected_at,
         )
         laps = -(-(path.start_tick + len(cells)) // result.period)
-        if grade is not None and result.gains.cameras:
+        if grade is not None and result.sight.cameras:
             camera_meters = grade.meters[:, guards:]
     layers = watch_layers(watch, grid, camera_meters)
     return Overlays(
