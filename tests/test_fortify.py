@@ -252,6 +252,21 @@ def test_same_bytes_whatever_the_worker_count() -> None:
     assert json.dumps(one) == json.dumps(two)
 
 
+@pytest.mark.slow
+def test_same_bytes_on_a_real_dask_cluster() -> None:
+    """Candidates evaluated on a two-process local Dask cluster (on 127.0.0.1): the same document."""
+    distributed = pytest.importorskip("distributed")
+    level = parse_level(ROOM)
+    pairs = [((0.5, 0.5), (6.5, 3.5))]
+    one = fortify(level, None, pairs, candidates=10, workers=1).document
+    with distributed.LocalCluster(
+        n_workers=2, processes=True, threads_per_worker=1, dashboard_address=None, host="127.0.0.1"
+    ) as cluster:  # fmt: skip
+        assert cluster.scheduler_address.startswith("tcp://127.0.0.1:")
+        dask = fortify(level, None, pairs, candidates=10, scheduler=cluster.scheduler_address).document
+    assert json.dumps(one) == json.dumps(dask)
+
+
 def test_a_post_in_patrol_json_turns_in_place_and_stays_on_one_cell() -> None:
     from guardsim.errors import PatrolError
     from guardsim.patrol.format import parse_patrol
