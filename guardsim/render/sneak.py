@@ -11,6 +11,7 @@ import numpy as np
 from PIL import Image, ImageDraw
 
 from guardsim.detection.model import meter_state
+from guardsim.errors import ArgumentError
 from guardsim.files.output import atomic_path
 from guardsim.level import Level
 from guardsim.render.frames import FrameDrawer
@@ -208,12 +209,12 @@ def write_sneak_gif(
     if meters is not None:
         meters = np.asarray(meters, dtype=np.float64)
         if meters.ndim != 2 or meters.shape[0] < len(intruder) or meters.shape[1] != drawer.guards:
-            raise ValueError(
+            raise ArgumentError(
                 f"meters has shape {meters.shape}, expected ({len(intruder)}, {drawer.guards}): a row per tick of "
                 "the path, a column per guard"
             )
     if states and len(states) < len(intruder):
-        raise ValueError(f"{len(states)} intruder states for {len(intruder)} ticks of path")
+        raise ArgumentError(f"{len(states)} intruder states for {len(intruder)} ticks of path")
     ticks = frame_ticks(trace.steps, options)
     radius = max(2.0, layout.scale * 0.45)
     dark = None if light is None else _dark_pixels(drawer, light)

@@ -32,7 +32,7 @@ from typing import NamedTuple
 import numpy as np
 
 from guardsim.detection.sight import LapSight
-from guardsim.errors import LimitError
+from guardsim.errors import ArgumentError, LimitError
 from guardsim.kernels.compiler import jit
 from guardsim.kernels.frontier import node_hash
 from guardsim.kernels.meter import DETECTED, meter_after
@@ -785,7 +785,7 @@ def sweep(
         When more than ``max_labels`` labels with some meter not empty are kept.
     """
     if not forward and graded:
-        raise ValueError("the backward sweep is unseen only")
+        raise ArgumentError("the backward sweep is unseen only")
     period = sight.period
     reached = np.zeros(sight.bits.shape, dtype=np.uint64)
     touched = np.zeros(sight.cells, dtype=np.bool_)
