@@ -4,7 +4,6 @@ from __future__ import annotations
 
 import dataclasses
 import functools
-import math
 import os
 import re
 import sys
@@ -336,9 +335,7 @@ def ears_options(command: F) -> F:
 def build_scene(level: Level, los: str = "pymunk", fov: float | None = None, view_range: float | None = None) -> Scene:
     """The scene of a level with the vision options applied (:meth:`Scene.from_level`): with
     ``--los bresenham`` and no ``--view-range``, the range is unlimited."""
-    if view_range is None and los == "bresenham":
-        view_range = math.inf
-    return Scene.from_level(level, line_of_sight=los, fov_degrees=fov, view_range=view_range)
+    return Scene.from_level(level, **Scene.vision_options(los, fov, view_range))
 
 
 def cli_start(

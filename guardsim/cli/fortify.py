@@ -170,14 +170,13 @@ def fortify(
     from guardsim.detection.watch import MAX_JOINT_LAP
     from guardsim.kernels.ahead import compile_ahead
     from guardsim.pictures import write_fortify_picture
+    from guardsim.scene import Scene
 
     slacks = _check_budget(sources, targets, cameras, posts, max_rounds, candidates, keep_open, min_slacks)
     progress = StageLine(sys.stderr, "fortify").start()
     level = detection_overrides.apply(load(level_path, max_cells, max_vertices, max_file_bytes, map_import))
     compile_ahead("sneak")
-    options = {"line_of_sight": los, "fov_degrees": fov, "view_range": view_range}
-    if view_range is None and los == "bresenham":
-        options["view_range"] = float("inf")
+    options = Scene.vision_options(los, fov, view_range)
     patrol = None if patrol_path is None else _read_patrol(patrol_path, level, options)
     result = run_fortify(
         level, patrol, list(zip(sources, targets)), cameras=cameras, posts=posts,
