@@ -29,7 +29,7 @@ from guardsim.cli.common import (
 from guardsim.cli.map_options import MapImport, map_options
 from guardsim.cli.motion import alert_motion_options, check_motion, motion_of
 from guardsim.cli.patrol import output_folder
-from guardsim.cli.progress import ProgressLine
+from guardsim.cli.progress import ProgressLine, StageLine
 from guardsim.errors import GuardsimError
 from guardsim.files.output import write_text_atomic
 
@@ -179,6 +179,7 @@ def alert(
     from guardsim.patrol import read_patrol
 
     _check_options(motion, los, move_speed, turn_speed, tick_hz, episode, episodes, out_dir, workers, scheduler)
+    stage = StageLine(sys.stderr, "alert").start()
     level = detection_overrides.apply(load(level_path, max_cells, max_vertices, max_file_bytes, map_import))
     ears = {key: value for key, value in dataclasses.asdict(ears_overrides).items() if value is not None}
     level = ears_overrides.apply(level)
@@ -186,6 +187,7 @@ def alert(
     scene = build_scene(level, los, fov, view_range)
     patrol = read_patrol(patrol_path, scene.grid, level=level.name)
     walking = motion_of(scene, move_speed, turn_speed, tick_hz) if motion == "continuous" else None
+    stage("planning the episodes", 0, 0)
     batch = plan_alert_batch(
         scene, patrol, patrol_name=patrol_path, intruder=intruder, source=source, target=target, route_path=route_path,
         search=search, episodes=episodes, episode=episode, seed=seed, max_seconds=max_seconds,
@@ -201,8 +203,11 @@ def alert(
     # The options the first episode runs here for (its trace, GIF and page need the episode itself).
     here = ", ".join(name for name, path in (("--trace", trace_path), ("--gif", gif_path), ("--html", html_path))
                      if path is not None)  # fmt: skip
-    done = _run(batch, folder, options if folder is not None else None, here, workers, scheduler)
-    written = _write(batch, done, folder, patrol, patrol_path, intruder, seed, trace_path, gif_path, html_path)
+    stage("running the episodes", 0, 0)
+    done = _run(batch, folder, options if folder is not None else None, here, workers, scheduler, stage)
+    with StageLine(sys.stderr, "alert") as writing:
+        writing("writing", 0, 0)
+        written = _write(batch, done, folder, patrol, patrol_path, intruder, seed, trace_path, gif_path, html_path)
     if batch.episodes == 1:
         runs = done.runs(batch)
         for name, found in runs.items():
@@ -247,15 +252,17 @@ def _run(
     here: str,
     workers: int | None,
     scheduler: str | None,
+    stage: StageLine,
 ) -> AlertBatchRun:
-    """Run the batch with a progress line; say how to resume and exit when episodes were lost or the
-    run was interrupted."""
+    """Run the batch with a progress line (``stage`` until the workers start, then a count of episodes);
+    say how to resume and exit when episodes were lost or the run was interrupted."""
     from guardsim.alert.batch_run import run_alert_batch
     from guardsim.cli.bench import NOT_RUN
 
     progress: list[ProgressLine] = []
 
     def starting(to_run: int, total: int, done_before: int, where: str) -> None:
+        stage.close()
         chatty = total > 1
         if chatty:
             already = f" ({done_before} already done)" if done_before else ""
@@ -270,6 +277,7 @@ def _run(
 
     done = run_alert_batch(batch, folder=folder, options=options, here=bool(here), workers=workers,
                            scheduler=scheduler, starting=starting, advance=advance)  # fmt: skip
+    stage.close()
     for line in progress:
         line.close()
     total = len(batch.tasks)
