@@ -30,6 +30,7 @@ __all__ = [
     "EarsOverrides",
     "build_scene",
     "cell_text",
+    "check_outside",
     "cli_start",
     "detection_options",
     "ears_options",
@@ -161,6 +162,18 @@ def picture_path(value: str | None, folder: str | None, default_name: str, optio
     if folder is None:
         raise GuardsimError(f"{option} FILE: give a file name (a bare {option} writes into the --out folder)")
     return Path(folder) / default_name
+
+
+def check_outside(folder: str | None, *paths: str | Path | None) -> None:
+    """Check before the work that each output named outside the ``--out`` folder (anywhere, without one)
+    can be written, so a failed command leaves nothing behind, not even an empty folder; one inside it
+    is written once the folder is made."""
+    from guardsim.files.output import check_writable
+
+    inside = None if folder is None else Path(folder).resolve()
+    for named in paths:
+        if named is not None and (inside is None or not Path(named).resolve().is_relative_to(inside)):
+            check_writable(named)
 
 
 def cell_text(grid: CoverageGrid, cell: tuple[int, int]) -> str:

@@ -12,6 +12,7 @@ from guardsim.cli.common import (
     DetectionOverrides,
     EarsOverrides,
     build_scene,
+    check_outside,
     detection_options,
     ears_options,
     limit_options,
@@ -172,16 +173,11 @@ def _check_pictures(
 ) -> tuple[Path | None, Path | None]:
     """The GIF and page to write; a picture named outside the --out folder is checked before the search
     (the folder is made later)."""
-    from guardsim.files.output import check_writable
-
     gif = picture_path(gif_path, out_dir, "sneak.gif", "--gif")
     html = picture_path(html_path, out_dir, "sneak.html", "--html")
     if safe and html is None:
         raise GuardsimError("--safe outlines spots on the page: give --html")
-    inside = None if out_dir is None else Path(out_dir).resolve()
-    for named in (gif, html):
-        if named is not None and (inside is None or not named.resolve().is_relative_to(inside)):
-            check_writable(named)
+    check_outside(out_dir, gif, html)
     return gif, html
 
 
