@@ -67,6 +67,7 @@ _SOURCES = {
         ("AlertEpisode", "AlertRules", "GameGuards", "alert_episode", "check_alert_trace", "run_alerts"),
         "guardsim.alert",
     ),
+    **dict.fromkeys(("plan_alert_batch", "run_alert_batch"), "guardsim.alert.batch_run"),
     **dict.fromkeys(("ContinuousSimulation", "GuardMotion"), "guardsim.motion"),
     **dict.fromkeys(("analyse", "report", "diff"), "guardsim.design"),
     "fortify": "guardsim.design.fortify",
@@ -96,6 +97,8 @@ if TYPE_CHECKING:
     from guardsim.alert import alert_episode as alert_episode
     from guardsim.alert import check_alert_trace as check_alert_trace
     from guardsim.alert import run_alerts as run_alerts
+    from guardsim.alert.batch_run import plan_alert_batch as plan_alert_batch
+    from guardsim.alert.batch_run import run_alert_batch as run_alert_batch
     from guardsim.design import analyse as analyse
     from guardsim.design import diff as diff
     from guardsim.design import report as report

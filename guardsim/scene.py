@@ -10,7 +10,7 @@ import dataclasses
 import math
 from dataclasses import dataclass
 from functools import cached_property
-from typing import TYPE_CHECKING
+from typing import TYPE_CHECKING, Any
 
 import numpy as np
 import pymunk
@@ -105,6 +105,23 @@ class Scene:
         grid = build_grid(level, world)
         cone = VisionCone.from_guard(level.guard, level.cell_size, grid_shape=grid.shape)
         return cls(level, world, grid, cone, LineOfSight(line_of_sight))
+
+    @staticmethod
+    def vision_options(
+        line_of_sight: LineOfSight | str = LineOfSight.PYMUNK,
+        fov_degrees: float | None = None,
+        view_range: float | None = None,
+    ) -> dict[str, Any]:
+        """The commands' vision options as :meth:`from_level` keywords: with the Bresenham rule and no
+        ``view_range``, the range is unlimited (the grid solvers' rule); :meth:`from_level` itself keeps
+        the level guard's range unless told otherwise.
+
+        >>> Scene.vision_options("bresenham")
+        {'line_of_sight': 'bresenham', 'fov_degrees': None, 'view_range': inf}
+        """
+        if view_range is None and LineOfSight(line_of_sight) is LineOfSight.BRESENHAM:
+            view_range = math.inf
+        return {"line_of_sight": line_of_sight, "fov_degrees": fov_degrees, "view_range": view_range}
 
     @property
     def line_of_sight(self) -> LineOfSight:

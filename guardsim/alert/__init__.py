@@ -6,6 +6,9 @@
 - :mod:`~guardsim.alert.movement`: where the guards are and what they see: grid or continuous motion.
 - :mod:`~guardsim.alert.episode`: the tick loop.
 - :mod:`~guardsim.alert.run`: one episode from given points or many from seeded starts, traces, summaries.
+- :mod:`~guardsim.alert.batch`: one episode of a batch as a task a worker runs, and its trace file.
+- :mod:`~guardsim.alert.batch_run`: a batch as ``guardsim alert`` runs it: options checked, starts drawn,
+  episodes on workers or Dask, traces written into a folder and resumed, ``alert.json``.
 - :mod:`~guardsim.alert.player`: the game's own player as the intruder, a frame at a time.
 - :mod:`~guardsim.alert.invariants`: what a designer expects of game guards, checked on traces.
 

@@ -17,6 +17,7 @@ from collections.abc import Sequence
 from pathlib import Path
 from typing import NamedTuple
 
+from guardsim.alert.episode import AlertEpisode
 from guardsim.alert.model import AlertOutcome, AlertRules
 from guardsim.alert.run import alert_episode, alert_trace_data
 from guardsim.detection import GuardDetection
@@ -30,8 +31,10 @@ __all__ = [
     "AlertTask",
     "TaskResult",
     "done_outcome",
+    "episode_trace",
     "remember_setup",
     "run_alert_task",
+    "run_task_here",
     "tasks_of",
     "trace_name",
     "trace_text",
@@ -137,33 +140,28 @@ def run_alert_task(task: AlertTask) -> TaskResult:
 
 
 def _run(task: AlertTask, scene: Scene, table: ViewTable) -> TaskResult:
+    episode = run_task_here(scene, table, task)
+    return TaskResult(episode.result(), episode_trace(episode, scene, task) if task.trace else None)
+
+
+def run_task_here(scene: Scene, table: ViewTable, task: AlertTask) -> AlertEpisode:
+    """Run ``task``'s episode in this process on ``scene`` and ``table``, keeping the episode itself (a
+    trace, GIF or page needs it)."""
     episode = alert_episode(
-        scene,
-        task.patrol,
-        intruder=task.intruder,
-        source=task.source,
-        target=task.target,
-        route=task.route,
-        search=task.search,
-        phase=task.phase,
-        max_seconds=task.max_seconds,
-        table=table,
-        rules=task.rules,
-        detection=task.detection,
-        spotted=task.spotted,
-        motion=task.motion or "grid",
-        gaits=task.gaits,
+        scene, task.patrol, intruder=task.intruder, source=task.source, target=task.target, route=task.route,
+        search=task.search, phase=task.phase, max_seconds=task.max_seconds, table=table, rules=task.rules,
+        detection=task.detection, spotted=task.spotted, motion=task.motion or "grid", gaits=task.gaits,
         distractions=task.distractions,
-    )
+    )  # fmt: skip
     episode.run()
-    text = None
-    if task.trace:
-        text = trace_text(
-            alert_trace_data(
-                episode, scene, search=task.search, intruder=task.intruder, index=task.episode, seed=task.seed
-            )
-        )
-    return TaskResult(episode.result(), text)
+    return episode
+
+
+def episode_trace(episode: AlertEpisode, scene: Scene, task: AlertTask) -> str:
+    """The trace file text of ``task``'s episode, as the workers write it."""
+    return trace_text(
+        alert_trace_data(episode, scene, search=task.search, intruder=task.intruder, index=task.episode, seed=task.seed)
+    )
 
 
 def trace_name(search: str, episode: int) -> str:

@@ -24,7 +24,7 @@ intruder walks unless its route gives a step the ``sneak`` gait; the others walk
 from __future__ import annotations
 
 from collections.abc import Sequence
-from typing import Any, NamedTuple, TypeVar
+from typing import TYPE_CHECKING, Any, NamedTuple, TypeVar
 
 import numpy as np
 
@@ -32,11 +32,16 @@ from guardsim.errors import ArgumentError
 from guardsim.kernels.distances import FAR, distances_from
 from guardsim.kernels.steps import greedy_step
 
+if TYPE_CHECKING:
+    from guardsim.grid import CoverageGrid
+
 __all__ = [
     "Distraction",
     "Intruder",
+    "RouteCells",
     "RouteFile",
     "make_intruder",
+    "read_route_cells",
     "read_route_file",
     "read_route_points",
     "route_of_path",
@@ -366,3 +371,34 @@ def _check_sneaking_steps(path: str, points: Sequence[Any], gaits: Sequence[str]
 def read_route_points(path: str) -> list[tuple[float, float]]:
     """The waypoints of a route intruder's file (see :func:`read_route_file`)."""
     return read_route_file(path).points
+
+
+class RouteCells(NamedTuple):
+    """A route intruder's file on a grid: its flat cells, gaits and distractions."""
+
+    cells: list[int]
+    """Flat cells, each a 4-neighbour of the one before (or the same cell)."""
+    gaits: list[str]
+    """The gait into each cell (``walk`` or ``sneak``)."""
+    distractions: list[tuple[int, int, float]]
+    """Noises away from the intruder: ``(tick, cell, radius)``."""
+
+
+def read_route_cells(path: str, grid: CoverageGrid, *, sneak_ticks: int | None = None, dt: float) -> RouteCells:
+    """:func:`read_route_file` on ``grid`` (a :class:`~guardsim.grid.CoverageGrid`): each point the floor
+    cell it is in, each throw at its tick of ``dt`` seconds; every fault (a point off the floor, a move
+    that is not a 4-neighbour step) one :class:`~guardsim.errors.GuardsimError` line naming the file."""
+    import itertools
+
+    from guardsim.errors import GuardsimError
+
+    route_file = read_route_file(path, sneak_ticks=sneak_ticks)
+    route = [grid.floor_cell(point, f"{path}: point") for point in route_file.points]
+    distractions = [
+        (round(throw.seconds / dt), grid.floor_cell(throw.point, f"{path}: throw"), throw.noise)
+        for throw in route_file.distractions
+    ]
+    for index, (before, after) in enumerate(itertools.pairwise(route)):
+        if after != before and after not in grid.neighbours[before].tolist():
+            raise GuardsimError(f"{path}: point {index + 1} is not a 4-neighbour of point {index}")
+    return RouteCells(route, route_file.gaits, distractions)

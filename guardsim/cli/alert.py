@@ -1,20 +1,18 @@
 """``guardsim alert``: guards that notice, chase, search and return, against an intruder.
 
-The command checks its options, builds the episodes and prints; :mod:`guardsim.cli.alert_batch` runs them.
+The command checks its options, plans and runs the batch through :mod:`guardsim.alert.batch_run` and prints.
 """
 
 from __future__ import annotations
 
 import dataclasses
-import itertools
-import json
-from collections.abc import Callable
-from typing import TYPE_CHECKING, Any, TypeVar
+import io
+import sys
+from pathlib import Path
+from typing import TYPE_CHECKING
 
 import click
 
-from guardsim.alert.intruders import read_route_file
-from guardsim.cli.alert_batch import episode_trace, run_first, run_options, run_pending
 from guardsim.cli.common import (
     DetectionOverrides,
     EarsOverrides,
@@ -29,34 +27,20 @@ from guardsim.cli.common import (
     vision_options,
 )
 from guardsim.cli.map_options import MapImport, map_options
-from guardsim.cli.motion import _SPEED_HELP, _speed_options, check_motion, motion_of
+from guardsim.cli.motion import alert_motion_options, check_motion, motion_of
 from guardsim.cli.patrol import output_folder
+from guardsim.cli.progress import ProgressLine, StageLine
 from guardsim.errors import GuardsimError
 from guardsim.files.output import write_text_atomic
-from guardsim.motion.parameters import MOTIONS
 
 if TYPE_CHECKING:
-    from guardsim.alert import AlertOutcome, AlertSummary
+    from guardsim.alert import AlertSummary
+    from guardsim.alert.batch_run import AlertBatch, AlertBatchRun
+    from guardsim.patrol import Patrol
 
 __all__ = ["alert"]
 
-F = TypeVar("F", bound=Callable[..., Any])
-
 _SEARCHES = ("ripple", "diffuse", "team", "last-known", "all")
-
-
-def _motion_options(command: F) -> F:
-    """--motion and the guard's speeds (``play``'s and ``bench``'s; alert has its own --max-seconds)."""
-    # The speeds' options and help are play's (guardsim.cli.motion), so the three commands agree.
-    command = _speed_options(command, _SPEED_HELP)
-    return click.option(
-        "--motion",
-        type=click.Choice(MOTIONS),
-        default="grid",
-        show_default=True,
-        help="grid: a cell per tick, turning free; continuous: each guard a physics body walking its decisions "
-        "at game speeds and looking from its pose every physics tick (docs/alert.md).",
-    )(command)
 
 
 @click.command()
@@ -136,7 +120,7 @@ def _motion_options(command: F) -> F:
     help="Run --episodes on a dask.distributed scheduler, e.g. tcp://host:8786; 'local' starts a local "
     "cluster of --workers processes.",
 )
-@_motion_options
+@alert_motion_options
 @detection_options
 @vision_options
 @map_options
@@ -190,14 +174,66 @@ def alert(
     Exit status: 0 every episode ran; 1 some did not run (a worker was lost; with --out, run the same
     command again to resume); 2 bad input or an output that cannot be written.
     """
-    from guardsim.alert import SEARCHES, AlertRules, summarise
-    from guardsim.alert.batch import done_outcome, remember_setup, tasks_of, trace_name
-    from guardsim.alert.run import plan_starts
-    from guardsim.detection import GuardDetection
-    from guardsim.experiment.results import RUN_NAME, check_run_options
+    from guardsim.alert.batch_run import alert_run_options, plan_alert_batch
+    from guardsim.kernels.ahead import compile_ahead
     from guardsim.patrol import read_patrol
-    from guardsim.vision.table import view_table
 
+    _check_options(motion, los, move_speed, turn_speed, tick_hz, episode, episodes, out_dir, workers, scheduler)
+    stage = StageLine(sys.stderr, "alert").start()
+    level = detection_overrides.apply(load(level_path, max_cells, max_vertices, max_file_bytes, map_import))
+    ears = {key: value for key, value in dataclasses.asdict(ears_overrides).items() if value is not None}
+    level = ears_overrides.apply(level)
+    compile_ahead("alert")
+    scene = build_scene(level, los, fov, view_range)
+    patrol = read_patrol(patrol_path, scene.grid, level=level.name)
+    walking = motion_of(scene, move_speed, turn_speed, tick_hz) if motion == "continuous" else None
+    stage("planning the episodes", 0, 0)
+    batch = plan_alert_batch(
+        scene, patrol, patrol_name=patrol_path, intruder=intruder, source=source, target=target, route_path=route_path,
+        search=search, episodes=episodes, episode=episode, seed=seed, max_seconds=max_seconds,
+        intruder_speed=intruder_speed, run_speed=run_speed, spotted=spotted, motion=walking, trace=out_dir is not None,
+        say=click.echo,
+    )  # fmt: skip
+    folder = output_folder(out_dir) if out_dir is not None else None
+    # Only a continuous run records its motion, so that grid runs made before it resume as they were.
+    moving = {} if walking is None else {"motion": dataclasses.asdict(walking)}
+    options = alert_run_options(batch, level_path, patrol_path, route_path, source, target, intruder=intruder,
+                                episodes=batch.episodes, seed=seed, max_seconds=max_seconds, spotted=spotted,
+                                **moving, **ears)  # fmt: skip
+    # The options the first episode runs here for (its trace, GIF and page need the episode itself).
+    here = ", ".join(name for name, path in (("--trace", trace_path), ("--gif", gif_path), ("--html", html_path))
+                     if path is not None)  # fmt: skip
+    stage("running the episodes", 0, 0)
+    done = _run(batch, folder, options if folder is not None else None, here, workers, scheduler, stage)
+    with StageLine(sys.stderr, "alert") as writing:
+        writing("writing", 0, 0)
+        written = _write(batch, done, folder, patrol, patrol_path, intruder, seed, trace_path, gif_path, html_path)
+    if batch.episodes == 1:
+        runs = done.runs(batch)
+        for name, found in runs.items():
+            prefix = f"{name}: " if len(runs) > 1 else ""
+            if episode is not None:
+                prefix += f"episode {episode} of seed {seed}: "
+            click.echo(f"{level.name}: {prefix}{found[0].summary()}")
+    else:
+        click.echo(f"{level.name}: {batch.episodes} episodes, {intruder} intruder, seed {seed}")
+        click.echo(_table(done.summaries(batch)))
+    for name in written:
+        click.echo(f"wrote {name}")
+
+
+def _check_options(
+    motion: str,
+    los: str,
+    move_speed: float | None,
+    turn_speed: float | None,
+    tick_hz: float | None,
+    episode: int | None,
+    episodes: int | None,
+    out_dir: str | None,
+    workers: int | None,
+    scheduler: str | None,
+) -> None:
     # Teams are fine here (each guard walks its own body): one guard is passed so that only the speeds are checked.
     check_motion(motion, 1, los, move_speed=move_speed, turn_speed=turn_speed, tick_hz=tick_hz)
     if episode is not None and (episodes is not None or out_dir is not None):
@@ -207,144 +243,92 @@ def alert(
         )
     if workers is not None and scheduler is not None and scheduler != "local":
         raise GuardsimError("--workers and --scheduler exclude each other: the scheduler's workers run the episodes")
-    level = detection_overrides.apply(load(level_path, max_cells, max_vertices, max_file_bytes, map_import))
-    ears = {key: value for key, value in dataclasses.asdict(ears_overrides).items() if value is not None}
-    level = ears_overrides.apply(level)
-    from guardsim.kernels.ahead import compile_ahead
 
-    compile_ahead("alert")
-    scene = build_scene(level, los, fov, view_range)
-    grid = scene.grid
-    patrol = read_patrol(patrol_path, grid, level=level.name)
-    if patrol.motion != "grid" or patrol.period is None:
-        raise GuardsimError(f"{patrol_path}: alert needs a repeating grid-motion patrol (from guardsim patrol)")
-    searches = list(SEARCHES) if search == "all" else [search]
-    rules = AlertRules.of_level(level, intruder_speed=intruder_speed, run_speed=run_speed)
-    detection = GuardDetection(GuardDetection.of_level(level).model, scene.cone.view_range, rules.dt)
-    walking = motion_of(scene, move_speed, turn_speed, tick_hz) if motion == "continuous" else None
-    start = grid.floor_cell(source, "--from") if source is not None else None
-    goal = grid.floor_cell(target, "--to") if target is not None else None
-    route = gaits = None
-    distractions: list[tuple[int, int, float]] = []
-    if route_path is not None:
-        if intruder != "route":
-            raise GuardsimError("--route is the path of a route intruder: give --intruder route")
-        route_file = read_route_file(route_path, sneak_ticks=level.intruder.sneak_ticks)
-        points, gaits = route_file.points, route_file.gaits
-        route = [grid.floor_cell(point, f"{route_path}: point") for point in points]
-        for throw in route_file.distractions:
-            cell = grid.floor_cell(throw.point, f"{route_path}: throw")
-            distractions.append((round(throw.seconds / rules.dt), cell, throw.noise))
-        for index, (before, after) in enumerate(itertools.pairwise(route)):
-            if after != before and after not in grid.neighbours[before].tolist():
-                raise GuardsimError(f"{route_path}: point {index + 1} is not a 4-neighbour of point {index}")
-        start, goal = route[0], route[-1]
-    # Without --episodes and --episode, one episode at the given entry and lap tick 0; a batch, even of one
-    # episode (and a rerun episode of one), draws what it is not given from the seed.
-    alone = episodes is None and episode is None
-    episodes = 1 if episodes is None else episodes
-    if alone and start is None and level.player_starts:
-        # One episode enters where the level says the player starts (many draw their entries from --seed).
-        source = level.player_starts[0]
-        start = grid.floor_cell(source, "the level's player start")
-        click.echo(f"from the level's player start ({source[0]:g}, {source[1]:g})")
-    if alone and start is None:
-        raise GuardsimError("one episode needs --from X,Y (and --to X,Y unless the intruder is still)")
-    if start is not None and goal is not None and grid.component_labels[start] != grid.component_labels[goal]:
-        raise GuardsimError("--to cannot be reached from --from")
-    if intruder != "still" and start is not None and goal is None and route is None:
-        raise GuardsimError(f"a {intruder} intruder needs --to X,Y (or --route)")
-    table = view_table(grid, scene.vision())
-    if alone and intruder == "still" and goal is None:
-        goal = -1
-    # One episode starts at lap tick 0; many draw their phases (and any entry or goal not given) from --seed.
-    # Episode K's start is the K-th drawn from the seed's one generator, however many follow it.
-    first_index = 0 if episode is None else episode
-    starts = plan_starts(
-        scene, patrol, episodes=first_index + episodes, seed=seed, source=start, target=goal, spotted=spotted,
-        phase=0 if alone else None, table=table,
-    )[first_index:]  # fmt: skip
-    tasks = tasks_of(
-        scene.level, scene.rule.value, patrol, starts, searches=searches, intruder=intruder, route=route,
-        max_seconds=max_seconds, rules=rules, detection=detection, spotted=spotted, trace=out_dir is not None,
-        motion=walking, gaits=gaits, distractions=distractions, seed=None if alone else seed, first=first_index,
-    )  # fmt: skip
-    folder = output_folder(out_dir) if out_dir is not None else None
-    outcomes: dict[tuple[str, int], AlertOutcome] = {}
-    if folder is not None:
-        resuming = (folder / RUN_NAME).exists()
-        # Only a continuous run records its motion, so that grid runs made before it resume as they were.
-        moving = {} if walking is None else {"motion": dataclasses.asdict(walking)}
-        options = run_options(level_path, patrol_path, route_path, source, target, searches, scene, rules, detection,
-                              intruder=intruder, episodes=episodes, seed=seed, max_seconds=max_seconds, spotted=spotted,
-                              **moving, **ears)  # fmt: skip
-        check_run_options(folder, options)
-        if resuming:
-            for task in tasks:
-                kept = done_outcome(folder, task)
-                if kept is not None:
-                    outcomes[task.key] = kept
-    written: list[str] = []
-    first = None
-    # The options the first episode runs here for (its trace, GIF and page need the episode itself): it
-    # runs even when a resumed folder holds its trace, and is counted as run, not as already done.
-    here = ", ".join(name for name, path in (("--trace", trace_path), ("--gif", gif_path), ("--html", html_path))
-                     if path is not None)  # fmt: skip
-    if here:
-        first = run_first(scene, table, tasks[0])
-        if folder is not None:
-            write_text_atomic(folder / trace_name(*tasks[0].key), episode_trace(first, scene, tasks[0]))
-        outcomes.pop(tasks[0].key, None)
-    done_before = len(outcomes)
-    if first is not None:
-        outcomes[tasks[0].key] = first.result()
-    pending = [task for task in tasks if task.key not in outcomes]
-    if pending:
-        remember_setup(scene, table)
-        run_pending(pending, outcomes, folder, done_before=done_before, first_here=here, workers=workers,
-                    scheduler=scheduler)  # fmt: skip
-    elif folder is not None and len(tasks) > 1:
+
+def _run(
+    batch: AlertBatch,
+    folder: Path | None,
+    options: dict[str, object] | None,
+    here: str,
+    workers: int | None,
+    scheduler: str | None,
+    stage: StageLine,
+) -> AlertBatchRun:
+    """Run the batch with a progress line (``stage`` until the workers start, then a count of episodes);
+    say how to resume and exit when episodes were lost or the run was interrupted."""
+    from guardsim.alert.batch_run import run_alert_batch
+    from guardsim.cli.bench import NOT_RUN
+
+    progress: list[ProgressLine] = []
+
+    def starting(to_run: int, total: int, done_before: int, where: str) -> None:
+        stage.close()
+        chatty = total > 1
+        if chatty:
+            already = f" ({done_before} already done)" if done_before else ""
+            where = f" on {where}"
+            if here:
+                where = f": the first here for {here}, {to_run}{where}"
+            click.echo(f"running {(1 if here else 0) + to_run} of {total} episodes{where}{already}", err=True)
+        progress.append(ProgressLine(to_run, sys.stderr if chatty else io.StringIO()))
+
+    def advance() -> None:
+        progress[0].advance(None)  # type: ignore[arg-type]  # it only counts
+
+    done = run_alert_batch(batch, folder=folder, options=options, here=bool(here), workers=workers,
+                           scheduler=scheduler, starting=starting, advance=advance)  # fmt: skip
+    stage.close()
+    for line in progress:
+        line.close()
+    total = len(batch.tasks)
+    resume = f"; traces in {folder}; run the same command again to resume" if folder is not None else ""
+    if done.interrupted:
+        click.echo(f"guardsim: interrupted; {len(done.outcomes)} of {total} episodes done{resume}", err=True)
+        sys.exit(130)
+    if done.lost:
+        click.echo(f"guardsim: error: {done.lost} episodes did not run ({done.failure}){resume}", err=True)
+        sys.exit(NOT_RUN)
+    if not progress and folder is not None and total > 1:
         ran = f", the first run here for {here}" if here else ""
-        already = "all" if done_before == len(tasks) else f"{done_before} of"
-        click.echo(f"{folder}: {already} {len(tasks)} episodes already done{ran}", err=True)
-    runs = {name: [outcomes[(name, first_index + index)] for index in range(episodes)] for name in searches}
-    rows = [summarise(name, found) for name, found in runs.items()]
+        already = "all" if done.done_before == total else f"{done.done_before} of"
+        click.echo(f"{folder}: {already} {total} episodes already done{ran}", err=True)
+    return done
+
+
+def _write(
+    batch: AlertBatch,
+    done: AlertBatchRun,
+    folder: Path | None,
+    patrol: Patrol,
+    patrol_path: str,
+    intruder: str,
+    seed: int,
+    trace_path: str | None,
+    gif_path: str | None,
+    html_path: str | None,
+) -> list[str]:
+    """Write the first episode's trace, the folder's alert.json, the GIF and the page; the files written."""
+    from guardsim.alert.batch import episode_trace
+    from guardsim.alert.batch_run import write_alert_json
+
+    written: list[str] = []
+    first, suspicious = done.first, batch.detection.model.suspicious
     if first is not None and trace_path is not None:
-        write_text_atomic(trace_path, episode_trace(first, scene, tasks[0]))
+        write_text_atomic(trace_path, episode_trace(first, batch.scene, batch.tasks[0]))
         written.append(trace_path)
     if folder is not None:
-        summary = {
-            "level": level.name,
-            "patrol": patrol_path,
-            "intruder": intruder,
-            "episodes": episodes,
-            "seed": seed,
-            "summary": [row._asdict() for row in rows],
-            "outcomes": {name: [o._asdict() for o in found] for name, found in runs.items()},
-        }
-        write_text_atomic(folder / "alert.json", json.dumps(summary, indent=1) + "\n")
-        written.append(str(folder / "alert.json"))
+        written.append(str(write_alert_json(folder, batch, done, patrol=patrol_path, intruder=intruder, seed=seed)))
     if first is not None and gif_path is not None:
         from guardsim.render.alert import write_alert_gif
 
-        write_alert_gif(gif_path, scene, table, first, suspicious=detection.model.suspicious)
+        write_alert_gif(gif_path, batch.scene, batch.table, first, suspicious=suspicious)
         written.append(gif_path)
     if first is not None and html_path is not None:
         from guardsim.viewer.alerts import write_alert_page
 
-        write_alert_page(html_path, scene, table, first, patrol=patrol, suspicious=detection.model.suspicious)
+        write_alert_page(html_path, batch.scene, batch.table, first, patrol=patrol, suspicious=suspicious)
         written.append(html_path)
-    if episodes == 1:
-        for name, found in runs.items():
-            prefix = f"{name}: " if len(runs) > 1 else ""
-            if episode is not None:
-                prefix += f"episode {episode} of seed {seed}: "
-            click.echo(f"{level.name}: {prefix}{found[0].summary()}")
-    else:
-        click.echo(f"{level.name}: {episodes} episodes, {intruder} intruder, seed {seed}")
-        click.echo(_table(rows))
-    for name in written:
-        click.echo(f"wrote {name}")
+    return written
 
 
 def _table(rows: list[AlertSummary]) -> str:

@@ -2,8 +2,8 @@
 
 from __future__ import annotations
 
-import dataclasses
 import sys
+from typing import TYPE_CHECKING
 
 import click
 
@@ -21,6 +21,9 @@ from guardsim.cli.map_options import MapImport, map_options
 from guardsim.cli.progress import StageLine
 from guardsim.errors import GuardsimError
 from guardsim.planners import PLANNERS
+
+if TYPE_CHECKING:
+    from guardsim.validate.checks import CheckRules
 
 __all__ = ["check"]
 
@@ -175,46 +178,13 @@ def check(
         raise GuardsimError(
             f"each --sneak needs its --expect {'|'.join(EXPECTATIONS)}: {len(sneaks)} --sneak, {len(expects)} --expect"
         )
-    rules = read_checks(checks_path) if checks_path else CheckRules()
-    changes: dict[str, object] = {}
-    if max_cover_steps is not None:
-        changes["max_cover_steps"] = max_cover_steps
-    if max_idleness is not None:
-        changes["max_idleness"] = max_idleness
-    if no_unreachable:
-        changes["no_unreachable"] = True
-    if patrol_path is not None:
-        changes["patrol"] = patrol_path
-    if guards is not None:
-        changes["guards"] = guards
-    if planner is not None:
-        changes["planner"] = planner
-    if sneaks:
-        changes["sneaks"] = rules.sneaks + tuple(SneakRule(a, b, e) for (a, b), e in zip(sneaks, expects))
-    if safe:
-        changes["safe"] = rules.safe + tuple(SafeRule(point) for point in safe)
-    if undetected:
-        changes["undetected"] = True
-    if min_slack is not None:
-        changes["min_slack"] = min_slack
-    if max_slack is not None:
-        changes["max_slack"] = max_slack
-    if max_lap is not None:
-        changes["max_lap"] = max_lap
-    rules = dataclasses.replace(rules, **changes)  # type: ignore[arg-type]
-    rules.validate()
-    if max_worse and baseline_path is None:
-        raise GuardsimError("--max-worse sets the margins of --baseline: give --baseline OLD")
-    if rules.count == 0 and baseline_path is None:
-        if checks_path:
-            raise GuardsimError(
-                f"{checks_path}: no rule to check in the checks file (max_cover_steps, max_idleness, "
-                "no_unreachable, safe or sneak), nor on the command line"
-            )
-        raise GuardsimError(
-            f"{level_path}: no rule to check: give --max-cover-steps, --max-idleness, --no-unreachable, --safe, "
-            "--sneak, --checks or --baseline"
-        )
+    rules = (read_checks(checks_path) if checks_path else CheckRules()).with_options(
+        sneaks=[SneakRule(a, b, e) for (a, b), e in zip(sneaks, expects)], safe=[SafeRule(point) for point in safe],
+        max_cover_steps=max_cover_steps, max_idleness=max_idleness, no_unreachable=no_unreachable, patrol=patrol_path,
+        guards=guards, planner=planner, undetected=undetected, min_slack=min_slack, max_slack=max_slack,
+        max_lap=max_lap,
+    )  # fmt: skip
+    _check_something(rules, level_path, checks_path, baseline_path, max_worse)
     progress = StageLine(sys.stderr, "check").start()
     level = detection_overrides.apply(load(level_path, max_cells, max_vertices, max_file_bytes, map_import))
     scene = build_scene(level, los, fov, view_range)
@@ -241,3 +211,21 @@ def check(
     click.echo(
         f"{level_path}: all {len(results)} rules hold" if len(results) != 1 else f"{level_path}: all 1 rule holds"
     )
+
+
+def _check_something(
+    rules: CheckRules, level_path: str, checks_path: str | None, baseline_path: str | None, max_worse: tuple[str, ...]
+) -> None:
+    """Refuse a run with no rule to check and no baseline to compare with."""
+    if max_worse and baseline_path is None:
+        raise GuardsimError("--max-worse sets the margins of --baseline: give --baseline OLD")
+    if rules.count == 0 and baseline_path is None:
+        if checks_path:
+            raise GuardsimError(
+                f"{checks_path}: no rule to check in the checks file (max_cover_steps, max_idleness, "
+                "no_unreachable, safe or sneak), nor on the command line"
+            )
+        raise GuardsimError(
+            f"{level_path}: no rule to check: give --max-cover-steps, --max-idleness, --no-unreachable, --safe, "
+            "--sneak, --checks or --baseline"
+        )

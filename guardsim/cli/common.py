@@ -4,7 +4,6 @@ from __future__ import annotations
 
 import dataclasses
 import functools
-import math
 import os
 import re
 import sys
@@ -31,6 +30,7 @@ __all__ = [
     "EarsOverrides",
     "build_scene",
     "cell_text",
+    "check_outside",
     "cli_start",
     "detection_options",
     "ears_options",
@@ -162,6 +162,18 @@ def picture_path(value: str | None, folder: str | None, default_name: str, optio
     if folder is None:
         raise GuardsimError(f"{option} FILE: give a file name (a bare {option} writes into the --out folder)")
     return Path(folder) / default_name
+
+
+def check_outside(folder: str | None, *paths: str | Path | None) -> None:
+    """Check before the work that each output named outside the ``--out`` folder (anywhere, without one)
+    can be written, so a failed command leaves nothing behind, not even an empty folder; one inside it
+    is written once the folder is made."""
+    from guardsim.files.output import check_writable
+
+    inside = None if folder is None else Path(folder).resolve()
+    for named in paths:
+        if named is not None and (inside is None or not Path(named).resolve().is_relative_to(inside)):
+            check_writable(named)
 
 
 def cell_text(grid: CoverageGrid, cell: tuple[int, int]) -> str:
@@ -336,9 +348,7 @@ def ears_options(command: F) -> F:
 def build_scene(level: Level, los: str = "pymunk", fov: float | None = None, view_range: float | None = None) -> Scene:
     """The scene of a level with the vision options applied (:meth:`Scene.from_level`): with
     ``--los bresenham`` and no ``--view-range``, the range is unlimited."""
-    if view_range is None and los == "bresenham":
-        view_range = math.inf
-    return Scene.from_level(level, line_of_sight=los, fov_degrees=fov, view_range=view_range)
+    return Scene.from_level(level, **Scene.vision_options(los, fov, view_range))
 
 
 def cli_start(

@@ -4,6 +4,7 @@ from __future__ import annotations
 
 import sys
 from pathlib import Path
+from typing import TYPE_CHECKING, Any
 
 import click
 
@@ -20,6 +21,10 @@ from guardsim.cli.map_options import MapImport, map_options
 from guardsim.cli.patrol import output_folder
 from guardsim.cli.progress import StageLine
 from guardsim.errors import GuardsimError
+
+if TYPE_CHECKING:
+    from guardsim.level import Level
+    from guardsim.patrol import Patrol
 
 __all__ = ["fortify"]
 
@@ -161,10 +166,52 @@ def fortify(
     """
     from guardsim.design.fortify import CameraShape, KeepOpen
     from guardsim.design.fortify import fortify as run_fortify
-    from guardsim.design.fortify.outputs import write_fortify_outputs
+    from guardsim.design.fortify.outputs import fortify_summary, write_fortify_outputs
     from guardsim.detection.watch import MAX_JOINT_LAP
+    from guardsim.kernels.ahead import compile_ahead
     from guardsim.pictures import write_fortify_picture
+    from guardsim.scene import Scene
 
+    slacks = _check_budget(sources, targets, cameras, posts, max_rounds, candidates, keep_open, min_slacks)
+    progress = StageLine(sys.stderr, "fortify").start()
+    level = detection_overrides.apply(load(level_path, max_cells, max_vertices, max_file_bytes, map_import))
+    compile_ahead("sneak")
+    options = Scene.vision_options(los, fov, view_range)
+    patrol = None if patrol_path is None else _read_patrol(patrol_path, level, options)
+    result = run_fortify(
+        level, patrol, list(zip(sources, targets)), cameras=cameras, posts=posts,
+        keep_open=[KeepOpen(a, b, s) for (a, b), s in zip(keep_open, slacks)], undetected=rule == "undetected",
+        camera=CameraShape(camera_fov, camera_range, camera_sweep), candidates=candidates, max_rounds=max_rounds,
+        max_lap=MAX_JOINT_LAP if max_lap is None else max_lap, scene_options=options, workers=workers,
+        scheduler=scheduler, progress=progress,
+    )  # fmt: skip
+    folder: Path | None = output_folder(out_dir) if out_dir is not None else None
+    if picture is None and folder is not None:
+        picture = str(folder / "fortify.png")
+    progress("writing", 0, 0)
+    written = write_fortify_outputs(result, folder)
+    if picture is not None:
+        written.append(write_fortify_picture(result, picture))
+    progress.close()
+    for keep in result.document["keep_open"]:
+        if not keep["kept"]:
+            click.echo(f"guardsim: warning: {keep['message']}", err=True)
+    click.echo(f"{level.name}: {fortify_summary(result)}" + (f" -> {', '.join(written)}" if written else ""))
+    if not result.sealed:
+        sys.exit(1)
+
+
+def _check_budget(
+    sources: tuple[Point, ...],
+    targets: tuple[Point, ...],
+    cameras: int,
+    posts: int,
+    max_rounds: int,
+    candidates: int,
+    keep_open: tuple[tuple[Point, Point], ...],
+    min_slacks: tuple[int, ...],
+) -> list[int]:
+    """Refuse pairs and budgets that cannot fortify anything; the slack each --keep-open pair needs."""
     if not sources:
         raise GuardsimError("--from: give at least one entry (--from X,Y --to X,Y)")
     if len(sources) != len(targets):
@@ -181,67 +228,14 @@ def fortify(
         raise GuardsimError(
             f"--min-slack: give one for all or one per --keep-open ({len(keep_open)}), not {len(min_slacks)}"
         )
-    slacks = list(min_slacks) * len(keep_open) if len(min_slacks) == 1 else list(min_slacks) or [1] * len(keep_open)
-    progress = StageLine(sys.stderr, "fortify").start()
-    level = detection_overrides.apply(load(level_path, max_cells, max_vertices, max_file_bytes, map_import))
-    from guardsim.kernels.ahead import compile_ahead
-
-    compile_ahead("sneak")
-    options = {"line_of_sight": los, "fov_degrees": fov, "view_range": view_range}
-    if view_range is None and los == "bresenham":
-        options["view_range"] = float("inf")
-    patrol = None
-    if patrol_path is not None:
-        from guardsim.patrol import read_patrol
-        from guardsim.scene import Scene
-
-        patrol = read_patrol(patrol_path, Scene.from_level(level, **options).grid, level=level.name)  # type: ignore[arg-type]
-        if patrol.motion != "grid" or patrol.period is None:
-            raise GuardsimError(f"{patrol_path}: fortify needs a repeating grid-motion patrol")
-    result = run_fortify(
-        level, patrol, list(zip(sources, targets)), cameras=cameras, posts=posts,
-        keep_open=[KeepOpen(a, b, s) for (a, b), s in zip(keep_open, slacks)], undetected=rule == "undetected",
-        camera=CameraShape(camera_fov, camera_range, camera_sweep), candidates=candidates, max_rounds=max_rounds,
-        max_lap=MAX_JOINT_LAP if max_lap is None else max_lap, scene_options=options, workers=workers,
-        scheduler=scheduler, progress=progress,
-    )  # fmt: skip
-    folder: Path | None = output_folder(out_dir) if out_dir is not None else None
-    if picture is None and folder is not None:
-        picture = str(folder / "fortify.png")
-    progress("writing", 0, 0)
-    written = write_fortify_outputs(result, folder)
-    if picture is not None:
-        written.append(write_fortify_picture(result, picture))
-    progress.close()
-    document = result.document
-    for keep in document["keep_open"]:
-        if not keep["kept"]:
-            click.echo(f"guardsim: warning: {keep['message']}", err=True)
-    added = (
-        ", ".join(f"{w['kind']} at ({w['position'][0]:g}, {w['position'][1]:g})" for w in document["watchers"])
-        or "nothing"
-    )
-    bound = "unknown" if document["lower_bound"] is None else str(document["lower_bound"])
-    if result.sealed:
-        line = (
-            f"{level.name}: sealed ({document['rule']}) with {document['count']} watcher"
-            f"{'' if document['count'] == 1 else 's'} ({added}); lower bound {bound}, gap {document['gap']}; "
-            f"{document['search_rounds']} search rounds, joint lap {document['lap']} ticks"
-        )
-    else:
-        open_pairs = [pair for pair in document["pairs"] if not pair["sealed"]]
-        first = open_pairs[0]
-        line = (
-            f"{level.name}: not sealed: {document['reason']}; {len(open_pairs)} pair"
-            f"{'' if len(open_pairs) == 1 else 's'} still open (from ({first['from'][0]:g}, {first['from'][1]:g}): "
-            f"entry ticks {_ticks(first['open_entry_ticks'])} of {document['lap']}); {document['count']} watcher"
-            f"{'' if document['count'] == 1 else 's'} placed ({added}); lower bound {bound}"
-        )
-    click.echo(line + (f" -> {', '.join(written)}" if written else ""))
-    if not result.sealed:
-        sys.exit(1)
+    return list(min_slacks) * len(keep_open) if len(min_slacks) == 1 else list(min_slacks) or [1] * len(keep_open)
 
 
-def _ticks(ticks: list[int]) -> str:
-    shown = ", ".join(str(tick) for tick in ticks[:8])
-    return shown + (f" and {len(ticks) - 8} more" if len(ticks) > 8 else "")
+def _read_patrol(patrol_path: str, level: Level, options: dict[str, Any]) -> Patrol:
+    from guardsim.patrol import read_patrol
+    from guardsim.scene import Scene
+
+    patrol = read_patrol(patrol_path, Scene.from_level(level, **options).grid, level=level.name)
+    if patrol.motion != "grid" or patrol.period is None:
+        raise GuardsimError(f"{patrol_path}: fortify needs a repeating grid-motion patrol")
+    return patrol

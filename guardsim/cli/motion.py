@@ -1,4 +1,4 @@
-"""The continuous-motion options that ``play`` and ``bench`` share: --motion and the guard's speeds."""
+"""The continuous-motion options that ``play``, ``bench``, ``regress`` and ``alert`` share: --motion, speeds."""
 
 from __future__ import annotations
 
@@ -16,6 +16,7 @@ from guardsim.scene import Scene
 __all__ = [
     "MAX_TICK_HZ",
     "MOTIONS",
+    "alert_motion_options",
     "check_motion",
     "check_speed_up",
     "motion_of",
@@ -63,6 +64,19 @@ def motion_override_options(command: F) -> F:
         type=click.Choice(MOTIONS),
         help="Re-play every episode in this motion [default: each episode's, from its manifest]; with --update, "
         "the references are rewritten in it. " + _MOTION_HELP,
+    )(command)
+
+
+def alert_motion_options(command: F) -> F:
+    """``alert``'s --motion and the guard's speeds (play's speeds; alert has its own --max-seconds)."""
+    command = _speed_options(command, _SPEED_HELP)
+    return click.option(
+        "--motion",
+        type=click.Choice(MOTIONS),
+        default="grid",
+        show_default=True,
+        help="grid: a cell per tick, turning free; continuous: each guard a physics body walking its decisions "
+        "at game speeds and looking from its pose every physics tick (docs/alert.md).",
     )(command)
 
 

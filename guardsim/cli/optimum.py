@@ -23,7 +23,7 @@ from guardsim.cli.progress import Throttle
 from guardsim.errors import GuardsimError
 from guardsim.files.output import write_text_atomic
 from guardsim.level import HEADINGS
-from guardsim.optimum import DEFAULT_MEMORY_BYTES, SearchProgress, optimum_data, solve
+from guardsim.optimum import DEFAULT_MEMORY_BYTES, SearchProgress, optimum_data, optimum_verdict, solve
 
 if TYPE_CHECKING:
     from guardsim.scene import Scene
@@ -223,20 +223,9 @@ def optimum(
         weight=weight,
         seed=seed,
     )
-    names = list(HEADINGS)
-    if result.proved and weight > 1.0:
-        verdict = (
-            f"{result.steps} steps, within {weight:g} x the optimum (optimum between {result.lower_bound} "
-            f"and {result.steps})"
-        )
-    elif result.proved:
-        verdict = f"optimum {result.steps} steps"
-    else:
-        verdict = f"best found {result.steps} steps (stopped by {result.stopped_by}; optimum >= {result.lower_bound})"
+    heading_name = list(HEADINGS)[first_heading]
     click.echo(
-        f"{level.name}: from {cell_text(scene.grid, cell)} facing {names[first_heading]}: {verdict}; "
-        f"proved: {str(result.proved).lower()}; start bound {result.root_bound}; "
-        f"{result.expansions} expansions, {result.nodes} nodes, {result.seconds:.1f} s"
+        f"{level.name}: from {cell_text(scene.grid, cell)} facing {heading_name}: {optimum_verdict(result, weight)}"
     )
     if out_path is not None:
         data = optimum_data(result, scene, level=level.name, start=cell, heading=first_heading, weight=weight)

@@ -13,6 +13,7 @@ import click
 
 from guardsim.cli.common import (
     build_scene,
+    check_outside,
     limit_options,
     load,
     parse_point,
@@ -209,16 +210,9 @@ def patrol(
         memory_bytes=memory_mb * 2**20,
     )
     check_job(job)
-    from guardsim.files.output import check_writable
-
-    # Before the output folder is made: a failed command leaves nothing behind, not even an empty folder.
-    # A target inside the output folder is written once that folder is made.
     gif = picture_path(gif_path, out_dir, "patrol.gif", "--gif")
     html = picture_path(html_path, out_dir, "patrol.html", "--html")
-    inside = Path(out_dir).resolve()
-    for named in (export_path, tiled_out, godot_out, gif, html):
-        if named is not None and not Path(named).resolve().is_relative_to(inside):
-            check_writable(named)
+    check_outside(out_dir, export_path, tiled_out, godot_out, gif, html)
     with StageLine(sys.stderr, "patrol") as progress:
         progress("reading the level", 0, 0)
         level = load(level_path, max_cells, max_vertices, max_file_bytes, map_import)

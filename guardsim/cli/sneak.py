@@ -2,9 +2,9 @@
 
 from __future__ import annotations
 
-import itertools
 import sys
-from typing import cast
+from pathlib import Path
+from typing import TYPE_CHECKING, cast
 
 import click
 
@@ -12,6 +12,7 @@ from guardsim.cli.common import (
     DetectionOverrides,
     EarsOverrides,
     build_scene,
+    check_outside,
     detection_options,
     ears_options,
     limit_options,
@@ -27,6 +28,11 @@ from guardsim.cli.patrol import output_folder
 from guardsim.cli.progress import StageLine
 from guardsim.errors import GuardsimError
 from guardsim.pictures import write_sneak_pictures
+from guardsim.sneak.run import check_sneak_patrol, gait_runs
+
+if TYPE_CHECKING:
+    from guardsim.scene import Scene
+    from guardsim.sneak.run import SneakRun
 
 __all__ = ["gait_runs", "sneak"]
 
@@ -129,59 +135,73 @@ def sneak(
     (the level's walk_noise and sneak_noise, along the grid: docs/alert.md); the gaits are printed and in
     sneak.json.
     """
+    from guardsim.kernels.ahead import compile_ahead
     from guardsim.patrol import read_patrol
-    from guardsim.sneak import sneak_data
-    from guardsim.sneak.run import check_sneak_patrol, run_sneak, sneak_header
+    from guardsim.sneak.run import run_sneak, sneak_endpoints, sneak_summary
 
-    gif = picture_path(gif_path, out_dir, "sneak.gif", "--gif")
-    html = picture_path(html_path, out_dir, "sneak.html", "--html")
-    if safe and html is None:
-        raise GuardsimError("--safe outlines spots on the page: give --html")
-    from pathlib import Path
-
-    from guardsim.files.output import check_writable
-
-    # A picture named outside the --out folder is checked before the search (the folder is made later).
-    inside = None if out_dir is None else Path(out_dir).resolve()
-    for named in (gif, html):
-        if named is not None and (inside is None or not named.resolve().is_relative_to(inside)):
-            check_writable(named)
+    gif, html = _check_pictures(gif_path, html_path, out_dir, safe)
     progress = StageLine(sys.stderr, "sneak").start()
     level = detection_overrides.apply(load(level_path, max_cells, max_vertices, max_file_bytes, map_import))
     level = ears_overrides.apply(level)
-    from guardsim.kernels.ahead import compile_ahead
-
     compile_ahead("sneak")
     scene = build_scene(level, los, fov, view_range)
-    grid = scene.grid
-    patrol = read_patrol(patrol_path, grid, level=level.name)
+    patrol = read_patrol(patrol_path, scene.grid, level=level.name)
     check_sneak_patrol(patrol, patrol_path)
-    if source is None:
-        if not level.player_starts:
-            raise GuardsimError(f"{level_path}: the level marks no player start: give --from X,Y")
-        source = level.player_starts[0]
-        click.echo(f"from the level's player start ({source[0]:g}, {source[1]:g})")
-    start, goal = grid.floor_cell(source, "--from"), grid.floor_cell(target, "--to")
-    if grid.component_labels[start] != grid.component_labels[goal]:
-        raise GuardsimError(
-            f"--to {target[0]:g},{target[1]:g} cannot be reached from --from {source[0]:g},{source[1]:g} at all"
-        )
+    source, start, goal = sneak_endpoints(scene, source, target, level_name=level_path, say=click.echo)
     for point in safe:
-        grid.floor_cell(point, "--safe")
+        scene.grid.floor_cell(point, "--safe")
     run = run_sneak(
         scene, patrol, start, goal, undetected=undetected, unheard=unheard, max_lap=max_lap, patrol_name=patrol_path,
         progress=progress,
     )  # fmt: skip
     for note in run.notes:
         click.echo(f"guardsim: warning: {note}", err=True)
-    result, patrol, table, detection, watch = run.result, run.patrol, run.table, run.detection, run.watch
-    rule = ("undetected" if undetected else "unseen") + (", unheard" if unheard else "")
     progress("writing", 0, 0)
-    path = result.path
-    assert path is not None
+    written, warnings = _write(scene, run, start, source, target, patrol_path, max_lap, out_dir, gif, html, safe)
+    progress.close()
+    for warning in warnings:
+        click.echo(f"guardsim: warning: {warning}", err=True)
+    summary = sneak_summary(run.result, undetected=undetected, unheard=unheard)
+    click.echo(f"{level.name}: {summary}" + (f" -> {', '.join(written)}" if written else ""))
+    gaits = run.result.path.gaits if run.result.path is not None else None
+    if gaits is not None:
+        click.echo("gaits: " + gait_runs(gaits, level.intruder.sneak_ticks))
+
+
+def _check_pictures(
+    gif_path: str | None, html_path: str | None, out_dir: str | None, safe: tuple[tuple[float, float], ...]
+) -> tuple[Path | None, Path | None]:
+    """The GIF and page to write; a picture named outside the --out folder is checked before the search
+    (the folder is made later)."""
+    gif = picture_path(gif_path, out_dir, "sneak.gif", "--gif")
+    html = picture_path(html_path, out_dir, "sneak.html", "--html")
+    if safe and html is None:
+        raise GuardsimError("--safe outlines spots on the page: give --html")
+    check_outside(out_dir, gif, html)
+    return gif, html
+
+
+def _write(
+    scene: Scene,
+    run: SneakRun,
+    start: int,
+    source: tuple[float, float],
+    target: tuple[float, float],
+    patrol_path: str,
+    max_lap: int | None,
+    out_dir: str | None,
+    gif: Path | None,
+    html: Path | None,
+    safe: tuple[tuple[float, float], ...],
+) -> tuple[list[str], tuple[str, ...]]:
+    """Write sneak.json into --out and draw the pictures; the files written and the drawing's warnings."""
+    from guardsim.sneak import sneak_data
+    from guardsim.sneak.run import sneak_header
+
+    result = run.result
     data = sneak_data(
-        result, grid, level=level.name, patrol=patrol_path, **{"from": list(source), "to": list(target)},
-        **sneak_header(scene, detection, max_lap),
+        result, scene.grid, level=scene.level.name, patrol=patrol_path, **{"from": list(source), "to": list(target)},
+        **sneak_header(scene, run.detection, max_lap),
     )  # fmt: skip
     written: list[str] = []
     heat_map = None
@@ -193,46 +213,8 @@ def sneak(
         written.append(str(folder / "sneak.json"))
         heat_map = folder / "hiding.png"
     drawn = write_sneak_pictures(
-        scene, table, patrol, result, start=start, source=source, target=target, detection=detection,
-        never_seen=cast(int, data["never_seen_cells"]), heat_map=heat_map, gif=gif, html=html, safe=safe, watch=watch,
+        scene, run.table, run.patrol, result, start=start, source=source, target=target, detection=run.detection,
+        never_seen=cast(int, data["never_seen_cells"]), heat_map=heat_map, gif=gif, html=html, safe=safe,
+        watch=run.watch,
     )  # fmt: skip
-    written += drawn.written
-    progress.close()
-    for warning in drawn.warnings:
-        click.echo(f"guardsim: warning: {warning}", err=True)
-    if path.found:
-        answer = f"sneaks: {rule} from tick {path.start_tick} of the lap, {path.ticks} ticks"
-    else:
-        heard = f" and heard {path.steps_heard} times" if unheard else ""
-        answer = (
-            f"caught: no {rule} path; the closest call is seen for {path.ticks_in_view} ticks{heard} "
-            f"({path.ticks} ticks long)"
-        )
-    grade = result.grade
-    assert grade is not None
-    peaks = grade.peak_by_guard
-    guards = len(peaks) - result.sight.cameras
-    peak = ", ".join(f"{value:.2f}" for value in peaks[:guards])
-    if result.sight.cameras:
-        peak += "; by camera: " + ", ".join(f"{value:.2f}" for value in peaks[guards:])
-    graded = (
-        f"detected: {'yes, at tick ' + str(grade.detected_at) if grade.detected else 'no'}; "
-        f"peak awareness {grade.peak:.2f} (by guard: {peak}); risk {grade.risk:.2f}; "
-        f"slack {result.slack}/{result.period} entry ticks"
-    )
-    click.echo(f"{level.name}: {answer}; {graded}" + (f" -> {', '.join(written)}" if written else ""))
-    if path.gaits is not None:
-        click.echo("gaits: " + gait_runs(path.gaits, level.intruder.sneak_ticks))
-
-
-def gait_runs(gaits: tuple[str, ...], sneak_ticks: int) -> str:
-    """A path's gaits per tick as runs in order: ``walk x2, sneak x5 (2 ticks each), wait 3 ticks``."""
-    runs: list[str] = []
-    for gait, ticks in ((gait, len(list(run))) for gait, run in itertools.groupby(gaits)):
-        if gait == "wait":
-            runs.append(f"wait {ticks} tick{'s' if ticks != 1 else ''}")
-        elif gait == "sneak":
-            runs.append(f"sneak x{ticks // sneak_ticks} ({sneak_ticks} tick{'s' if sneak_ticks != 1 else ''} each)")
-        else:
-            runs.append(f"walk x{ticks}")
-    return ", ".join(runs) if runs else "none (it enters at its goal)"
+    return written + drawn.written, tuple(drawn.warnings)

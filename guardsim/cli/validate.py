@@ -7,18 +7,15 @@ from collections import defaultdict
 from typing import Any
 
 import click
-import numpy as np
 
 from guardsim.cli.common import limit_options, reports_errors, with_options
 from guardsim.cli.map_options import STRICT_EXIT, MapImport, level_data, map_options
-from guardsim.errors import GuardsimError, LevelError
+from guardsim.errors import GuardsimError
 from guardsim.files.output import write_text_atomic
 from guardsim.files.reading import captured_warnings, display_path, warning_note
-from guardsim.level import Level, check_level_data, level_json_text
-from guardsim.scene import Scene
-from guardsim.starts import choose_start
-from guardsim.validate.diagnostics import DEFAULT_MAX_RAYS, DesignerWarning, level_warnings
-from guardsim.validate.repair import repair_level_data
+from guardsim.level import check_level_data, level_json_text
+from guardsim.validate.diagnostics import DEFAULT_MAX_RAYS, DesignerWarning, level_warnings, scene_and_reachable
+from guardsim.validate.repair import Repair, repair_level_data
 
 __all__ = ["validate"]
 
@@ -86,22 +83,13 @@ def validate(
             invalid.append(path)
             continue
         if fix_path is not None:
-            try:
-                with captured_warnings():  # GEOS overflows on absurd coordinates; the check below says what is wrong
-                    data, repairs = repair_level_data(data)
-            except GuardsimError as error:
-                click.echo(f"guardsim: error: {path}: {error}", err=True)
-                sys.exit(2)
-            for repair in repairs[:SHOWN_REPAIRS]:
-                click.echo(f"{path}: repaired {repair}")
-            if len(repairs) > SHOWN_REPAIRS:
-                click.echo(f"{path}: repaired {len(repairs) - SHOWN_REPAIRS} more rings the same ways")
+            data, repairs = _repair(path, data)
         level, problems = check_level_data(data, source=path, max_cells=max_cells, max_vertices=max_vertices)
         scene = None
         if level is not None:
             try:
                 with captured_warnings() as caught:
-                    scene, reachable = _scene_and_reachable(level)
+                    scene, reachable = scene_and_reachable(level)
             except GuardsimError as error:
                 click.echo(with_options(f"{error}{warning_note(caught)}"))
                 invalid.append(path)
@@ -131,24 +119,19 @@ def validate(
         sys.exit(STRICT_EXIT)
 
 
-def _scene_and_reachable(level: Level) -> tuple[Scene, np.ndarray]:
-    """The scene, and the cells reachable from the start (or the largest area without one).
-
-    Building the grid also finds what only it can: a start cell where the guard does not fit.
-    """
-    scene = Scene.from_level(level)
-    for point in ([level.guard.start] if level.guard.start else []) + list(level.starts):
-        choose_start(scene, rng=np.random.default_rng(0), point=point, heading="right")
-    if level.guard.start is not None:
-        cell, _ = choose_start(scene, rng=np.random.default_rng(0), point=level.guard.start, heading="right")
-        return scene, scene.grid.component(*cell)
-    largest = scene.grid.largest_component()
-    if not largest.any():
-        # Valid geometry, but a level no guard can stand in is not a level to ship.
-        raise LevelError(
-            f"{level.source}: no cell where the guard (radius {level.guard.radius:g}) fits; nothing to cover"
-        )
-    return scene, largest
+def _repair(path: str, data: Any) -> tuple[Any, list[Repair]]:
+    """--fix's repairs of a level's data, the first few listed; a level that cannot be repaired exits 2."""
+    try:
+        with captured_warnings():  # GEOS overflows on absurd coordinates; the check after says what is wrong
+            data, repairs = repair_level_data(data)
+    except GuardsimError as error:
+        click.echo(f"guardsim: error: {path}: {error}", err=True)
+        sys.exit(2)
+    for repair in repairs[:SHOWN_REPAIRS]:
+        click.echo(f"{path}: repaired {repair}")
+    if len(repairs) > SHOWN_REPAIRS:
+        click.echo(f"{path}: repaired {len(repairs) - SHOWN_REPAIRS} more rings the same ways")
+    return data, repairs
 
 
 def _echo_warnings(path: str, warnings: list[DesignerWarning]) -> None:

@@ -60,7 +60,15 @@ from guardsim.vision.table import view_table
 if TYPE_CHECKING:
     from guardsim.scene import Scene
 
-__all__ = ["DEFAULT_MEMORY_BYTES", "MAX_POSITIONS", "OptimumResult", "SearchProgress", "optimum_data", "solve"]
+__all__ = [
+    "DEFAULT_MEMORY_BYTES",
+    "MAX_POSITIONS",
+    "OptimumResult",
+    "SearchProgress",
+    "optimum_data",
+    "optimum_verdict",
+    "solve",
+]
 
 #: Memory the node arrays may take by default.
 DEFAULT_MEMORY_BYTES = 3 * 2**30
@@ -400,6 +408,24 @@ def _improve(
 def _weighted_floor(incumbent: int, weight: float) -> int:
     """The bound a finished weighted search proves: the incumbent is at most ``weight`` times the optimum."""
     return int(np.ceil(incumbent / weight - 1e-9))
+
+
+def optimum_verdict(result: OptimumResult, weight: float = 1.0) -> str:
+    """What a search found, in a line: the optimum (or a walk within ``weight`` times it, or the best walk
+    and the lower bound when a limit stopped it), whether it is proved, and what the search took."""
+    if result.proved and weight > 1.0:
+        verdict = (
+            f"{result.steps} steps, within {weight:g} x the optimum (optimum between {result.lower_bound} "
+            f"and {result.steps})"
+        )
+    elif result.proved:
+        verdict = f"optimum {result.steps} steps"
+    else:
+        verdict = f"best found {result.steps} steps (stopped by {result.stopped_by}; optimum >= {result.lower_bound})"
+    return (
+        f"{verdict}; proved: {str(result.proved).lower()}; start bound {result.root_bound}; "
+        f"{result.expansions} expansions, {result.nodes} nodes, {result.seconds:.1f} s"
+    )
 
 
 def optimum_data(

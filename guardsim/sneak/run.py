@@ -4,6 +4,7 @@ the level's detection model, its cameras and light, then :func:`~guardsim.sneak.
 from __future__ import annotations
 
 import dataclasses
+import itertools
 import math
 from collections.abc import Callable
 from typing import TYPE_CHECKING, Any, NamedTuple
@@ -18,7 +19,15 @@ if TYPE_CHECKING:
     from guardsim.sneak import SneakResult
     from guardsim.vision.table import ViewTable
 
-__all__ = ["SneakRun", "check_sneak_patrol", "run_sneak", "sneak_header"]
+__all__ = [
+    "SneakRun",
+    "check_sneak_patrol",
+    "gait_runs",
+    "run_sneak",
+    "sneak_endpoints",
+    "sneak_header",
+    "sneak_summary",
+]
 
 
 class SneakRun(NamedTuple):
@@ -98,3 +107,71 @@ def run_sneak(
     )  # fmt: skip
     lap = patrol if result.lap is None else result.lap
     return SneakRun(result, lap, table, detection, watch, () if watch is None else tuple(watch.notes))
+
+
+def sneak_endpoints(
+    scene: Scene,
+    source: tuple[float, float] | None,
+    target: tuple[float, float],
+    *,
+    level_name: str = "level",
+    say: Callable[[str], None] | None = None,
+) -> tuple[tuple[float, float], int, int]:
+    """The entry point (``source``, default the level's first player start, told to ``say``) and the
+    flat floor cells of it and ``target`` (world units); a point off the floor, a level without a player
+    start when none is given (named ``level_name``) and a goal that cannot be reached at all are each a
+    :class:`~guardsim.errors.GuardsimError` line."""
+    from guardsim.errors import GuardsimError
+
+    level, grid = scene.level, scene.grid
+    if source is None:
+        if not level.player_starts:
+            raise GuardsimError(f"{level_name}: the level marks no player start: give --from X,Y")
+        source = level.player_starts[0]
+        if say is not None:
+            say(f"from the level's player start ({source[0]:g}, {source[1]:g})")
+    start, goal = grid.floor_cell(source, "--from"), grid.floor_cell(target, "--to")
+    if grid.component_labels[start] != grid.component_labels[goal]:
+        raise GuardsimError(
+            f"--to {target[0]:g},{target[1]:g} cannot be reached from --from {source[0]:g},{source[1]:g} at all"
+        )
+    return source, start, goal
+
+
+def sneak_summary(result: SneakResult, *, undetected: bool = False, unheard: bool = False) -> str:
+    """The answer in one line: the path (or the closest call), then its grade and the slack."""
+    path, grade = result.path, result.grade
+    assert path is not None and grade is not None
+    rule = ("undetected" if undetected else "unseen") + (", unheard" if unheard else "")
+    if path.found:
+        answer = f"sneaks: {rule} from tick {path.start_tick} of the lap, {path.ticks} ticks"
+    else:
+        heard = f" and heard {path.steps_heard} times" if unheard else ""
+        answer = (
+            f"caught: no {rule} path; the closest call is seen for {path.ticks_in_view} ticks{heard} "
+            f"({path.ticks} ticks long)"
+        )
+    peaks = grade.peak_by_guard
+    guards = len(peaks) - result.sight.cameras
+    peak = ", ".join(f"{value:.2f}" for value in peaks[:guards])
+    if result.sight.cameras:
+        peak += "; by camera: " + ", ".join(f"{value:.2f}" for value in peaks[guards:])
+    graded = (
+        f"detected: {'yes, at tick ' + str(grade.detected_at) if grade.detected else 'no'}; "
+        f"peak awareness {grade.peak:.2f} (by guard: {peak}); risk {grade.risk:.2f}; "
+        f"slack {result.slack}/{result.period} entry ticks"
+    )
+    return f"{answer}; {graded}"
+
+
+def gait_runs(gaits: tuple[str, ...], sneak_ticks: int) -> str:
+    """A path's gaits per tick as runs in order: ``walk x2, sneak x5 (2 ticks each), wait 3 ticks``."""
+    runs: list[str] = []
+    for gait, ticks in ((gait, len(list(run))) for gait, run in itertools.groupby(gaits)):
+        if gait == "wait":
+            runs.append(f"wait {ticks} tick{'s' if ticks != 1 else ''}")
+        elif gait == "sneak":
+            runs.append(f"sneak x{ticks // sneak_ticks} ({sneak_ticks} tick{'s' if sneak_ticks != 1 else ''} each)")
+        else:
+            runs.append(f"walk x{ticks}")
+    return ", ".join(runs) if runs else "none (it enters at its goal)"

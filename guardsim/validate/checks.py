@@ -22,9 +22,11 @@ chose, not on every change as a snapshot would. Rules come from the command line
 
 from __future__ import annotations
 
+import dataclasses
 import math
 import os
 import sys
+from collections.abc import Sequence
 from dataclasses import dataclass, field
 from pathlib import Path
 from typing import Any, NamedTuple
@@ -124,6 +126,25 @@ class CheckRules:
             raise CheckError(f"min slack {self.min_slack} is over max slack {self.max_slack}: no slack meets both")
         if self.undetected and not self.safe:
             raise CheckError("undetected applies to the safe rules, and there is no safe rule")
+
+    def with_options(
+        self, *, sneaks: Sequence[SneakRule] = (), safe: Sequence[SafeRule] = (), **given: object
+    ) -> CheckRules:
+        """These rules with more on top, checked (:meth:`validate`): ``sneaks`` and ``safe`` rules are added,
+        and each other field ``given`` a value (not ``None``; a flag only when set) replaces this one's, as
+        ``guardsim check``'s options do a checks file's.
+
+        >>> CheckRules(max_idleness=40).with_options(max_idleness=None, no_unreachable=True, max_cover_steps=90).count
+        3
+        """
+        changes = {name: value for name, value in given.items() if value is not None and value is not False}
+        if sneaks:
+            changes["sneaks"] = self.sneaks + tuple(sneaks)
+        if safe:
+            changes["safe"] = self.safe + tuple(safe)
+        rules = dataclasses.replace(self, **changes)  # type: ignore[arg-type]
+        rules.validate()
+        return rules
 
     @property
     def count(self) -> int:

@@ -24,10 +24,13 @@ from typing import NamedTuple
 import numpy as np
 import shapely
 
+from guardsim.errors import LevelError
 from guardsim.grid import DIRECTIONS, CoverageGrid
+from guardsim.level import Level
 from guardsim.scene import Scene
+from guardsim.starts import choose_start
 
-__all__ = ["DEFAULT_MAX_RAYS", "DesignerWarning", "free_cells", "level_warnings"]
+__all__ = ["DEFAULT_MAX_RAYS", "DesignerWarning", "free_cells", "level_warnings", "scene_and_reachable"]
 
 #: Rays the hidden-area search may cast before it stops (a few seconds of pymunk queries).
 DEFAULT_MAX_RAYS = 1_000_000
@@ -175,3 +178,25 @@ def _hidden_areas(scene: Scene, reachable: np.ndarray, free: np.ndarray, max_ray
     if unchecked:
         warnings.append(DesignerWarning("not checked for hidden areas", unchecked, None))
     return _by_size(warnings)
+
+
+def scene_and_reachable(level: Level) -> tuple[Scene, np.ndarray]:
+    """The scene of ``level``, and the cells reachable from its guard's start (or the largest area
+    without one): what :func:`level_warnings` takes, as ``guardsim validate`` finds them.
+
+    Building the grid also finds what only it can: a start cell where the guard does not fit (a
+    :class:`~guardsim.errors.GuardsimError`, as is a level where the guard fits nowhere).
+    """
+    scene = Scene.from_level(level)
+    for point in ([level.guard.start] if level.guard.start else []) + list(level.starts):
+        choose_start(scene, rng=np.random.default_rng(0), point=point, heading="right")
+    if level.guard.start is not None:
+        cell, _ = choose_start(scene, rng=np.random.default_rng(0), point=level.guard.start, heading="right")
+        return scene, scene.grid.component(*cell)
+    largest = scene.grid.largest_component()
+    if not largest.any():
+        # Valid geometry, but a level no guard can stand in is not a level to ship.
+        raise LevelError(
+            f"{level.source}: no cell where the guard (radius {level.guard.radius:g}) fits; nothing to cover"
+        )
+    return scene, largest
