@@ -244,8 +244,8 @@ def design_level_case(command: str, rng: np.random.Generator, templates: Templat
                 note=f"{kind}: {note}", place=place)  # fmt: skip
 
 
-def design_patrol_case(command: str, rng: np.random.Generator, templates: Templates) -> Case:
-    """A damaged patrol.json given to a design command (``diff``'s new version's)."""
+def _damaged_patrol(rng: np.random.Generator, templates: Templates) -> tuple[bytes, str]:
+    """The template patrol.json damaged (a special file, a JSON mutation or a byte mutation), and how."""
     roll = rng.random()
     if roll < 0.05:
         content, note = special_file(rng)
@@ -254,6 +254,12 @@ def design_patrol_case(command: str, rng: np.random.Generator, templates: Templa
         content = json.dumps(data, allow_nan=True).encode()
     else:
         content, note = mutate_text(templates.patrol, rng)
+    return content, note
+
+
+def design_patrol_case(command: str, rng: np.random.Generator, templates: Templates) -> Case:
+    """A damaged patrol.json given to a design command (``diff``'s new version's)."""
+    content, note = _damaged_patrol(rng, templates)
     files = {"level.json": json.dumps(BASE).encode(), "old.json": json.dumps(BASE).encode(),
              "in.patrol.json": templates.patrol, "bad.patrol.json": content}  # fmt: skip
     args = _design_args(command, "{dir}/level.json", "{dir}/bad.patrol.json")
@@ -386,14 +392,7 @@ def fortify_option_case(rng: np.random.Generator) -> Case:
 
 def fortify_patrol_case(rng: np.random.Generator, templates: Templates) -> Case:
     """A damaged patrol.json of the guards already there, given to ``guardsim fortify --patrol``."""
-    roll = rng.random()
-    if roll < 0.05:
-        content, note = special_file(rng)
-    elif roll < 0.65:
-        data, note = mutate_json(json.loads(templates.patrol), rng)
-        content = json.dumps(data, allow_nan=True).encode()
-    else:
-        content, note = mutate_text(templates.patrol, rng)
+    content, note = _damaged_patrol(rng, templates)
     files = {"level.json": json.dumps(SQUARE_WITH_HOLE).encode(), "bad.patrol.json": content}
     args = [*_FORTIFY, "--patrol", "{dir}/bad.patrol.json", "--max-lap", "200"]
     return Case("fortify-patrol", "fortify", files, args, "bad.patrol.json", _FORTIFY_OUTPUTS, clean=True, note=note)
