@@ -86,7 +86,7 @@ def check_outputs(**outputs: str | None) -> None:
 class StepLines:
     """:func:`progress_line` for each step as it starts, then, while a step runs on without news (a big
     map's patrol or scene), its line again with the time it has taken, every ``every`` seconds: drawn in
-    place on a terminal, a plain line otherwise. Lines for which ``is_step`` is false (``watch``'s
+    place on a terminal, a plain line otherwise (``every``: :data:`~guardsim.cli.progress.PLAIN_EVERY_SECONDS`). Lines for which ``is_step`` is false (``watch``'s
     results and errors) end the step. Use as a context manager around the work, and pass the instance
     where a progress callback of lines is wanted."""
 
@@ -95,11 +95,11 @@ class StepLines:
         stream: TextIO | None = None,
         *,
         is_step: Callable[[str], bool] = lambda _line: True,
-        every: float = PLAIN_EVERY_SECONDS,
+        every: float | None = None,
     ) -> None:
         self.stream = sys.stderr if stream is None else stream
         self.is_step = is_step
-        self.every = every
+        self.every = PLAIN_EVERY_SECONDS if every is None else every
         self.in_place = self.stream.isatty()
         self.silent = os.environ.get("GUARDSIM_PROGRESS", "1") == "0"
         self.step: str | None = None
@@ -122,7 +122,7 @@ class StepLines:
             self._dangling = False
 
     def _tick(self) -> None:
-        while not self._stop.wait(min(REDRAW_SECONDS, self.every)):
+        while not self._stop.wait(max(0.01, min(REDRAW_SECONDS, self.every))):
             with self._lock:
                 now = time.monotonic()
                 if self.silent or self.step is None or now - self.shown < self.every:
