@@ -88,3 +88,17 @@ def test_play_keeps_a_stage_line(tmp_path: Path) -> None:
     assert result.exit_code == 0, result.output
     stages = {line.rsplit(" (", 1)[0] for line in result.stderr.splitlines()}
     assert {"guardsim: play: walking the episode", "guardsim: play: writing the GIF"} <= stages, result.stderr
+
+
+def test_watch_ends_each_analysis_with_a_line(tmp_path: Path) -> None:
+    # The report's last step ("counting the distinct ways through") was followed by nothing, so its line
+    # would have ticked on while the page sat idle.
+    import asyncio
+
+    from guardsim.viewer.serve.app import LiveAnalyser
+
+    lines: list[str] = []
+    analyser = LiveAnalyser(_level(tmp_path), patrol=None, guards=1, pairs=[((0.5, 0.5), (5.5, 5.5))], echo=lines.append)
+    asyncio.run(analyser.run())
+    steps = [k for k, line in enumerate(lines) if line.startswith("analysing: ")]
+    assert steps and lines[-1].startswith("report 1: ") and steps[-1] < len(lines) - 1, lines
