@@ -98,7 +98,9 @@ def test_watch_ends_each_analysis_with_a_line(tmp_path: Path) -> None:
     from guardsim.viewer.serve.app import LiveAnalyser
 
     lines: list[str] = []
-    analyser = LiveAnalyser(_level(tmp_path), patrol=None, guards=1, pairs=[((0.5, 0.5), (5.5, 5.5))], echo=lines.append)
+    analyser = LiveAnalyser(
+        str(_level(tmp_path)), patrol=None, guards=1, pairs=[((0.5, 0.5), (5.5, 5.5))], echo=lines.append
+    )
     asyncio.run(analyser.run())
     steps = [k for k, line in enumerate(lines) if line.startswith("analysing: ")]
     assert steps and lines[-1].startswith("report 1: ") and steps[-1] < len(lines) - 1, lines
