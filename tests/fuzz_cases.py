@@ -80,7 +80,7 @@ NEWER_KINDS: dict[str, tuple[str, ...]] = {
     "lights": ("validate", "sneak", "render", "alert"),
     "noise": ("validate", "alert"),
     "noise-route": ("alert",),
-    "design-level": ("report", "diff", "check-baseline", "watch"),
+    "design-level": ("report", "diff", "check-baseline", "watch", "fortify"),
     "design-patrol": ("report", "diff", "check-baseline", "watch"),
     "design-option": ("report", "diff", "check-baseline"),
     "fortify-option": ("fortify",),

@@ -227,6 +227,8 @@ def _design_args(command: str, level: str, patrol: str | None, old: str = "{dir}
     if command == "diff":
         both = ["--patrol-old", "{dir}/in.patrol.json", "--patrol-new", patrol] if patrol else []
         return ["diff", old, level, *both, *_DESIGN_TAIL, "--json", "{dir}/r.json"]
+    if command == "fortify":
+        return [*_FORTIFY[:1], level, *_FORTIFY[2:-2], *(["--patrol", patrol] if patrol else [])]
     if command == "check-baseline":
         return ["check", level, "--baseline", old, *(["--patrol", patrol] if patrol else []), "--sneak", _FROM, _TO,
                 "--expect", "sneaks", "--max-worse", "score=100"]  # fmt: skip
