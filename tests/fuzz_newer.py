@@ -227,6 +227,8 @@ def _design_args(command: str, level: str, patrol: str | None, old: str = "{dir}
     if command == "diff":
         both = ["--patrol-old", "{dir}/in.patrol.json", "--patrol-new", patrol] if patrol else []
         return ["diff", old, level, *both, *_DESIGN_TAIL, "--json", "{dir}/r.json"]
+    if command == "fortify":
+        return [*_FORTIFY[:1], level, *_FORTIFY[2:-2], *(["--patrol", patrol] if patrol else [])]
     if command == "check-baseline":
         return ["check", level, "--baseline", old, *(["--patrol", patrol] if patrol else []), "--sneak", _FROM, _TO,
                 "--expect", "sneaks", "--max-worse", "score=100"]  # fmt: skip
@@ -244,8 +246,8 @@ def design_level_case(command: str, rng: np.random.Generator, templates: Templat
                 note=f"{kind}: {note}", place=place)  # fmt: skip
 
 
-def design_patrol_case(command: str, rng: np.random.Generator, templates: Templates) -> Case:
-    """A damaged patrol.json given to a design command (``diff``'s new version's)."""
+def _damaged_patrol(rng: np.random.Generator, templates: Templates) -> tuple[bytes, str]:
+    """The template patrol.json damaged (a special file, a JSON mutation or a byte mutation), and how."""
     roll = rng.random()
     if roll < 0.05:
         content, note = special_file(rng)
@@ -254,6 +256,12 @@ def design_patrol_case(command: str, rng: np.random.Generator, templates: Templa
         content = json.dumps(data, allow_nan=True).encode()
     else:
         content, note = mutate_text(templates.patrol, rng)
+    return content, note
+
+
+def design_patrol_case(command: str, rng: np.random.Generator, templates: Templates) -> Case:
+    """A damaged patrol.json given to a design command (``diff``'s new version's)."""
+    content, note = _damaged_patrol(rng, templates)
     files = {"level.json": json.dumps(BASE).encode(), "old.json": json.dumps(BASE).encode(),
              "in.patrol.json": templates.patrol, "bad.patrol.json": content}  # fmt: skip
     args = _design_args(command, "{dir}/level.json", "{dir}/bad.patrol.json")
@@ -318,8 +326,86 @@ def _whole_in(value: str, option: str) -> bool:
     return value.isdigit() and (1 if option == "--guards" else 0) <= int(value) <= high
 
 
+#: ``guardsim fortify`` on the tiny square, small budgets so that each run takes a moment.
+_FORTIFY = ["fortify", "{dir}/level.json", "--from", _FROM, "--to", _TO, "--max-rounds", "3", "--candidates", "8",
+            "--out", "{dir}/out"]  # fmt: skip
+_FORTIFY_OUTPUTS = ["out/fortify.json", "out/level.json", "out/patrol.json", "out/fortify.png"]
+_FORTIFY_BUDGETS = ("--cameras", "--posts", "--candidates", "--max-rounds", "--max-lap")
+_FORTIFY_NUMBERS = ("0", "-1", "1" + "0" * 400, "2", "x", "nan", "1e3", "")
+_FORTIFY_PICTURES = ("{dir}/no/such/folder/p.png", "/proc/guardsim-fuzz.png", "{dir}/adir", "")
+
+
+def fortify_option_case(rng: np.random.Generator) -> Case:
+    """One option of ``guardsim fortify`` given a nasty value: an entry or goal in the pillar or off the
+    level, a budget of 0, negative or past any integer, a keep-open pair that is also a pair to seal or
+    lies in a wall, a min-slack without its pair, a picture or folder that cannot be written."""
+    files = {"level.json": json.dumps(SQUARE_WITH_HOLE).encode(), "adir/keep": b""}
+    args = list(_FORTIFY)
+    roll = int(rng.integers(6))
+    value = _VALUES[int(rng.integers(len(_VALUES)))]
+    named = option = ("--from", "--to", "budget", "--keep-open", "--min-slack", "output")[roll]
+    bad = True
+    if option in ("--from", "--to"):
+        args[args.index(option) + 1] = value
+        bad = value != "0.5,0.5"
+    elif option == "budget":
+        named = option = _FORTIFY_BUDGETS[int(rng.integers(len(_FORTIFY_BUDGETS)))]
+        value = _FORTIFY_NUMBERS[int(rng.integers(len(_FORTIFY_NUMBERS)))]
+        if option in args:
+            args[args.index(option) + 1] = value
+        else:
+            args += [option, value]
+        # Budgets are whole numbers of at least 1 (0 watchers, rounds or candidates cannot fortify, a lap
+        # under 4 ticks holds no turning candidate); a huge one is only a budget not reached.
+        bad = not value.isdigit() or int(value) < (4 if option == "--max-lap" else 1)
+        if option in ("--cameras", "--posts") and value == "0":
+            bad = False  # the other kind is still there
+    elif option == "--keep-open":
+        pair = [("0.5,5.5", "5.5,0.5"), ("0.5,0.5", "5.5,5.5"), ("3,3", "5.5,5.5"), ("0.5,5.5", "60,60"),
+                ("nan,1", "0.5,5.5"), ("0.5,5.5", "")][int(rng.integers(6))]  # fmt: skip
+        args += ["--keep-open", *pair]
+        value = " ".join(pair)
+        named = "keep-open"
+        bad = pair != ("0.5,5.5", "5.5,0.5")
+    elif option == "--min-slack":
+        with_pair = rng.random() < 0.5
+        value = _FORTIFY_NUMBERS[int(rng.integers(len(_FORTIFY_NUMBERS)))]
+        args += [*(["--keep-open", "0.5,5.5", "5.5,0.5"] if with_pair else []), "--min-slack", value]
+        bad = not with_pair or not value.isdigit()
+    else:
+        option = ("--picture", "--out")[int(rng.integers(2))]
+        value = _FORTIFY_PICTURES[int(rng.integers(len(_FORTIFY_PICTURES)))]
+        if option == "--out":
+            value = {"{dir}/adir": "{dir}/adir/keep"}.get(value, value)  # a file where the folder goes
+            args[args.index("--out") + 1] = value
+        else:
+            # Alone: with --out, a picture that cannot be written still leaves the folder's files behind
+            # and an empty name is "." (test_fuzz_findings.py's xfail
+            # test_fortify_picture_that_cannot_be_written_is_refused_before_any_work).
+            del args[args.index("--out") : args.index("--out") + 2]
+            value = value or "{dir}/adir"  # an empty name: the same xfail test
+            args += ["--picture", value]
+        named = value.replace("{dir}/", "") if value else option
+        # The output folder is made when missing; a picture's folder is not.
+        bad = not (option == "--out" and value.startswith("{dir}/no/"))
+    return Case("fortify-option", "fortify", files, args, named, _FORTIFY_OUTPUTS, bad=bad,
+                clean=True, note=f"{option} {value[:20]!r}")  # fmt: skip
+
+
+def fortify_patrol_case(rng: np.random.Generator, templates: Templates) -> Case:
+    """A damaged patrol.json of the guards already there, given to ``guardsim fortify --patrol``."""
+    content, note = _damaged_patrol(rng, templates)
+    files = {"level.json": json.dumps(SQUARE_WITH_HOLE).encode(), "bad.patrol.json": content}
+    args = [*_FORTIFY, "--patrol", "{dir}/bad.patrol.json", "--max-lap", "200"]
+    return Case("fortify-patrol", "fortify", files, args, "bad.patrol.json", _FORTIFY_OUTPUTS, clean=True, note=note)
+
+
 def generate_newer(kind: str, command: str, rng: np.random.Generator, templates: Templates) -> Case:
     """One case of a newer ``kind`` read by ``command``."""
+    if kind == "fortify-option":
+        return fortify_option_case(rng)
+    if kind == "fortify-patrol":
+        return fortify_patrol_case(rng, templates)
     if kind in ("cameras", "lights", "noise"):
         return level_kind_case(kind, command, rng, templates)
     if kind == "noise-route":

@@ -56,6 +56,9 @@ CASES = {
     "design-level": 16,
     "design-patrol": 16,
     "design-option": 12,
+    # fortify runs a few exact searches on the tiny square per case: one case each in the fast tier.
+    "fortify-option": 4,
+    "fortify-patrol": 4,
 }
 #: The seed of the CI cases: derandomised, so a failure here fails the same way on every machine.
 SEED = 16

@@ -482,3 +482,49 @@ def test_starts_on_no_part_of_the_floor_keep_the_whole_level() -> None:
     level = parse_level(SPLIT_ROOMS, source="split.tmj")
     kept, said = keep_spawn_areas(level, [(3.0, 1.5)], source="split.tmj", max_cells=10_000, max_vertices=1_000)
     assert kept is level and said == ""
+
+
+# --- fortify's options (tests/fuzz_newer.py's fortify-option kind) -------------------------------------
+
+_FORTIFY_SQUARE: dict[str, Any] = {
+    "name": "tiny",
+    "outer": [[0, 0], [6, 0], [6, 6], [0, 6]],
+    "holes": [[[2, 2], [4, 2], [4, 4], [2, 4]]],
+    "guard": {"start": [0.5, 0.5], "heading": "right"},
+}
+
+
+def test_fortify_sealed_by_its_last_round_says_sealed(tmp_path: Path) -> None:
+    # The second round added the post that seals the pair and the budget left no round to search it:
+    # the document said "not sealed" with no open pair, and the command's line raised IndexError.
+    level = _write(tmp_path / "tiny.json", _FORTIFY_SQUARE)
+    result = run("fortify", level, "--from", "0.5,0.5", "--to", "5.5,5.5", "--candidates", "8", "--max-rounds", "2",
+                 "--out", tmp_path / "out")  # fmt: skip
+    assert result.exit_code == 0, result.output
+    assert result.stdout.startswith("tiny: sealed (undetected) with 2 watchers")
+    document = json.loads((tmp_path / "out" / "fortify.json").read_text(encoding="utf-8"))
+    assert document["sealed"] and document["reason"] is None and document["search_rounds"] == 2
+    assert all(pair["sealed"] for pair in document["pairs"])
+
+
+@pytest.mark.parametrize(("option", "point", "phrase"), [("--to", "3,3", "a wall"), ("--from", "60,60", "outside")])
+def test_fortify_points_name_their_option(tmp_path: Path, option: str, point: str, phrase: str) -> None:
+    # "pair 1's goal 3,3 is in cell [3, 3]": the line named neither --to nor --from.
+    level = _write(tmp_path / "tiny.json", _FORTIFY_SQUARE)
+    args = {"--from": "0.5,0.5", "--to": "5.5,5.5", option: point}
+    line = assert_one_line_error(run("fortify", level, "--from", args["--from"], "--to", args["--to"]), option)
+    assert phrase in line
+
+
+@pytest.mark.xfail(strict=True, reason="cli/fortify.py must check --picture before its work (check_outputs)")
+@pytest.mark.parametrize("picture", ["adir", ""])
+def test_fortify_picture_that_cannot_be_written_is_refused_before_any_work(tmp_path: Path, picture: str) -> None:
+    # --out D --picture into a folder: D/fortify.json, level.json and patrol.json were written first; an
+    # empty --picture failed as ".: cannot write: Device or resource busy", naming no option.
+    level = _write(tmp_path / "tiny.json", _FORTIFY_SQUARE)
+    (tmp_path / "adir").mkdir()
+    target = str(tmp_path / picture) if picture else ""
+    result = run("fortify", level, "--from", "0.5,0.5", "--to", "5.5,5.5", "--max-rounds", "2", "--candidates", "8",
+                 "--out", tmp_path / "out", "--picture", target)  # fmt: skip
+    assert_one_line_error(result, "--picture")
+    assert not (tmp_path / "out" / "fortify.json").exists()

@@ -7,7 +7,7 @@ import json
 import click
 
 from guardsim.cli.common import limit_options, load, reports_errors
-from guardsim.cli.design_common import check_outputs, guards_option, pair_options, pairs_of, progress_line
+from guardsim.cli.design_common import StepLines, check_outputs, guards_option, pair_options, pairs_of
 from guardsim.cli.map_options import MapImport, map_options
 
 __all__ = ["diff"]
@@ -64,16 +64,17 @@ def diff(
     old = load(old_path, max_cells, max_vertices, max_file_bytes, map_import)
     new = load(new_path, max_cells, max_vertices, max_file_bytes, map_import)
     compile_ahead("report")
-    found = compare(
-        old,
-        new,
-        patrol_old=patrol_old,
-        patrol_new=patrol_new,
-        guards=guards,
-        pairs=pairs,
-        seed=seed,
-        progress=progress_line,
-    )
+    with StepLines() as steps:
+        found = compare(
+            old,
+            new,
+            patrol_old=patrol_old,
+            patrol_new=patrol_new,
+            guards=guards,
+            pairs=pairs,
+            seed=seed,
+            progress=steps,
+        )
     data = diff_data(found)
     click.echo(f"  cells: {data['cells_added']} added, {data['cells_removed']} removed")
     click.echo(f"  steps to cover: {_pair(data['cover_steps'])}")

@@ -2,6 +2,7 @@
 
 from __future__ import annotations
 
+import sys
 import time
 
 import click
@@ -18,6 +19,7 @@ from guardsim.cli.common import (
 )
 from guardsim.cli.map_options import MapImport, map_options
 from guardsim.cli.motion import check_motion, check_speed_up, motion_of, motion_options, speed_up_option
+from guardsim.cli.progress import StageLine
 from guardsim.files.output import write_text_atomic
 from guardsim.level import HEADINGS
 from guardsim.motion import run_episode, summary_text
@@ -124,11 +126,15 @@ def play(
     check_speed_up(motion, speed_up)
     if record_field and planner not in FIELD_PLANNERS:
         raise click.BadParameter(f"planner {planner} keeps no field to record", param_hint="--record-field")
+    # A big map spends seconds loading, seeing, walking and drawing: the stage line keeps it from silence.
+    progress = StageLine(sys.stderr, "play").start()
+    progress("loading the level", 0, 0)
     level = load(level_path, max_cells, max_vertices, max_file_bytes, map_import)
     from guardsim.kernels.ahead import compile_ahead
 
     compile_ahead(f"play:{planner}")
     began = time.perf_counter()
+    progress("building the scene", 0, 0)
     scene = build_scene(level, los, fov, view_range)
     rng, cell, first_heading = cli_start(scene, seed=seed, episode=episode, start=start, heading=heading)
     options = planner_options(planner, sweeps_per_tick=sweeps_per_tick)
@@ -136,6 +142,7 @@ def play(
     # One small RippleFront episode runs faster on the plain loop than the compiler takes to build the
     # fast path on a fresh install; both give the same trace, so take whichever is quicker now.
     plain = reference or plain_loop_pays(planner, guards, int(scene.grid.traversable.sum()))
+    progress("walking the episode", 0, 0)
     if motion == "continuous":
         trace = run_episode(scene, planner, seed=seed, starts=None if cell is None else [cell], headings=None if first_heading is None else [first_heading], rng=rng, max_steps=max_steps, motion=motion_of(scene, move_speed, turn_speed, tick_hz) or "continuous", max_seconds=max_seconds, reference=reference, **options)  # fmt: skip
     else:
@@ -150,16 +157,20 @@ def play(
     if gif_path:
         from guardsim.render.gif import write_gif
 
+        progress("writing the GIF", 0, 0)
         write_gif(gif_path, level, trace, gif_options)
         written.append(gif_path)
     if html_path:
         from guardsim.viewer import write_viewer
 
+        progress("writing the page", 0, 0)
         write_viewer(html_path, level, trace)
         written.append(html_path)
     if trace_path:
+        progress("writing the trace", 0, 0)
         write_text_atomic(trace_path, trace.to_json())
         written.append(trace_path)
+    progress.close()
     seen_percent = 100.0 - trace.unseen_percent[-1]
     extra = f", {trace.unreachable} unreachable" if trace.unreachable else ""
     team = f" ({guards} guards, {trace.total_moves} moves in all)" if guards > 1 else ""

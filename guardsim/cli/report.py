@@ -7,7 +7,7 @@ import json
 import click
 
 from guardsim.cli.common import limit_options, load, reports_errors
-from guardsim.cli.design_common import check_outputs, guards_option, pair_options, pairs_of, progress_line
+from guardsim.cli.design_common import StepLines, check_outputs, guards_option, pair_options, pairs_of
 from guardsim.cli.map_options import MapImport, map_options
 from guardsim.design.report import MAX_ALERT_EPISODES
 
@@ -62,8 +62,9 @@ def report(
     check_outputs(json=json_path, html=html_path)
     level = load(level_path, max_cells, max_vertices, max_file_bytes, map_import)
     compile_ahead("report")
-    analysis = analyse(level, patrol=patrol_path, guards=guards, pairs=pairs, seed=seed, progress=progress_line)
-    found = report_of(analysis, alert=alert, seed=seed, progress=progress_line)
+    with StepLines() as steps:
+        analysis = analyse(level, patrol=patrol_path, guards=guards, pairs=pairs, seed=seed, progress=steps)
+        found = report_of(analysis, alert=alert, seed=seed, progress=steps)
     data = report_data(found)
     for pair in data["pairs"]:
         where = f"{pair['from'][0]:g},{pair['from'][1]:g} -> {pair['to'][0]:g},{pair['to'][1]:g}"

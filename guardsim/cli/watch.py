@@ -5,7 +5,7 @@ from __future__ import annotations
 import click
 
 from guardsim.cli.common import reports_errors
-from guardsim.cli.design_common import guards_option, pair_options, pairs_of, progress_line
+from guardsim.cli.design_common import StepLines, guards_option, pair_options, pairs_of
 
 __all__ = ["watch"]
 
@@ -48,13 +48,15 @@ def watch(
     """
     from guardsim.viewer.serve.app import watch as serve
 
-    serve(
-        level_path,
-        patrol=patrol_path,
-        guards=guards,
-        pairs=pairs_of(sources, targets),
-        host=host,
-        port=port,
-        open_browser=open_browser,
-        echo=progress_line,
-    )
+    # An analysis's steps tick while they run; its result, a save noticed or an error ends the step.
+    with StepLines(is_step=lambda line: line.startswith("analysing: ")) as steps:
+        serve(
+            level_path,
+            patrol=patrol_path,
+            guards=guards,
+            pairs=pairs_of(sources, targets),
+            host=host,
+            port=port,
+            open_browser=open_browser,
+            echo=steps,
+        )

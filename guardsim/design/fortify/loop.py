@@ -274,7 +274,7 @@ def fortify(
     scene = Scene.from_level(level, **options)
     grid = scene.grid
     cells = [
-        (_point_cell(grid, a, f"pair {n + 1}'s entry"), _point_cell(grid, b, f"pair {n + 1}'s goal"))
+        (_point_cell(grid, a, f"--from: pair {n + 1}'s entry"), _point_cell(grid, b, f"--to: pair {n + 1}'s goal"))
         for n, (a, b) in enumerate(pairs)
     ]
     labels = grid.component_labels
@@ -492,18 +492,21 @@ def fortify(
     combined = _combined_patrol(patrol, post_cells, swing)
     guards = 0 if patrol is None else patrol.guards
     count = len(chosen)
+    # The last round may add the watcher that seals every pair and leave no round to search it: the
+    # proof searches above are exact, so the placement is sealed all the same (not pruned).
+    proved = all(way is None for way in ways)
     document: dict[str, Any] = {
         "level": level.name,
         "rule": "undetected" if undetected else "unseen",
-        "sealed": sealed and all(way is None for way in ways),
-        "reason": None if sealed else reason,
+        "sealed": proved,
+        "reason": None if proved else reason,
         "cell_size": grid.cell_size,
         "origin": list(grid.origin),
         "lap": lap,
         "count": count,
         "lower_bound": bound if bound <= len(caught) else None,
         "bound": bound_kind,
-        "gap": (count - bound) if sealed and bound <= len(caught) else None,
+        "gap": (count - bound) if proved and bound <= len(caught) else None,
         "budget": {"cameras": cameras, "posts": posts, "rounds": max_rounds, "candidates": candidates},
         "candidates": {
             "cameras": sum(1 for c in pool if c.kind == "camera"),

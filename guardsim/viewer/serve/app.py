@@ -194,6 +194,8 @@ class LiveAnalyser:
                 asyncio.run_coroutine_threadsafe(self._deliver(), loop).result()
             else:
                 loop.call_soon_threadsafe(self._publish)
+                # The report's last step (the ways through) ends here: said, so its line stops ticking.
+                self.echo(f"report {payload['number']}: {payload['seconds']:.2f} s")
             if payload["phase"] == "analysis":
                 reused = f", reused {' and '.join(payload['reused'])}" if payload["reused"] else ""
                 self.echo(f"analysis {payload['number']}: {payload['seconds']:.2f} s{reused}")
