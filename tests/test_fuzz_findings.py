@@ -516,7 +516,6 @@ def test_fortify_points_name_their_option(tmp_path: Path, option: str, point: st
     assert phrase in line
 
 
-@pytest.mark.xfail(strict=True, reason="cli/fortify.py must check --picture before its work (check_outputs)")
 @pytest.mark.parametrize("picture", ["adir", ""])
 def test_fortify_picture_that_cannot_be_written_is_refused_before_any_work(tmp_path: Path, picture: str) -> None:
     # --out D --picture into a folder: D/fortify.json, level.json and patrol.json were written first; an

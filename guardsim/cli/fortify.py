@@ -17,6 +17,7 @@ from guardsim.cli.common import (
     reports_errors,
     vision_options,
 )
+from guardsim.cli.design_common import check_outputs
 from guardsim.cli.map_options import MapImport, map_options
 from guardsim.cli.patrol import output_folder
 from guardsim.cli.progress import StageLine
@@ -173,6 +174,7 @@ def fortify(
     from guardsim.scene import Scene
 
     slacks = _check_budget(sources, targets, cameras, posts, max_rounds, candidates, keep_open, min_slacks)
+    check_outputs(picture=picture)
     progress = StageLine(sys.stderr, "fortify").start()
     level = detection_overrides.apply(load(level_path, max_cells, max_vertices, max_file_bytes, map_import))
     compile_ahead("sneak")
