@@ -1114,6 +1114,7 @@ def run_in_process(case: Case, folder: Path) -> str:
     """Write the case's files into ``folder``, run its command through click's test runner, and return
     the :func:`verdict`."""
     from click.testing import CliRunner
+    from numba.core.errors import NumbaIRAssumptionWarning
 
     from guardsim.cli import main
 
@@ -1125,6 +1126,10 @@ def run_in_process(case: Case, folder: Path) -> str:
     try:
         with warnings.catch_warnings(record=True) as caught:
             warnings.simplefilter("always")
+            # As every guardsim process does (guardsim.kernels.compiler): numba's own pedantic IR check,
+            # raised only while a kernel compiles (a cold cache, a race with compiling ahead), is not the
+            # command's to print.
+            warnings.filterwarnings("ignore", category=NumbaIRAssumptionWarning)
             result = CliRunner().invoke(main, case.argv(folder), catch_exceptions=True)
     except Exception:  # the runner itself failing is a finding too
         return "traceback"

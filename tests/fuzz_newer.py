@@ -421,6 +421,7 @@ def run_watch(case: Case, folder: Path) -> str:
     """Parse ``case``'s ``guardsim watch`` line as the command does and analyse the saved file once, as the
     server does on a save; the :func:`~tests.fuzz_cases.verdict` of what the page would show."""
     import click
+    from numba.core.errors import NumbaIRAssumptionWarning
 
     from guardsim.cli.design_common import pairs_of
     from guardsim.cli.watch import watch
@@ -432,6 +433,7 @@ def run_watch(case: Case, folder: Path) -> str:
     try:
         with warnings.catch_warnings(record=True) as caught:
             warnings.simplefilter("always")
+            warnings.filterwarnings("ignore", category=NumbaIRAssumptionWarning)  # as in run_in_process
             try:
                 context = watch.make_context("watch", argv)
                 params = context.params
