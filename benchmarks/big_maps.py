@@ -66,7 +66,19 @@ COMMANDS = {
         "{out}/a",
     ],
     "bounds": ["bounds", "{level}"],
-}
+    "check": [
+        "check", "{level}", "--patrol", "{patrol}", "--sneak", "{start}", "{goal}", "--expect", "sneaks",
+    ],
+    "report": ["report", "{level}", "--patrol", "{patrol}", "--from", "{start}", "--to", "{goal}", "--json", "{out}/r.json"],
+    "diff": [
+        "diff", "{level}", "{level}", "--patrol-old", "{patrol}", "--patrol-new", "{patrol}", "--from", "{start}",
+        "--to", "{goal}", "--json", "{out}/d.json",
+    ],
+    "fortify": [
+        "fortify", "{level}", "--patrol", "{patrol}", "--from", "{start}", "--to", "{goal}", "--max-rounds", "8",
+        "--out", "{out}/f",
+    ],
+}  # fmt: skip
 DEFAULT_COMMANDS = ("patrol", "patrol-2", "patrol-4", "sneak", "sneak-undetected", "alert-100", "bounds")
 
 
@@ -96,7 +108,12 @@ def _run(arguments: list[str], timeout: float) -> tuple[float, float, int, int |
         output.seek(0)
         lines = [line for line in output.read().decode(errors="replace").splitlines() if line.strip()]
     # The summary line: not a progress line, nor a note indented under the summary.
-    said = [line for line in lines if not line.startswith(("guardsim: patrol:", "guardsim: sneak:", " "))]
+    said = [
+        line
+        for line in lines
+        if not line.startswith(" ")
+        and (not line.startswith("guardsim: ") or line.startswith(("guardsim: error", "guardsim: warning")))
+    ]
     last = said[-1] if said else ""
     return seconds, cpu, peak, status, last
 

@@ -74,7 +74,16 @@ def test_no_tick_with_progress_off(monkeypatch: pytest.MonkeyPatch) -> None:
 
 @pytest.mark.usefixtures("loud")
 @pytest.mark.parametrize("command", ["report", "diff"])
-def test_design_commands_tick_their_steps(tmp_path: Path, command: str) -> None:
+def test_design_commands_tick_their_steps(tmp_path: Path, command: str, monkeypatch: pytest.MonkeyPatch) -> None:
+    # On a tiny level every step ends within the clock's 10 ms: each is made to last 50 ms, so the clock
+    # has a step to say again however fast the machine.
+    said = StepLines.__call__
+
+    def said_slowly(self: StepLines, line: str) -> None:
+        said(self, line)
+        time.sleep(0.05)
+
+    monkeypatch.setattr(StepLines, "__call__", said_slowly)
     level = _level(tmp_path)
     levels = [level] if command == "report" else [level, level]
     result = run(command, *levels, "--from", "0.5,0.5", "--to", "5.5,5.5")
