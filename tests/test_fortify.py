@@ -279,3 +279,15 @@ def test_a_post_in_patrol_json_turns_in_place_and_stays_on_one_cell() -> None:
         parse_patrol({"shape": [1, 8], "guards": [{**post, "post": False}]}, grid)
     with pytest.raises(PatrolError, match="a post stands on one cell"):
         parse_patrol({"shape": [1, 8], "guards": [{**post, "loop": [[3, 0], [4, 0], [3, 0], [3, 0], [3, 0]]}]}, grid)
+
+
+def test_a_lap_too_long_for_the_searches_is_refused_before_any_work(monkeypatch: pytest.MonkeyPatch) -> None:
+    # A 256 x 256 city's 8,826-tick lap passed 20 GB before the search's own label limit stopped it.
+    from guardsim.design.fortify import loop
+    from guardsim.errors import LimitError
+
+    level = parse_level(ROOM)
+    cells = Scene.from_level(level).grid.size
+    monkeypatch.setattr(loop, "MAX_DENSE_NODES", cells - 1)
+    with pytest.raises(LimitError, match=rf"\(lap tick, cell\): {cells} nodes \({cells} cells x a 1-tick lap\), over"):
+        fortify(level, None, [((0.5, 0.5), (6.5, 3.5))], candidates=4)

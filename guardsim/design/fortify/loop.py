@@ -39,6 +39,7 @@ from guardsim.design.fortify.candidates import (
     swing_ticks,
 )
 from guardsim.design.fortify.cover import catches, disjoint_bound, min_hitting_set
+from guardsim.detection.exposure import MAX_DENSE_NODES
 from guardsim.detection.model import GuardDetection
 from guardsim.detection.watch import MAX_JOINT_LAP, joint_lap, lap_gains, level_watch
 from guardsim.errors import GuardsimError, LimitError
@@ -308,6 +309,15 @@ def fortify(
     detection = GuardDetection.of_level(scene.level)
     dt = detection.dt
     watch = level_watch(scene, dt, max_lap=max_lap) if level.cameras or not level.lit else None
+    # The searches below hold arrays over every (lap tick, cell), each watcher's too: refuse up front a
+    # level whose lap alone is over the dense limit (a 256 x 256 city passed 20 GB before its search did).
+    lap_ticks = joint_lap(1 if patrol is None else int(patrol.states.shape[1]), watch, max_lap=max_lap)
+    if lap_ticks * grid.size > MAX_DENSE_NODES:
+        raise LimitError(
+            f"fortify's searches hold arrays over every (lap tick, cell): {lap_ticks * grid.size} nodes ({grid.size} "
+            f"cells x a {lap_ticks}-tick lap), over the limit of {MAX_DENSE_NODES}; a shorter patrol lap or a "
+            "smaller level fits"
+        )
     if patrol is not None:
         base_gains, _ = lap_gains(grid, table, patrol.states, detection, watch, max_lap=max_lap)
         base = base_gains.gain
