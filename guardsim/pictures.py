@@ -18,6 +18,7 @@ import numpy as np
 from guardsim.errors import GuardsimError, TraceError
 
 if TYPE_CHECKING:
+    from guardsim.design.diff import LevelDiff
     from guardsim.design.fortify.loop import FortifyResult
     from guardsim.detection import GuardDetection
     from guardsim.detection.watch import LevelWatch
@@ -28,7 +29,10 @@ if TYPE_CHECKING:
     from guardsim.sneak import SneakResult
     from guardsim.vision.table import ViewTable
 
-__all__ = ["Drawn", "write_fortify_picture", "write_patrol_pictures", "write_sneak_json_page", "write_sneak_pictures"]
+__all__ = [
+    "Drawn",
+    "write_diff_pictures",
+    "write_fortify_picture", "write_patrol_pictures", "write_sneak_json_page", "write_sneak_pictures"]
 
 
 class Drawn(NamedTuple):
@@ -311,3 +315,29 @@ def write_fortify_picture(result: FortifyResult, picture: str) -> str:
     with atomic_path(picture) as temporary:
         Image.fromarray(np.ascontiguousarray(image)).save(temporary, format="PNG")
     return picture
+
+
+def write_diff_pictures(
+    found: LevelDiff, data: dict[str, Any], *, png: str | None, html: str | None, title: str
+) -> list[str]:
+    """The picture of what an edit changed (PNG, :func:`guardsim.render.diff.diff_picture`) and the page
+    of both analyses with the table of changes (``data``: :func:`guardsim.design.diff_data`); the paths
+    written."""
+    from guardsim.files.output import atomic_path, write_text_atomic
+
+    written: list[str] = []
+    if png is not None:
+        import imageio.v3 as iio
+
+        from guardsim.render.diff import diff_picture
+
+        with atomic_path(png) as temporary:
+            iio.imwrite(temporary, diff_picture(found), extension=".png")
+        written.append(png)
+    if html is not None:
+        from guardsim.viewer.serve import analysis_payload, diff_table, static_page
+
+        payloads = [analysis_payload(found.old, data["old_report"]), analysis_payload(found.new, data["new_report"])]
+        write_text_atomic(html, static_page(title, payloads, diff_table(data)))
+        written.append(html)
+    return written

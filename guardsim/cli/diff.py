@@ -13,12 +13,6 @@ from guardsim.cli.map_options import MapImport, map_options
 __all__ = ["diff"]
 
 
-def _pair(values: list) -> str:
-    return " -> ".join(
-        "-" if value is None else f"{value:g}" if isinstance(value, float) else str(value) for value in values
-    )
-
-
 @click.command()
 @click.argument("old_path", metavar="OLD")
 @click.argument("new_path", metavar="NEW")
@@ -56,8 +50,10 @@ def diff(
     """
     from guardsim.design import diff as compare
     from guardsim.design import diff_data
-    from guardsim.files.output import atomic_path, write_text_atomic
+    from guardsim.design.diff import diff_summary
+    from guardsim.files.output import write_text_atomic
     from guardsim.kernels.ahead import compile_ahead
+    from guardsim.pictures import write_diff_pictures
 
     pairs = pairs_of(sources, targets)
     check_outputs(json=json_path, png=png_path, html=html_path)
@@ -76,40 +72,12 @@ def diff(
             progress=steps,
         )
     data = diff_data(found)
-    click.echo(f"  cells: {data['cells_added']} added, {data['cells_removed']} removed")
-    click.echo(f"  steps to cover: {_pair(data['cover_steps'])}")
-    click.echo(f"  idleness: worst {_pair(data['worst_idleness'])}, mean {_pair(data['mean_idleness'])}")
-    click.echo(
-        f"  safe spots: {_pair(data['safe_spots'])} ({len(data['safe_gained'])} gained, {len(data['safe_lost'])} lost)"
-    )
-    for pair in data["pairs"]:
-        where = f"{pair['from'][0]:g},{pair['from'][1]:g} -> {pair['to'][0]:g},{pair['to'][1]:g}"
-        click.echo(
-            f"  {where}: {_pair(pair['outcome'])}; ticks {_pair(pair['ticks'])}; slack {_pair(pair['slack'])}; "
-            f"risk {_pair(pair['risk'])}; peak awareness {_pair(pair['peak_awareness'])}; "
-            f"hiding spots {len(pair['hiding_gained'])} gained, {len(pair['hiding_lost'])} lost"
-        )
-    click.echo(f"{old.name}: difficulty {_pair(data['score'])}")
+    for line in diff_summary(data, old.name):
+        click.echo(line)
     written = []
     if json_path is not None:
         write_text_atomic(json_path, json.dumps(data, indent=1) + "\n")
         written.append(json_path)
-    if png_path is not None:
-        import imageio.v3 as iio
-
-        from guardsim.render.diff import diff_picture
-
-        with atomic_path(png_path) as temporary:
-            iio.imwrite(temporary, diff_picture(found), extension=".png")
-        written.append(png_path)
-    if html_path is not None:
-        from guardsim.viewer.serve import analysis_payload, diff_table, static_page
-
-        payloads = [
-            analysis_payload(found.old, data["old_report"]),
-            analysis_payload(found.new, data["new_report"]),
-        ]
-        write_text_atomic(html_path, static_page(f"{old.name}: what the edit changed", payloads, diff_table(data)))
-        written.append(html_path)
+    written += write_diff_pictures(found, data, png=png_path, html=html_path, title=f"{old.name}: what the edit changed")
     if written:
         click.echo(f"-> {', '.join(written)}")

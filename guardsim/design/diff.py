@@ -20,7 +20,16 @@ from guardsim.errors import CheckError
 from guardsim.level import Level
 from guardsim.patrol import Patrol
 
-__all__ = ["MARGINS", "LevelDiff", "PairChange", "baseline_verdicts", "diff", "diff_data", "parse_margins"]
+__all__ = [
+    "MARGINS",
+    "LevelDiff",
+    "PairChange",
+    "baseline_verdicts",
+    "diff",
+    "diff_data",
+    "diff_summary",
+    "parse_margins",
+]
 
 
 class PairChange(NamedTuple):
@@ -282,3 +291,29 @@ def baseline_verdicts(found: LevelDiff, margins: dict[str, int]) -> list[tuple[s
         grown = (second - first) if first is not None and second is not None else (0 if first == second else 10**9)
         verdict("cover", max(0, grown), f"{first} -> {second} steps")
     return out
+
+
+def _pair(values: list[Any]) -> str:
+    return " -> ".join(
+        "-" if value is None else f"{value:g}" if isinstance(value, float) else str(value) for value in values
+    )
+
+
+def diff_summary(data: dict[str, Any], name: str) -> list[str]:
+    """What ``guardsim diff`` prints of :func:`diff_data`'s document, old -> new, a line each: cells,
+    steps to cover, idleness, safe spots, each pair's sneak, and the difficulty of the level ``name``."""
+    lines = [
+        f"  cells: {data['cells_added']} added, {data['cells_removed']} removed",
+        f"  steps to cover: {_pair(data['cover_steps'])}",
+        f"  idleness: worst {_pair(data['worst_idleness'])}, mean {_pair(data['mean_idleness'])}",
+        f"  safe spots: {_pair(data['safe_spots'])} ({len(data['safe_gained'])} gained, {len(data['safe_lost'])} lost)",
+    ]
+    for pair in data["pairs"]:
+        where = f"{pair['from'][0]:g},{pair['from'][1]:g} -> {pair['to'][0]:g},{pair['to'][1]:g}"
+        lines.append(
+            f"  {where}: {_pair(pair['outcome'])}; ticks {_pair(pair['ticks'])}; slack {_pair(pair['slack'])}; "
+            f"risk {_pair(pair['risk'])}; peak awareness {_pair(pair['peak_awareness'])}; "
+            f"hiding spots {len(pair['hiding_gained'])} gained, {len(pair['hiding_lost'])} lost"
+        )
+    lines.append(f"{name}: difficulty {_pair(data['score'])}")
+    return lines
