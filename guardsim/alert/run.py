@@ -3,7 +3,9 @@ traces as JSON and their summary per search strategy."""
 
 from __future__ import annotations
 
+import hashlib
 import math
+import threading
 from collections.abc import Sequence
 from typing import Any, NamedTuple
 
@@ -14,6 +16,7 @@ from guardsim.alert.intruders import make_intruder, route_of_path
 from guardsim.alert.model import AlertOutcome, AlertRules
 from guardsim.alert.movement import ContinuousMovement, make_movement
 from guardsim.detection import GuardDetection
+from guardsim.detection.sight import LapSight
 from guardsim.detection.watch import level_watch
 from guardsim.errors import ArgumentError
 from guardsim.grid import CoverageGrid
@@ -94,13 +97,11 @@ def alert_episode(
     if intruder == "route" and route is None:
         route = _shortest_path(grid, source, target)
     if intruder == "sneak" and route is None:
-        from guardsim.patrol.scoring import seen_timeline
-        from guardsim.sneak import closest_call, find_sneak
+        from guardsim.sneak import sneak_route
 
-        seen = seen_timeline(table, patrol.states, grid.size)
         heard = _lap_ears(grid, patrol, rules)
-        path = find_sneak(grid.neighbours, seen, source, target, heard=heard, sneak_ticks=rules.sneak_ticks)
-        path = path or closest_call(grid.neighbours, seen, source, target, heard=heard, sneak_ticks=rules.sneak_ticks)
+        sight = _lap_sight(grid, table, patrol, detection)
+        path = sneak_route(sight, grid.neighbours, source, target, heard=heard, sneak_ticks=rules.sneak_ticks)
         if path is None:
             raise ArgumentError("the intruder's goal cannot be reached from its start")
         route, gaits = route_of_path(path.cells.tolist(), path.gaits)
@@ -130,6 +131,29 @@ def alert_episode(
         watch=watch,
         distractions=distractions,
     )
+
+
+_SIGHTS: dict[tuple[int, bytes, GuardDetection], tuple[ViewTable, LapSight]] = {}
+_SIGHTS_LOCK = threading.Lock()
+
+
+def _lap_sight(grid: CoverageGrid, table: ViewTable, patrol: Patrol, detection: GuardDetection) -> LapSight:
+    """What the patrol sees over its lap, sparse, as the sneak check reads it (the level's light and
+    cameras left out: the intruder plans against the guards alone). A batch's episodes share one patrol,
+    so the last one's is kept."""
+    from guardsim.detection.sight import lap_sight
+
+    states = np.ascontiguousarray(patrol.states, dtype=np.int64)
+    key = (id(table), hashlib.blake2b(states.tobytes(), digest_size=16).digest(), detection)
+    with _SIGHTS_LOCK:
+        kept = _SIGHTS.get(key)
+    if kept is not None and kept[0] is table:
+        return kept[1]
+    sight = lap_sight(grid, table, states, detection.model, view_range=detection.view_range, dt=detection.dt)
+    with _SIGHTS_LOCK:
+        _SIGHTS.clear()
+        _SIGHTS[key] = (table, sight)
+    return sight
 
 
 def _lap_ears(grid: CoverageGrid, patrol: Patrol, rules: AlertRules) -> np.ndarray | None:

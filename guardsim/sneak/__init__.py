@@ -17,7 +17,7 @@ from guardsim.detection import GuardDetection, PatrolGains
 from guardsim.detection.exposure import MAX_DENSE_NODES
 from guardsim.detection.hearing import lap_hearing
 from guardsim.detection.sight import LapSight
-from guardsim.detection.watch import MAX_JOINT_LAP, LevelWatch, lap_sight_of
+from guardsim.detection.watch import MAX_JOINT_LAP, LevelWatch, joint_lap, lap_sight_of
 from guardsim.errors import ArgumentError, LimitError
 from guardsim.grid import CoverageGrid
 from guardsim.kernels.distances import distances_from
@@ -26,7 +26,7 @@ from guardsim.patrol.model import Patrol
 from guardsim.sneak.grade import PathGrade, grade_path, unseen_reach
 from guardsim.sneak.graded import MAX_LABELS, entry_searches, undetected_search
 from guardsim.sneak.search import SneakPath, closest_call, find_sneak, hiding_windows, tick_gaits
-from guardsim.sneak.sweep import entry_search, sweep
+from guardsim.sneak.sweep import Sweep, entry_search, sweep
 from guardsim.vision.table import ViewTable
 
 __all__ = [
@@ -43,6 +43,7 @@ __all__ = [
     "hiding_windows",
     "sneak_check",
     "sneak_data",
+    "sneak_route",
     "undetected_search",
 ]
 
@@ -109,9 +110,32 @@ class SneakResult(NamedTuple):
         return self.path is not None and self.path.found
 
 
-#: Most (cell, lap tick) nodes a sneak search may cover: about 3 bits of memory each (the lap's seen ticks,
-#: the nodes reached unseen backwards from the target and undetected forwards from the entry, as bitsets).
-MAX_SNEAK_NODES = 2_000_000_000
+#: Most (cell, lap tick) nodes a sneak search may cover: about :data:`SNEAK_BITS_PER_NODE` bits of memory
+#: each at the search's peak (the lap's seen ticks, the nodes reached unseen backwards from the target
+#: and undetected forwards from the entry, and a flood's pending nodes, as bitsets of a row per cell),
+#: besides the level's view table and the lap's sight events: 8 billion nodes is about 4.7 GB.
+MAX_SNEAK_NODES = 8_000_000_000
+#: Peak memory per (cell, lap tick) node of a sneak search, in bits (measured: 4.6 on duskwood's 4-guard
+#: 22 784-tick lap, 4.1 GB in all; docs/performance.md).
+SNEAK_BITS_PER_NODE = 5
+
+
+def _check_nodes(period: int, cells: int, ticks: int) -> int:
+    """The sneak search's nodes (``ticks`` counts of ticks stood still with gaits, else 1), refused over
+    :data:`MAX_SNEAK_NODES`."""
+    nodes = period * cells * ticks
+    if nodes > MAX_SNEAK_NODES:
+        layers = f" x {ticks} counts of ticks stood still" if ticks > 1 else ""
+        raise LimitError(
+            f"the sneak search would have {nodes} (cell, lap tick) nodes ({cells} cells x a {period}-tick "
+            f"lap{layers}), about {_gigabytes(nodes)} GB, over the limit of {MAX_SNEAK_NODES} nodes (about "
+            f"{_gigabytes(MAX_SNEAK_NODES)} GB; raise guardsim.sneak.MAX_SNEAK_NODES, or patrol with a shorter lap)"
+        )
+    return nodes
+
+
+def _gigabytes(nodes: int) -> str:
+    return f"{nodes * SNEAK_BITS_PER_NODE / 2**33:.1f}"
 
 
 def sneak_check(
@@ -153,6 +177,8 @@ def sneak_check(
     """
     if patrol.period is None:
         raise ArgumentError("the sneak check needs a repeating patrol (its period is null)")
+    # Up front, before the lap's sight is built (gaits, known once the lap's ears are, may multiply it).
+    _check_nodes(joint_lap(patrol.period, watch, max_lap=max_lap), grid.size, 1)
     sight, states = lap_sight_of(grid, table, patrol.states, detection, watch, max_lap=max_lap)
     lap = patrol if states.shape[1] == patrol.period else Patrol(states, states.shape[1], patrol.strategy)
     period = sight.period
@@ -163,13 +189,10 @@ def sneak_check(
     # and a step): the searches without gaits answer exactly, with their own paths.
     audible = heard if heard is not None and heard[0].any() else None
     ticks = intruder.sneak_ticks
-    nodes = period * grid.size * (ticks if audible is not None else 1)
-    if nodes > MAX_SNEAK_NODES:
-        layers = f" x {ticks} counts of ticks stood still" if audible is not None else ""
-        raise LimitError(
-            f"the sneak search would have {nodes} (cell, lap tick) nodes ({grid.size} cells x a {period}-tick lap"
-            f"{layers}), over the limit of {MAX_SNEAK_NODES}"
-        )
+    # The bitsets have a row per cell, walls too: a wall's row is never written, but it shares its memory
+    # pages with the floor rows around it (a row of a 22 784-tick lap is 2.8 kB), so the memory grows
+    # with every cell, not with the floor alone (measured on duskwood, docs/performance.md).
+    nodes = _check_nodes(period, grid.size, ticks if audible is not None else 1)
     if audible is not None:
         path, entries, reached = _with_gaits(sight, neighbours, source, target, undetected, audible, ticks, nodes)
     else:
@@ -210,20 +233,7 @@ def _without_gaits(
     array over every (lap tick, cell) (:mod:`guardsim.sneak.sweep`)."""
     period = sight.period
     remaining = distances_from(neighbours, np.array([target])).astype(np.int64)
-    # Backwards from the target: the nodes from which it is reached unseen (the unseen slack).
-    reach = sweep(sight, neighbours, target, -1, graded=False, forward=False, flood=True, max_labels=max_labels)
-    entries = _ticks_of(reach.reached[source], period)
-    path: SneakPath | None = None
-    if entries.any():
-        ticks, entry, cells = _fastest(
-            sight, neighbours, source, target, remaining, graded=False, entries=entries, max_labels=max_labels
-        )
-        if cells is None:
-            cells = entry_search(
-                sight, neighbours, source, entry, target, graded=False, bound=ticks, remaining=remaining,
-                max_labels=max_labels,
-            ).cells  # fmt: skip
-        path = SneakPath(True, entry, cells, 0)
+    path, entries, reach = _unseen(sight, neighbours, source, target, remaining, max_labels)
     # Every entry tick at once, on past the target: every cell it reaches is a place the player can get to.
     search = sweep(sight, neighbours, source, target, graded=True, flood=True, max_labels=max_labels)
     if undetected and search.cells[target]:
@@ -244,13 +254,75 @@ def _without_gaits(
             path = SneakPath(True, entry, cells, int(in_view.sum()))
         entries = entries | _undetected_entries(sight, neighbours, source, target, reach.reached, entries, max_labels)
     elif path is None:
-        if nodes > MAX_CLOSEST_CALL_NODES:
-            raise LimitError(
-                f"no unseen path, and the closest call's search would have {nodes} (cell, lap tick) nodes, over "
-                f"the limit of {MAX_CLOSEST_CALL_NODES}: ask for an undetected path instead"
-            )
-        path = closest_call(neighbours, sight.dense_seen(), source, target)
+        path = _closest_call(sight, neighbours, source, target, nodes)
     return path, entries, search.cells
+
+
+def _unseen(
+    sight: LapSight, neighbours: np.ndarray, source: int, target: int, remaining: np.ndarray, max_labels: int
+) -> tuple[SneakPath | None, np.ndarray, Sweep]:
+    """The fastest unseen path (``None``: none), the entry ticks from which one exists and the backward
+    sweep from the target that found them."""
+    # Backwards from the target: the nodes from which it is reached unseen (the unseen slack).
+    reach = sweep(sight, neighbours, target, -1, graded=False, forward=False, flood=True, max_labels=max_labels)
+    entries = _ticks_of(reach.reached[source], sight.period)
+    if not entries.any():
+        return None, entries, reach
+    ticks, entry, cells = _fastest(
+        sight, neighbours, source, target, remaining, graded=False, entries=entries, max_labels=max_labels
+    )
+    if cells is None:
+        cells = entry_search(
+            sight, neighbours, source, entry, target, graded=False, bound=ticks, remaining=remaining,
+            max_labels=max_labels,
+        ).cells  # fmt: skip
+    return SneakPath(True, entry, cells, 0), entries, reach
+
+
+def _closest_call(sight: LapSight, neighbours: np.ndarray, source: int, target: int, nodes: int) -> SneakPath | None:
+    """:func:`closest_call` over the dense lap, refused over :data:`MAX_CLOSEST_CALL_NODES`."""
+    if nodes > MAX_CLOSEST_CALL_NODES:
+        raise LimitError(
+            f"no unseen path, and the closest call's search would have {nodes} (cell, lap tick) nodes, over "
+            f"the limit of {MAX_CLOSEST_CALL_NODES}: ask for an undetected path instead"
+        )
+    return closest_call(neighbours, sight.dense_seen(), source, target)
+
+
+def sneak_route(
+    sight: LapSight,
+    neighbours: np.ndarray,
+    source: int,
+    target: int,
+    *,
+    heard: np.ndarray | None = None,
+    sneak_ticks: int = 2,
+    max_labels: int = MAX_LABELS,
+) -> SneakPath | None:
+    """The fastest path from ``source`` to ``target`` (flat cells) unseen under ``sight``, else the closest
+    call; ``None`` when the target cannot be reached at all. The same path as :func:`find_sneak`, then
+    :func:`closest_call`, over ``sight``'s dense lap, found without it when no step is ``heard`` (with
+    ears, :func:`find_sneak`'s ``heard``, the searches choose gaits over the dense lap).
+
+    Raises
+    ------
+    LimitError
+        When a dense search would be over :data:`MAX_CLOSEST_CALL_NODES` nodes (the closest call, and
+        every search with ears).
+    """
+    nodes = sight.period * sight.cells
+    if heard is None:
+        remaining = distances_from(neighbours, np.array([target])).astype(np.int64)
+        path, _, _ = _unseen(sight, neighbours, source, target, remaining, max_labels)
+        return path if path is not None else _closest_call(sight, neighbours, source, target, nodes)
+    if nodes * sneak_ticks > MAX_CLOSEST_CALL_NODES:
+        raise LimitError(
+            f"a sneak path with gaits would search {nodes * sneak_ticks} (cell, lap tick, ticks stood still) nodes, "
+            f"over the limit of {MAX_CLOSEST_CALL_NODES}"
+        )
+    seen = sight.dense_seen()
+    path = find_sneak(neighbours, seen, source, target, heard=heard, sneak_ticks=sneak_ticks)
+    return path or closest_call(neighbours, seen, source, target, heard=heard, sneak_ticks=sneak_ticks)
 
 
 def _with_gaits(
