@@ -64,17 +64,20 @@ def test_a_dense_timeline_over_its_limit_is_refused(monkeypatch: pytest.MonkeyPa
 
 
 def test_the_sneak_limit_is_stated_in_memory(monkeypatch: pytest.MonkeyPatch) -> None:
+    """Counted over the floor cells (the searches hold rows for those alone), refused before any work."""
     scene = scene_from(TWO_ROOMS)
     grid = scene.grid
     patrol = parse_patrol({"shape": list(grid.shape), "guards": [_waiting_loop(10)]}, grid)
-    monkeypatch.setattr(sneak_module, "MAX_SNEAK_NODES", 14 * grid.size - 1)
+    floor = int(grid.traversable.sum())
+    assert floor < grid.size
+    monkeypatch.setattr(sneak_module, "MAX_SNEAK_NODES", 14 * floor - 1)
     with pytest.raises(LimitError) as error:
         sneak_check(
             grid, scene.view_table(), patrol, grid.flat(0, 0), grid.flat(10, 2),
             detection=GuardDetection.of_level(scene.level),
         )  # fmt: skip
     message = str(error.value)
-    assert f"{14 * grid.size} (cell, lap tick) nodes ({grid.size} cells x a 14-tick lap)" in message
+    assert f"{14 * floor} (floor cell, lap tick) nodes ({floor} floor cells x a 14-tick lap)" in message
     assert " GB, over the limit of " in message and "guardsim.sneak.MAX_SNEAK_NODES" in message
 
 

@@ -16,7 +16,7 @@ import numpy as np
 from guardsim.detection import GuardDetection, PatrolGains
 from guardsim.detection.exposure import MAX_DENSE_NODES
 from guardsim.detection.hearing import lap_hearing
-from guardsim.detection.sight import LapSight
+from guardsim.detection.sight import LapSight, seen_bits
 from guardsim.detection.watch import MAX_JOINT_LAP, LevelWatch, joint_lap, lap_sight_of
 from guardsim.errors import ArgumentError, LimitError
 from guardsim.grid import CoverageGrid
@@ -120,18 +120,15 @@ MAX_SNEAK_NODES = 8_000_000_000
 SNEAK_BITS_PER_NODE = 5
 
 
-def _check_nodes(period: int, cells: int, ticks: int) -> int:
-    """The sneak search's nodes (``ticks`` counts of ticks stood still with gaits, else 1), refused over
-    :data:`MAX_SNEAK_NODES`."""
-    nodes = period * cells * ticks
+def _check_nodes(period: int, floor: int) -> None:
+    """Refuse a sneak search over :data:`MAX_SNEAK_NODES` (floor cell, lap tick) nodes."""
+    nodes = period * floor
     if nodes > MAX_SNEAK_NODES:
-        layers = f" x {ticks} counts of ticks stood still" if ticks > 1 else ""
         raise LimitError(
-            f"the sneak search would have {nodes} (cell, lap tick) nodes ({cells} cells x a {period}-tick "
-            f"lap{layers}), about {_gigabytes(nodes)} GB, over the limit of {MAX_SNEAK_NODES} nodes (about "
+            f"the sneak search would have {nodes} (floor cell, lap tick) nodes ({floor} floor cells x a "
+            f"{period}-tick lap), about {_gigabytes(nodes)} GB, over the limit of {MAX_SNEAK_NODES} nodes (about "
             f"{_gigabytes(MAX_SNEAK_NODES)} GB; raise guardsim.sneak.MAX_SNEAK_NODES, or patrol with a shorter lap)"
         )
-    return nodes
 
 
 def _gigabytes(nodes: int) -> str:
@@ -177,8 +174,8 @@ def sneak_check(
     """
     if patrol.period is None:
         raise ArgumentError("the sneak check needs a repeating patrol (its period is null)")
-    # Up front, before the lap's sight is built (gaits, known once the lap's ears are, may multiply it).
-    _check_nodes(joint_lap(patrol.period, watch, max_lap=max_lap), grid.size, 1)
+    # Up front, before the lap's sight is built.
+    _check_nodes(joint_lap(patrol.period, watch, max_lap=max_lap), int(np.count_nonzero(grid.traversable)))
     sight, states = lap_sight_of(grid, table, patrol.states, detection, watch, max_lap=max_lap)
     lap = patrol if states.shape[1] == patrol.period else Patrol(states, states.shape[1], patrol.strategy)
     period = sight.period
@@ -189,14 +186,27 @@ def sneak_check(
     # and a step): the searches without gaits answer exactly, with their own paths.
     audible = heard if heard is not None and heard[0].any() else None
     ticks = intruder.sneak_ticks
-    # The bitsets have a row per cell, walls too: a wall's row is never written, but it shares its memory
-    # pages with the floor rows around it (a row of a 22 784-tick lap is 2.8 kB), so the memory grows
-    # with every cell, not with the floor alone (measured on duskwood, docs/performance.md).
-    nodes = _check_nodes(period, grid.size, ticks if audible is not None else 1)
     if audible is not None:
+        # With gaits the searches are dense, over every cell (their own limit, MAX_DENSE_NODES).
+        nodes = period * grid.size * ticks
         path, entries, reached = _with_gaits(sight, neighbours, source, target, undetected, audible, ticks, nodes)
     else:
-        path, entries, reached = _without_gaits(sight, neighbours, source, target, undetected, nodes, max_labels)
+        # The searches run on the floor's rows alone, while the sight's own rows (a row per cell) are set
+        # aside, then rebuilt from its events (see _floor_rows).
+        rows, floor_neighbours, floor = _floor_rows(sight, grid)
+        sight = sight._replace(bits=np.zeros((0, sight.bits.shape[1]), dtype=np.uint64))
+        index = np.full(grid.size, -1, dtype=np.int64)
+        index[floor] = np.arange(floor.size)
+        path, entries, on_floor = _without_gaits(
+            rows, floor_neighbours, int(index[source]), int(index[target]), undetected, period * floor.size,
+            max_labels,
+        )  # fmt: skip
+        del rows
+        if path is not None:
+            path = path._replace(cells=floor[path.cells])
+        reached = np.zeros(grid.size, dtype=bool)
+        reached[floor] = on_floor
+        sight = sight._replace(bits=seen_bits(sight.start, sight.tick, period))
     if unheard and path is not None and path.gaits is None:
         path = path._replace(gaits=tick_gaits(path.cells, np.zeros(path.cells.size, dtype=bool), 0))
     grade = (
@@ -218,6 +228,28 @@ def sneak_check(
         lap,
         unheard,
     )
+
+
+def _floor_rows(sight: LapSight, grid: CoverageGrid) -> tuple[LapSight, np.ndarray, np.ndarray]:
+    """``sight`` and the grid's neighbours on the floor cells alone, renumbered in the same order (so the
+    searches find the same paths), and the floor cells.
+
+    The searches' bitsets have a row per cell. A wall's row is never written, but it shares memory pages
+    with the floor rows beside it (a row of a 22 784-tick lap is 2.8 kB), so rows for every cell cost
+    memory for every cell: on duskwood (49 % floor) the whole rows took 4.1 GB, the floor's 2.4 GB."""
+    floor = np.flatnonzero(np.asarray(grid.traversable).ravel())
+    index = np.full(grid.size, -1, dtype=np.int64)
+    index[floor] = np.arange(floor.size)
+    counts = np.diff(sight.start)[floor]
+    start = np.zeros(floor.size + 1, dtype=np.int64)
+    np.cumsum(counts, out=start[1:])
+    events = np.repeat(sight.start[floor] - start[:-1], counts) + np.arange(int(start[-1]))
+    rows = sight._replace(
+        start=start, tick=sight.tick[events], watcher=sight.watcher[events], gain=sight.gain[events],
+        bits=sight.bits[floor],
+    )  # fmt: skip
+    around = grid.neighbours[floor]
+    return rows, np.where(around >= 0, index[np.maximum(around, 0)], -1), floor
 
 
 def _without_gaits(
