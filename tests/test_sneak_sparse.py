@@ -135,7 +135,7 @@ def test_the_sneak_route_is_the_dense_fastest_unseen_path_or_closest_call() -> N
     :func:`find_sneak` then :func:`closest_call` over the dense lap (and, with ears, their gaits)."""
     from guardsim.detection.hearing import lap_hearing
     from guardsim.level.model import IntruderSpec
-    from guardsim.sneak import sneak_route
+    from guardsim.sneak import floor_sight, sneak_route
 
     kinds = set()
     for name in ("square-with-hole", "l-room"):
@@ -148,7 +148,7 @@ def test_the_sneak_route_is_the_dense_fastest_unseen_path_or_closest_call() -> N
             for heard in (None, ears):
                 dense = find_sneak(grid.neighbours, seen, source, target, heard=heard)
                 dense = dense or closest_call(grid.neighbours, seen, source, target, heard=heard)
-                got = sneak_route(sight, grid.neighbours, source, target, heard=heard)
+                got = sneak_route(floor_sight(sight, grid), source, target, heard=heard)
                 assert (got is None) == (dense is None)
                 if got is not None and dense is not None:
                     assert got.start_tick == dense.start_tick and got.cells.tolist() == dense.cells.tolist()

@@ -16,7 +16,6 @@ from guardsim.alert.intruders import make_intruder, route_of_path
 from guardsim.alert.model import AlertOutcome, AlertRules
 from guardsim.alert.movement import ContinuousMovement, make_movement
 from guardsim.detection import GuardDetection
-from guardsim.detection.sight import LapSight
 from guardsim.detection.watch import level_watch
 from guardsim.errors import ArgumentError
 from guardsim.grid import CoverageGrid
@@ -24,6 +23,7 @@ from guardsim.kernels.distances import FAR, distances_from
 from guardsim.motion.parameters import GuardMotion
 from guardsim.patrol.model import Patrol
 from guardsim.scene import Scene
+from guardsim.sneak import FloorSight
 from guardsim.vision.table import ViewTable, view_table
 
 __all__ = [
@@ -101,7 +101,7 @@ def alert_episode(
 
         heard = _lap_ears(grid, patrol, rules)
         sight = _lap_sight(grid, table, patrol, detection)
-        path = sneak_route(sight, grid.neighbours, source, target, heard=heard, sneak_ticks=rules.sneak_ticks)
+        path = sneak_route(sight, source, target, heard=heard, sneak_ticks=rules.sneak_ticks)
         if path is None:
             raise ArgumentError("the intruder's goal cannot be reached from its start")
         route, gaits = route_of_path(path.cells.tolist(), path.gaits)
@@ -133,15 +133,16 @@ def alert_episode(
     )
 
 
-_SIGHTS: dict[tuple[int, bytes, GuardDetection], tuple[ViewTable, LapSight]] = {}
+_SIGHTS: dict[tuple[int, bytes, GuardDetection], tuple[ViewTable, FloorSight]] = {}
 _SIGHTS_LOCK = threading.Lock()
 
 
-def _lap_sight(grid: CoverageGrid, table: ViewTable, patrol: Patrol, detection: GuardDetection) -> LapSight:
-    """What the patrol sees over its lap, sparse, as the sneak check reads it (the level's light and
-    cameras left out: the intruder plans against the guards alone). A batch's episodes share one patrol,
-    so the last one's is kept."""
+def _lap_sight(grid: CoverageGrid, table: ViewTable, patrol: Patrol, detection: GuardDetection) -> FloorSight:
+    """What the patrol sees over its lap, sparse and on the floor, as the sneak check reads it (the
+    level's light and cameras left out: the intruder plans against the guards alone). A batch's episodes
+    share one patrol, so the last one's is kept."""
     from guardsim.detection.sight import lap_sight
+    from guardsim.sneak import floor_sight
 
     states = np.ascontiguousarray(patrol.states, dtype=np.int64)
     key = (id(table), hashlib.blake2b(states.tobytes(), digest_size=16).digest(), detection)
@@ -150,10 +151,12 @@ def _lap_sight(grid: CoverageGrid, table: ViewTable, patrol: Patrol, detection: 
     if kept is not None and kept[0] is table:
         return kept[1]
     sight = lap_sight(grid, table, states, detection.model, view_range=detection.view_range, dt=detection.dt)
+    on_floor = floor_sight(sight, grid)
+    del sight
     with _SIGHTS_LOCK:
         _SIGHTS.clear()
-        _SIGHTS[key] = (table, sight)
-    return sight
+        _SIGHTS[key] = (table, on_floor)
+    return on_floor
 
 
 def _lap_ears(grid: CoverageGrid, patrol: Patrol, rules: AlertRules) -> np.ndarray | None:

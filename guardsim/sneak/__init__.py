@@ -33,12 +33,14 @@ __all__ = [
     "HIDING_SPOTS_LISTED",
     "MAX_CLOSEST_CALL_NODES",
     "MAX_SNEAK_NODES",
+    "FloorSight",
     "HidingSpot",
     "PathGrade",
     "SneakPath",
     "SneakResult",
     "closest_call",
     "find_sneak",
+    "floor_sight",
     "grade_path",
     "hiding_windows",
     "sneak_check",
@@ -110,14 +112,14 @@ class SneakResult(NamedTuple):
         return self.path is not None and self.path.found
 
 
-#: Most (cell, lap tick) nodes a sneak search may cover: about :data:`SNEAK_BITS_PER_NODE` bits of memory
-#: each at the search's peak (the lap's seen ticks, the nodes reached unseen backwards from the target
-#: and undetected forwards from the entry, and a flood's pending nodes, as bitsets of a row per cell),
-#: besides the level's view table and the lap's sight events: 8 billion nodes is about 4.7 GB.
+#: Most (floor cell, lap tick) nodes a sneak search may cover: about :data:`SNEAK_BITS_PER_NODE` bits of
+#: memory each at the search's peak (the lap's seen ticks, the nodes reached unseen backwards from the
+#: target and undetected forwards from the entry, and a flood's pending nodes, as bitsets of a row per
+#: floor cell, and the lap's sight events), besides the level's view table: 8 billion nodes is about 5.6 GB.
 MAX_SNEAK_NODES = 8_000_000_000
-#: Peak memory per (cell, lap tick) node of a sneak search, in bits (measured: 4.6 on duskwood's 4-guard
-#: 22 784-tick lap, 4.1 GB in all; docs/performance.md).
-SNEAK_BITS_PER_NODE = 5
+#: Peak memory per (floor cell, lap tick) node of a sneak search, in bits, rounded up (measured: 5.3 on
+#: duskwood's 4-guard 22 784-tick lap, 2.8 GB in all with its 670 MB view table; docs/performance.md).
+SNEAK_BITS_PER_NODE = 6
 
 
 def _check_nodes(period: int, floor: int) -> None:
@@ -193,19 +195,16 @@ def sneak_check(
     else:
         # The searches run on the floor's rows alone, while the sight's own rows (a row per cell) are set
         # aside, then rebuilt from its events (see _floor_rows).
-        rows, floor_neighbours, floor = _floor_rows(sight, grid)
+        on = floor_sight(sight, grid)
         sight = sight._replace(bits=np.zeros((0, sight.bits.shape[1]), dtype=np.uint64))
-        index = np.full(grid.size, -1, dtype=np.int64)
-        index[floor] = np.arange(floor.size)
         path, entries, on_floor = _without_gaits(
-            rows, floor_neighbours, int(index[source]), int(index[target]), undetected, period * floor.size,
+            on.rows, on.neighbours, on.renumbered(source), on.renumbered(target), undetected, period * on.floor.size,
             max_labels,
         )  # fmt: skip
-        del rows
-        if path is not None:
-            path = path._replace(cells=floor[path.cells])
+        path = on.path(path)
         reached = np.zeros(grid.size, dtype=bool)
-        reached[floor] = on_floor
+        reached[on.floor] = on_floor
+        del on
         sight = sight._replace(bits=seen_bits(sight.start, sight.tick, period))
     if unheard and path is not None and path.gaits is None:
         path = path._replace(gaits=tick_gaits(path.cells, np.zeros(path.cells.size, dtype=bool), 0))
@@ -230,13 +229,33 @@ def sneak_check(
     )
 
 
-def _floor_rows(sight: LapSight, grid: CoverageGrid) -> tuple[LapSight, np.ndarray, np.ndarray]:
-    """``sight`` and the grid's neighbours on the floor cells alone, renumbered in the same order (so the
-    searches find the same paths), and the floor cells.
+class FloorSight(NamedTuple):
+    """A lap's sight and the grid's moves on the floor cells alone, renumbered in the same order (so the
+    searches find the same paths): what the sneak searches run on (:func:`floor_sight`)."""
+
+    rows: LapSight
+    """The sight's events and seen-tick rows of the floor cells, the ``i``-th floor cell as cell ``i``."""
+    neighbours: np.ndarray
+    """``int64 (floor cells, 4)``: the grid's neighbours, renumbered."""
+    floor: np.ndarray
+    """``int64 (floor cells,)``: the flat cell of each, ascending."""
+
+    def renumbered(self, cell: int) -> int:
+        """The renumbered index of flat floor cell ``cell``."""
+        return int(np.searchsorted(self.floor, cell))
+
+    def path(self, path: SneakPath | None) -> SneakPath | None:
+        """``path`` (renumbered cells) in flat cells."""
+        return None if path is None else path._replace(cells=self.floor[path.cells])
+
+
+def floor_sight(sight: LapSight, grid: CoverageGrid) -> FloorSight:
+    """``sight`` and ``grid``'s moves on the floor cells alone.
 
     The searches' bitsets have a row per cell. A wall's row is never written, but it shares memory pages
     with the floor rows beside it (a row of a 22 784-tick lap is 2.8 kB), so rows for every cell cost
-    memory for every cell: on duskwood (49 % floor) the whole rows took 4.1 GB, the floor's 2.4 GB."""
+    memory for every cell: duskwood's (49 % floor) `sneak --undetected` took 4.1 GB with them, 2.8 GB
+    with the floor's alone."""
     floor = np.flatnonzero(np.asarray(grid.traversable).ravel())
     index = np.full(grid.size, -1, dtype=np.int64)
     index[floor] = np.arange(floor.size)
@@ -249,7 +268,7 @@ def _floor_rows(sight: LapSight, grid: CoverageGrid) -> tuple[LapSight, np.ndarr
         bits=sight.bits[floor],
     )  # fmt: skip
     around = grid.neighbours[floor]
-    return rows, np.where(around >= 0, index[np.maximum(around, 0)], -1), floor
+    return FloorSight(rows, np.where(around >= 0, index[np.maximum(around, 0)], -1), floor)
 
 
 def _without_gaits(
@@ -322,8 +341,7 @@ def _closest_call(sight: LapSight, neighbours: np.ndarray, source: int, target: 
 
 
 def sneak_route(
-    sight: LapSight,
-    neighbours: np.ndarray,
+    sight: FloorSight,
     source: int,
     target: int,
     *,
@@ -331,10 +349,11 @@ def sneak_route(
     sneak_ticks: int = 2,
     max_labels: int = MAX_LABELS,
 ) -> SneakPath | None:
-    """The fastest path from ``source`` to ``target`` (flat cells) unseen under ``sight``, else the closest
-    call; ``None`` when the target cannot be reached at all. The same path as :func:`find_sneak`, then
-    :func:`closest_call`, over ``sight``'s dense lap, found without it when no step is ``heard`` (with
-    ears, :func:`find_sneak`'s ``heard``, the searches choose gaits over the dense lap).
+    """The fastest path from ``source`` to ``target`` (flat floor cells) unseen under ``sight``
+    (:func:`floor_sight`), else the closest call; ``None`` when the target cannot be reached at all. The
+    same path as :func:`find_sneak`, then :func:`closest_call`, over the dense lap, found without it when
+    no step is ``heard`` (with ears, :func:`find_sneak`'s ``heard`` over every cell, the searches choose
+    gaits over the dense lap of the floor).
 
     Raises
     ------
@@ -342,19 +361,22 @@ def sneak_route(
         When a dense search would be over :data:`MAX_CLOSEST_CALL_NODES` nodes (the closest call, and
         every search with ears).
     """
-    nodes = sight.period * sight.cells
+    rows, neighbours = sight.rows, sight.neighbours
+    start, goal = sight.renumbered(source), sight.renumbered(target)
+    nodes = rows.period * rows.cells
     if heard is None:
-        remaining = distances_from(neighbours, np.array([target])).astype(np.int64)
-        path, _, _ = _unseen(sight, neighbours, source, target, remaining, max_labels)
-        return path if path is not None else _closest_call(sight, neighbours, source, target, nodes)
+        remaining = distances_from(neighbours, np.array([goal])).astype(np.int64)
+        path, _, _ = _unseen(rows, neighbours, start, goal, remaining, max_labels)
+        return sight.path(path if path is not None else _closest_call(rows, neighbours, start, goal, nodes))
     if nodes * sneak_ticks > MAX_CLOSEST_CALL_NODES:
         raise LimitError(
-            f"a sneak path with gaits would search {nodes * sneak_ticks} (cell, lap tick, ticks stood still) nodes, "
-            f"over the limit of {MAX_CLOSEST_CALL_NODES}"
+            f"a sneak path with gaits would search {nodes * sneak_ticks} (floor cell, lap tick, ticks stood still) "
+            f"nodes, over the limit of {MAX_CLOSEST_CALL_NODES}"
         )
-    seen = sight.dense_seen()
-    path = find_sneak(neighbours, seen, source, target, heard=heard, sneak_ticks=sneak_ticks)
-    return path or closest_call(neighbours, seen, source, target, heard=heard, sneak_ticks=sneak_ticks)
+    seen, ears = rows.dense_seen(), np.ascontiguousarray(heard[:, :, sight.floor])
+    path = find_sneak(neighbours, seen, start, goal, heard=ears, sneak_ticks=sneak_ticks)
+    path = path or closest_call(neighbours, seen, start, goal, heard=ears, sneak_ticks=sneak_ticks)
+    return sight.path(path)
 
 
 def _with_gaits(
