@@ -79,6 +79,11 @@ def test_the_sneak_limit_is_stated_in_memory(monkeypatch: pytest.MonkeyPatch) ->
     message = str(error.value)
     assert f"{14 * floor} (floor cell, lap tick) nodes ({floor} floor cells x a 14-tick lap)" in message
     assert " GB, over the limit of " in message and "guardsim.sneak.MAX_SNEAK_NODES" in message
+    # Alert's sneaking intruder plans with the same searches, under the same limit.
+    from guardsim.alert.run import alert_episode
+
+    with pytest.raises(LimitError, match="MAX_SNEAK_NODES"):
+        alert_episode(scene, patrol, intruder="sneak", source=grid.flat(0, 0), target=grid.flat(10, 2))
 
 
 def test_sneak_and_alert_run_on_a_long_lap(tmp_path: Path) -> None:

@@ -142,9 +142,10 @@ def _lap_sight(grid: CoverageGrid, table: ViewTable, patrol: Patrol, detection: 
     level's light and cameras left out: the intruder plans against the guards alone). A batch's episodes
     share one patrol, so the last one's is kept."""
     from guardsim.detection.sight import lap_sight
-    from guardsim.sneak import floor_sight
+    from guardsim.sneak import check_sneak_size, floor_sight
 
     states = np.ascontiguousarray(patrol.states, dtype=np.int64)
+    check_sneak_size(grid, states.shape[1])
     key = (id(table), hashlib.blake2b(states.tobytes(), digest_size=16).digest(), detection)
     with _SIGHTS_LOCK:
         kept = _SIGHTS.get(key)

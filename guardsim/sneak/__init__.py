@@ -38,6 +38,7 @@ __all__ = [
     "PathGrade",
     "SneakPath",
     "SneakResult",
+    "check_sneak_size",
     "closest_call",
     "find_sneak",
     "floor_sight",
@@ -122,6 +123,13 @@ MAX_SNEAK_NODES = 8_000_000_000
 SNEAK_BITS_PER_NODE = 6
 
 
+def check_sneak_size(grid: CoverageGrid, period: int) -> None:
+    """Refuse, before any work, a sneak search of ``grid`` over a ``period``-tick lap whose (floor cell,
+    lap tick) nodes are over :data:`MAX_SNEAK_NODES` (a one-line :class:`~guardsim.errors.LimitError`
+    naming the memory and the limit to raise)."""
+    _check_nodes(period, int(np.count_nonzero(grid.traversable)))
+
+
 def _check_nodes(period: int, floor: int) -> None:
     """Refuse a sneak search over :data:`MAX_SNEAK_NODES` (floor cell, lap tick) nodes."""
     nodes = period * floor
@@ -177,7 +185,7 @@ def sneak_check(
     if patrol.period is None:
         raise ArgumentError("the sneak check needs a repeating patrol (its period is null)")
     # Up front, before the lap's sight is built.
-    _check_nodes(joint_lap(patrol.period, watch, max_lap=max_lap), int(np.count_nonzero(grid.traversable)))
+    check_sneak_size(grid, joint_lap(patrol.period, watch, max_lap=max_lap))
     sight, states = lap_sight_of(grid, table, patrol.states, detection, watch, max_lap=max_lap)
     lap = patrol if states.shape[1] == patrol.period else Patrol(states, states.shape[1], patrol.strategy)
     period = sight.period
