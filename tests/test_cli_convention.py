@@ -166,3 +166,31 @@ def test_a_sneak_picture_in_a_missing_folder_is_refused_before_the_search(
     line = assert_one_line_error(run(*_sneak(level, patrol, "--out", tmp_path / "out", "--html", page)), page)
     assert line.endswith(f"folder {page.parent} does not exist")
     assert not (tmp_path / "out").exists()
+
+
+#: The guard of POST walking two cells and stopping (period null), and the post walked in continuous motion.
+WALKED = {"shape": [3, 11], "period": None, "guards": [{"loop": [[5, 1], [6, 1]], "headings": [0, 0]}]}
+CONTINUOUS = {**POST, "motion": "continuous"}
+
+
+@pytest.mark.parametrize(
+    ("command", "extra"),
+    [
+        ("sneak", ["--from", "0.5,0.5", "--to", "10.5,2.5"]),
+        ("fortify", ["--from", "0.5,0.5", "--to", "10.5,2.5"]),
+        ("alert", []),
+    ],
+    ids=["sneak", "fortify", "alert"],
+)
+@pytest.mark.parametrize(("patrol", "problem"), [(WALKED, "period null"), (CONTINUOUS, "motion 'continuous'")])
+def test_a_patrol_that_does_not_repeat_on_the_grid_is_one_line_naming_it(
+    tmp_path: Path, command: str, extra: list[str], patrol: dict[str, object], problem: str
+) -> None:
+    level = write_level(tmp_path, TWO_ROOMS)
+    path = tmp_path / "patrol.json"
+    path.write_text(json.dumps(patrol))
+    line = assert_one_line_error(run(command, level, "--patrol", path, *extra), path)
+    assert line == (
+        f"guardsim: error: {path}: {command} needs a repeating grid-motion patrol (from guardsim patrol); "
+        f"this one has {problem}"
+    )

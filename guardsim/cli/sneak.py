@@ -28,7 +28,7 @@ from guardsim.cli.patrol import output_folder
 from guardsim.cli.progress import StageLine
 from guardsim.errors import GuardsimError
 from guardsim.pictures import write_sneak_pictures
-from guardsim.sneak.run import check_sneak_patrol, gait_runs
+from guardsim.sneak.run import gait_runs
 
 if TYPE_CHECKING:
     from guardsim.scene import Scene
@@ -146,7 +146,7 @@ def sneak(
     compile_ahead("sneak")
     scene = build_scene(level, los, fov, view_range)
     patrol = read_patrol(patrol_path, scene.grid, level=level.name)
-    check_sneak_patrol(patrol, patrol_path)
+    patrol.require_repeating_grid(patrol_path, "sneak")
     source, start, goal = sneak_endpoints(scene, source, target, level_name=level_path, say=click.echo)
     for point in safe:
         scene.grid.floor_cell(point, "--safe")
