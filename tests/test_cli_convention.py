@@ -194,3 +194,23 @@ def test_a_patrol_that_does_not_repeat_on_the_grid_is_one_line_naming_it(
         f"guardsim: error: {path}: {command} needs a repeating grid-motion patrol (from guardsim patrol); "
         f"this one has {problem}"
     )
+
+
+def test_each_import_option_is_written_once_and_read_everywhere(tmp_path: Path) -> None:
+    """The fields of ImportOptions are the flags of every command that takes a map, and load_level's keywords."""
+    import dataclasses
+
+    import click
+
+    from guardsim.cli.importing import import_command
+    from guardsim.cli.validate import validate
+    from guardsim.importers.options import ImportOptions, option_form
+
+    flags = [option_form(field).flag for field in dataclasses.fields(ImportOptions)]
+    assert flags[:3] == ["--cell-size", "--threshold", "--spawn-tile"] and len(flags) == 11
+    for command in (import_command, validate):
+        options = [opt for param in command.params if isinstance(param, click.Option) for opt in param.opts]
+        assert [opt for opt in options if opt in flags] == flags, command.name
+    # A check written beside its field reaches the command line as a bad parameter (click's exit 2).
+    result = run("import", "map.tmj", "--out", tmp_path / "level.json", "--wall-class", " ")
+    assert result.exit_code == 2 and "expected a class name, got an empty text" in result.output
