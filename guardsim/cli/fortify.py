@@ -10,15 +10,12 @@ import click
 
 from guardsim.cli.common import (
     DetectionOverrides,
-    detection_options,
-    limit_options,
+    level_options,
     load,
     parse_point,
-    reports_errors,
-    vision_options,
 )
 from guardsim.cli.design_common import check_outputs
-from guardsim.cli.map_options import MapImport, map_options
+from guardsim.cli.map_options import MapImport
 from guardsim.cli.patrol import output_folder
 from guardsim.cli.progress import StageLine
 from guardsim.errors import GuardsimError
@@ -124,11 +121,7 @@ def _point_pairs(
     help="Local worker processes for the candidates.",
 )
 @click.option("--scheduler", metavar="ADDRESS", help="Compute the candidates on a dask.distributed scheduler.")
-@detection_options
-@vision_options
-@map_options
-@limit_options
-@reports_errors
+@level_options(detection=True)
 def fortify(
     level_path: str,
     map_import: MapImport,

@@ -10,13 +10,12 @@ import click
 from guardsim.cli.common import (
     build_scene,
     gif_suffix,
-    limit_options,
+    level_options,
     load,
     parse_point,
-    reports_errors,
     vision_options,
 )
-from guardsim.cli.map_options import MapImport, map_options
+from guardsim.cli.map_options import MapImport
 from guardsim.cli.motion import check_motion, check_speed_up, motion_of, motion_options, speed_up_option
 from guardsim.cli.progress import StageLine
 from guardsim.files.output import write_text_atomic
@@ -76,9 +75,7 @@ __all__ = ["play"]
 @speed_up_option
 @vision_options
 @motion_options
-@map_options
-@limit_options
-@reports_errors
+@level_options(vision=False)
 def play(
     level_path: str,
     gif_path: str | None,
@@ -144,7 +141,9 @@ def play(
     )  # fmt: skip
     seconds = time.perf_counter() - began
     gif_options = GifOptions(stride=stride, frame_ms=frame_ms, max_frames=max_frames, size=size, speed_up=speed_up)
-    written = write_play_pictures(level, trace, gif=gif_path, html=html_path, gif_options=gif_options, progress=progress)
+    written = write_play_pictures(
+        level, trace, gif=gif_path, html=html_path, gif_options=gif_options, progress=progress
+    )
     if trace_path:
         progress("writing the trace", 0, 0)
         write_text_atomic(trace_path, trace.to_json())

@@ -13,17 +13,14 @@ from guardsim.cli.common import (
     EarsOverrides,
     build_scene,
     check_outside,
-    detection_options,
     ears_options,
-    limit_options,
+    level_options,
     load,
     parse_point,
     picture_option,
     picture_path,
-    reports_errors,
-    vision_options,
 )
-from guardsim.cli.map_options import MapImport, map_options
+from guardsim.cli.map_options import MapImport
 from guardsim.cli.patrol import output_folder
 from guardsim.cli.progress import StageLine
 from guardsim.errors import GuardsimError
@@ -92,11 +89,7 @@ def _each_point(ctx: click.Context, param: click.Parameter, values: tuple[str, .
     default=None,
     help="Longest joint lap of the patrol and the level's camera swings, in ticks [default: 10000].",
 )
-@detection_options
-@vision_options
-@map_options
-@limit_options
-@reports_errors
+@level_options(detection=True)
 def sneak(
     level_path: str,
     map_import: MapImport,
