@@ -182,7 +182,9 @@ CONTINUOUS = {**POST, "motion": "continuous"}
     ],
     ids=["sneak", "fortify", "alert"],
 )
-@pytest.mark.parametrize(("patrol", "problem"), [(WALKED, "period null"), (CONTINUOUS, "motion 'continuous'")])
+@pytest.mark.parametrize(
+    ("patrol", "problem"), [(WALKED, "period null"), (CONTINUOUS, "motion 'continuous'")], ids=["walked", "continuous"]
+)
 def test_a_patrol_that_does_not_repeat_on_the_grid_is_one_line_naming_it(
     tmp_path: Path, command: str, extra: list[str], patrol: dict[str, object], problem: str
 ) -> None:
