@@ -124,6 +124,8 @@ def _checked(check: Callable[[str], str]) -> Callable[[click.Context, click.Para
     """A click callback that runs ``check`` on each value given (a ``ValueError`` is a bad parameter)."""
 
     def callback(ctx: click.Context, param: click.Parameter, values: Any) -> Any:
+        if values is None:
+            return None
         try:
             return tuple(check(value) for value in values) if isinstance(values, tuple) else check(values)
         except ValueError as error:
