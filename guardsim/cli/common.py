@@ -309,7 +309,7 @@ def level_options(*, vision: bool = True, detection: bool = False) -> Callable[[
     options (one ``map_import`` argument), the size limits, and guardsim's errors as one line each."""
 
     def decorate(command: F) -> F:
-        stacked = limit_options(map_options(reports_errors(command)))
+        stacked = map_options(limit_options(reports_errors(command)))
         stacked = vision_options(stacked) if vision else stacked
         return detection_options(stacked) if detection else stacked
 
