@@ -80,7 +80,7 @@ def cell_gain(
     wide, cells ``cell_size`` apart, ``light`` the light of ``cell``): the gain of the patrols' maps and
     searches, dense and sparse alike.
 
-    >>> round(cell_gain(0, 4, 2, 1.0, 0.25, 1.5, 8.0, 0.5, 0.0, 1.0), 4)  # two rows down: 2.0 away
+    >>> round(float(cell_gain(0, 4, 2, 1.0, 0.25, 1.5, 8.0, 0.5, 0.0, 1.0)), 4)  # two rows down: 2.0 away
     0.8889
     """
     distance = cell_size * np.hypot(cell // cols - own // cols, cell % cols - own % cols)
