@@ -43,6 +43,7 @@ _SOURCES = {
     "Light": "guardsim.level",
     "load_level": "guardsim.importers.loading",
     "ImportedLevel": "guardsim.importers.imported",
+    "ImportOptions": "guardsim.importers.options",
     "parse_level": "guardsim.level",
     "World": "guardsim.world",
     "CoverageGrid": "guardsim.grid",
@@ -123,6 +124,7 @@ if TYPE_CHECKING:
     from guardsim.grid import CoverageGrid as CoverageGrid
     from guardsim.importers.imported import ImportedLevel as ImportedLevel
     from guardsim.importers.loading import load_level as load_level
+    from guardsim.importers.options import ImportOptions as ImportOptions
     from guardsim.kernels.meter import meter_gain as meter_gain
     from guardsim.kernels.meter import visibility as visibility
     from guardsim.level import Camera as Camera

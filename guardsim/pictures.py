@@ -9,7 +9,7 @@ it is given. A picture that cannot be drawn for want of an optional library is a
 
 from __future__ import annotations
 
-from collections.abc import Sequence
+from collections.abc import Callable, Sequence
 from pathlib import Path
 from typing import TYPE_CHECKING, Any, NamedTuple
 
@@ -25,14 +25,21 @@ if TYPE_CHECKING:
     from guardsim.level import Level
     from guardsim.patrol.job import PatrolRun
     from guardsim.patrol.model import Patrol
+    from guardsim.render.timeline import GifOptions
     from guardsim.scene import Scene
     from guardsim.sneak import SneakResult
+    from guardsim.trace import Trace
     from guardsim.vision.table import ViewTable
 
 __all__ = [
     "Drawn",
     "write_diff_pictures",
-    "write_fortify_picture", "write_patrol_pictures", "write_sneak_json_page", "write_sneak_pictures"]
+    "write_fortify_picture",
+    "write_patrol_pictures",
+    "write_play_pictures",
+    "write_sneak_json_page",
+    "write_sneak_pictures",
+]
 
 
 class Drawn(NamedTuple):
@@ -339,5 +346,33 @@ def write_diff_pictures(
 
         payloads = [analysis_payload(found.old, data["old_report"]), analysis_payload(found.new, data["new_report"])]
         write_text_atomic(html, static_page(title, payloads, diff_table(data)))
+        written.append(html)
+    return written
+
+
+def write_play_pictures(
+    level: Level,
+    trace: Trace,
+    *,
+    gif: str | None = None,
+    html: str | None = None,
+    gif_options: GifOptions | None = None,
+    progress: Callable[[str, int, int], None] | None = None,
+) -> list[str]:
+    """Draw ``guardsim play``'s episode ``trace`` on ``level``: a GIF and the viewer page, each where a
+    path is given; the paths written, in that order. ``progress`` hears each one begin."""
+    report = progress or (lambda _what, _done, _total: None)
+    written = []
+    if gif:
+        from guardsim.render.gif import write_gif
+
+        report("writing the GIF", 0, 0)
+        write_gif(gif, level, trace, gif_options)
+        written.append(gif)
+    if html:
+        from guardsim.viewer import write_viewer
+
+        report("writing the page", 0, 0)
+        write_viewer(html, level, trace)
         written.append(html)
     return written

@@ -166,3 +166,55 @@ def test_a_sneak_picture_in_a_missing_folder_is_refused_before_the_search(
     line = assert_one_line_error(run(*_sneak(level, patrol, "--out", tmp_path / "out", "--html", page)), page)
     assert line.endswith(f"folder {page.parent} does not exist")
     assert not (tmp_path / "out").exists()
+
+
+#: The guard of POST walking two cells and stopping (period null), and the post walked in continuous motion.
+WALKED = {"shape": [3, 11], "period": None, "guards": [{"loop": [[5, 1], [6, 1]], "headings": [0, 0]}]}
+CONTINUOUS = {**POST, "motion": "continuous"}
+
+
+@pytest.mark.parametrize(
+    ("command", "extra"),
+    [
+        ("sneak", ["--from", "0.5,0.5", "--to", "10.5,2.5"]),
+        ("fortify", ["--from", "0.5,0.5", "--to", "10.5,2.5"]),
+        ("alert", []),
+    ],
+    ids=["sneak", "fortify", "alert"],
+)
+@pytest.mark.parametrize(
+    ("patrol", "problem"), [(WALKED, "period null"), (CONTINUOUS, "motion 'continuous'")], ids=["walked", "continuous"]
+)
+def test_a_patrol_that_does_not_repeat_on_the_grid_is_one_line_naming_it(
+    tmp_path: Path, command: str, extra: list[str], patrol: dict[str, object], problem: str
+) -> None:
+    level = write_level(tmp_path, TWO_ROOMS)
+    path = tmp_path / "patrol.json"
+    path.write_text(json.dumps(patrol))
+    line = assert_one_line_error(run(command, level, "--patrol", path, *extra), path)
+    assert line == (
+        f"guardsim: error: {path}: {command} needs a repeating grid-motion patrol (from guardsim patrol); "
+        f"this one has {problem}"
+    )
+
+
+def test_each_import_option_is_written_once_and_read_everywhere(tmp_path: Path) -> None:
+    """The fields of ImportOptions are the flags of every command that takes a map, and load_level's keywords."""
+    import dataclasses
+
+    import click
+
+    from guardsim.cli.importing import import_command
+    from guardsim.cli.validate import validate
+    from guardsim.importers.options import ImportOptions, option_form
+
+    flags = [option_form(field).flag for field in dataclasses.fields(ImportOptions)]
+    assert flags[:3] == ["--cell-size", "--threshold", "--spawn-tile"] and len(flags) == 11
+    # The shared stack keeps the order the help has always listed: import options, --strict, the limits.
+    stack = [*flags, "--strict", "--max-cells", "--max-vertices", "--max-file-bytes"]
+    for command in (import_command, validate):
+        options = [opt for param in command.params if isinstance(param, click.Option) for opt in param.opts]
+        assert [opt for opt in options if opt in stack] == stack, command.name
+    # A check written beside its field reaches the command line as a bad parameter (click's exit 2).
+    result = run("import", "map.tmj", "--out", tmp_path / "level.json", "--wall-class", " ")
+    assert result.exit_code == 2 and "expected a class name, got an empty text" in result.output

@@ -55,3 +55,14 @@ def test_doc_commands_name_shipped_files() -> None:
                     if not (DOCS.parent / path).exists():
                         missing.append(f"{page.name}:{number}: {path}")
     assert missing == []
+
+
+def test_where_things_live_names_files_that_are_there() -> None:
+    """Every file and folder docs/architecture.md names (``guardsim/...``, ``docs/...``, ``tests/...``) is
+    there, and each name it gives in a file (``PLANNERS`` in ``guardsim/planners/__init__.py``) is in it."""
+    text = (DOCS / "architecture.md").read_text(encoding="utf-8")
+    paths = set(re.findall(r"`((?:guardsim|docs|tests)/[\w./-]*)`", text))
+    assert len(paths) > 20, "the page lost its paths"
+    assert sorted(path for path in paths if not (DOCS.parent / path).exists()) == []
+    for name, path in re.findall(r"`(\w+)` in `(guardsim/[\w./-]+)`", text):
+        assert name in (DOCS.parent / path).read_text(encoding="utf-8"), (name, path)

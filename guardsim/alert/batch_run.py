@@ -127,8 +127,7 @@ def plan_alert_batch(
     each episode's trace. Every fault is a :class:`~guardsim.errors.GuardsimError` line.
     """
     level, grid = scene.level, scene.grid
-    if patrol.motion != "grid" or patrol.period is None:
-        raise GuardsimError(f"{patrol_name}: alert needs a repeating grid-motion patrol (from guardsim patrol)")
+    patrol.require_repeating_grid(patrol_name, "alert")
     searches = list(SEARCHES) if search == "all" else [search]
     rules = AlertRules.of_level(level, intruder_speed=intruder_speed, run_speed=run_speed)
     # The scene's level carries the command's view range, and its grid tick is the rules' tick: the same

@@ -18,15 +18,12 @@ from guardsim.cli.common import (
     EarsOverrides,
     FiniteFloatRange,
     build_scene,
-    detection_options,
     ears_options,
-    limit_options,
+    level_options,
     load,
     parse_point,
-    reports_errors,
-    vision_options,
 )
-from guardsim.cli.map_options import MapImport, map_options
+from guardsim.cli.map_options import MapImport
 from guardsim.cli.motion import alert_motion_options, check_motion, motion_of
 from guardsim.cli.patrol import output_folder
 from guardsim.cli.progress import PLAIN_EVERY_SECONDS, ProgressLine, StageLine, Throttle
@@ -121,11 +118,7 @@ _SEARCHES = ("ripple", "diffuse", "team", "last-known", "all")
     "cluster of --workers processes.",
 )
 @alert_motion_options
-@detection_options
-@vision_options
-@map_options
-@limit_options
-@reports_errors
+@level_options(detection=True)
 def alert(
     level_path: str,
     map_import: MapImport,

@@ -9,8 +9,8 @@ from pathlib import Path
 
 import click
 
-from guardsim.cli.common import build_scene, limit_options, load, reports_errors, vision_options
-from guardsim.cli.map_options import MapImport, map_options
+from guardsim.cli.common import build_scene, level_options, load, vision_options
+from guardsim.cli.map_options import MapImport
 from guardsim.cli.motion import check_motion, motion_options
 from guardsim.cli.progress import ProgressLine
 from guardsim.errors import GuardsimError
@@ -96,9 +96,7 @@ PLOT_NAMES = ("steps.png", "steps.svg")
     help="Compute each one-guard start's lower bounds (about 1-2 ms a start on a 60x60 level, plus the level's view table, built by one worker per level).",
 )
 @motion_options
-@map_options
-@limit_options
-@reports_errors
+@level_options(vision=False)
 def bench(
     level_paths: tuple[str, ...],
     episodes: int,

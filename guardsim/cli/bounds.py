@@ -14,13 +14,11 @@ from guardsim.cli.common import (
     build_scene,
     cell_text,
     cli_start,
-    limit_options,
+    level_options,
     load,
     parse_point,
-    reports_errors,
-    vision_options,
 )
-from guardsim.cli.map_options import MapImport, map_options
+from guardsim.cli.map_options import MapImport
 from guardsim.cli.progress import StageLine, Throttle
 from guardsim.level import HEADINGS
 from guardsim.optimum import MAX_POSITIONS, SearchProgress, solve
@@ -81,10 +79,7 @@ def start_options(command: F) -> F:
     help=f"Expansions of the exact search for the search bound; 0: no search [default: {SEARCH_EXPANSIONS} "
     f"from a start with at most {SEARCH_POSITIONS} guard positions, else 0].",
 )
-@vision_options
-@map_options
-@limit_options
-@reports_errors
+@level_options()
 def bounds(
     level_path: str,
     map_import: MapImport,

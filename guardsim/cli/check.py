@@ -10,14 +10,11 @@ import click
 from guardsim.cli.common import (
     DetectionOverrides,
     build_scene,
-    detection_options,
-    limit_options,
+    level_options,
     load,
     parse_point,
-    reports_errors,
-    vision_options,
 )
-from guardsim.cli.map_options import MapImport, map_options
+from guardsim.cli.map_options import MapImport
 from guardsim.cli.progress import StageLine
 from guardsim.errors import GuardsimError
 from guardsim.planners import PLANNERS
@@ -134,11 +131,7 @@ def _each_point(_ctx: click.Context, param: click.Parameter, values: tuple[str, 
     "[default: outcome=0 safe=0 score=10].",
 )
 @click.option("--seed", type=click.IntRange(min=0), default=0, show_default=True)
-@detection_options
-@vision_options
-@map_options
-@limit_options
-@reports_errors
+@level_options(detection=True)
 def check(
     level_path: str,
     map_import: MapImport,

@@ -14,7 +14,7 @@ from typing import Any, TypeVar, cast
 import click
 import numpy as np
 
-from guardsim.cli.map_options import MapImport, report_import
+from guardsim.cli.map_options import MapImport, map_options, report_import
 from guardsim.cli.types import FiniteFloatRange
 from guardsim.errors import GuardsimError, LimitError
 from guardsim.files.reading import display_path
@@ -35,6 +35,7 @@ __all__ = [
     "detection_options",
     "ears_options",
     "gif_suffix",
+    "level_options",
     "limit_options",
     "load",
     "one_line",
@@ -300,6 +301,19 @@ def detection_options(command: F) -> F:
         upper = 1 if name == "suspicious" else None
         decorated = click.option(f"--{name}", type=FiniteFloatRange(min=0, max=upper), help=text)(decorated)
     return cast(F, decorated)
+
+
+def level_options(*, vision: bool = True, detection: bool = False) -> Callable[[F], F]:
+    """The stack every command that reads a LEVEL shares, in the order its help lists them: with
+    ``detection`` the detection overrides, with ``vision`` --los/--fov/--view-range, then the import
+    options (one ``map_import`` argument), the size limits, and guardsim's errors as one line each."""
+
+    def decorate(command: F) -> F:
+        stacked = map_options(limit_options(reports_errors(command)))
+        stacked = vision_options(stacked) if vision else stacked
+        return detection_options(stacked) if detection else stacked
+
+    return decorate
 
 
 @dataclasses.dataclass(frozen=True)

@@ -6,9 +6,9 @@ import json
 
 import click
 
-from guardsim.cli.common import limit_options, load, reports_errors
+from guardsim.cli.common import level_options, load
 from guardsim.cli.design_common import StepLines, check_outputs, guards_option, pair_options, pairs_of
-from guardsim.cli.map_options import MapImport, map_options
+from guardsim.cli.map_options import MapImport
 
 __all__ = ["diff"]
 
@@ -24,9 +24,7 @@ __all__ = ["diff"]
 @click.option("--png", "png_path", type=str, help="Write the picture: before, after and their difference.")
 @click.option("--html", "html_path", type=str, help="Write a page: both versions drawn, the difference and the table.")
 @click.option("--json", "json_path", type=str, help="Write diff.json.")
-@map_options
-@limit_options
-@reports_errors
+@level_options(vision=False)
 def diff(
     old_path: str,
     new_path: str,

@@ -10,15 +10,12 @@ import click
 
 from guardsim.cli.common import (
     DetectionOverrides,
-    detection_options,
-    limit_options,
+    level_options,
     load,
     parse_point,
-    reports_errors,
-    vision_options,
 )
 from guardsim.cli.design_common import check_outputs
-from guardsim.cli.map_options import MapImport, map_options
+from guardsim.cli.map_options import MapImport
 from guardsim.cli.patrol import output_folder
 from guardsim.cli.progress import StageLine
 from guardsim.errors import GuardsimError
@@ -124,11 +121,7 @@ def _point_pairs(
     help="Local worker processes for the candidates.",
 )
 @click.option("--scheduler", metavar="ADDRESS", help="Compute the candidates on a dask.distributed scheduler.")
-@detection_options
-@vision_options
-@map_options
-@limit_options
-@reports_errors
+@level_options(detection=True)
 def fortify(
     level_path: str,
     map_import: MapImport,
@@ -184,8 +177,8 @@ def fortify(
         level, patrol, list(zip(sources, targets)), cameras=cameras, posts=posts,
         keep_open=[KeepOpen(a, b, s) for (a, b), s in zip(keep_open, slacks)], undetected=rule == "undetected",
         camera=CameraShape(camera_fov, camera_range, camera_sweep), candidates=candidates, max_rounds=max_rounds,
-        max_lap=MAX_JOINT_LAP if max_lap is None else max_lap, scene_options=options, workers=workers,
-        scheduler=scheduler, progress=progress,
+        max_lap=MAX_JOINT_LAP if max_lap is None else max_lap, scene_options=options,
+        patrol_name=str(patrol_path), workers=workers, scheduler=scheduler, progress=progress,
     )  # fmt: skip
     folder: Path | None = output_folder(out_dir) if out_dir is not None else None
     if picture is None and folder is not None:
@@ -237,7 +230,4 @@ def _read_patrol(patrol_path: str, level: Level, options: dict[str, Any]) -> Pat
     from guardsim.patrol import read_patrol
     from guardsim.scene import Scene
 
-    patrol = read_patrol(patrol_path, Scene.from_level(level, **options).grid, level=level.name)
-    if patrol.motion != "grid" or patrol.period is None:
-        raise GuardsimError(f"{patrol_path}: fortify needs a repeating grid-motion patrol")
-    return patrol
+    return read_patrol(patrol_path, Scene.from_level(level, **options).grid, level=level.name)

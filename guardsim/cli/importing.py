@@ -6,8 +6,8 @@ import sys
 
 import click
 
-from guardsim.cli.common import limit_options, reports_errors
-from guardsim.cli.map_options import STRICT_EXIT, MapImport, map_options
+from guardsim.cli.common import level_options
+from guardsim.cli.map_options import STRICT_EXIT, MapImport
 from guardsim.errors import LevelError
 from guardsim.files.output import write_text_atomic
 from guardsim.importers import ImportedLevel, load_level
@@ -18,9 +18,7 @@ __all__ = ["import_command"]
 @click.command("import")
 @click.argument("source", metavar="SOURCE")
 @click.option("--out", "out_path", required=True, type=str, help="Where to write the level.")
-@map_options
-@limit_options
-@reports_errors
+@level_options(vision=False)
 def import_command(
     source: str,
     out_path: str,

@@ -1,8 +1,8 @@
 """The import options every command that reads a level shares, so a map can stand wherever a level can.
 
-``@map_options`` adds ``--cell-size``, ``--threshold``, ``--spawn-tile``, ``--wall-tile``,
-``--wall-property``, ``--wall-class``, ``--wall-layer``, ``--floor-layer``, ``--view``, ``--wall-value``,
-``--level`` and ``--strict`` to a command and hands it one ``map_import`` argument (a :class:`MapImport`) to pass to
+``@map_options`` adds one option per field of :class:`~guardsim.importers.options.ImportOptions`
+(``--cell-size``, ``--threshold``, ``--spawn-tile``, ...: each field's ``OptionForm`` says how) and
+``--strict`` to a command and hands it one ``map_import`` argument (a :class:`MapImport`) to pass to
 :func:`guardsim.cli.common.load`.
 """
 
@@ -11,16 +11,16 @@ from __future__ import annotations
 import dataclasses
 import functools
 import sys
+import typing
 from collections.abc import Callable
 from typing import Any, TypeVar, cast
 
 import click
 
 from guardsim.cli.types import FiniteFloatRange
-from guardsim.importers import FORMATS, ImportedLevel, ImportOptions, load_level
-from guardsim.importers.image import DEFAULT_THRESHOLD
+from guardsim.importers import FORMATS, ImportedLevel, load_level
 from guardsim.importers.loading import is_map_json
-from guardsim.importers.tiled_checks import VIEWS
+from guardsim.importers.options import ImportOptions, option_form
 from guardsim.level import level_to_data, read_level_json
 
 __all__ = ["STRICT_EXIT", "MapImport", "level_data", "map_options", "report_import"]
@@ -40,7 +40,7 @@ class MapImport:
     @property
     def keywords(self) -> dict[str, Any]:
         """The import options as the keywords of :func:`guardsim.load_level`."""
-        return {field.name: getattr(self.options, field.name) for field in dataclasses.fields(self.options)}
+        return self.options.keywords
 
 
 def report_import(imported: ImportedLevel, strict: bool) -> None:
@@ -84,19 +84,7 @@ def map_options(command: F) -> F:
 
     @functools.wraps(command)
     def wrapper(*args: Any, **kwargs: Any) -> Any:
-        options = ImportOptions(
-            cell_size=kwargs.pop("cell_size"),
-            threshold=kwargs.pop("threshold"),
-            spawn_tiles=tuple(kwargs.pop("spawn_tiles")),
-            wall_tiles=tuple(kwargs.pop("wall_tiles")),
-            wall_properties=tuple(kwargs.pop("wall_properties")),
-            wall_classes=tuple(kwargs.pop("wall_classes")),
-            wall_layers=tuple(kwargs.pop("wall_layers")),
-            floor_layers=tuple(kwargs.pop("floor_layers")),
-            view=kwargs.pop("view"),
-            wall_values=tuple(kwargs.pop("wall_values")),
-            level=kwargs.pop("ldtk_level"),
-        )
+        options = ImportOptions(**{field.name: kwargs.pop(_DEST + field.name) for field in _FIELDS})
         return command(*args, map_import=MapImport(options, kwargs.pop("strict")), **kwargs)
 
     decorated: Any = wrapper
@@ -105,115 +93,50 @@ def map_options(command: F) -> F:
     return cast(F, decorated)
 
 
-def _check_wall_properties(ctx: click.Context, param: click.Parameter, values: tuple[str, ...]) -> tuple[str, ...]:
-    """Click callback: each ``--wall-property`` is ``NAME`` or ``NAME=VALUE``."""
-    from guardsim.importers.tiled_roles import parse_wall_property
+#: Prefix of the click parameter names of the import options, apart from the command's own parameters.
+_DEST = "map_import_"
+_FIELDS = dataclasses.fields(ImportOptions)
 
-    for value in values:
+
+def _click_option(field: dataclasses.Field[Any], hint: Any) -> Callable[[F], F]:
+    """The click option of one field of :class:`ImportOptions`, from its :class:`OptionForm`."""
+    form = option_form(field)
+    repeats = isinstance(field.default, tuple)
+    kind = typing.get_args(hint)[0] if repeats or typing.get_args(hint) else hint
+    bounds: dict[str, Any] = {"min": form.low, "max": form.high, "min_open": form.low_open}
+    kind_of: Any = None
+    if form.choices:
+        kind_of = click.Choice(form.choices)
+    elif kind is float:
+        kind_of = FiniteFloatRange(**bounds)
+    elif kind is int:
+        kind_of = click.IntRange(**bounds)
+    shown = field.default not in ((), None)
+    extra: dict[str, Any] = {"default": field.default, "show_default": True} if shown else {}
+    if form.check is not None:
+        extra["callback"] = _checked(form.check)
+    return click.option(
+        form.flag, _DEST + field.name, type=kind_of, multiple=repeats, metavar=form.metavar, help=form.help, **extra
+    )
+
+
+def _checked(check: Callable[[str], str]) -> Callable[[click.Context, click.Parameter, Any], Any]:
+    """A click callback that runs ``check`` on each value given (a ``ValueError`` is a bad parameter)."""
+
+    def callback(ctx: click.Context, param: click.Parameter, values: Any) -> Any:
+        if values is None:
+            return None
         try:
-            parse_wall_property(value)
+            return tuple(check(value) for value in values) if isinstance(values, tuple) else check(values)
         except ValueError as error:
             raise click.BadParameter(str(error), ctx=ctx, param=param) from None
-    return values
+
+    return callback
 
 
-def _check_wall_values(ctx: click.Context, param: click.Parameter, values: tuple[str, ...]) -> tuple[str, ...]:
-    """Click callback: each ``--wall-value`` is an IntGrid value's number or name."""
-    if any(not value.strip() for value in values):
-        raise click.BadParameter("expected an IntGrid value's number or name, got an empty text", ctx=ctx, param=param)
-    return tuple(value.strip() for value in values)
-
-
-def _check_wall_classes(ctx: click.Context, param: click.Parameter, values: tuple[str, ...]) -> tuple[str, ...]:
-    """Click callback: each ``--wall-class`` names a class."""
-    if any(not value.strip() for value in values):
-        raise click.BadParameter("expected a class name, got an empty text", ctx=ctx, param=param)
-    return values
-
-
+_HINTS = typing.get_type_hints(ImportOptions)
 _OPTIONS = [
-    click.option(
-        "--cell-size",
-        type=FiniteFloatRange(min=0, min_open=True, max=1e6),
-        help="Maps: the level's cell_size in world units; one map cell, tile or pixel is one unit. [default: 1]",
-    ),
-    click.option(
-        "--threshold",
-        type=click.IntRange(0, 256),
-        default=DEFAULT_THRESHOLD,
-        show_default=True,
-        help="Images: pixels darker than this grey level (0-255) are walls.",
-    ),
-    click.option(
-        "--spawn-tile",
-        "spawn_tiles",
-        type=click.IntRange(min=1, max=2**32 - 1),
-        multiple=True,
-        metavar="GID",
-        help="Tiled: a global tile id that marks a guard spawn (repeatable).",
-    ),
-    click.option(
-        "--wall-tile",
-        "wall_tiles",
-        type=click.IntRange(min=1, max=2**32 - 1),
-        multiple=True,
-        metavar="GID",
-        help="Tiled: a global tile id that is a wall wherever it is drawn (repeatable).",
-    ),
-    click.option(
-        "--wall-property",
-        "wall_properties",
-        multiple=True,
-        callback=_check_wall_properties,
-        metavar="NAME[=VALUE]",
-        help="Tiled: tiles and objects whose property NAME reads true (or equals VALUE) are walls; replaces the "
-        "guess from property names (repeatable).",
-    ),
-    click.option(
-        "--wall-class",
-        "wall_classes",
-        multiple=True,
-        callback=_check_wall_classes,
-        metavar="NAME",
-        help="Tiled: tiles and objects of this class (any case) are walls (repeatable).",
-    ),
-    click.option(
-        "--wall-layer",
-        "wall_layers",
-        multiple=True,
-        metavar="NAME",
-        help="Tiled: a layer (or group/layer) whose tiles or objects are walls, replacing the guess (repeatable).",
-    ),
-    click.option(
-        "--floor-layer",
-        "floor_layers",
-        multiple=True,
-        metavar="NAME",
-        help="Tiled: a tile layer whose tiles are floor, replacing the guess (repeatable).",
-    ),
-    click.option(
-        "--view",
-        type=click.Choice(VIEWS),
-        default="auto",
-        show_default=True,
-        help="Tiled: auto refuses a map that looks like a side view (a platformer: layers named platforms or "
-        "ladders, a gravity property); top-down imports it as seen from above.",
-    ),
-    click.option(
-        "--wall-value",
-        "wall_values",
-        multiple=True,
-        callback=_check_wall_values,
-        metavar="N|NAME",
-        help="LDtk: an IntGrid value (its number, or its name in any case) that is a wall in every IntGrid layer; "
-        "replaces the guess from value names (repeatable).",
-    ),
-    click.option(
-        "--level",
-        "ldtk_level",
-        metavar="NAME",
-        help="LDtk: the level to import, by identifier. [default: the first]",
-    ),
+    *(_click_option(field, _HINTS[field.name]) for field in _FIELDS),
     click.option(
         "--strict",
         is_flag=True,

@@ -12,13 +12,11 @@ from guardsim.cli.common import (
     build_scene,
     cell_text,
     cli_start,
-    limit_options,
+    level_options,
     load,
     parse_point,
-    reports_errors,
-    vision_options,
 )
-from guardsim.cli.map_options import MapImport, map_options
+from guardsim.cli.map_options import MapImport
 from guardsim.cli.progress import Throttle
 from guardsim.errors import GuardsimError
 from guardsim.files.output import write_text_atomic
@@ -152,10 +150,7 @@ def _search_from(_ctx: click.Context, _param: click.Parameter, value: str | None
     help="Stop once the walk found is proved at most this many times the optimum (1: the optimum itself).",
 )
 @click.option("--out", "out_path", type=str, help="Write the result (steps, path, proved, bounds) as JSON.")
-@vision_options
-@map_options
-@limit_options
-@reports_errors
+@level_options()
 def optimum(
     level_path: str,
     start: tuple[tuple[float, float], ...],

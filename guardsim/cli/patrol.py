@@ -14,15 +14,13 @@ import click
 from guardsim.cli.common import (
     build_scene,
     check_outside,
-    limit_options,
+    level_options,
     load,
     parse_point,
     picture_option,
     picture_path,
-    reports_errors,
-    vision_options,
 )
-from guardsim.cli.map_options import MapImport, map_options
+from guardsim.cli.map_options import MapImport
 from guardsim.cli.progress import StageLine
 from guardsim.cli.types import FiniteFloatRange
 from guardsim.errors import GuardsimError
@@ -139,10 +137,7 @@ def output_folder(path: str) -> Path:
     show_default=True,
     help="Memory budget: a level whose patrol would need more is refused before any work.",
 )
-@vision_options
-@map_options
-@limit_options
-@reports_errors
+@level_options()
 def patrol(
     level_path: str,
     map_import: MapImport,

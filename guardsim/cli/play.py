@@ -9,23 +9,21 @@ import click
 
 from guardsim.cli.common import (
     build_scene,
-    cli_start,
     gif_suffix,
-    limit_options,
+    level_options,
     load,
     parse_point,
-    reports_errors,
     vision_options,
 )
-from guardsim.cli.map_options import MapImport, map_options
+from guardsim.cli.map_options import MapImport
 from guardsim.cli.motion import check_motion, check_speed_up, motion_of, motion_options, speed_up_option
 from guardsim.cli.progress import StageLine
 from guardsim.files.output import write_text_atomic
 from guardsim.level import HEADINGS
-from guardsim.motion import run_episode, summary_text
-from guardsim.planners import FIELD_PLANNERS, PLANNERS, plain_loop_pays, planner_options
+from guardsim.motion.run import play_episode, play_summary
+from guardsim.pictures import write_play_pictures
+from guardsim.planners import FIELD_PLANNERS, PLANNERS
 from guardsim.render.timeline import DEFAULT_MAX_FRAMES, GifOptions
-from guardsim.simulation import Simulation, team_starts
 
 __all__ = ["play"]
 
@@ -77,9 +75,7 @@ __all__ = ["play"]
 @speed_up_option
 @vision_options
 @motion_options
-@map_options
-@limit_options
-@reports_errors
+@level_options(vision=False)
 def play(
     level_path: str,
     gif_path: str | None,
@@ -136,48 +132,21 @@ def play(
     began = time.perf_counter()
     progress("building the scene", 0, 0)
     scene = build_scene(level, los, fov, view_range)
-    rng, cell, first_heading = cli_start(scene, seed=seed, episode=episode, start=start, heading=heading)
-    options = planner_options(planner, sweeps_per_tick=sweeps_per_tick)
-    cells, headings = team_starts(scene, (cell, first_heading), guards, rng=rng)
-    # One small RippleFront episode runs faster on the plain loop than the compiler takes to build the
-    # fast path on a fresh install; both give the same trace, so take whichever is quicker now.
-    plain = reference or plain_loop_pays(planner, guards, int(scene.grid.traversable.sum()))
+    walk = motion_of(scene, move_speed, turn_speed, tick_hz) if motion == "continuous" else "grid"
     progress("walking the episode", 0, 0)
-    if motion == "continuous":
-        trace = run_episode(scene, planner, seed=seed, starts=None if cell is None else [cell], headings=None if first_heading is None else [first_heading], rng=rng, max_steps=max_steps, motion=motion_of(scene, move_speed, turn_speed, tick_hz) or "continuous", max_seconds=max_seconds, reference=reference, **options)  # fmt: skip
-    else:
-        simulation = Simulation(
-            scene, planner, guards=guards, max_steps=max_steps, reference=plain, record_field=record_field, **options
-        )
-        simulation.reset(seed=seed, starts=cells, headings=headings, rng=rng)
-        trace = simulation.run()
+    trace = play_episode(
+        scene, planner, seed=seed, episode=episode, start=start, heading=heading, guards=guards, max_steps=max_steps,
+        sweeps_per_tick=sweeps_per_tick, record_field=record_field, reference=reference, motion=walk,
+        max_seconds=max_seconds,
+    )  # fmt: skip
     seconds = time.perf_counter() - began
     gif_options = GifOptions(stride=stride, frame_ms=frame_ms, max_frames=max_frames, size=size, speed_up=speed_up)
-    written = []
-    if gif_path:
-        from guardsim.render.gif import write_gif
-
-        progress("writing the GIF", 0, 0)
-        write_gif(gif_path, level, trace, gif_options)
-        written.append(gif_path)
-    if html_path:
-        from guardsim.viewer import write_viewer
-
-        progress("writing the page", 0, 0)
-        write_viewer(html_path, level, trace)
-        written.append(html_path)
+    written = write_play_pictures(
+        level, trace, gif=gif_path, html=html_path, gif_options=gif_options, progress=progress
+    )
     if trace_path:
         progress("writing the trace", 0, 0)
         write_text_atomic(trace_path, trace.to_json())
         written.append(trace_path)
     progress.close()
-    seen_percent = 100.0 - trace.unseen_percent[-1]
-    extra = f", {trace.unreachable} unreachable" if trace.unreachable else ""
-    team = f" ({guards} guards, {trace.total_moves} moves in all)" if guards > 1 else ""
-    moved = summary_text(trace)
-    after, moved = (moved, "") if trace.motion == "continuous" else (f"{trace.steps} steps{team}", f", {moved}")
-    click.echo(
-        f"{level.name}: {trace.outcome.replace('_', ' ')} after {after}, {seen_percent:.1f}% seen "
-        f"({trace.reachable} reachable cells{extra}){moved}, {seconds:.2f} s"
-        + (f" -> {', '.join(written)}" if written else "")
-    )
+    click.echo(play_summary(level.name, trace, seconds, written))

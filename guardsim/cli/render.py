@@ -4,8 +4,8 @@ from __future__ import annotations
 
 import click
 
-from guardsim.cli.common import limit_options, load, parse_point, reports_errors
-from guardsim.cli.map_options import MapImport, map_options
+from guardsim.cli.common import level_options, load, parse_point
+from guardsim.cli.map_options import MapImport
 from guardsim.level import HEADINGS
 
 __all__ = ["render"]
@@ -43,9 +43,7 @@ def parse_cone(
     metavar="PX",
     help="Longest side of the map in pixels [default: 640, or 6 pixels a cell if more, up to 1600].",
 )
-@map_options
-@limit_options
-@reports_errors
+@level_options(vision=False)
 def render(
     level_path: str,
     png_path: str,

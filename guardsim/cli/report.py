@@ -6,9 +6,9 @@ import json
 
 import click
 
-from guardsim.cli.common import limit_options, load, reports_errors
+from guardsim.cli.common import level_options, load
 from guardsim.cli.design_common import StepLines, check_outputs, guards_option, pair_options, pairs_of
-from guardsim.cli.map_options import MapImport, map_options
+from guardsim.cli.map_options import MapImport
 from guardsim.design.report import MAX_ALERT_EPISODES
 
 __all__ = ["report"]
@@ -29,9 +29,7 @@ __all__ = ["report"]
 @click.option("--seed", type=click.IntRange(min=0), default=0, show_default=True)
 @click.option("--html", "html_path", type=str, help="Write the report as a page (the level, the paths, the formula).")
 @click.option("--json", "json_path", type=str, help="Write report.json.")
-@map_options
-@limit_options
-@reports_errors
+@level_options(vision=False)
 def report(
     level_path: str,
     map_import: MapImport,

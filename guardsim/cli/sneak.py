@@ -13,22 +13,19 @@ from guardsim.cli.common import (
     EarsOverrides,
     build_scene,
     check_outside,
-    detection_options,
     ears_options,
-    limit_options,
+    level_options,
     load,
     parse_point,
     picture_option,
     picture_path,
-    reports_errors,
-    vision_options,
 )
-from guardsim.cli.map_options import MapImport, map_options
+from guardsim.cli.map_options import MapImport
 from guardsim.cli.patrol import output_folder
 from guardsim.cli.progress import StageLine
 from guardsim.errors import GuardsimError
 from guardsim.pictures import write_sneak_pictures
-from guardsim.sneak.run import check_sneak_patrol, gait_runs
+from guardsim.sneak.run import gait_runs
 
 if TYPE_CHECKING:
     from guardsim.scene import Scene
@@ -92,11 +89,7 @@ def _each_point(ctx: click.Context, param: click.Parameter, values: tuple[str, .
     default=None,
     help="Longest joint lap of the patrol and the level's camera swings, in ticks [default: 10000].",
 )
-@detection_options
-@vision_options
-@map_options
-@limit_options
-@reports_errors
+@level_options(detection=True)
 def sneak(
     level_path: str,
     map_import: MapImport,
@@ -146,7 +139,7 @@ def sneak(
     compile_ahead("sneak")
     scene = build_scene(level, los, fov, view_range)
     patrol = read_patrol(patrol_path, scene.grid, level=level.name)
-    check_sneak_patrol(patrol, patrol_path)
+    patrol.require_repeating_grid(patrol_path, "sneak")
     source, start, goal = sneak_endpoints(scene, source, target, level_name=level_path, say=click.echo)
     for point in safe:
         scene.grid.floor_cell(point, "--safe")

@@ -8,8 +8,8 @@ from typing import Any
 
 import click
 
-from guardsim.cli.common import limit_options, reports_errors, with_options
-from guardsim.cli.map_options import STRICT_EXIT, MapImport, level_data, map_options
+from guardsim.cli.common import level_options, with_options
+from guardsim.cli.map_options import STRICT_EXIT, MapImport, level_data
 from guardsim.errors import GuardsimError
 from guardsim.files.output import write_text_atomic
 from guardsim.files.reading import captured_warnings, display_path, warning_note
@@ -48,9 +48,7 @@ SHOWN_REPAIRS = 200
     show_default=True,
     help="Sight rays the hidden-area warning may cast before it stops.",
 )
-@map_options
-@limit_options
-@reports_errors
+@level_options(vision=False)
 def validate(
     level_paths: tuple[str, ...],
     fix_path: str | None,

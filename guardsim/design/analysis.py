@@ -20,7 +20,7 @@ import numpy as np
 from guardsim.design.reuse import reused_view_table
 from guardsim.detection import GuardDetection, PatrolGains, exposure_map, patrol_gains
 from guardsim.detection.exposure import MAX_DENSE_NODES
-from guardsim.errors import LimitError, PatrolError
+from guardsim.errors import LimitError
 from guardsim.kernels.distances import FAR, distances_from
 from guardsim.level import Level
 from guardsim.patrol import Patrol, PatrolScore, PatrolSetup, plan_loop, read_patrol, score_patrol, seen_timeline
@@ -228,14 +228,11 @@ def analyse(
         starts, headings = team_starts(scene, (cell, heading), guards, rng=rng)
         setup = PatrolSetup(scene, table, goal, starts, headings, seed)
         chosen, source = plan_loop(setup, guards, planner=planner)[0].patrol, _loop_name(guards, planner)
-    if chosen.motion != "grid":
-        raise PatrolError(f"{source}: motion is {chosen.motion!r}: the analysis runs on grid-motion patrols only")
-    if chosen.period is None:
-        raise PatrolError(f"{source}: period is null: the analysis needs a repeating patrol")
+    period = chosen.require_repeating_grid(source, "the analysis")
     idleness = score_patrol(table, chosen, goal)
     detection = GuardDetection.of_level(level)
     grid = scene.grid
-    if chosen.period * grid.size <= MAX_DENSE_NODES:
+    if period * grid.size <= MAX_DENSE_NODES:
         found = patrol_gains(
             grid, table, chosen.states, detection.model, view_range=detection.view_range, dt=detection.dt
         )

@@ -17,7 +17,7 @@ from guardsim.detection.model import DetectionModel
 from guardsim.grid import CoverageGrid
 from guardsim.kernels.arrays import copy_into
 from guardsim.kernels.compiler import jit
-from guardsim.kernels.meter import DETECTED, meter_after, meter_gain, visibility
+from guardsim.kernels.meter import DETECTED, cell_gain, meter_after
 from guardsim.kernels.steps import cell_of_state
 from guardsim.vision.table import ViewTable
 
@@ -77,12 +77,10 @@ def _fill_gains(
         for tick in range(states.shape[1]):
             state = states[guard, tick]
             own = cell_of_state(state)
-            own_row, own_col = own // cols, own % cols
             for index in range(sight_start[state], sight_start[state + 1]):
                 cell = sight[index]
-                distance = cell_size * np.hypot(cell // cols - own_row, cell % cols - own_col)
-                seen = visibility(distance, dark_sight, light[cell])
-                out[guard, tick, cell] = meter_gain(dt, distance, view_range, near, far, seen)
+                out[guard, tick, cell] = cell_gain(own, cell, cols, cell_size, near, far, view_range, dt, dark_sight,
+                                                   light[cell])  # fmt: skip
 
 
 def patrol_gains(

@@ -19,7 +19,7 @@ from guardsim.detection.exposure import MAX_STANDING_LAPS, PatrolGains
 from guardsim.detection.model import DetectionModel
 from guardsim.grid import CoverageGrid
 from guardsim.kernels.compiler import jit
-from guardsim.kernels.meter import DETECTED, meter_after, meter_gain, visibility
+from guardsim.kernels.meter import DETECTED, cell_gain, meter_after
 from guardsim.kernels.steps import cell_of_state
 from guardsim.vision.table import ViewTable
 
@@ -145,18 +145,15 @@ def _guard_events(
     fill: bool,
 ) -> int:
     """Count (``fill`` false: ``counts`` per cell) or list the guards' nonzero gains, tick by tick, guard by
-    guard; the gain is computed as :func:`guardsim.detection.exposure._fill_gains` computes it."""
+    guard; each gain is :func:`guardsim.kernels.meter.cell_gain`, as the dense gains' are."""
     count = 0
     for tick in range(states.shape[1]):
         for guard in range(states.shape[0]):
             state = states[guard, tick]
             own = cell_of_state(state)
-            own_row, own_col = own // cols, own % cols
             for index in range(sight_start[state], sight_start[state + 1]):
                 cell = sight[index]
-                distance = cell_size * np.hypot(cell // cols - own_row, cell % cols - own_col)
-                seen = visibility(distance, dark_sight, light[cell])
-                value = meter_gain(dt, distance, view_range, near, far, seen)
+                value = cell_gain(own, cell, cols, cell_size, near, far, view_range, dt, dark_sight, light[cell])
                 if value > 0.0:
                     if fill:
                         cell_of[count] = cell

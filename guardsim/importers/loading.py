@@ -19,35 +19,13 @@ import shapely.errors
 
 from guardsim.errors import LevelError
 from guardsim.files.reading import parse_json
-from guardsim.importers.image import DEFAULT_THRESHOLD
 from guardsim.importers.imported import ImportedLevel
 from guardsim.importers.ldtk_read import is_ldtk_json
+from guardsim.importers.options import ImportOptions
 from guardsim.importers.source import MAX_JSON_DEPTH, display_name, quiet, read_capped_bytes
 from guardsim.level import DEFAULT_MAX_CELLS, DEFAULT_MAX_FILE_BYTES, DEFAULT_MAX_VERTICES, Level, parse_level
 
 __all__ = ["ImportOptions", "is_map_json", "is_tiled_json", "load_level", "unknown_type"]
-
-
-@dataclasses.dataclass(frozen=True)
-class ImportOptions:
-    """How maps are imported; the defaults are what ``guardsim import`` does without options."""
-
-    cell_size: float | None = None
-    threshold: int = DEFAULT_THRESHOLD
-    spawn_tiles: tuple[int, ...] = ()
-    wall_layers: tuple[str, ...] = ()
-    floor_layers: tuple[str, ...] = ()
-    wall_tiles: tuple[int, ...] = ()
-    wall_properties: tuple[str, ...] = ()
-    """Tiled: ``NAME`` or ``NAME=VALUE``: tiles and objects with that property are walls (``--wall-property``)."""
-    wall_classes: tuple[str, ...] = ()
-    """Tiled: tile and object classes that are walls (``--wall-class``)."""
-    view: str = "auto"
-    """Tiled: ``auto`` refuses a map that looks like a side view; ``top-down`` imports it (``--view``)."""
-    wall_values: tuple[str, ...] = ()
-    """LDtk: IntGrid values, numbers or names, that are walls (``--wall-value``)."""
-    level: str | None = None
-    """LDtk: the identifier of the level to import (``--level``); the first by default."""
 
 
 #: Files guardsim is sometimes handed but does not read, and what they are.
@@ -114,9 +92,8 @@ def load_level(
     The one way to load a level. A ``.json`` file is a guardsim level when it has an ``outer`` ring and
     a Tiled or LDtk map otherwise; ``.tmx``/``.tmj``, ``.ldtk``, ``.map`` (Moving AI) and ``.png`` are
     maps. ``import_options`` are the options of ``guardsim import``, the fields of
-    :class:`ImportOptions`: ``cell_size``, ``threshold``, ``spawn_tiles``, ``wall_layers``,
-    ``floor_layers``, ``wall_tiles``, ``wall_properties``, ``wall_classes``, ``view``, ``wall_values``
-    and ``level``. ``report``, when given, receives the :class:`~guardsim.importers.ImportedLevel` of an
+    :class:`~guardsim.importers.options.ImportOptions` (``cell_size``, ``threshold``, ``spawn_tiles``,
+    ``wall_layers``, ... each documented there with its flag). ``report``, when given, receives the :class:`~guardsim.importers.ImportedLevel` of an
     imported map (what the import found, guessed and changed, and its warnings); a level file has none.
 
     Raises
@@ -162,21 +139,7 @@ def load_level(
     try:
         with quiet(notes):
             imported = _import_map(
-                path,
-                cell_size=options.cell_size,
-                threshold=options.threshold,
-                spawn_tiles=options.spawn_tiles,
-                wall_layers=options.wall_layers,
-                floor_layers=options.floor_layers,
-                wall_tiles=options.wall_tiles,
-                wall_properties=options.wall_properties,
-                wall_classes=options.wall_classes,
-                view=options.view,
-                wall_values=options.wall_values,
-                level=options.level,
-                max_cells=max_cells,
-                max_vertices=max_vertices,
-                max_file_bytes=max_file_bytes,
+                path, options, max_cells=max_cells, max_vertices=max_vertices, max_file_bytes=max_file_bytes
             )
     except MemoryError:
         raise LevelError(

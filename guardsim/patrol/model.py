@@ -105,6 +105,25 @@ class Patrol:
         """Heading number of guard ``guard`` at each stored tick."""
         return [int(heading) for heading in heading_of_state(self.states[guard])]
 
+    def require_repeating_grid(self, source: str, use: str) -> int:
+        """The period of a patrol that repeats in grid motion, as the exact searches and the batches over
+        one lap need; any other is a :class:`~guardsim.errors.PatrolError` naming ``source``, the patrol's
+        file or name, and ``use``, what needs it.
+
+        Examples
+        --------
+        >>> Patrol(np.array([[8, 12]]), period=None, strategy="evaluate").require_repeating_grid("p.json", "alert")
+        Traceback (most recent call last):
+        ...
+        guardsim.errors.PatrolError: p.json: alert needs a repeating grid-motion patrol (from guardsim patrol); this one has period null
+        """
+        if self.motion != "grid" or self.period is None:
+            problem = f"motion {self.motion!r}" if self.motion != "grid" else "period null"
+            raise PatrolError(
+                f"{source}: {use} needs a repeating grid-motion patrol (from guardsim patrol); this one has {problem}"
+            )
+        return self.period
+
     def unrolled(self, ticks: int) -> np.ndarray:
         """``int64 (guards, ticks)``: every guard's state for ticks ``0..ticks-1``."""
         index = np.arange(ticks)

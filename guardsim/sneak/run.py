@@ -9,8 +9,6 @@ import math
 from collections.abc import Callable
 from typing import TYPE_CHECKING, Any, NamedTuple
 
-from guardsim.errors import PatrolError
-
 if TYPE_CHECKING:
     from guardsim.detection import GuardDetection
     from guardsim.detection.watch import LevelWatch
@@ -21,7 +19,6 @@ if TYPE_CHECKING:
 
 __all__ = [
     "SneakRun",
-    "check_sneak_patrol",
     "gait_runs",
     "run_sneak",
     "sneak_endpoints",
@@ -59,17 +56,6 @@ def sneak_header(scene: Scene, detection: GuardDetection, max_lap: int | None) -
     }
 
 
-def check_sneak_patrol(patrol: Patrol, patrol_name: str = "patrol") -> None:
-    """Refuse a patrol the sneak check cannot search under (a :class:`~guardsim.errors.PatrolError` naming
-    ``patrol_name``): it must repeat, in grid motion."""
-    if patrol.motion != "grid":
-        raise PatrolError(
-            f"{patrol_name}: motion is {patrol.motion!r}: the sneak check runs on grid-motion patrols (ticks) only"
-        )
-    if patrol.period is None:
-        raise PatrolError(f"{patrol_name}: period is null: the sneak check needs a repeating patrol")
-
-
 def run_sneak(
     scene: Scene,
     patrol: Patrol,
@@ -92,7 +78,7 @@ def run_sneak(
     from guardsim.sneak import sneak_check
     from guardsim.vision.table import view_table
 
-    check_sneak_patrol(patrol, patrol_name)
+    patrol.require_repeating_grid(patrol_name, "sneak")
     level, grid = scene.level, scene.grid
     table = view_table(grid, scene.vision())
     detection = GuardDetection.of_level(level)

@@ -147,6 +147,81 @@ def _add(nodes: _Nodes, key: int) -> tuple[_Nodes, int]:
     return nodes, node
 
 
+class _Labels(NamedTuple):
+    """The labels kept (states whose meters are not all empty), numbered as kept: each one's node key, parent
+    label, meters, and the label kept before it at its node (the chain starts at ``nodes.head``)."""
+
+    key: np.ndarray
+    parent: np.ndarray
+    meters: np.ndarray
+    after: np.ndarray
+    nodes: _Nodes
+
+
+@jit
+def _no_labels(watchers: int) -> _Labels:
+    nodes = _Nodes(
+        np.zeros(1024, dtype=np.int64), np.zeros(512, dtype=np.int64), np.zeros(512, dtype=np.int64),
+        np.zeros(512, dtype=np.bool_), np.zeros(512, dtype=np.int64), np.full(1, -1, dtype=np.int64),
+        np.zeros(8, dtype=np.int64), np.zeros((512, 0), dtype=np.uint64),
+    )  # fmt: skip
+    return _Labels(
+        np.empty(1024, dtype=np.int64), np.empty(1024, dtype=np.int64), np.empty((1024, watchers), dtype=np.float64),
+        np.empty(1024, dtype=np.int64), nodes,
+    )  # fmt: skip
+
+
+@jit
+def _dominated(labels: _Labels, key: int, meters: np.ndarray) -> bool:
+    """Whether a label kept at node ``key`` has no meter above ``meters``."""
+    node, _ = _find(labels.nodes, key)
+    stored = labels.nodes.head[node] if node >= 0 else -1
+    while stored >= 0:
+        dominated = True
+        for guard in range(meters.shape[0]):
+            if labels.meters[stored, guard] > meters[guard]:
+                dominated = False
+                break
+        if dominated:
+            return True
+        stored = labels.after[stored]
+    return False
+
+
+@jit
+def _keep(labels: _Labels, count: int, key: int, parent: int, meters: np.ndarray) -> tuple[_Labels, int]:
+    """``labels`` with label number ``count`` (node ``key``, ``parent``, ``meters``) kept first at its node;
+    and the node."""
+    nodes, node = _add(labels.nodes, key)
+    labels = _Labels(
+        _grow_int(labels.key, count + 1), _grow_int(labels.parent, count + 1), _grow_rows(labels.meters, count + 1),
+        _grow_int(labels.after, count + 1), nodes,
+    )  # fmt: skip
+    labels.key[count] = key
+    labels.parent[count] = parent
+    _copy_row(labels.meters, count, meters)
+    labels.after[count] = nodes.head[node]
+    nodes.head[node] = count
+    return labels, node
+
+
+@jit
+def _append(array: np.ndarray, count: int, value: int) -> np.ndarray:
+    array = _grow_int(array, count + 1)
+    array[count] = value
+    return array
+
+
+@jit
+def _low_bit(word: np.uint64) -> int:
+    """The index of the lowest set bit of ``word`` (not zero)."""
+    low = word & (~word + _ONE)
+    bit = 0
+    while (low >> np.uint64(bit)) != _ONE:
+        bit += 1
+    return bit
+
+
 @jit
 def _gains_at(start: np.ndarray, tick: np.ndarray, watcher: np.ndarray, gain: np.ndarray, cell: int, phase: int,
               out: np.ndarray) -> None:  # fmt: skip
@@ -362,14 +437,7 @@ def _flood(
     tail = 0
     shifted = np.empty(words, dtype=np.uint64)
     moved_words = np.empty(words, dtype=np.int64)
-    label_key = np.empty(1024, dtype=np.int64)
-    label_meters = np.empty((1024, watchers), dtype=np.float64)
-    label_after = np.empty(1024, dtype=np.int64)
-    nodes = _Nodes(
-        np.zeros(1024, dtype=np.int64), np.zeros(512, dtype=np.int64), np.zeros(512, dtype=np.int64),
-        np.zeros(512, dtype=np.bool_), np.zeros(512, dtype=np.int64), np.full(1, -1, dtype=np.int64),
-        np.zeros(8, dtype=np.int64), np.zeros((512, 0), dtype=np.uint64),
-    )  # fmt: skip
+    kept = _no_labels(watchers)
     gains = np.zeros(watchers, dtype=np.float64)
     zero = np.zeros(watchers, dtype=np.float64)
     candidate = np.zeros(watchers, dtype=np.float64)
@@ -385,14 +453,7 @@ def _flood(
             _gains_at(start, tick, watcher, gain, source, phase, gains)
             if _step(zero, gains, fall, candidate) == 1:
                 continue
-            nodes, node = _add(nodes, phase * cells + source)
-            label_key = _grow_int(label_key, labels + 1)
-            label_after = _grow_int(label_after, labels + 1)
-            label_meters = _grow_rows(label_meters, labels + 1)
-            label_key[labels] = phase * cells + source
-            _copy_row(label_meters, labels, candidate)
-            label_after[labels] = nodes.head[node]
-            nodes.head[node] = labels
+            kept, _ = _keep(kept, labels, phase * cells + source, -1, candidate)
             labels += 1
         touched[source] = True
     queue[tail] = source
@@ -428,36 +489,17 @@ def _flood(
                         grew = True
                     hit = fresh & bits[other, word] if graded else np.uint64(0)
                     while hit:
-                        low = hit & (~hit + _ONE)
-                        bit = 0
-                        while (low >> np.uint64(bit)) != _ONE:
-                            bit += 1
+                        phase = word * 64 + _low_bit(hit)
                         hit &= hit - _ONE
-                        phase = word * 64 + bit
                         _gains_at(start, tick, watcher, gain, other, phase, gains)
                         if _step(zero, gains, fall, candidate) == 1:
                             continue
-                        nodes, node = _add(nodes, phase * cells + other)
-                        stored = nodes.head[node]
-                        dominated = False
-                        while stored >= 0 and not dominated:
-                            dominated = True
-                            for guard in range(watchers):
-                                if label_meters[stored, guard] > candidate[guard]:
-                                    dominated = False
-                                    break
-                            stored = label_after[stored]
-                        if dominated:
+                        key = phase * cells + other
+                        if _dominated(kept, key, candidate):
                             continue
                         if labels >= max_labels:
                             return -1
-                        label_key = _grow_int(label_key, labels + 1)
-                        label_after = _grow_int(label_after, labels + 1)
-                        label_meters = _grow_rows(label_meters, labels + 1)
-                        label_key[labels] = phase * cells + other
-                        _copy_row(label_meters, labels, candidate)
-                        label_after[labels] = nodes.head[node]
-                        nodes.head[node] = labels
+                        kept, _ = _keep(kept, labels, key, -1, candidate)
                         labels += 1
                         touched[other] = True
                 if grew:
@@ -469,7 +511,7 @@ def _flood(
         while done < labels:
             label = done
             done += 1
-            key = label_key[label]
+            key = kept.key[label]
             phase, cell = key // cells, key % cells
             if _is_bit(reached, cell, phase):
                 continue
@@ -479,7 +521,7 @@ def _flood(
                 if other < 0 or _is_bit(reached, other, after):
                     continue
                 _gains_at(start, tick, watcher, gain, other, after, gains)
-                state = _step(label_meters[label], gains, fall, candidate)
+                state = _step(kept.meters[label], gains, fall, candidate)
                 if state == 1:
                     continue
                 touched[other] = True
@@ -491,27 +533,11 @@ def _flood(
                         tail = (tail + 1) % queue.shape[0]
                     continue
                 key = after * cells + other
-                nodes, node = _add(nodes, key)
-                stored = nodes.head[node]
-                dominated = False
-                while stored >= 0 and not dominated:
-                    dominated = True
-                    for guard in range(watchers):
-                        if label_meters[stored, guard] > candidate[guard]:
-                            dominated = False
-                            break
-                    stored = label_after[stored]
-                if dominated:
+                if _dominated(kept, key, candidate):
                     continue
                 if labels >= max_labels:
                     return -1
-                label_key = _grow_int(label_key, labels + 1)
-                label_after = _grow_int(label_after, labels + 1)
-                label_meters = _grow_rows(label_meters, labels + 1)
-                label_key[labels] = key
-                _copy_row(label_meters, labels, candidate)
-                label_after[labels] = nodes.head[node]
-                nodes.head[node] = labels
+                kept, _ = _keep(kept, labels, key, -1, candidate)
                 labels += 1
     return labels
 
@@ -555,17 +581,10 @@ def _sweep(
     next_cell = np.empty(1024, dtype=np.int64)
     next_word = np.empty(1024, dtype=np.int64)
     next_bits = np.empty(1024, dtype=np.uint64)
-    # Labels with some meter up: their node key, meters and the label before them at the same node.
-    label_key = np.empty(1024, dtype=np.int64)
-    label_meters = np.empty((1024, watchers), dtype=np.float64)
-    label_after = np.empty(1024, dtype=np.int64)
+    kept = _no_labels(watchers)
+    # The labels of this layer and the next.
     frontier = np.empty(1024, dtype=np.int64)
     upcoming = np.empty(1024, dtype=np.int64)
-    nodes = _Nodes(
-        np.zeros(1024, dtype=np.int64), np.zeros(512, dtype=np.int64), np.zeros(512, dtype=np.int64),
-        np.zeros(512, dtype=np.bool_), np.zeros(512, dtype=np.int64), np.full(1, -1, dtype=np.int64),
-        np.zeros(8, dtype=np.int64), np.zeros((512, 0), dtype=np.uint64),
-    )  # fmt: skip
     gains = np.zeros(watchers, dtype=np.float64)
     zero = np.zeros(watchers, dtype=np.float64)
     candidate = np.zeros(watchers, dtype=np.float64)
@@ -580,28 +599,19 @@ def _sweep(
             continue
         if not _is_bit(bits, source, phase):
             reached[source, phase >> 6] |= _ONE << np.uint64(phase & 63)
-            touched[source] = True
-            if source == target and best < 0:
-                best = phase
         elif graded:
             _gains_at(start, tick, watcher, gain, source, phase, gains)
             if _step(zero, gains, fall, candidate) == 1:
                 continue
-            nodes, node = _add(nodes, phase * cells + source)
-            label_key = _grow_int(label_key, labels + 1)
-            label_after = _grow_int(label_after, labels + 1)
-            label_meters = _grow_rows(label_meters, labels + 1)
-            label_key[labels] = phase * cells + source
-            _copy_row(label_meters, labels, candidate)
-            label_after[labels] = nodes.head[node]
-            nodes.head[node] = labels
-            frontier = _grow_int(frontier, width + 1)
-            frontier[width] = labels
+            kept, _ = _keep(kept, labels, phase * cells + source, -1, candidate)
+            frontier = _append(frontier, width, labels)
             width += 1
             labels += 1
-            touched[source] = True
-            if source == target and best < 0:
-                best = phase
+        else:
+            continue
+        touched[source] = True
+        if source == target and best < 0:
+            best = phase
     for word in range(words):
         if reached[source, word]:
             seeds = reached[source, word]
@@ -634,52 +644,26 @@ def _sweep(
                         next_cell, next_word, next_bits, following = _push(
                             reached, other, into, new, next_cell, next_word, next_bits, following
                         )
-                        if other == target:
-                            left = new
-                            while left:
-                                low = left & (~left + _ONE)
-                                bit = 0
-                                while (low >> np.uint64(bit)) != _ONE:
-                                    bit += 1
-                                entry = (into * 64 + bit - arrive) % period
-                                if best < 0 or entry < best:
-                                    best = entry
-                                left &= left - _ONE
+                        left = new if other == target else np.uint64(0)
+                        while left:
+                            entry = (into * 64 + _low_bit(left) - arrive) % period
+                            if best < 0 or entry < best:
+                                best = entry
+                            left &= left - _ONE
                     hit = fresh & bits[other, into] if graded else np.uint64(0)
                     while hit:
-                        low = hit & (~hit + _ONE)
-                        bit = 0
-                        while (low >> np.uint64(bit)) != _ONE:
-                            bit += 1
+                        phase = into * 64 + _low_bit(hit)
                         hit &= hit - _ONE
-                        phase = into * 64 + bit
                         _gains_at(start, tick, watcher, gain, other, phase, gains)
                         if _step(zero, gains, fall, candidate) == 1:
                             continue
                         key = phase * cells + other
-                        nodes, node = _add(nodes, key)
-                        stored = nodes.head[node]
-                        dominated = False
-                        while stored >= 0 and not dominated:
-                            dominated = True
-                            for guard in range(watchers):
-                                if label_meters[stored, guard] > candidate[guard]:
-                                    dominated = False
-                                    break
-                            stored = label_after[stored]
-                        if dominated:
+                        if _dominated(kept, key, candidate):
                             continue
                         if labels >= max_labels:
                             return -2, -1, labels
-                        label_key = _grow_int(label_key, labels + 1)
-                        label_after = _grow_int(label_after, labels + 1)
-                        label_meters = _grow_rows(label_meters, labels + 1)
-                        label_key[labels] = key
-                        _copy_row(label_meters, labels, candidate)
-                        label_after[labels] = nodes.head[node]
-                        nodes.head[node] = labels
-                        upcoming = _grow_int(upcoming, upcoming_width + 1)
-                        upcoming[upcoming_width] = labels
+                        kept, _ = _keep(kept, labels, key, -1, candidate)
+                        upcoming = _append(upcoming, upcoming_width, labels)
                         upcoming_width += 1
                         labels += 1
                         touched[other] = True
@@ -689,7 +673,7 @@ def _sweep(
                                 best = entry
         for index in range(width):
             label = frontier[index]
-            key = label_key[label]
+            key = kept.key[label]
             phase, cell = key // cells, key % cells
             if _is_bit(reached, cell, phase):
                 # Met in its own layer by a label with every meter empty, which dominates it.
@@ -702,7 +686,7 @@ def _sweep(
                 if bound >= 0 and arrive + remaining[other] > bound:
                     continue
                 _gains_at(start, tick, watcher, gain, other, after, gains)
-                state = _step(label_meters[label], gains, fall, candidate)
+                state = _step(kept.meters[label], gains, fall, candidate)
                 if state == 1:
                     continue
                 if state == 0:
@@ -713,29 +697,12 @@ def _sweep(
                     )  # fmt: skip
                 else:
                     key = after * cells + other
-                    nodes, node = _add(nodes, key)
-                    stored = nodes.head[node]
-                    dominated = False
-                    while stored >= 0 and not dominated:
-                        dominated = True
-                        for guard in range(watchers):
-                            if label_meters[stored, guard] > candidate[guard]:
-                                dominated = False
-                                break
-                        stored = label_after[stored]
-                    if dominated:
+                    if _dominated(kept, key, candidate):
                         continue
                     if labels >= max_labels:
                         return -2, -1, labels
-                    label_key = _grow_int(label_key, labels + 1)
-                    label_after = _grow_int(label_after, labels + 1)
-                    label_meters = _grow_rows(label_meters, labels + 1)
-                    label_key[labels] = key
-                    _copy_row(label_meters, labels, candidate)
-                    label_after[labels] = nodes.head[node]
-                    nodes.head[node] = labels
-                    upcoming = _grow_int(upcoming, upcoming_width + 1)
-                    upcoming[upcoming_width] = labels
+                    kept, _ = _keep(kept, labels, key, -1, candidate)
+                    upcoming = _append(upcoming, upcoming_width, labels)
                     upcoming_width += 1
                     labels += 1
                     touched[other] = True
@@ -844,45 +811,32 @@ def _entry_search(
     ``remaining`` (steps to the target) is not searched."""
     cells = neighbours.shape[0]
     use_goal = goal.shape[0] > 0
-    label_key = np.empty(1024, dtype=np.int64)
-    parent = np.empty(1024, dtype=np.int64)
-    label_meters = np.empty((1024, watchers), dtype=np.float64)
-    label_after = np.empty(1024, dtype=np.int64)
+    kept = _no_labels(watchers)
     frontier = np.empty(1024, dtype=np.int64)
     upcoming = np.empty(1024, dtype=np.int64)
-    nodes = _Nodes(
-        np.zeros(1024, dtype=np.int64), np.zeros(512, dtype=np.int64), np.zeros(512, dtype=np.int64),
-        np.zeros(512, dtype=np.bool_), np.zeros(512, dtype=np.int64), np.full(1, -1, dtype=np.int64),
-        np.zeros(8, dtype=np.int64), np.zeros((512, 0), dtype=np.uint64),
-    )  # fmt: skip
     gains = np.zeros(watchers, dtype=np.float64)
     zero = np.zeros(watchers, dtype=np.float64)
     candidate = np.zeros(watchers, dtype=np.float64)
     seen = _is_bit(bits, source, entry)
     if seen and not graded:
-        return label_key, parent, 0, -1
+        return kept.key, kept.parent, 0, -1
     _gains_at(start, tick, watcher, gain, source, entry, gains)
     state = _step(zero, gains, fall, candidate)
     if state == 1:
-        return label_key, parent, 0, -1
-    nodes, node = _add(nodes, entry * cells + source)
-    label_key[0] = entry * cells + source
-    parent[0] = -1
-    _copy_row(label_meters, 0, candidate)
-    label_after[0] = -1
-    nodes.head[node] = 0
-    nodes.settled[node] = state == 0
+        return kept.key, kept.parent, 0, -1
+    kept, node = _keep(kept, 0, entry * cells + source, -1, candidate)
+    kept.nodes.settled[node] = state == 0
     frontier[0] = 0
     width = 1
     labels = 1
     if source == target or (use_goal and _is_bit(goal, source, entry)):
-        return label_key, parent, labels, 0
+        return kept.key, kept.parent, labels, 0
     layer = 0
     while width > 0:
         upcoming_width = 0
         for index in range(width):
             label = frontier[index]
-            key = label_key[label]
+            key = kept.key[label]
             phase, cell = key // cells, key % cells
             after = (phase + 1) % period
             for move in range(5):
@@ -892,55 +846,34 @@ def _entry_search(
                 if bound >= 0 and (remaining[other] < 0 or layer + 1 + remaining[other] > bound):
                     continue
                 next_key = after * cells + other
-                node, _ = _find(nodes, next_key)
-                if node >= 0 and nodes.settled[node]:
+                node, _ = _find(kept.nodes, next_key)
+                if node >= 0 and kept.nodes.settled[node]:
                     continue
                 if graded:
                     _gains_at(start, tick, watcher, gain, other, after, gains)
-                    state = _step(label_meters[label], gains, fall, candidate)
+                    state = _step(kept.meters[label], gains, fall, candidate)
                     if state == 1:
                         continue
                 elif _is_bit(bits, other, after):
                     continue
                 else:
                     state = 0
-                    for guard in range(watchers):
-                        candidate[guard] = 0.0
-                if node >= 0:
-                    stored = nodes.head[node]
-                    dominated = False
-                    while stored >= 0 and not dominated:
-                        dominated = True
-                        for guard in range(watchers):
-                            if label_meters[stored, guard] > candidate[guard]:
-                                dominated = False
-                                break
-                        stored = label_after[stored]
-                    if dominated:
-                        continue
+                    candidate[:] = 0.0
+                if _dominated(kept, next_key, candidate):
+                    continue
                 if labels >= max_labels:
-                    return label_key, parent, labels, -2
-                nodes, node = _add(nodes, next_key)
-                label_key = _grow_int(label_key, labels + 1)
-                parent = _grow_int(parent, labels + 1)
-                label_after = _grow_int(label_after, labels + 1)
-                label_meters = _grow_rows(label_meters, labels + 1)
-                label_key[labels] = next_key
-                parent[labels] = label
-                _copy_row(label_meters, labels, candidate)
-                label_after[labels] = nodes.head[node]
-                nodes.head[node] = labels
-                nodes.settled[node] = state == 0
-                upcoming = _grow_int(upcoming, upcoming_width + 1)
-                upcoming[upcoming_width] = labels
+                    return kept.key, kept.parent, labels, -2
+                kept, node = _keep(kept, labels, next_key, label, candidate)
+                kept.nodes.settled[node] = state == 0
+                upcoming = _append(upcoming, upcoming_width, labels)
                 upcoming_width += 1
                 labels += 1
                 if other == target or (use_goal and _is_bit(goal, other, after)):
-                    return label_key, parent, labels, labels - 1
+                    return kept.key, kept.parent, labels, labels - 1
         frontier, upcoming = upcoming, frontier
         width = upcoming_width
         layer += 1
-    return label_key, parent, labels, -1
+    return kept.key, kept.parent, labels, -1
 
 
 def entry_search(

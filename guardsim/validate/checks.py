@@ -33,8 +33,8 @@ from typing import Any, NamedTuple
 
 import numpy as np
 
-from guardsim.detection import NEVER_DETECTED, GuardDetection, time_to_detection
-from guardsim.detection.watch import MAX_JOINT_LAP, LevelWatch, lap_gains, level_watch
+from guardsim.detection import NEVER_DETECTED, GuardDetection
+from guardsim.detection.watch import MAX_JOINT_LAP, LevelWatch, lap_sight_of, level_watch
 from guardsim.errors import CheckError
 from guardsim.files.reading import DEFAULT_MAX_DEPTH, data_depth, display_path, parse_json, read_text_file
 from guardsim.files.schema import check
@@ -433,25 +433,27 @@ def _safe_results(scene: Scene, table: ViewTable, patrol: Patrol, rules: CheckRu
     cells = [_cell(scene, rule.point, rule.where, "point") for rule in rules.safe]
     detection = GuardDetection.of_level(scene.level)
     watch = _level_watch(scene, rules.max_lap)
-    gains, _ = lap_gains(scene.grid, table, patrol.states, detection, watch, max_lap=rules.max_lap)
-    in_view = gains.gain > 0
-    lasts = time_to_detection(gains, scene.grid.traversable) if rules.undetected else None
-    period = gains.gain.shape[1]
+    # The sparse sight (as the sneak rules read it): nothing over every (watcher, lap tick, cell).
+    sight, _ = lap_sight_of(scene.grid, table, patrol.states, detection, watch, max_lap=rules.max_lap)
+    lasts = sight.time_to_detection(scene.grid.traversable) if rules.undetected else None
+    guards = sight.watchers - sight.cameras
     results = []
     for rule, cell in zip(rules.safe, cells):
         col, row = scene.grid.unflat(cell)
-        ticks = np.flatnonzero(in_view[:, :, cell].any(axis=0))
-        watchers = np.flatnonzero(in_view[:, :, cell].any(axis=1)).tolist()
+        events = slice(sight.start[cell], sight.start[cell + 1])
+        when, who = sight.tick[events], sight.watcher[events]
+        ticks = np.unique(when)
+        watchers = np.unique(who).tolist()
         seen = (
-            f"in view of {_watchers(watchers, gains.guards)} for {ticks.size} of {period} lap ticks, first at lap tick {ticks[0]}"
+            f"in view of {_watchers(watchers, guards)} for {ticks.size} of {sight.period} lap ticks, first at lap tick {ticks[0]}"
             if ticks.size
-            else f"never in view during the {period}-tick lap"
+            else f"never in view during the {sight.period}-tick lap"
         )
-        if ticks.size and gains.cameras:
-            cameras = [watcher for watcher in watchers if watcher >= gains.guards]
+        if ticks.size and sight.cameras:
+            cameras = [watcher for watcher in watchers if watcher >= guards]
             for watcher in cameras:
-                watched = np.flatnonzero(in_view[watcher, :, cell])
-                seen += f"; camera {watcher - gains.guards} watches it at lap ticks {_ticks(watched)}"
+                watched = np.unique(when[who == watcher])
+                seen += f"; camera {watcher - guards} watches it at lap ticks {_ticks(watched)}"
         if lasts is None:
             holds, message = ticks.size == 0, f"cell [{col}, {row}] is {seen}"
         elif lasts[cell] == NEVER_DETECTED:

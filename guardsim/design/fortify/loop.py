@@ -205,6 +205,7 @@ def fortify(
     max_rounds: int = DEFAULT_ROUNDS,
     max_lap: int = MAX_JOINT_LAP,
     scene_options: dict[str, Any] | None = None,
+    patrol_name: str = "patrol",
     workers: int = 1,
     scheduler: str | None = None,
     progress: Progress | None = None,
@@ -232,6 +233,8 @@ def fortify(
         How many search rounds (each searching every open pair) to run at most.
     scene_options
         Keywords of :meth:`Scene.from_level` (line of sight, field of view, view range).
+    patrol_name
+        The patrol's file or name, as errors give it.
     workers, scheduler
         Where the candidates' gains are computed (:func:`guardsim.experiment.executors.make_executor`);
         the result is the same bytes either way.
@@ -243,6 +246,8 @@ def fortify(
     GuardsimError
         An entry or goal outside the floor, a pair with no path at all, a keep-open pair equal to a pair
         to seal, a budget of 0.
+    PatrolError
+        When ``patrol`` does not repeat or does not move in grid motion.
     LimitError
         When the joint lap is over ``max_lap`` or a search over its limits.
 
@@ -268,8 +273,8 @@ def fortify(
         raise GuardsimError(f"candidates={candidates}: a budget of 0 candidates cannot fortify anything")
     if not pairs:
         raise GuardsimError("pairs is empty: no entry-goal pair to seal")
-    if patrol is not None and (patrol.period is None or patrol.motion != "grid"):
-        raise GuardsimError("the patrol must be a repeating grid-motion patrol (its period set, motion grid)")
+    if patrol is not None:
+        patrol.require_repeating_grid(patrol_name, "fortify")
     report = progress or (lambda _what, _done, _total: None)
     report("building the scene", 0, 0)
     scene = Scene.from_level(level, **options)
