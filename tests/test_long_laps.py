@@ -20,6 +20,12 @@ from guardsim.patrol import parse_patrol, seen_timeline
 from guardsim.sneak import sneak_check
 from tests.common import TWO_ROOMS, run, scene_from, write_level
 
+REPO = Path(__file__).resolve().parent.parent
+# ../shared beside the clone (CI), or beside the folder of worktrees.
+MAPS = next(
+    (base / "shared" / "maps" / "movingai" for base in (REPO.parent, REPO.parent.parent) if (base / "shared").is_dir()),
+    REPO.parent / "shared" / "maps" / "movingai",
+)
 #: Ticks the guard of :func:`_waiting_loop` stands still before walking its ring: a lap over 20 000 ticks.
 WAIT = 20_500
 
@@ -103,3 +109,26 @@ def test_sneak_and_alert_run_on_a_long_lap(tmp_path: Path) -> None:
     # Entering at lap tick 0 on the unseen path the sneak check finds, it arrives unseen when that path does.
     assert outcome["outcome"] == "undetected_arrival" and found["start_tick"] == 0
     assert outcome["ticks"] == len(found["path"]) - 1
+
+
+@pytest.mark.slow
+def test_a_512_map_patrolled_by_4_guards_is_usable_afterwards(tmp_path: Path) -> None:
+    """AR0603SR (512 x 512): a 4-guard patrol, read back by `sneak --undetected` (over the floor's rows)
+    and by alert's batch (about 50 s, 1 GB)."""
+    level = MAPS / "AR0603SR.map"
+    if not level.exists():
+        pytest.skip(f"{level} is not here")
+    patrol = run("patrol", level, "--guards", "4", "--out", tmp_path / "p")
+    assert patrol.exit_code == 0, patrol.output
+    written = tmp_path / "p" / "patrol.json"
+    period = json.loads(written.read_text(encoding="utf-8"))["period"]
+    sneak = run(
+        "sneak", level, "--patrol", written, "--from", "133.5,20.5", "--to", "245.5,510.5", "--undetected",
+        "--out", tmp_path / "s",
+    )  # fmt: skip
+    assert sneak.exit_code == 0, sneak.output
+    found = json.loads((tmp_path / "s" / "sneak.json").read_text(encoding="utf-8"))
+    assert found["period"] == period and found["found"] and found["path"][0] == [133, 20]
+    alert = run("alert", level, "--patrol", written, "--episodes", "2", "--workers", "1", "--out", tmp_path / "a")
+    assert alert.exit_code == 0, alert.output
+    assert len(json.loads((tmp_path / "a" / "alert.json").read_text(encoding="utf-8"))["outcomes"]["ripple"]) == 2
