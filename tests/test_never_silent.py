@@ -113,3 +113,23 @@ def test_watch_ends_each_analysis_with_a_line(tmp_path: Path) -> None:
     asyncio.run(analyser.run())
     steps = [k for k, line in enumerate(lines) if line.startswith("analysing: ")]
     assert steps and lines[-1].startswith("report 1: ") and steps[-1] < len(lines) - 1, lines
+
+
+@pytest.mark.usefixtures("loud")
+def test_alert_says_how_many_episodes_are_done_off_a_terminal(tmp_path: Path, monkeypatch: pytest.MonkeyPatch) -> None:
+    """Off a terminal the episodes' count (redrawn in place on one) is a stage line: a sneaking intruder's
+    episode on a big map plans for seconds."""
+    import guardsim.cli.alert as alert_command
+
+    monkeypatch.setattr(alert_command, "PLAIN_EVERY_SECONDS", 0.0)
+    level = _level(tmp_path)
+    patrol = run("patrol", level, "--out", tmp_path / "p")
+    assert patrol.exit_code == 0, patrol.output
+    result = run(
+        "alert", level, "--patrol", tmp_path / "p" / "patrol.json", "--episodes", "3", "--workers", "1",
+        "--out", tmp_path / "a",
+    )  # fmt: skip
+    assert result.exit_code == 0, result.output
+    counts = {line.rsplit(" (", 1)[0] for line in result.stderr.splitlines()}
+    assert {f"guardsim: alert: running the episodes {done}/3" for done in (0, 3)} <= counts, result.stderr
+    assert "\r" not in result.stderr

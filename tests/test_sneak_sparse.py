@@ -128,3 +128,30 @@ def test_the_sweeps_reach_what_the_dense_searches_reach() -> None:
             assert fastest.entry == dense.path()[0]
             alone = entry_search(sight, neighbours, source, fastest.entry, target, graded=True, max_labels=10**6)
             assert alone.found and alone.cells.tolist() == dense.path()[1].tolist()
+
+
+def test_the_sneak_route_is_the_dense_fastest_unseen_path_or_closest_call() -> None:
+    """What alert's sneaking intruder walks: :func:`sneak_route` over the sparse sight, against
+    :func:`find_sneak` then :func:`closest_call` over the dense lap (and, with ears, their gaits)."""
+    from guardsim.detection.hearing import lap_hearing
+    from guardsim.level.model import IntruderSpec
+    from guardsim.sneak import floor_sight, sneak_route
+
+    kinds = set()
+    for name in ("square-with-hole", "l-room"):
+        for scene, table, patrol, source, target in _trials(name, 7):
+            detection = GuardDetection.of_level(scene.level)
+            grid = scene.grid
+            sight = lap_sight(grid, table, patrol.states, detection.model, view_range=detection.view_range, dt=1.0)
+            seen = sight.dense_seen()
+            ears = lap_hearing(grid.neighbours, patrol.states, IntruderSpec(walk_noise=1.5), grid.cell_size)
+            for heard in (None, ears):
+                dense = find_sneak(grid.neighbours, seen, source, target, heard=heard)
+                dense = dense or closest_call(grid.neighbours, seen, source, target, heard=heard)
+                got = sneak_route(floor_sight(sight, grid), source, target, heard=heard)
+                assert (got is None) == (dense is None)
+                if got is not None and dense is not None:
+                    assert got.start_tick == dense.start_tick and got.cells.tolist() == dense.cells.tolist()
+                    assert got.found == dense.found and got.gaits == dense.gaits
+                    kinds.add((heard is None, got.found))
+    assert {(True, True), (True, False), (False, True)} <= kinds

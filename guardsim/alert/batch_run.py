@@ -130,7 +130,9 @@ def plan_alert_batch(
     patrol.require_repeating_grid(patrol_name, "alert")
     searches = list(SEARCHES) if search == "all" else [search]
     rules = AlertRules.of_level(level, intruder_speed=intruder_speed, run_speed=run_speed)
-    detection = GuardDetection(GuardDetection.of_level(level).model, scene.cone.view_range, rules.dt)
+    # The scene's level carries the command's view range, and its grid tick is the rules' tick: the same
+    # detection as the sneak check and the level checks build.
+    detection = GuardDetection.of_level(level)
     start = grid.floor_cell(source, "--from") if source is not None else None
     goal = grid.floor_cell(target, "--to") if target is not None else None
     route = gaits = None

@@ -3,7 +3,9 @@ traces as JSON and their summary per search strategy."""
 
 from __future__ import annotations
 
+import hashlib
 import math
+import threading
 from collections.abc import Sequence
 from typing import Any, NamedTuple
 
@@ -21,6 +23,7 @@ from guardsim.kernels.distances import FAR, distances_from
 from guardsim.motion.parameters import GuardMotion
 from guardsim.patrol.model import Patrol
 from guardsim.scene import Scene
+from guardsim.sneak import FloorSight
 from guardsim.vision.table import ViewTable, view_table
 
 __all__ = [
@@ -94,13 +97,11 @@ def alert_episode(
     if intruder == "route" and route is None:
         route = _shortest_path(grid, source, target)
     if intruder == "sneak" and route is None:
-        from guardsim.patrol.scoring import seen_timeline
-        from guardsim.sneak import closest_call, find_sneak
+        from guardsim.sneak import sneak_route
 
-        seen = seen_timeline(table, patrol.states, grid.size)
         heard = _lap_ears(grid, patrol, rules)
-        path = find_sneak(grid.neighbours, seen, source, target, heard=heard, sneak_ticks=rules.sneak_ticks)
-        path = path or closest_call(grid.neighbours, seen, source, target, heard=heard, sneak_ticks=rules.sneak_ticks)
+        sight = _lap_sight(grid, table, patrol, detection)
+        path = sneak_route(sight, source, target, heard=heard, sneak_ticks=rules.sneak_ticks)
         if path is None:
             raise ArgumentError("the intruder's goal cannot be reached from its start")
         route, gaits = route_of_path(path.cells.tolist(), path.gaits)
@@ -130,6 +131,33 @@ def alert_episode(
         watch=watch,
         distractions=distractions,
     )
+
+
+_SIGHTS: dict[tuple[int, bytes, GuardDetection], tuple[ViewTable, FloorSight]] = {}
+_SIGHTS_LOCK = threading.Lock()
+
+
+def _lap_sight(grid: CoverageGrid, table: ViewTable, patrol: Patrol, detection: GuardDetection) -> FloorSight:
+    """What the patrol sees over its lap, sparse and on the floor, as the sneak check reads it (the
+    level's light and cameras left out: the intruder plans against the guards alone). A batch's episodes
+    share one patrol, so the last one's is kept."""
+    from guardsim.detection.sight import lap_sight
+    from guardsim.sneak import check_sneak_size, floor_sight
+
+    states = np.ascontiguousarray(patrol.states, dtype=np.int64)
+    check_sneak_size(grid, states.shape[1])
+    key = (id(table), hashlib.blake2b(states.tobytes(), digest_size=16).digest(), detection)
+    with _SIGHTS_LOCK:
+        kept = _SIGHTS.get(key)
+    if kept is not None and kept[0] is table:
+        return kept[1]
+    sight = lap_sight(grid, table, states, detection.model, view_range=detection.view_range, dt=detection.dt)
+    on_floor = floor_sight(sight, grid)
+    del sight
+    with _SIGHTS_LOCK:
+        _SIGHTS.clear()
+        _SIGHTS[key] = (table, on_floor)
+    return on_floor
 
 
 def _lap_ears(grid: CoverageGrid, patrol: Patrol, rules: AlertRules) -> np.ndarray | None:

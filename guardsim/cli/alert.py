@@ -26,7 +26,7 @@ from guardsim.cli.common import (
 from guardsim.cli.map_options import MapImport
 from guardsim.cli.motion import alert_motion_options, check_motion, motion_of
 from guardsim.cli.patrol import output_folder
-from guardsim.cli.progress import ProgressLine, StageLine
+from guardsim.cli.progress import PLAIN_EVERY_SECONDS, ProgressLine, StageLine, Throttle
 from guardsim.errors import GuardsimError
 from guardsim.files.output import write_text_atomic
 
@@ -254,8 +254,18 @@ def _run(
 
     progress: list[ProgressLine] = []
 
+    # On a terminal the count of episodes is redrawn in place; elsewhere the stage line keeps saying how
+    # many are done every 2 s (an episode whose intruder plans a sneak path on a big map takes seconds).
+    plain = not sys.stderr.isatty()
+    running = "running the episodes"
+    # A new count at most every 2 s: plain lines are drawn whenever the text changes.
+    throttle = Throttle(PLAIN_EVERY_SECONDS)
+
     def starting(to_run: int, total: int, done_before: int, where: str) -> None:
-        stage.close()
+        if plain:
+            stage(running, 0, to_run)
+        else:
+            stage.close()
         chatty = total > 1
         if chatty:
             already = f" ({done_before} already done)" if done_before else ""
@@ -267,6 +277,8 @@ def _run(
 
     def advance() -> None:
         progress[0].advance(None)  # type: ignore[arg-type]  # it only counts
+        if plain and throttle.due():
+            stage(running, progress[0].done, progress[0].total)
 
     done = run_alert_batch(batch, folder=folder, options=options, here=bool(here), workers=workers,
                            scheduler=scheduler, starting=starting, advance=advance)  # fmt: skip

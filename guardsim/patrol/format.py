@@ -31,7 +31,7 @@ from guardsim.patrol.scoring import NEVER, PatrolScore
 
 __all__ = [
     "DEFAULT_MAX_PATROL_BYTES",
-    "MAX_UNROLLED_TICKS",
+    "MAX_UNROLLED_BYTES",
     "PatrolError",
     "parse_patrol",
     "patrol_data",
@@ -40,8 +40,11 @@ __all__ = [
 
 #: Largest patrol file read.
 DEFAULT_MAX_PATROL_BYTES = 64 * 1024 * 1024
-#: Longest common period of a team whose loops differ in length (the least common multiple of the laps).
-MAX_UNROLLED_TICKS = 20_000
+#: Most bytes the states of a repeating team may take once its loops are repeated over their common period
+#: (the least common multiple of the laps): 8 bytes per guard and tick (duskwood's 4 guards over a
+#: 22 784-tick lap take 0.7 MB). The reader builds nothing over the cells: a command that would (a page's
+#: lap timeline, a dense search) bounds its own arrays.
+MAX_UNROLLED_BYTES = 256 * 2**20
 
 
 #: Most ticks times cells a patrol read from a file may be scored over (one byte each).
@@ -158,11 +161,15 @@ def parse_patrol(data: Any, grid: CoverageGrid, *, source: str = "<patrol>") -> 
         states = np.stack([np.concatenate([lap, np.full(ticks - lap.size, lap[-1])]) for lap in laps])
         return Patrol(states, None, strategy, motion=motion)
     common = math.lcm(*(lap.size for lap in laps))
-    if common > MAX_UNROLLED_TICKS:
+    needed = 8 * len(laps) * common
+    if needed > MAX_UNROLLED_BYTES:
         raise _fail(
             source,
             "guards",
-            f"the laps' lengths {[lap.size for lap in laps]} repeat together only every {common} ticks, over {MAX_UNROLLED_TICKS}",
+            f"the laps' lengths {[lap.size for lap in laps]} repeat together only every {common} ticks: "
+            f"{len(laps)} guards' states over them would take {-(-needed // 2**20)} MB, over the limit of "
+            f"{MAX_UNROLLED_BYTES // 2**20} MB (give the loops lengths with a large common factor, or raise "
+            "guardsim.patrol.format.MAX_UNROLLED_BYTES)",
         )
     if period not in (0, common):
         raise _fail(source, "period", f"{period} does not match the loops, which repeat every {common} ticks")

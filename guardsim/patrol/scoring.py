@@ -13,15 +13,20 @@ from typing import NamedTuple
 
 import numpy as np
 
-from guardsim.errors import ArgumentError
+from guardsim.errors import ArgumentError, LimitError
 from guardsim.kernels.compiler import jit
 from guardsim.patrol.model import Patrol
 from guardsim.vision.table import ViewTable
 
-__all__ = ["NEVER", "PatrolScore", "score_patrol", "score_rank", "seen_timeline"]
+__all__ = ["MAX_TIMELINE_BYTES", "NEVER", "PatrolScore", "score_patrol", "score_rank", "seen_timeline"]
 
 #: A cell's worst gap when a repeating patrol never sees it: it stays unwatched for ever.
 NEVER = -1
+#: Most bytes a seen timeline may take (one a tick and cell): Berlin_1_256's one-guard lap takes 578 MB,
+#: duskwood's 22 784-tick lap 6 GB. The scores, the sneak check and alert's sneaking intruder read the
+#: lap's sight sparse instead (:class:`guardsim.detection.sight.LapSight`); the pages and GIFs of a lap
+#: still build one.
+MAX_TIMELINE_BYTES = 2 * 2**30
 
 
 class PatrolScore(NamedTuple):
@@ -50,8 +55,20 @@ def _fill_timeline(sight_start: np.ndarray, sight: np.ndarray, states: np.ndarra
 
 
 def seen_timeline(table: ViewTable, states: np.ndarray, cells: int) -> np.ndarray:
-    """``bool (ticks, cells)``: whether any guard sees each cell at each tick of ``states`` (guards, ticks)."""
+    """``bool (ticks, cells)``: whether any guard sees each cell at each tick of ``states`` (guards, ticks).
+
+    Raises
+    ------
+    LimitError
+        When it would take more than :data:`MAX_TIMELINE_BYTES`.
+    """
     states = np.ascontiguousarray(states, dtype=np.int64)
+    needed = int(states.shape[1]) * int(cells)
+    if needed > MAX_TIMELINE_BYTES:
+        raise LimitError(
+            f"a seen timeline of {states.shape[1]} ticks x {cells} cells would take {-(-needed // 2**20)} MB, over "
+            f"the limit of {MAX_TIMELINE_BYTES // 2**20} MB (guardsim.patrol.scoring.MAX_TIMELINE_BYTES)"
+        )
     out = np.zeros((states.shape[1], cells), dtype=np.bool_)
     _fill_timeline(table.sight_start, table.sight, states, out)
     return out

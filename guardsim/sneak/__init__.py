@@ -16,8 +16,8 @@ import numpy as np
 from guardsim.detection import GuardDetection, PatrolGains
 from guardsim.detection.exposure import MAX_DENSE_NODES
 from guardsim.detection.hearing import lap_hearing
-from guardsim.detection.sight import LapSight
-from guardsim.detection.watch import MAX_JOINT_LAP, LevelWatch, lap_sight_of
+from guardsim.detection.sight import LapSight, seen_bits
+from guardsim.detection.watch import MAX_JOINT_LAP, LevelWatch, joint_lap, lap_sight_of
 from guardsim.errors import ArgumentError, LimitError
 from guardsim.grid import CoverageGrid
 from guardsim.kernels.distances import distances_from
@@ -26,23 +26,27 @@ from guardsim.patrol.model import Patrol
 from guardsim.sneak.grade import PathGrade, grade_path, unseen_reach
 from guardsim.sneak.graded import MAX_LABELS, entry_searches, undetected_search
 from guardsim.sneak.search import SneakPath, closest_call, find_sneak, hiding_windows, tick_gaits
-from guardsim.sneak.sweep import entry_search, sweep
+from guardsim.sneak.sweep import Sweep, entry_search, sweep
 from guardsim.vision.table import ViewTable
 
 __all__ = [
     "HIDING_SPOTS_LISTED",
     "MAX_CLOSEST_CALL_NODES",
     "MAX_SNEAK_NODES",
+    "FloorSight",
     "HidingSpot",
     "PathGrade",
     "SneakPath",
     "SneakResult",
+    "check_sneak_size",
     "closest_call",
     "find_sneak",
+    "floor_sight",
     "grade_path",
     "hiding_windows",
     "sneak_check",
     "sneak_data",
+    "sneak_route",
     "undetected_search",
 ]
 
@@ -109,9 +113,36 @@ class SneakResult(NamedTuple):
         return self.path is not None and self.path.found
 
 
-#: Most (cell, lap tick) nodes a sneak search may cover: about 3 bits of memory each (the lap's seen ticks,
-#: the nodes reached unseen backwards from the target and undetected forwards from the entry, as bitsets).
-MAX_SNEAK_NODES = 2_000_000_000
+#: Most (floor cell, lap tick) nodes a sneak search may cover: about :data:`SNEAK_BITS_PER_NODE` bits of
+#: memory each at the search's peak (the lap's seen ticks, the nodes reached unseen backwards from the
+#: target and undetected forwards from the entry, and a flood's pending nodes, as bitsets of a row per
+#: floor cell, and the lap's sight events), besides the level's view table: 8 billion nodes is about 5.6 GB.
+MAX_SNEAK_NODES = 8_000_000_000
+#: Peak memory per (floor cell, lap tick) node of a sneak search, in bits, rounded up (measured: 5.3 on
+#: duskwood's 4-guard 22 784-tick lap, 2.8 GB in all with its 670 MB view table; docs/performance.md).
+SNEAK_BITS_PER_NODE = 6
+
+
+def check_sneak_size(grid: CoverageGrid, period: int) -> None:
+    """Refuse, before any work, a sneak search of ``grid`` over a ``period``-tick lap whose (floor cell,
+    lap tick) nodes are over :data:`MAX_SNEAK_NODES` (a one-line :class:`~guardsim.errors.LimitError`
+    naming the memory and the limit to raise)."""
+    _check_nodes(period, int(np.count_nonzero(grid.traversable)))
+
+
+def _check_nodes(period: int, floor: int) -> None:
+    """Refuse a sneak search over :data:`MAX_SNEAK_NODES` (floor cell, lap tick) nodes."""
+    nodes = period * floor
+    if nodes > MAX_SNEAK_NODES:
+        raise LimitError(
+            f"the sneak search would have {nodes} (floor cell, lap tick) nodes ({floor} floor cells x a "
+            f"{period}-tick lap), about {_gigabytes(nodes)} GB, over the limit of {MAX_SNEAK_NODES} nodes (about "
+            f"{_gigabytes(MAX_SNEAK_NODES)} GB; raise guardsim.sneak.MAX_SNEAK_NODES, or patrol with a shorter lap)"
+        )
+
+
+def _gigabytes(nodes: int) -> str:
+    return f"{nodes * SNEAK_BITS_PER_NODE / 2**33:.1f}"
 
 
 def sneak_check(
@@ -153,6 +184,8 @@ def sneak_check(
     """
     if patrol.period is None:
         raise ArgumentError("the sneak check needs a repeating patrol (its period is null)")
+    # Up front, before the lap's sight is built.
+    check_sneak_size(grid, joint_lap(patrol.period, watch, max_lap=max_lap))
     sight, states = lap_sight_of(grid, table, patrol.states, detection, watch, max_lap=max_lap)
     lap = patrol if states.shape[1] == patrol.period else Patrol(states, states.shape[1], patrol.strategy)
     period = sight.period
@@ -163,17 +196,24 @@ def sneak_check(
     # and a step): the searches without gaits answer exactly, with their own paths.
     audible = heard if heard is not None and heard[0].any() else None
     ticks = intruder.sneak_ticks
-    nodes = period * grid.size * (ticks if audible is not None else 1)
-    if nodes > MAX_SNEAK_NODES:
-        layers = f" x {ticks} counts of ticks stood still" if audible is not None else ""
-        raise LimitError(
-            f"the sneak search would have {nodes} (cell, lap tick) nodes ({grid.size} cells x a {period}-tick lap"
-            f"{layers}), over the limit of {MAX_SNEAK_NODES}"
-        )
     if audible is not None:
+        # With gaits the searches are dense, over every cell (their own limit, MAX_DENSE_NODES).
+        nodes = period * grid.size * ticks
         path, entries, reached = _with_gaits(sight, neighbours, source, target, undetected, audible, ticks, nodes)
     else:
-        path, entries, reached = _without_gaits(sight, neighbours, source, target, undetected, nodes, max_labels)
+        # The searches run on the floor's rows alone, while the sight's own rows (a row per cell) are set
+        # aside, then rebuilt from its events (see _floor_rows).
+        on = floor_sight(sight, grid)
+        sight = sight._replace(bits=np.zeros((0, sight.bits.shape[1]), dtype=np.uint64))
+        path, entries, on_floor = _without_gaits(
+            on.rows, on.neighbours, on.renumbered(source), on.renumbered(target), undetected, period * on.floor.size,
+            max_labels,
+        )  # fmt: skip
+        path = on.path(path)
+        reached = np.zeros(grid.size, dtype=bool)
+        reached[on.floor] = on_floor
+        del on
+        sight = sight._replace(bits=seen_bits(sight.start, sight.tick, period))
     if unheard and path is not None and path.gaits is None:
         path = path._replace(gaits=tick_gaits(path.cells, np.zeros(path.cells.size, dtype=bool), 0))
     grade = (
@@ -197,6 +237,48 @@ def sneak_check(
     )
 
 
+class FloorSight(NamedTuple):
+    """A lap's sight and the grid's moves on the floor cells alone, renumbered in the same order (so the
+    searches find the same paths): what the sneak searches run on (:func:`floor_sight`)."""
+
+    rows: LapSight
+    """The sight's events and seen-tick rows of the floor cells, the ``i``-th floor cell as cell ``i``."""
+    neighbours: np.ndarray
+    """``int64 (floor cells, 4)``: the grid's neighbours, renumbered."""
+    floor: np.ndarray
+    """``int64 (floor cells,)``: the flat cell of each, ascending."""
+
+    def renumbered(self, cell: int) -> int:
+        """The renumbered index of flat floor cell ``cell``."""
+        return int(np.searchsorted(self.floor, cell))
+
+    def path(self, path: SneakPath | None) -> SneakPath | None:
+        """``path`` (renumbered cells) in flat cells."""
+        return None if path is None else path._replace(cells=self.floor[path.cells])
+
+
+def floor_sight(sight: LapSight, grid: CoverageGrid) -> FloorSight:
+    """``sight`` and ``grid``'s moves on the floor cells alone.
+
+    The searches' bitsets have a row per cell. A wall's row is never written, but it shares memory pages
+    with the floor rows beside it (a row of a 22 784-tick lap is 2.8 kB), so rows for every cell cost
+    memory for every cell: duskwood's (49 % floor) `sneak --undetected` took 4.1 GB with them, 2.8 GB
+    with the floor's alone."""
+    floor = np.flatnonzero(np.asarray(grid.traversable).ravel())
+    index = np.full(grid.size, -1, dtype=np.int64)
+    index[floor] = np.arange(floor.size)
+    counts = np.diff(sight.start)[floor]
+    start = np.zeros(floor.size + 1, dtype=np.int64)
+    np.cumsum(counts, out=start[1:])
+    events = np.repeat(sight.start[floor] - start[:-1], counts) + np.arange(int(start[-1]))
+    rows = sight._replace(
+        start=start, tick=sight.tick[events], watcher=sight.watcher[events], gain=sight.gain[events],
+        bits=sight.bits[floor],
+    )  # fmt: skip
+    around = grid.neighbours[floor]
+    return FloorSight(rows, np.where(around >= 0, index[np.maximum(around, 0)], -1), floor)
+
+
 def _without_gaits(
     sight: LapSight,
     neighbours: np.ndarray,
@@ -210,20 +292,7 @@ def _without_gaits(
     array over every (lap tick, cell) (:mod:`guardsim.sneak.sweep`)."""
     period = sight.period
     remaining = distances_from(neighbours, np.array([target])).astype(np.int64)
-    # Backwards from the target: the nodes from which it is reached unseen (the unseen slack).
-    reach = sweep(sight, neighbours, target, -1, graded=False, forward=False, flood=True, max_labels=max_labels)
-    entries = _ticks_of(reach.reached[source], period)
-    path: SneakPath | None = None
-    if entries.any():
-        ticks, entry, cells = _fastest(
-            sight, neighbours, source, target, remaining, graded=False, entries=entries, max_labels=max_labels
-        )
-        if cells is None:
-            cells = entry_search(
-                sight, neighbours, source, entry, target, graded=False, bound=ticks, remaining=remaining,
-                max_labels=max_labels,
-            ).cells  # fmt: skip
-        path = SneakPath(True, entry, cells, 0)
+    path, entries, reach = _unseen(sight, neighbours, source, target, remaining, max_labels)
     # Every entry tick at once, on past the target: every cell it reaches is a place the player can get to.
     search = sweep(sight, neighbours, source, target, graded=True, flood=True, max_labels=max_labels)
     if undetected and search.cells[target]:
@@ -244,13 +313,78 @@ def _without_gaits(
             path = SneakPath(True, entry, cells, int(in_view.sum()))
         entries = entries | _undetected_entries(sight, neighbours, source, target, reach.reached, entries, max_labels)
     elif path is None:
-        if nodes > MAX_CLOSEST_CALL_NODES:
-            raise LimitError(
-                f"no unseen path, and the closest call's search would have {nodes} (cell, lap tick) nodes, over "
-                f"the limit of {MAX_CLOSEST_CALL_NODES}: ask for an undetected path instead"
-            )
-        path = closest_call(neighbours, sight.dense_seen(), source, target)
+        path = _closest_call(sight, neighbours, source, target, nodes)
     return path, entries, search.cells
+
+
+def _unseen(
+    sight: LapSight, neighbours: np.ndarray, source: int, target: int, remaining: np.ndarray, max_labels: int
+) -> tuple[SneakPath | None, np.ndarray, Sweep]:
+    """The fastest unseen path (``None``: none), the entry ticks from which one exists and the backward
+    sweep from the target that found them."""
+    # Backwards from the target: the nodes from which it is reached unseen (the unseen slack).
+    reach = sweep(sight, neighbours, target, -1, graded=False, forward=False, flood=True, max_labels=max_labels)
+    entries = _ticks_of(reach.reached[source], sight.period)
+    if not entries.any():
+        return None, entries, reach
+    ticks, entry, cells = _fastest(
+        sight, neighbours, source, target, remaining, graded=False, entries=entries, max_labels=max_labels
+    )
+    if cells is None:
+        cells = entry_search(
+            sight, neighbours, source, entry, target, graded=False, bound=ticks, remaining=remaining,
+            max_labels=max_labels,
+        ).cells  # fmt: skip
+    return SneakPath(True, entry, cells, 0), entries, reach
+
+
+def _closest_call(sight: LapSight, neighbours: np.ndarray, source: int, target: int, nodes: int) -> SneakPath | None:
+    """:func:`closest_call` over the dense lap, refused over :data:`MAX_CLOSEST_CALL_NODES`."""
+    if nodes > MAX_CLOSEST_CALL_NODES:
+        raise LimitError(
+            f"no unseen path, and the closest call's search would have {nodes} (cell, lap tick) nodes, over "
+            f"the limit of {MAX_CLOSEST_CALL_NODES}: ask for an undetected path instead"
+        )
+    return closest_call(neighbours, sight.dense_seen(), source, target)
+
+
+def sneak_route(
+    sight: FloorSight,
+    source: int,
+    target: int,
+    *,
+    heard: np.ndarray | None = None,
+    sneak_ticks: int = 2,
+    max_labels: int = MAX_LABELS,
+) -> SneakPath | None:
+    """The fastest path from ``source`` to ``target`` (flat floor cells) unseen under ``sight``
+    (:func:`floor_sight`), else the closest call; ``None`` when the target cannot be reached at all. The
+    same path as :func:`find_sneak`, then :func:`closest_call`, over the dense lap, found without it when
+    no step is ``heard`` (with ears, :func:`find_sneak`'s ``heard`` over every cell, the searches choose
+    gaits over the dense lap of the floor).
+
+    Raises
+    ------
+    LimitError
+        When a dense search would be over :data:`MAX_CLOSEST_CALL_NODES` nodes (the closest call, and
+        every search with ears).
+    """
+    rows, neighbours = sight.rows, sight.neighbours
+    start, goal = sight.renumbered(source), sight.renumbered(target)
+    nodes = rows.period * rows.cells
+    if heard is None:
+        remaining = distances_from(neighbours, np.array([goal])).astype(np.int64)
+        path, _, _ = _unseen(rows, neighbours, start, goal, remaining, max_labels)
+        return sight.path(path if path is not None else _closest_call(rows, neighbours, start, goal, nodes))
+    if nodes * sneak_ticks > MAX_CLOSEST_CALL_NODES:
+        raise LimitError(
+            f"a sneak path with gaits would search {nodes * sneak_ticks} (floor cell, lap tick, ticks stood still) "
+            f"nodes, over the limit of {MAX_CLOSEST_CALL_NODES}"
+        )
+    seen, ears = rows.dense_seen(), np.ascontiguousarray(heard[:, :, sight.floor])
+    path = find_sneak(neighbours, seen, start, goal, heard=ears, sneak_ticks=sneak_ticks)
+    path = path or closest_call(neighbours, seen, start, goal, heard=ears, sneak_ticks=sneak_ticks)
+    return sight.path(path)
 
 
 def _with_gaits(

@@ -309,13 +309,12 @@ def fortify(
 
     from guardsim.vision.table import view_table
 
-    report("computing the view table", 0, 0)
-    table = view_table(grid, scene.vision())
     detection = GuardDetection.of_level(scene.level)
     dt = detection.dt
     watch = level_watch(scene, dt, max_lap=max_lap) if level.cameras or not level.lit else None
-    # The searches below hold arrays over every (lap tick, cell), each watcher's too: refuse up front a
-    # level whose lap alone is over the dense limit (a 256 x 256 city passed 20 GB before its search did).
+    # The searches below hold arrays over every (lap tick, cell), each watcher's too: refuse up front, before
+    # the view table, a level whose lap alone is over the dense limit (a 256 x 256 city passed 20 GB before
+    # its search did).
     lap_ticks = joint_lap(1 if patrol is None else int(patrol.states.shape[1]), watch, max_lap=max_lap)
     if lap_ticks * grid.size > MAX_DENSE_NODES:
         raise LimitError(
@@ -323,6 +322,8 @@ def fortify(
             f"cells x a {lap_ticks}-tick lap), over the limit of {MAX_DENSE_NODES}; a shorter patrol lap or a "
             "smaller level fits"
         )
+    report("computing the view table", 0, 0)
+    table = view_table(grid, scene.vision())
     if patrol is not None:
         base_gains, _ = lap_gains(grid, table, patrol.states, detection, watch, max_lap=max_lap)
         base = base_gains.gain
