@@ -277,3 +277,38 @@ def test_an_edit_reuses_the_sight_away_from_it_and_changes_nothing_else() -> Non
     assert all(np.array_equal(a, b) for a, b in zip(again.table, whole))
     assert np.array_equal(again.exposure, fresh.exposure) and again.pairs[0].outcome == fresh.pairs[0].outcome
     assert np.array_equal(again.pairs[0].sneak.path.cells, fresh.pairs[0].sneak.path.cells)
+
+
+@pytest.mark.parametrize("sliced", [False, True], ids=["dense lap", "lap in slices"])
+def test_every_reuse_gives_the_bytes_of_a_fresh_analysis(monkeypatch, sliced: bool) -> None:
+    """A chain of edits analysed as ``watch`` does (each from the last): a wall moved, a detection key
+    changed, the key changed back. Each step reuses what its edit left (the sight away from the wall; the
+    scene, the planned patrol, the exposure and the unseen reach for a key) and its report.json and page
+    data are byte for byte those of a fresh analysis of the same level."""
+    import dataclasses
+
+    import guardsim.design.analysis as analysis_module
+    from guardsim.design import report_data
+    from guardsim.viewer.serve.payload import analysis_payload
+
+    if sliced:
+        monkeypatch.setattr(analysis_module, "MAX_DENSE_NODES", 10)
+    old, new = parse_level(OLD), parse_level(NEW)
+    keyed = dataclasses.replace(new, guard=dataclasses.replace(new.guard, detect_near=2.0, detect_far=4.0))
+    expected = [
+        ("sight away from the edit",),
+        ("scene", "patrol", *(("exposure",) if sliced else ()), "unseen reach"),
+        ("scene", "patrol", *(("exposure",) if sliced else ()), "unseen reach"),
+    ]
+
+    def data(analysis) -> str:
+        payload = analysis_payload(analysis, report_data(report_of(analysis)))
+        del payload["seconds"], payload["reused"]
+        return json.dumps(payload, sort_keys=True)
+
+    last = analyse(old, planner="cover", pairs=PAIR)
+    for level, reused in zip((new, keyed, new), expected, strict=True):
+        last = analyse(level, planner="cover", pairs=PAIR, reuse=last)
+        assert last.reused == reused
+        assert data(last) == data(analyse(level, planner="cover", pairs=PAIR))
+    assert last.pairs[0].outcome == "unseen"

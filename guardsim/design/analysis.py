@@ -25,7 +25,7 @@ from guardsim.kernels.distances import FAR, distances_from
 from guardsim.level import Level
 from guardsim.patrol import Patrol, PatrolScore, PatrolSetup, plan_loop, read_patrol, score_patrol, seen_timeline
 from guardsim.scene import Scene
-from guardsim.sneak import SneakResult, sneak_check
+from guardsim.sneak import SneakMemo, SneakResult, sneak_check
 from guardsim.starts import episode_start, team_starts
 from guardsim.vision.table import ViewTable, view_table
 
@@ -91,7 +91,10 @@ class Analysis(NamedTuple):
     seconds: float
     """Wall time of this analysis."""
     reused: tuple[str, ...] = ()
-    """What was taken from the earlier analysis (``scene``, ``patrol``, ``sight away from the edit``)."""
+    """What was taken from the earlier analysis (``scene``, ``sight away from the edit``, ``patrol``,
+    ``exposure``, ``unseen reach``)."""
+    memo: SneakMemo | None = None
+    """The sneak checks' backward sweeps, for the next analysis to reuse (:class:`~guardsim.sneak.SneakMemo`)."""
 
     @property
     def safe(self) -> np.ndarray:
@@ -154,7 +157,13 @@ def _cell(scene: Scene, point: Point) -> int | None:
 
 
 def _pair(
-    scene: Scene, table: ViewTable, patrol: Patrol, detection: GuardDetection, source: Point, target: Point
+    scene: Scene,
+    table: ViewTable,
+    patrol: Patrol,
+    detection: GuardDetection,
+    source: Point,
+    target: Point,
+    memo: SneakMemo | None = None,
 ) -> PairResult:
     start, goal = _cell(scene, source), _cell(scene, target)
     where = f"{source[0]:g},{source[1]:g} -> {target[0]:g},{target[1]:g}"
@@ -165,7 +174,7 @@ def _pair(
     if labels[start] != labels[goal]:
         return PairResult(source, target, start, goal, None, f"{where}: the goal cannot be reached from the entry")
     try:
-        result = sneak_check(scene.grid, table, patrol, start, goal, detection=detection, undetected=True)
+        result = sneak_check(scene.grid, table, patrol, start, goal, detection=detection, undetected=True, memo=memo)
     except LimitError as error:
         return PairResult(source, target, start, goal, None, f"{where}: not checked: {error}", checked=False)
     return PairResult(source, target, start, goal, result)
@@ -241,14 +250,22 @@ def analyse(
         )
         gains: PatrolGains | None = found
         exposure = exposure_map(found)
+    elif "scene" in reused and "patrol" in reused and reuse is not None and reuse.gains is None:
+        # The same view table and lap: the same share of it each cell is in view.
+        gains, exposure = None, reuse.exposure
+        reused.append("exposure")
     else:
         # A lap too long to hold as one (ticks, cells) array: the exposure is counted a slice of it at a time.
         gains, exposure = None, _exposure(table, chosen, grid.size)
     asked = default_pairs(scene, goal) if pairs is None else tuple(pairs)
+    memo = SneakMemo(None if reuse is None else reuse.memo)
     results = []
     for source_point, target_point in asked:
         tell(f"sneak check {source_point[0]:g},{source_point[1]:g} -> {target_point[0]:g},{target_point[1]:g}")
-        results.append(_pair(scene, table, chosen, detection, source_point, target_point))
+        results.append(_pair(scene, table, chosen, detection, source_point, target_point, memo))
+    memo.forget_earlier()
+    if memo.hits:
+        reused.append("unseen reach")
     return Analysis(
         level,
         scene,
@@ -263,6 +280,7 @@ def analyse(
         tuple(results),
         time.perf_counter() - began,
         tuple(reused),
+        memo,
     )
 
 

@@ -26,7 +26,7 @@ from guardsim.patrol.model import Patrol
 from guardsim.sneak.grade import PathGrade, grade_path, unseen_reach
 from guardsim.sneak.graded import MAX_LABELS, entry_searches, undetected_search
 from guardsim.sneak.search import SneakPath, closest_call, find_sneak, hiding_windows, tick_gaits
-from guardsim.sneak.sweep import entry_search, sweep
+from guardsim.sneak.sweep import Sweep, entry_search, sweep
 from guardsim.vision.table import ViewTable
 
 __all__ = [
@@ -35,6 +35,7 @@ __all__ = [
     "MAX_SNEAK_NODES",
     "HidingSpot",
     "PathGrade",
+    "SneakMemo",
     "SneakPath",
     "SneakResult",
     "closest_call",
@@ -109,6 +110,49 @@ class SneakResult(NamedTuple):
         return self.path is not None and self.path.found
 
 
+class SneakMemo:
+    """The backward unseen sweeps of sneak checks (the nodes from which each target is reached unseen),
+    kept for later checks: a check whose grid, seen lap ticks and target equal an earlier one's takes that
+    sweep instead of running it again (about half of a check on a big map).
+
+    The sweep reads nothing else (no meter, no entry, no gain), so a kept one is the sweep that would be
+    run, bit for bit. ``earlier``: a memo to look in too (``guardsim watch``: the last save's checks);
+    :meth:`forget_earlier` lets it go once the checks are done, so memos do not chain.
+    """
+
+    def __init__(self, earlier: SneakMemo | None = None) -> None:
+        self._kept: list[tuple[np.ndarray, np.ndarray, int, int, Sweep]] = []
+        self._earlier = earlier
+        self.hits = 0
+        """Sweeps taken from this memo (or the earlier one)."""
+
+    def find(self, neighbours: np.ndarray, bits: np.ndarray, period: int, target: int) -> Sweep | None:
+        """The kept sweep to ``target`` over exactly these neighbours and seen bits of a ``period``-tick
+        lap, if any."""
+        for memo in (self, self._earlier):
+            for kept_neighbours, kept_bits, kept_period, kept_target, found in [] if memo is None else memo._kept:
+                if (
+                    kept_target == target
+                    and kept_period == period
+                    and kept_bits.shape == bits.shape
+                    and np.array_equal(kept_neighbours, neighbours)
+                    and np.array_equal(kept_bits, bits)
+                ):
+                    self.hits += 1
+                    if memo is not self:
+                        self.keep(neighbours, bits, period, target, found)
+                    return found
+        return None
+
+    def keep(self, neighbours: np.ndarray, bits: np.ndarray, period: int, target: int, found: Sweep) -> None:
+        """Keep the backward sweep to ``target`` over these neighbours and seen bits (not copied: the
+        caller does not change them)."""
+        self._kept.append((neighbours, bits, period, target, found))
+
+    def forget_earlier(self) -> None:
+        self._earlier = None
+
+
 #: Most (cell, lap tick) nodes a sneak search may cover: about 3 bits of memory each (the lap's seen ticks,
 #: the nodes reached unseen backwards from the target and undetected forwards from the entry, as bitsets).
 MAX_SNEAK_NODES = 2_000_000_000
@@ -128,6 +172,7 @@ def sneak_check(
     unheard: bool = False,
     intruder: IntruderSpec | None = None,
     max_labels: int = MAX_LABELS,
+    memo: SneakMemo | None = None,
 ) -> SneakResult:
     """Search for an unseen path (``undetected=True``: an undetected one) from cell ``source`` to cell
     ``target`` (flat indices) under ``patrol``, and grade it under ``detection``.
@@ -173,7 +218,7 @@ def sneak_check(
     if audible is not None:
         path, entries, reached = _with_gaits(sight, neighbours, source, target, undetected, audible, ticks, nodes)
     else:
-        path, entries, reached = _without_gaits(sight, neighbours, source, target, undetected, nodes, max_labels)
+        path, entries, reached = _without_gaits(sight, neighbours, source, target, undetected, nodes, max_labels, memo)
     if unheard and path is not None and path.gaits is None:
         path = path._replace(gaits=tick_gaits(path.cells, np.zeros(path.cells.size, dtype=bool), 0))
     grade = (
@@ -205,13 +250,18 @@ def _without_gaits(
     undetected: bool,
     nodes: int,
     max_labels: int,
+    memo: SneakMemo | None = None,
 ) -> tuple[SneakPath | None, np.ndarray, np.ndarray]:
     """The path, the entry ticks that get through and the cells reached from the entry, found without an
     array over every (lap tick, cell) (:mod:`guardsim.sneak.sweep`)."""
     period = sight.period
     remaining = distances_from(neighbours, np.array([target])).astype(np.int64)
     # Backwards from the target: the nodes from which it is reached unseen (the unseen slack).
-    reach = sweep(sight, neighbours, target, -1, graded=False, forward=False, flood=True, max_labels=max_labels)
+    reach = None if memo is None else memo.find(neighbours, sight.bits, period, target)
+    if reach is None:
+        reach = sweep(sight, neighbours, target, -1, graded=False, forward=False, flood=True, max_labels=max_labels)
+        if memo is not None:
+            memo.keep(neighbours, sight.bits, period, target, reach)
     entries = _ticks_of(reach.reached[source], period)
     path: SneakPath | None = None
     if entries.any():
@@ -287,7 +337,9 @@ def _with_gaits(
         if path is None or path.ticks > cells.size - 1:
             in_view = int(seen[(start + np.arange(cells.size)) % sight.period, cells].sum())
             path = SneakPath(True, start, cells, in_view, search.gaits())
-        entries = entries | _gaited_undetected_entries(neighbours, gains, seen, source, target, reach, heard, sneak_ticks)
+        entries = entries | _gaited_undetected_entries(
+            neighbours, gains, seen, source, target, reach, heard, sneak_ticks
+        )
     elif path is None:
         path = closest_call(neighbours, seen, source, target, heard=heard, sneak_ticks=sneak_ticks)
     return path, entries, search.reached_cells()
