@@ -4,6 +4,8 @@
   FDG 2014), whose follow-up study found plain distance to the guards matched players' judgement of risk
   best: how close, on foot, the nearest guard is at each tick of a path.
 - :func:`distinct_ways`: undetected paths from entry to goal that share no corridor.
+- :func:`direct_entries`: the lap ticks from which a player walking the fewest steps, never waiting,
+  gets through unseen (the sneak check's slack with no time to wait in hiding).
 - :func:`readability`: turns, backtracks and loop length of each guard's lap, after Zhang and Verbrugge
   (AIIDE 2018): players expect short, simple guard paths.
 """
@@ -16,12 +18,21 @@ from typing import NamedTuple
 import numpy as np
 
 from guardsim.detection import PatrolGains
+from guardsim.detection.sight import LapSight
 from guardsim.grid import CoverageGrid, cell_of_state, heading_of_state
 from guardsim.kernels.distances import FAR, distances_between, distances_from
 from guardsim.patrol import Patrol
 from guardsim.sneak import undetected_search
 
-__all__ = ["ENDPOINT_STEPS", "MAX_WAYS", "GuardReadability", "distinct_ways", "path_distance_risk", "readability"]
+__all__ = [
+    "ENDPOINT_STEPS",
+    "MAX_WAYS",
+    "GuardReadability",
+    "direct_entries",
+    "distinct_ways",
+    "path_distance_risk",
+    "readability",
+]
 
 #: Ways through counted at most (a level with this many is wide open).
 MAX_WAYS = 4
@@ -112,6 +123,63 @@ def distinct_ways(
         # A corridor cell can no longer be entered (its cells stay, so the arrays keep their shape).
         neighbours[np.isin(neighbours, np.flatnonzero(corridor))] = -1
     return ways
+
+
+def direct_entries(grid: CoverageGrid, sight: LapSight, source: int, target: int) -> np.ndarray:
+    """``bool (period,)``: the lap ticks from which a player entering ``source`` reaches ``target`` unseen
+    in the fewest steps on foot: every tick a step along some shortest way, never a tick waiting.
+
+    A path of exactly the fewest steps ``D`` is at a cell ``k`` steps from the entry and ``D - k`` from the
+    target at its ``k``-th tick, so the ticks are counted layer by layer over those cells: a cell of layer
+    ``k`` is reached from the entry ticks ``t`` at which it is unseen at lap tick ``t + k`` and some
+    neighbour of layer ``k - 1`` was reached. The sneak check's slack counts the ticks from which a
+    player who may wait in hiding gets through; these are the ticks from which one who does not wait does.
+
+    Examples
+    --------
+    A corridor of five cells, its middle cell watched at lap tick 1 of a 2-tick lap: a player walking
+    from the left end reaches the middle two ticks after entering, at the lap tick it entered at.
+
+    >>> from guardsim.level import parse_level
+    >>> from guardsim.scene import Scene
+    >>> grid = Scene.from_level(parse_level({"outer": [[0, 0], [5, 0], [5, 1], [0, 1]]})).grid
+    >>> bits = np.zeros((5, 1), dtype=np.uint64)
+    >>> bits[2, 0] = 2
+    >>> nothing = np.zeros(0, dtype=np.int64)
+    >>> sight = LapSight(2, np.zeros(6, dtype=np.int64), nothing, nothing, np.zeros(0), bits, 1, 0.1,
+    ...                  np.zeros((1, 2), dtype=np.int64), 0.1)
+    >>> direct_entries(grid, sight, 0, 4).tolist()
+    [True, False]
+    """
+    neighbours = np.asarray(grid.neighbours, dtype=np.int64)
+    period = sight.period
+    from_source = distances_from(neighbours, np.array([source])).astype(np.int64)
+    to_target = distances_from(neighbours, np.array([target])).astype(np.int64)
+    steps = int(from_source[target])
+    if steps >= FAR:
+        return np.zeros(period, dtype=bool)
+    on_way = np.flatnonzero(from_source + to_target == steps)
+    # Each cell's position in its layer, to find a neighbour's row in the layer before.
+    row = np.full(neighbours.shape[0], -1, dtype=np.int64)
+    layers = [on_way[from_source[on_way] == k] for k in range(steps + 1)]
+    reached = np.ones((1, period), dtype=bool)
+    for k, layer in enumerate(layers):
+        unseen = ~np.unpackbits(sight.bits[layer].view(np.uint8), axis=1, bitorder="little")[:, :period].astype(bool)
+        # Lap tick t + k of a cell is the entry tick t.
+        unseen = np.roll(unseen, -(k % period), axis=1)
+        if k:
+            before = np.zeros_like(unseen)
+            for move in range(4):
+                other = neighbours[layer, move]
+                index = np.where(other >= 0, row[np.maximum(other, 0)], -1)
+                # A neighbour in the layer before has its row there; any other cell is -1 or a later layer's.
+                index = np.where((other >= 0) & (from_source[np.maximum(other, 0)] == k - 1), index, -1)
+                has = index >= 0
+                before[has] |= reached[index[has]]
+            unseen &= before
+        row[layer] = np.arange(layer.size)
+        reached = unseen
+    return reached[0]
 
 
 class GuardReadability(NamedTuple):

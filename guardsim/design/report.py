@@ -6,6 +6,10 @@ times 100 (:data:`WEIGHTS`; the capture part counts only when alert episodes wer
 - ``caught``: share of entry-goal pairs with no undetected path (the player must be detected);
 - ``tight``: 1 - slack / lap, averaged over the pairs (how few of the lap's ticks a player entering
   gets through from);
+- ``straight``: 1 - direct / lap, averaged over the pairs, ``direct`` the lap ticks from which a player
+  walking the fewest steps, never waiting, gets through unseen
+  (:func:`~guardsim.design.measures.direct_entries`): how often the player cannot just walk across but
+  must wait for a gap or go round (it does not saturate when a player who waits always gets through);
 - ``risk``: path-distance risk of each pair's best path (:func:`~guardsim.design.measures.path_distance_risk`);
 - ``peak``: the best path's peak awareness (how close a call it is);
 - ``ways``: 1 - ways / :data:`~guardsim.design.measures.MAX_WAYS`, averaged over the pairs (fewer
@@ -24,7 +28,14 @@ from typing import Any, NamedTuple
 import numpy as np
 
 from guardsim.design.analysis import Analysis, PairResult, Point, analyse
-from guardsim.design.measures import MAX_WAYS, GuardReadability, distinct_ways, path_distance_risk, readability
+from guardsim.design.measures import (
+    MAX_WAYS,
+    GuardReadability,
+    direct_entries,
+    distinct_ways,
+    path_distance_risk,
+    readability,
+)
 from guardsim.errors import GuardsimError
 from guardsim.grid import cell_of_state
 from guardsim.level import Level
@@ -49,6 +60,7 @@ MAX_ALERT_EPISODES = 100_000
 WEIGHTS = {
     "caught": 25,
     "tight": 20,
+    "straight": 20,
     "risk": 15,
     "peak": 10,
     "ways": 10,
@@ -79,6 +91,9 @@ class PairReport(NamedTuple):
     """The best path's path-distance risk (:func:`~guardsim.design.measures.path_distance_risk`)."""
     ways: int
     """Distinct undetected ways through (at most :data:`~guardsim.design.measures.MAX_WAYS`)."""
+    direct: int = 0
+    """Lap ticks from which a player walking the fewest steps, never waiting, gets through unseen
+    (:func:`~guardsim.design.measures.direct_entries`)."""
     note: str = ""
 
 
@@ -129,7 +144,7 @@ def _pair_report(analysis: Analysis, pair: PairResult, ways: bool) -> PairReport
     result = pair.sneak
     period = analysis.patrol.ticks
     if result is None or result.path is None or result.grade is None:
-        return PairReport(pair.source, pair.target, pair.outcome, None, 0, period, None, None, None, 0, pair.note)
+        return PairReport(pair.source, pair.target, pair.outcome, None, 0, period, None, None, None, 0, 0, pair.note)
     path, grade = result.path, result.grade
     reach = analysis.detection.view_range
     reach = reach if np.isfinite(reach) else 8 * analysis.scene.grid.cell_size
@@ -139,8 +154,21 @@ def _pair_report(analysis: Analysis, pair: PairResult, ways: bool) -> PairReport
     gains = analysis.gains
     if ways and result.found and gains is not None and pair.source_cell is not None and pair.target_cell is not None:
         count = len(distinct_ways(analysis.scene.grid, gains, pair.source_cell, pair.target_cell, path.cells))
+    direct = 0
+    if pair.source_cell is not None and pair.target_cell is not None:
+        direct = int(direct_entries(analysis.scene.grid, result.sight, pair.source_cell, pair.target_cell).sum())
     return PairReport(
-        pair.source, pair.target, pair.outcome, path.ticks, result.slack, period, grade.peak, grade.risk, risk, count
+        pair.source,
+        pair.target,
+        pair.outcome,
+        path.ticks,
+        result.slack,
+        period,
+        grade.peak,
+        grade.risk,
+        risk,
+        count,
+        direct,
     )
 
 
@@ -187,6 +215,7 @@ def report_of(
     if checked:
         parts["caught"] = float(np.mean([pair.outcome == "detected" for pair in checked]))
         parts["tight"] = float(np.mean([1 - pair.slack / pair.period for pair in checked]))
+        parts["straight"] = float(np.mean([1 - pair.direct / pair.period for pair in checked]))
         parts["risk"] = float(np.mean([pair.path_risk or 0.0 for pair in checked]))
         parts["peak"] = float(np.mean([pair.peak or 0.0 for pair in checked]))
         if ways:
@@ -267,6 +296,7 @@ def report_data(found: LevelReport) -> dict[str, Any]:
                 "outcome": pair.outcome,
                 "ticks": pair.ticks,
                 "slack": pair.slack,
+                "direct": pair.direct,
                 "period": pair.period,
                 "peak_awareness": None if pair.peak is None else round(pair.peak, 4),
                 "risk": None if pair.risk is None else round(pair.risk, 4),
