@@ -12,8 +12,8 @@ one), then saves the file ``--saves`` times, alternating two edits:
 Latency is the time from the save (the rename onto the file, as editors save) until the page has drawn
 the new analysis (the page stamps the time it drew it); the server's own analysis time is shown beside.
 Prints a Markdown table and the median per edit. ``--cpu`` instead times the analysis itself in this
-process (processor seconds, so a busy machine does not change it): what a save costs on an idle machine,
-before the page is sent it.
+process (processor seconds of both cores, so a busy machine changes it less; and wall seconds): what a
+save costs on an idle machine, before the page is sent it.
 
     python benchmarks/watch_latency.py                                   # levels/mgs_docks.json, 60 x 60
     python benchmarks/watch_latency.py ../shared/maps/movingai/Berlin_1_256.map --saves 3 --timeout 600
@@ -95,15 +95,18 @@ def cpu(path: str, saves: int) -> None:
     keyed = dataclasses.replace(level, guard=dataclasses.replace(level.guard, detect_far=1.0))
     base = analyse(level, planner="cover")
     for kind, edited in (("walls", moved), ("keys", keyed)):
-        spent = []
+        spent, walls = [], []
         for _ in range(saves):
-            began = time.process_time()
+            began, clock = time.process_time(), time.perf_counter()
             analysis = analyse(edited, planner="cover", reuse=base)
             json.dumps(analysis_payload(analysis, report_data(report_of(analysis, ways=False))))
             spent.append(time.process_time() - began)
+            walls.append(time.perf_counter() - clock)
         reused = " and ".join(analysis.reused) or "nothing"
         print(
-            f"{level.name}, {kind}: median {statistics.median(spent):.2f} s, least {min(spent):.2f} s of processor time (reused {reused})"
+            f"{level.name}, {kind}: median {statistics.median(spent):.2f} s, least {min(spent):.2f} s of processor time"
+            f" (both cores counted), median {statistics.median(walls):.2f} s wall (reused {reused}; load average"
+            f" {os.getloadavg()[0]:.1f})"
         )
 
 

@@ -9,6 +9,8 @@ See ``docs/patrols.md`` and ``docs/detection.md``.
 
 from __future__ import annotations
 
+from concurrent.futures import ThreadPoolExecutor
+from functools import partial
 from typing import Any, NamedTuple
 
 import numpy as np
@@ -153,6 +155,10 @@ class SneakMemo:
         self._earlier = None
 
 
+#: (cell, lap tick) nodes from which the two sweeps of a check run side by side (below, a thread costs more
+#: than it saves).
+PARALLEL_SWEEP_NODES = 1_000_000
+
 #: Most (cell, lap tick) nodes a sneak search may cover: about 3 bits of memory each (the lap's seen ticks,
 #: the nodes reached unseen backwards from the target and undetected forwards from the entry, as bitsets).
 MAX_SNEAK_NODES = 2_000_000_000
@@ -258,10 +264,17 @@ def _without_gaits(
     remaining = distances_from(neighbours, np.array([target])).astype(np.int64)
     # Backwards from the target: the nodes from which it is reached unseen (the unseen slack).
     reach = None if memo is None else memo.find(neighbours, sight.bits, period, target)
-    if reach is None:
-        reach = sweep(sight, neighbours, target, -1, graded=False, forward=False, flood=True, max_labels=max_labels)
-        if memo is not None:
-            memo.keep(neighbours, sight.bits, period, target, reach)
+    with ThreadPoolExecutor(max_workers=1) as pool:
+        # Every entry tick at once, on past the target: every cell it reaches is a place the player can get
+        # to. It reads nothing of the sweep backwards, so a big one runs beside it (the kernels release the
+        # interpreter): on two cores the check takes the longer of the two, not their sum.
+        forwards = partial(sweep, sight, neighbours, source, target, graded=True, flood=True, max_labels=max_labels)
+        ahead = pool.submit(forwards) if reach is None and nodes >= PARALLEL_SWEEP_NODES else None
+        if reach is None:
+            reach = sweep(sight, neighbours, target, -1, graded=False, forward=False, flood=True, max_labels=max_labels)
+            if memo is not None:
+                memo.keep(neighbours, sight.bits, period, target, reach)
+        search = forwards() if ahead is None else ahead.result()
     entries = _ticks_of(reach.reached[source], period)
     path: SneakPath | None = None
     if entries.any():
@@ -274,8 +287,6 @@ def _without_gaits(
                 max_labels=max_labels,
             ).cells  # fmt: skip
         path = SneakPath(True, entry, cells, 0)
-    # Every entry tick at once, on past the target: every cell it reaches is a place the player can get to.
-    search = sweep(sight, neighbours, source, target, graded=True, flood=True, max_labels=max_labels)
     if undetected and search.cells[target]:
         # An unseen path as fast is the better answer (no guard's meter moves at all): only a faster
         # undetected one replaces it.
