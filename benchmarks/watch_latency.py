@@ -13,11 +13,13 @@ Latency is the time from the save (the rename onto the file, as editors save) un
 the new analysis (the page stamps the time it drew it); the server's own analysis time is shown beside.
 Prints a Markdown table and the median per edit. ``--cpu`` instead times the analysis itself in this
 process (processor seconds of both cores, so a busy machine changes it less; and wall seconds): what a
-save costs on an idle machine, before the page is sent it.
+save costs on an idle machine, before the page is sent it. ``--steps`` times each step of one re-analysis (scene, view table, patrol,
+exposure, sneak check, report) per edit.
 
     python benchmarks/watch_latency.py                                   # levels/mgs_docks.json, 60 x 60
     python benchmarks/watch_latency.py ../shared/maps/movingai/Berlin_1_256.map --saves 3 --timeout 600
     python benchmarks/watch_latency.py --cpu
+    python benchmarks/watch_latency.py ../shared/maps/movingai/Berlin_1_256.map --steps
 """
 
 from __future__ import annotations
@@ -110,6 +112,70 @@ def cpu(path: str, saves: int) -> None:
         )
 
 
+def steps(path: str) -> None:
+    """Where the seconds of one re-analysis go, step by step (processor and wall seconds), for each edit."""
+    import dataclasses
+
+    import guardsim.design.analysis as analysis_module
+    from guardsim import load_level
+    from guardsim.design import analyse, report_data, report_of
+    from guardsim.viewer.serve import analysis_payload
+
+    spent: dict[str, list[float]] = {}
+
+    def timed(name: str, function: object) -> object:
+        def run(*args: object, **kwargs: object) -> object:
+            began, clock = time.process_time(), time.perf_counter()
+            try:
+                return function(*args, **kwargs)  # type: ignore[operator]
+            finally:
+                totals = spent.setdefault(name, [0.0, 0.0])
+                totals[0] += time.process_time() - began
+                totals[1] += time.perf_counter() - clock
+
+        return run
+
+    scene_class = analysis_module.Scene
+    patched = {
+        "reused_view_table": "view table (sight away from the edit)",
+        "view_table": "view table (whole)",
+        "plan_loop": "patrol planned",
+        "score_patrol": "idleness",
+        "patrol_gains": "exposure",
+        "_exposure": "exposure",
+        "_pair": "sneak check",
+    }
+    for name, label in patched.items():
+        setattr(analysis_module, name, timed(label, getattr(analysis_module, name)))
+
+    class TimedScene(scene_class):  # type: ignore[misc, valid-type]
+        from_level = staticmethod(timed("scene", scene_class.from_level))
+
+    analysis_module.Scene = TimedScene
+    level = load_level(path)
+    moved = dataclasses.replace(
+        level, holes=(tuple((x + level.cell_size, y) for x, y in level.holes[0]), *level.holes[1:])
+    )
+    keyed = dataclasses.replace(level, guard=dataclasses.replace(level.guard, detect_far=1.0))
+    base = analyse(level, planner="cover")
+    for kind, edited in (("walls", moved), ("keys", keyed)):
+        spent.clear()
+        began, clock = time.process_time(), time.perf_counter()
+        analysis = analyse(edited, planner="cover", reuse=base)
+        page_data = timed(
+            "report and page data", lambda found: analysis_payload(found, report_data(report_of(found, ways=False)))
+        )
+        json.dumps(page_data(analysis))  # type: ignore[operator]
+        total = time.process_time() - began, time.perf_counter() - clock
+        print(
+            f"\n{level.name}, {kind} (reused {' and '.join(analysis.reused) or 'nothing'}; load average {os.getloadavg()[0]:.1f})"
+        )
+        print("| step | processor s | wall s |\n| --- | --- | --- |")
+        for name, (cpu_seconds, wall_seconds) in spent.items():
+            print(f"| {name} | {cpu_seconds:.2f} | {wall_seconds:.2f} |")
+        print(f"| all | {total[0]:.2f} | {total[1]:.2f} |")
+
+
 def main() -> None:
     parser = argparse.ArgumentParser(description=__doc__.split("\n")[0])
     parser.add_argument("level", nargs="?", default=str(REPO / "levels/mgs_docks.json"))
@@ -117,9 +183,13 @@ def main() -> None:
     parser.add_argument("--guards", type=int, default=1)
     parser.add_argument("--timeout", type=float, default=120.0, help="Seconds to wait for one analysis.")
     parser.add_argument("--cpu", action="store_true", help="Time the analysis alone, in this process.")
+    parser.add_argument("--steps", action="store_true", help="Time each step of one re-analysis per edit.")
     args = parser.parse_args()
     if args.cpu:
         cpu(args.level, args.saves)
+        return
+    if args.steps:
+        steps(args.level)
         return
     if CHROMIUM is None:
         sys.exit("no chromium on PATH: apt-get install -y chromium")

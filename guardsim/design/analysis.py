@@ -4,8 +4,10 @@
 applies the detection model (exposure, time to detection) and runs the sneak check for each entry-goal
 pair. Given the analysis of an earlier version of the level (``reuse``), it keeps what the edit left
 valid: the scene and view table when the walls, the grid and the guards' sight did not change (else the
-view table of every state out of reach of the edit, :mod:`guardsim.design.reuse`), and the planned
-patrol when, in addition, the guards' start and team did not.
+view table of every state out of reach of the edit, :mod:`guardsim.design.reuse`); the planned patrol
+when, in addition, the guards' start and team did not, and with it the exposure of a lap counted in
+slices; and each sneak check's backward sweep when the grid, the seen lap ticks and the goal are equal
+(:class:`~guardsim.sneak.SneakMemo`). Each gives what a fresh analysis gives.
 """
 
 from __future__ import annotations
