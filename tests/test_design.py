@@ -144,6 +144,7 @@ def test_report_command_gives_the_score_with_its_formula(versions, tmp_path: Pat
     weights, parts = data["weights"], data["parts"]
     assert data["score"] == round(100 * sum(weights[k] * parts[k] for k in parts) / sum(weights.values()))
     assert f"difficulty {data['score']}/100" in result.output
+    assert set(data["sources"]) == set(parts) and "Tremblay" in data["sources"]["risk"]
     assert data["formula"] in page.read_text()
 
 

@@ -16,10 +16,21 @@ from __future__ import annotations
 from guardsim.design.analysis import Analysis, PairResult, analyse, default_pairs
 from guardsim.design.diff import MARGINS, LevelDiff, PairChange, baseline_verdicts, diff, diff_data, parse_margins
 from guardsim.design.measures import GuardReadability, direct_entries, distinct_ways, path_distance_risk, readability
-from guardsim.design.report import WEIGHTS, LevelReport, PairReport, formula, report, report_data, report_of, score_of
+from guardsim.design.report import (
+    SOURCES,
+    WEIGHTS,
+    LevelReport,
+    PairReport,
+    formula,
+    report,
+    report_data,
+    report_of,
+    score_of,
+)
 
 __all__ = [
     "MARGINS",
+    "SOURCES",
     "WEIGHTS",
     "Analysis",
     "GuardReadability",

@@ -43,6 +43,7 @@ from guardsim.patrol import Patrol
 
 __all__ = [
     "MAX_ALERT_EPISODES",
+    "SOURCES",
     "WEIGHTS",
     "LevelReport",
     "PairReport",
@@ -67,6 +68,20 @@ WEIGHTS = {
     "watched": 10,
     "unreadable": 5,
     "capture": 15,
+}
+
+
+#: Where each part of the score comes from, as the page shows it.
+SOURCES = {
+    "caught": "the sneak check, undetected rule",
+    "tight": "the sneak check's slack",
+    "straight": "the straight walk: the fewest steps, never waiting, unseen",
+    "risk": "path-distance risk, Tremblay, Torres and Verbrugge (FDG 2014)",
+    "peak": "the detection model's meters on the best path",
+    "ways": "distinct ways through (no shared corridor)",
+    "watched": "the patrol's exposure: floor never watched",
+    "unreadable": "turns and backtracks per move, after Zhang and Verbrugge (AIIDE 2018)",
+    "capture": "guardsim alert's seeded episodes",
 }
 
 
@@ -282,6 +297,7 @@ def report_data(found: LevelReport) -> dict[str, Any]:
         "score": found.score,
         "formula": formula(found.parts),
         "weights": {name: WEIGHTS[name] for name in found.parts},
+        "sources": {name: SOURCES[name] for name in found.parts},
         "parts": found.parts,
         "never_watched": round(found.never_watched, 4),
         "worst_idleness": found.worst_idleness,
