@@ -35,6 +35,7 @@ import sys
 import tempfile
 import time
 from pathlib import Path
+from typing import Any
 
 REPO = Path(__file__).resolve().parent.parent
 sys.path.insert(0, str(REPO))
@@ -82,21 +83,29 @@ def _edits(path: Path) -> list[tuple[str, str]]:
     return [("walls", "\n".join(toggled) + "\n"), ("walls", text)]
 
 
-def cpu(path: str, saves: int) -> None:
-    """Processor seconds of one analysis (with its first report and the page's JSON) per edit of a level."""
+def _level_edits(path: str) -> tuple[Any, list[tuple[str, Any]]]:
+    """The level at ``path`` and its two edits: the first wall moved by a cell, ``guard.detect_far`` set."""
     import dataclasses
 
     from guardsim import load_level
-    from guardsim.design import analyse, report_data, report_of
-    from guardsim.viewer.serve import analysis_payload
 
     level = load_level(path)
     moved = dataclasses.replace(
         level, holes=(tuple((x + level.cell_size, y) for x, y in level.holes[0]), *level.holes[1:])
     )
     keyed = dataclasses.replace(level, guard=dataclasses.replace(level.guard, detect_far=1.0))
+    return level, [("walls", moved), ("keys", keyed)]
+
+
+def cpu(path: str, saves: int) -> None:
+    """Processor seconds of one analysis (with its first report and the page's JSON) per edit of a level."""
+
+    from guardsim.design import analyse, report_data, report_of
+    from guardsim.viewer.serve import analysis_payload
+
+    level, edits = _level_edits(path)
     base = analyse(level, planner="cover")
-    for kind, edited in (("walls", moved), ("keys", keyed)):
+    for kind, edited in edits:
         spent, walls = [], []
         for _ in range(saves):
             began, clock = time.process_time(), time.perf_counter()
@@ -114,10 +123,8 @@ def cpu(path: str, saves: int) -> None:
 
 def steps(path: str) -> None:
     """Where the seconds of one re-analysis go, step by step (processor and wall seconds), for each edit."""
-    import dataclasses
 
     import guardsim.design.analysis as analysis_module
-    from guardsim import load_level
     from guardsim.design import analyse, report_data, report_of
     from guardsim.viewer.serve import analysis_payload
 
@@ -152,13 +159,9 @@ def steps(path: str) -> None:
         from_level = staticmethod(timed("scene", scene_class.from_level))
 
     analysis_module.Scene = TimedScene
-    level = load_level(path)
-    moved = dataclasses.replace(
-        level, holes=(tuple((x + level.cell_size, y) for x, y in level.holes[0]), *level.holes[1:])
-    )
-    keyed = dataclasses.replace(level, guard=dataclasses.replace(level.guard, detect_far=1.0))
+    level, edits = _level_edits(path)
     base = analyse(level, planner="cover")
-    for kind, edited in (("walls", moved), ("keys", keyed)):
+    for kind, edited in edits:
         spent.clear()
         began, clock = time.process_time(), time.perf_counter()
         analysis = analyse(edited, planner="cover", reuse=base)
