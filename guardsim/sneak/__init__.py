@@ -126,7 +126,7 @@ class SneakMemo:
         self._kept: list[tuple[np.ndarray, np.ndarray, int, int, Sweep]] = []
         self._earlier = earlier
         self.hits = 0
-        """Sweeps taken from this memo (or the earlier one)."""
+        """Sweeps taken from the earlier memo."""
 
     def find(self, neighbours: np.ndarray, bits: np.ndarray, period: int, target: int) -> Sweep | None:
         """The kept sweep to ``target`` over exactly these neighbours and seen bits of a ``period``-tick
@@ -140,8 +140,8 @@ class SneakMemo:
                     and np.array_equal(kept_neighbours, neighbours)
                     and np.array_equal(kept_bits, bits)
                 ):
-                    self.hits += 1
                     if memo is not self:
+                        self.hits += 1
                         self.keep(neighbours, bits, period, target, found)
                     return found
         return None
@@ -152,6 +152,7 @@ class SneakMemo:
         self._kept.append((neighbours, bits, period, target, found))
 
     def forget_earlier(self) -> None:
+        """Let the earlier memo go (what this one took from it, it keeps)."""
         self._earlier = None
 
 
