@@ -97,6 +97,8 @@ class Analysis(NamedTuple):
     ``exposure``, ``unseen reach``)."""
     memo: SneakMemo | None = None
     """The sneak checks' backward sweeps, for the next analysis to reuse (:class:`~guardsim.sneak.SneakMemo`)."""
+    seed: int = 0
+    """The seed the patrol was planned with."""
 
     @property
     def safe(self) -> np.ndarray:
@@ -230,6 +232,7 @@ def analyse(
     elif (
         reuse is not None
         and reuse.patrol_source == _loop_name(guards, planner)
+        and reuse.seed == seed
         and _patrol_key(reuse.level, guards, planner) == _patrol_key(level, guards, planner)
     ):
         chosen, source = reuse.patrol, reuse.patrol_source
@@ -283,6 +286,7 @@ def analyse(
         time.perf_counter() - began,
         tuple(reused),
         memo,
+        seed,
     )
 
 
