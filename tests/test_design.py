@@ -363,3 +363,26 @@ def test_every_reuse_gives_the_bytes_of_a_fresh_analysis(monkeypatch, sliced: bo
         assert last.reused == reused
         assert data(last) == data(analyse(level, planner="cover", pairs=PAIR))
     assert last.pairs[0].outcome == "unseen"
+
+
+def test_a_sneak_memo_gives_a_sweep_back_only_for_equal_inputs() -> None:
+    """The kept backward sweep comes back for equal neighbours, seen bits, lap length and target (from the
+    earlier memo too, counted as a hit), and for nothing else: not another target, not another lap length
+    with the same words of bits, not one seen bit more."""
+    from guardsim.sneak import SneakMemo
+    from guardsim.sneak.sweep import Sweep
+
+    grid = guardsim.Scene.from_level(parse_level(NEW)).grid
+    neighbours = np.asarray(grid.neighbours)
+    bits = np.zeros((grid.size, 2), dtype=np.uint64)
+    found = Sweep(-1, -1, bits.copy(), np.zeros(grid.size, dtype=bool), 0)
+    earlier = SneakMemo()
+    earlier.keep(neighbours, bits, 100, 7, found)
+    memo = SneakMemo(earlier)
+    assert memo.find(neighbours.copy(), bits.copy(), 100, 7) is found and memo.hits == 1
+    seen = bits.copy()
+    seen[3, 1] = 1
+    assert memo.find(neighbours, bits, 100, 8) is None and memo.find(neighbours, bits, 101, 7) is None
+    assert memo.find(neighbours, seen, 100, 7) is None
+    memo.forget_earlier()
+    assert memo.find(neighbours, bits, 100, 7) is found and memo.hits == 1
