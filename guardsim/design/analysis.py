@@ -15,6 +15,7 @@ from __future__ import annotations
 import dataclasses
 import time
 from collections.abc import Callable, Sequence
+from concurrent.futures import ThreadPoolExecutor
 from typing import NamedTuple
 
 import numpy as np
@@ -260,14 +261,19 @@ def analyse(
         gains, exposure = None, reuse.exposure
         reused.append("exposure")
     else:
-        # A lap too long to hold as one (ticks, cells) array: the exposure is counted a slice of it at a time.
-        gains, exposure = None, _exposure(table, chosen, grid.size)
+        gains, exposure = None, None  # counted below
     asked = default_pairs(scene, goal) if pairs is None else tuple(pairs)
     memo = SneakMemo(None if reuse is None else reuse.memo)
     results = []
-    for source_point, target_point in asked:
-        tell(f"sneak check {source_point[0]:g},{source_point[1]:g} -> {target_point[0]:g},{target_point[1]:g}")
-        results.append(_pair(scene, table, chosen, detection, source_point, target_point, memo))
+    with ThreadPoolExecutor(max_workers=1) as pool:
+        # A lap too long to hold as one (ticks, cells) array: the exposure is counted a slice of it at a
+        # time, beside the sneak checks (a core their sweeps leave free part of the time).
+        counting = pool.submit(_exposure, table, chosen, grid.size) if exposure is None else None
+        for source_point, target_point in asked:
+            tell(f"sneak check {source_point[0]:g},{source_point[1]:g} -> {target_point[0]:g},{target_point[1]:g}")
+            results.append(_pair(scene, table, chosen, detection, source_point, target_point, memo))
+        exposure = exposure if counting is None else counting.result()
+    assert exposure is not None
     memo.forget_earlier()
     if memo.hits:
         reused.append("unseen reach")
