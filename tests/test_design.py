@@ -386,3 +386,41 @@ def test_a_sneak_memo_gives_a_sweep_back_only_for_equal_inputs() -> None:
     assert memo.find(neighbours, seen, 100, 7) is None
     memo.forget_earlier()
     assert memo.find(neighbours, bits, 100, 7) is found and memo.hits == 1
+
+
+@pytest.mark.parametrize("period", [1, 63, 64, 65, 130])
+def test_the_straight_walk_on_random_sight_is_brute_force(period: int) -> None:
+    """Random seen ticks on a small room round a pillar, laps of lengths round the 64-tick words: the
+    entry ticks are those of some walk of the fewest steps, found by trying every such walk."""
+    from guardsim.design import direct_entries
+    from guardsim.detection.sight import LapSight
+    from guardsim.kernels.distances import distances_from
+
+    grid = guardsim.Scene.from_level(
+        parse_level({"outer": [[0, 0], [6, 0], [6, 4], [0, 4]], "holes": [[[2, 1], [4, 1], [4, 3], [2, 3]]]})
+    ).grid
+    rng = np.random.default_rng(period)
+    words = (period + 63) // 64
+    seen = np.zeros((grid.size, words * 64), dtype=bool)
+    seen[:, :period] = rng.random((grid.size, period)) < 0.1
+    bits = np.packbits(seen, axis=1, bitorder="little").view(np.uint64)
+    nothing = np.zeros(0, dtype=np.int64)
+    sight = LapSight(period, np.zeros(grid.size + 1, dtype=np.int64), nothing, nothing, np.zeros(0), bits, 1, 0.1,
+                     np.zeros((1, period), dtype=np.int64), 0.1)  # fmt: skip
+    neighbours = np.asarray(grid.neighbours)
+    source, target = grid.flat(0, 0), grid.flat(5, 3)
+    from_source = distances_from(neighbours, np.array([source]))
+    steps = int(from_source[target])
+
+    def walks(cell: int) -> list[list[int]]:
+        if cell == target:
+            return [[cell]]
+        ahead = [n for n in neighbours[cell] if n >= 0 and from_source[n] == from_source[cell] + 1]
+        return [[cell, *rest] for n in ahead for rest in walks(int(n))]
+
+    every = [walk for walk in walks(source) if len(walk) == steps + 1]
+    expected = [
+        any(not any(seen[cell, (entry + k) % period] for k, cell in enumerate(walk)) for walk in every)
+        for entry in range(period)
+    ]
+    assert len(every) > 1 and direct_entries(grid, sight, source, target).tolist() == expected

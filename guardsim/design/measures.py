@@ -159,14 +159,21 @@ def direct_entries(grid: CoverageGrid, sight: LapSight, source: int, target: int
     if steps >= FAR:
         return np.zeros(period, dtype=bool)
     on_way = np.flatnonzero(from_source + to_target == steps)
+    on_way = on_way[np.argsort(from_source[on_way], kind="stable")]
+    layers = np.split(on_way, np.flatnonzero(np.diff(from_source[on_way])) + 1)
     # Each cell's position in its layer, to find a neighbour's row in the layer before.
     row = np.full(neighbours.shape[0], -1, dtype=np.int64)
-    layers = [on_way[from_source[on_way] == k] for k in range(steps + 1)]
-    reached = np.ones((1, period), dtype=bool)
+    # The sets of ticks are kept packed, as the sight's bits are, and counted in the lap tick the walk
+    # is on the cell (the entry tick plus k): a step moves every set one tick on, round the lap's end.
+    words = sight.bits.shape[1]
+    last_word, last_bit = (period - 1) // 64, np.uint64((period - 1) % 64)
+    one = np.uint64(1)
+    valid = np.full(words, ~np.uint64(0), dtype=np.uint64)
+    valid[last_word + 1 :] = 0
+    valid[last_word] = (one << last_bit << one) - one if last_bit < 63 else ~np.uint64(0)
+    reached = np.zeros((0, words), dtype=np.uint64)
     for k, layer in enumerate(layers):
-        unseen = ~np.unpackbits(sight.bits[layer].view(np.uint8), axis=1, bitorder="little")[:, :period].astype(bool)
-        # Lap tick t + k of a cell is the entry tick t.
-        unseen = np.roll(unseen, -(k % period), axis=1)
+        unseen = ~sight.bits[layer] & valid
         if k:
             before = np.zeros_like(unseen)
             for move in range(4):
@@ -176,10 +183,17 @@ def direct_entries(grid: CoverageGrid, sight: LapSight, source: int, target: int
                 index = np.where((other >= 0) & (from_source[np.maximum(other, 0)] == k - 1), index, -1)
                 has = index >= 0
                 before[has] |= reached[index[has]]
-            unseen &= before
+            # One tick on: each word's bits up one, the top bit of the word below carried in, and the
+            # lap's last tick round to its first.
+            moved = before << one
+            moved[:, 1:] |= before[:, :-1] >> np.uint64(63)
+            moved[:, 0] |= (before[:, last_word] >> last_bit) & one
+            unseen &= moved & valid
         row[layer] = np.arange(layer.size)
         reached = unseen
-    return reached[0]
+    arrived = np.unpackbits(reached[0].view(np.uint8), bitorder="little")[:period].astype(bool)
+    # A walk on the goal at lap tick t + steps entered at lap tick t.
+    return np.roll(arrived, -(steps % period))
 
 
 class GuardReadability(NamedTuple):
