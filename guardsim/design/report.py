@@ -282,7 +282,7 @@ def report(
     ...                     "guard": {"start": [8.5, 1.5], "view_range": 4}})
     >>> found = report(room, pairs=[((0.5, 5.5), (15.5, 5.5))])
     >>> found.pairs[0].outcome, found.pairs[0].ways, found.score
-    ('unseen', 2, 19)
+    ('unseen', 2, 30)
     """
     analysis = analyse(level, patrol=patrol, guards=guards, pairs=pairs, seed=seed, progress=progress)
     return report_of(analysis, alert=alert, seed=seed, progress=progress)
