@@ -12,12 +12,14 @@ one), then saves the file ``--saves`` times, alternating two edits:
 Latency is the time from the save (the rename onto the file, as editors save) until the page has drawn
 the new analysis (the page stamps the time it drew it); the server's own analysis time is shown beside.
 Prints a Markdown table and the median per edit. ``--cpu`` instead times the analysis itself in this
-process (processor seconds, so a busy machine does not change it): what a save costs on an idle machine,
-before the page is sent it.
+process (processor seconds of both cores, so a busy machine changes it less; and wall seconds): what a
+save costs on an idle machine, before the page is sent it. ``--steps`` times each step of one re-analysis (scene, view table, patrol,
+exposure, sneak check, report) per edit.
 
     python benchmarks/watch_latency.py                                   # levels/mgs_docks.json, 60 x 60
     python benchmarks/watch_latency.py ../shared/maps/movingai/Berlin_1_256.map --saves 3 --timeout 600
     python benchmarks/watch_latency.py --cpu
+    python benchmarks/watch_latency.py ../shared/maps/movingai/Berlin_1_256.map --steps
 """
 
 from __future__ import annotations
@@ -33,6 +35,7 @@ import sys
 import tempfile
 import time
 from pathlib import Path
+from typing import Any
 
 REPO = Path(__file__).resolve().parent.parent
 sys.path.insert(0, str(REPO))
@@ -80,31 +83,104 @@ def _edits(path: Path) -> list[tuple[str, str]]:
     return [("walls", "\n".join(toggled) + "\n"), ("walls", text)]
 
 
-def cpu(path: str, saves: int) -> None:
-    """Processor seconds of one analysis (with its first report and the page's JSON) per edit of a level."""
+def _level_edits(path: str) -> tuple[Any, list[tuple[str, Any]]]:
+    """The level at ``path`` and its two edits: the first wall moved by a cell, ``guard.detect_far`` set."""
     import dataclasses
 
     from guardsim import load_level
-    from guardsim.design import analyse, report_data, report_of
-    from guardsim.viewer.serve import analysis_payload
 
     level = load_level(path)
     moved = dataclasses.replace(
         level, holes=(tuple((x + level.cell_size, y) for x, y in level.holes[0]), *level.holes[1:])
     )
     keyed = dataclasses.replace(level, guard=dataclasses.replace(level.guard, detect_far=1.0))
+    return level, [("walls", moved), ("keys", keyed)]
+
+
+def cpu(path: str, saves: int) -> None:
+    """Processor seconds of one analysis (with its first report and the page's JSON) per edit of a level."""
+
+    from guardsim.design import analyse, report_data, report_of
+    from guardsim.viewer.serve import analysis_payload
+
+    level, edits = _level_edits(path)
     base = analyse(level, planner="cover")
-    for kind, edited in (("walls", moved), ("keys", keyed)):
-        spent = []
+    for kind, edited in edits:
+        spent, walls = [], []
         for _ in range(saves):
-            began = time.process_time()
+            began, clock = time.process_time(), time.perf_counter()
             analysis = analyse(edited, planner="cover", reuse=base)
             json.dumps(analysis_payload(analysis, report_data(report_of(analysis, ways=False))))
             spent.append(time.process_time() - began)
+            walls.append(time.perf_counter() - clock)
         reused = " and ".join(analysis.reused) or "nothing"
         print(
-            f"{level.name}, {kind}: median {statistics.median(spent):.2f} s, least {min(spent):.2f} s of processor time (reused {reused})"
+            f"{level.name}, {kind}: median {statistics.median(spent):.2f} s, least {min(spent):.2f} s of processor time"
+            f" (both cores counted), median {statistics.median(walls):.2f} s wall (reused {reused}; load average"
+            f" {os.getloadavg()[0]:.1f})"
         )
+
+
+def steps(path: str) -> None:
+    """Where the seconds of one re-analysis go, step by step (processor and wall seconds), for each edit."""
+
+    import guardsim.design.analysis as analysis_module
+    from guardsim.design import analyse, report_data, report_of
+    from guardsim.viewer.serve import analysis_payload
+
+    spent: dict[str, list[float]] = {}
+
+    def timed(name: str, function: object) -> object:
+        # The exposure of a long lap is counted in a thread beside the sneak check: its own processor
+        # time is its thread's, and the sneak check's row (the whole process's) includes it.
+        processor = time.thread_time if name == "exposure" else time.process_time
+
+        def run(*args: object, **kwargs: object) -> object:
+            began, clock = processor(), time.perf_counter()
+            try:
+                return function(*args, **kwargs)  # type: ignore[operator]
+            finally:
+                totals = spent.setdefault(name, [0.0, 0.0])
+                totals[0] += processor() - began
+                totals[1] += time.perf_counter() - clock
+
+        return run
+
+    scene_class = analysis_module.Scene
+    patched = {
+        "reused_view_table": "view table (sight away from the edit)",
+        "view_table": "view table (whole)",
+        "plan_loop": "patrol planned",
+        "score_patrol": "idleness",
+        "patrol_gains": "exposure",
+        "_exposure": "exposure",
+        "_pair": "sneak check",
+    }
+    for name, label in patched.items():
+        setattr(analysis_module, name, timed(label, getattr(analysis_module, name)))
+
+    class TimedScene(scene_class):  # type: ignore[misc, valid-type]
+        from_level = staticmethod(timed("scene", scene_class.from_level))
+
+    analysis_module.Scene = TimedScene
+    level, edits = _level_edits(path)
+    base = analyse(level, planner="cover")
+    for kind, edited in edits:
+        spent.clear()
+        began, clock = time.process_time(), time.perf_counter()
+        analysis = analyse(edited, planner="cover", reuse=base)
+        page_data = timed(
+            "report and page data", lambda found: analysis_payload(found, report_data(report_of(found, ways=False)))
+        )
+        json.dumps(page_data(analysis))  # type: ignore[operator]
+        total = time.process_time() - began, time.perf_counter() - clock
+        print(
+            f"\n{level.name}, {kind} (reused {' and '.join(analysis.reused) or 'nothing'}; load average {os.getloadavg()[0]:.1f})"
+        )
+        print("| step | processor s | wall s |\n| --- | --- | --- |")
+        for name, (cpu_seconds, wall_seconds) in spent.items():
+            print(f"| {name} | {cpu_seconds:.2f} | {wall_seconds:.2f} |")
+        print(f"| all | {total[0]:.2f} | {total[1]:.2f} |")
 
 
 def main() -> None:
@@ -114,9 +190,13 @@ def main() -> None:
     parser.add_argument("--guards", type=int, default=1)
     parser.add_argument("--timeout", type=float, default=120.0, help="Seconds to wait for one analysis.")
     parser.add_argument("--cpu", action="store_true", help="Time the analysis alone, in this process.")
+    parser.add_argument("--steps", action="store_true", help="Time each step of one re-analysis per edit.")
     args = parser.parse_args()
     if args.cpu:
         cpu(args.level, args.saves)
+        return
+    if args.steps:
+        steps(args.level)
         return
     if CHROMIUM is None:
         sys.exit("no chromium on PATH: apt-get install -y chromium")

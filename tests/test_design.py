@@ -144,6 +144,7 @@ def test_report_command_gives_the_score_with_its_formula(versions, tmp_path: Pat
     weights, parts = data["weights"], data["parts"]
     assert data["score"] == round(100 * sum(weights[k] * parts[k] for k in parts) / sum(weights.values()))
     assert f"difficulty {data['score']}/100" in result.output
+    assert set(data["sources"]) == set(parts) and "Tremblay" in data["sources"]["risk"]
     assert data["formula"] in page.read_text()
 
 
@@ -192,14 +193,64 @@ def test_path_distance_risk_is_zero_out_of_reach_and_one_on_the_guard() -> None:
 
 @pytest.mark.slow
 def test_report_ranks_the_shipped_levels() -> None:
-    """One loop guard on each shipped level: every score in 0..100, the two open levels (Square, Passages)
-    no harder than the two with fewest ways through (MGS Docks, King Snurre)."""
-    scores = {
-        name: guardsim.report(guardsim.load_level(f"levels/{name}.json")).score
-        for name in ("square", "passages", "mgs_docks", "king_snurre")
+    """One loop guard on each shipped level (the default): a player who waits always gets through unseen,
+    so the levels are told apart by how often the straight walk is seen, the ways through and the guard's
+    loop: Passages 12 < Square 13 < MGS Docks 14 < King Snurre's Hall 18 (docs/design.md)."""
+    found = {
+        name: guardsim.report(guardsim.load_level(f"levels/{name}.json"))
+        for name in ("passages", "square", "mgs_docks", "king_snurre")
     }
-    assert all(0 <= score <= 100 for score in scores.values())
-    assert max(scores["square"], scores["passages"]) <= min(scores["mgs_docks"], scores["king_snurre"])
+    assert {name: report.score for name, report in found.items()} == {
+        "passages": 12,
+        "square": 13,
+        "mgs_docks": 14,
+        "king_snurre": 18,
+    }
+    pairs = {name: report.pairs[0] for name, report in found.items()}
+    assert {name: (pair.outcome, pair.slack, pair.period) for name, pair in pairs.items()} == {
+        "passages": ("unseen", 474, 474),
+        "square": ("unseen", 384, 384),
+        "mgs_docks": ("unseen", 434, 434),
+        "king_snurre": ("unseen", 492, 492),
+    }
+    assert {name: (pair.direct, pair.ways) for name, pair in pairs.items()} == {
+        "passages": (451, 3),
+        "square": (352, 3),
+        "mgs_docks": (379, 3),
+        "king_snurre": (440, 1),
+    }
+
+
+def test_the_straight_walk_counts_the_entry_ticks_of_brute_force() -> None:
+    """A guard seeing 3 units all round paces the hall's second row: brute force over its lap and every
+    shortest walk from (0, 7) to (19, 8) (along row 7, one step down, along row 8): an entry tick counts
+    exactly when one of them is unseen at every tick. The posted guard of the side-passage level sees the
+    whole straight walk at every tick: the straight part is 1 though a way round exists."""
+    from guardsim.design import direct_entries
+    from guardsim.detection import GuardDetection
+    from guardsim.detection.watch import lap_sight_of
+    from guardsim.vision.table import view_table
+
+    level = parse_level({**NEW, "guard": {**NEW["guard"], "view_range": 3.0}})
+    scene = guardsim.Scene.from_level(level)
+    grid = scene.grid
+    there = [[col, 5] for col in range(2, 18)]
+    loop = [*there, *there[-2::-1]]
+    headings = [2] + [0] * 15 + [2] * 15
+    pace = parse_patrol({"shape": [9, 20], "guards": [{"loop": loop, "headings": headings}]}, grid)
+    sight, _ = lap_sight_of(grid, view_table(grid, scene.vision()), pace.states, GuardDetection.of_level(level), None)
+    found = direct_entries(grid, sight, grid.flat(0, 7), grid.flat(19, 8))
+    seen = sight.dense_seen()
+    expected = np.zeros(sight.period, dtype=bool)
+    for down in range(1, 21):
+        cells = [grid.flat(k, 7) if k < down else grid.flat(k - 1, 8) for k in range(21)]
+        for entry in range(sight.period):
+            if not any(seen[(entry + k) % sight.period, cell] for k, cell in enumerate(cells)):
+                expected[entry] = True
+    assert np.array_equal(found, expected) and 0 < found.sum() < sight.period
+    posted = parse_level(NEW)
+    found_posted = report_of(analyse(posted, patrol=parse_patrol(POST, grid), pairs=PAIR))
+    assert found_posted.parts["straight"] == 1.0 and found_posted.pairs[0].outcome == "unseen"
 
 
 def test_a_lap_over_the_sneak_limit_is_unchecked_and_its_exposure_counted_in_slices(monkeypatch) -> None:
@@ -277,3 +328,99 @@ def test_an_edit_reuses_the_sight_away_from_it_and_changes_nothing_else() -> Non
     assert all(np.array_equal(a, b) for a, b in zip(again.table, whole))
     assert np.array_equal(again.exposure, fresh.exposure) and again.pairs[0].outcome == fresh.pairs[0].outcome
     assert np.array_equal(again.pairs[0].sneak.path.cells, fresh.pairs[0].sneak.path.cells)
+
+
+@pytest.mark.parametrize("sliced", [False, True], ids=["dense lap", "lap in slices"])
+def test_every_reuse_gives_the_bytes_of_a_fresh_analysis(monkeypatch, sliced: bool) -> None:
+    """A chain of edits analysed as ``watch`` does (each from the last): a wall moved, a detection key
+    changed, the key changed back. Each step reuses what its edit left (the sight away from the wall; the
+    scene, the planned patrol, the exposure and the unseen reach for a key) and its report.json and page
+    data are byte for byte those of a fresh analysis of the same level."""
+    import dataclasses
+
+    import guardsim.design.analysis as analysis_module
+    from guardsim.design import report_data
+    from guardsim.viewer.serve.payload import analysis_payload
+
+    if sliced:
+        monkeypatch.setattr(analysis_module, "MAX_DENSE_NODES", 10)
+    old, new = parse_level(OLD), parse_level(NEW)
+    keyed = dataclasses.replace(new, guard=dataclasses.replace(new.guard, detect_near=2.0, detect_far=4.0))
+    expected = [
+        ("sight away from the edit",),
+        ("scene", "patrol", *(("exposure",) if sliced else ()), "unseen reach"),
+        ("scene", "patrol", *(("exposure",) if sliced else ()), "unseen reach"),
+    ]
+
+    def data(analysis) -> str:
+        payload = analysis_payload(analysis, report_data(report_of(analysis)))
+        del payload["seconds"], payload["reused"]
+        return json.dumps(payload, sort_keys=True)
+
+    last = analyse(old, planner="cover", pairs=PAIR)
+    for level, reused in zip((new, keyed, new), expected, strict=True):
+        last = analyse(level, planner="cover", pairs=PAIR, reuse=last)
+        assert last.reused == reused
+        assert data(last) == data(analyse(level, planner="cover", pairs=PAIR))
+    assert last.pairs[0].outcome == "unseen"
+
+
+def test_a_sneak_memo_gives_a_sweep_back_only_for_equal_inputs() -> None:
+    """The kept backward sweep comes back for equal neighbours, seen bits, lap length and target (from the
+    earlier memo too, counted as a hit), and for nothing else: not another target, not another lap length
+    with the same words of bits, not one seen bit more."""
+    from guardsim.sneak import SneakMemo
+    from guardsim.sneak.sweep import Sweep
+
+    grid = guardsim.Scene.from_level(parse_level(NEW)).grid
+    neighbours = np.asarray(grid.neighbours)
+    bits = np.zeros((grid.size, 2), dtype=np.uint64)
+    found = Sweep(-1, -1, bits.copy(), np.zeros(grid.size, dtype=bool), 0)
+    earlier = SneakMemo()
+    earlier.keep(neighbours, bits, 100, 7, found)
+    memo = SneakMemo(earlier)
+    assert memo.find(neighbours.copy(), bits.copy(), 100, 7) is found and memo.hits == 1
+    seen = bits.copy()
+    seen[3, 1] = 1
+    assert memo.find(neighbours, bits, 100, 8) is None and memo.find(neighbours, bits, 101, 7) is None
+    assert memo.find(neighbours, seen, 100, 7) is None
+    memo.forget_earlier()
+    assert memo.find(neighbours, bits, 100, 7) is found and memo.hits == 1
+
+
+@pytest.mark.parametrize("period", [1, 63, 64, 65, 130])
+def test_the_straight_walk_on_random_sight_is_brute_force(period: int) -> None:
+    """Random seen ticks on a small room round a pillar, laps of lengths round the 64-tick words: the
+    entry ticks are those of some walk of the fewest steps, found by trying every such walk."""
+    from guardsim.design import direct_entries
+    from guardsim.detection.sight import LapSight
+    from guardsim.kernels.distances import distances_from
+
+    grid = guardsim.Scene.from_level(
+        parse_level({"outer": [[0, 0], [6, 0], [6, 4], [0, 4]], "holes": [[[2, 1], [4, 1], [4, 3], [2, 3]]]})
+    ).grid
+    rng = np.random.default_rng(period)
+    words = (period + 63) // 64
+    seen = np.zeros((grid.size, words * 64), dtype=bool)
+    seen[:, :period] = rng.random((grid.size, period)) < 0.1
+    bits = np.packbits(seen, axis=1, bitorder="little").view(np.uint64)
+    nothing = np.zeros(0, dtype=np.int64)
+    sight = LapSight(period, np.zeros(grid.size + 1, dtype=np.int64), nothing, nothing, np.zeros(0), bits, 1, 0.1,
+                     np.zeros((1, period), dtype=np.int64), 0.1)  # fmt: skip
+    neighbours = np.asarray(grid.neighbours)
+    source, target = grid.flat(0, 0), grid.flat(5, 3)
+    from_source = distances_from(neighbours, np.array([source]))
+    steps = int(from_source[target])
+
+    def walks(cell: int) -> list[list[int]]:
+        if cell == target:
+            return [[cell]]
+        ahead = [n for n in neighbours[cell] if n >= 0 and from_source[n] == from_source[cell] + 1]
+        return [[cell, *rest] for n in ahead for rest in walks(int(n))]
+
+    every = [walk for walk in walks(source) if len(walk) == steps + 1]
+    expected = [
+        any(not any(seen[cell, (entry + k) % period] for k, cell in enumerate(walk)) for walk in every)
+        for entry in range(period)
+    ]
+    assert len(every) > 1 and direct_entries(grid, sight, source, target).tolist() == expected

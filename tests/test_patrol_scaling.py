@@ -216,13 +216,19 @@ def test_a_patrol_over_its_memory_budget_is_refused_up_front(tmp_path: Path) -> 
 
 
 @tiny_levels
-def test_distances_between_stopping_early_are_the_whole_fields(level_data: dict[str, Any]) -> None:
+def test_distances_between_stopping_early_are_the_whole_fields(
+    level_data: dict[str, Any], monkeypatch: pytest.MonkeyPatch
+) -> None:
+    """Also with the sources searched in two halves at once (as on a big map)."""
+    import guardsim.kernels.distances as distances_module
     from guardsim.kernels.distances import distance_fields, distances_between
 
     neighbours = scene_from(level_data).grid.neighbours
     rng = np.random.default_rng(3)
     cells = np.arange(neighbours.shape[0])
-    for size in (1, 3, 12):
-        sources, targets = rng.choice(cells, size=size), rng.choice(cells, size=size + 2)
-        whole = distance_fields(neighbours, sources)[:, targets]
-        assert np.array_equal(distances_between(neighbours, sources, targets), whole)
+    for split in (False, True):
+        monkeypatch.setattr(distances_module, "SPLIT_BETWEEN_WORK", 0 if split else 20_000_000)
+        for size in (1, 3, 12):
+            sources, targets = rng.choice(cells, size=size), rng.choice(cells, size=size + 2)
+            whole = distance_fields(neighbours, sources)[:, targets]
+            assert np.array_equal(distances_between(neighbours, sources, targets), whole)

@@ -176,6 +176,34 @@ def test_tour_viewpoints_cover_every_goal_cell(level_path: Path) -> None:
     assert assert_cover_is_complete(scene) < scene.grid.traversable.sum() / 10
 
 
+def test_greedy_cover_picks_as_a_full_scan_does() -> None:
+    """The cover's picks, step by step, are those of the rule read plainly: the arrivable state that sees
+    the most goal cells not yet covered, the lowest state on a tie, until none sees one; then, latest
+    pick first, a pick is dropped when the others see all its goal cells."""
+    scene = shipped_scene(Path("levels/mgs_docks.json"))
+    grid = scene.grid
+    table = view_table(grid, scene.vision())
+    goal = grid.traversable.ravel() & (np.arange(grid.size) % 2 == 0)
+    candidates = np.flatnonzero((table.entry >= 0) & np.repeat(goal, 4))
+    sees = {
+        int(state): set(table.sees(int(state)).tolist()) & set(np.flatnonzero(goal).tolist()) for state in candidates
+    }
+    left, picks = set(np.flatnonzero(goal).tolist()), []
+    while True:
+        gains = {state: len(cells & left) for state, cells in sees.items()}
+        best = max(gains.values(), default=0)
+        if best == 0:
+            break
+        state = min(state for state, gain in gains.items() if gain == best)
+        picks.append(state)
+        left -= sees[state]
+    for position in range(len(picks) - 1, -1, -1):
+        others = set().union(*(sees[state] for k, state in enumerate(picks) if k != position))
+        if sees[picks[position]] <= others:
+            del picks[position]
+    assert greedy_cover(table, goal).tolist() == picks
+
+
 def assert_cover_is_complete(scene: Scene) -> int:
     """The union of the viewpoints' visible cells contains the goal; each viewpoint can be arrived in."""
     grid = scene.grid

@@ -69,8 +69,18 @@ def _trials(name: str, seed: int) -> Iterator[tuple[Scene, ViewTable, Patrol, in
             yield scene, setup.table, patrol, source, target
 
 
-@pytest.mark.parametrize("name", ["square-with-hole", "l-room", "empty-square"])
-def test_the_sparse_sneak_check_answers_as_the_dense_searches(name: str) -> None:
+@pytest.mark.parametrize(
+    ("name", "side_by_side"),
+    [("square-with-hole", False), ("l-room", False), ("empty-square", False), ("l-room", True)],
+)
+def test_the_sparse_sneak_check_answers_as_the_dense_searches(
+    name: str, side_by_side: bool, monkeypatch: pytest.MonkeyPatch
+) -> None:
+    """``side_by_side``: the check's two sweeps run in two threads, as on a big map."""
+    import guardsim.sneak as sneak_module
+
+    if side_by_side:
+        monkeypatch.setattr(sneak_module, "PARALLEL_SWEEP_NODES", 0)
     rules = set()
     for scene, table, patrol, source, target in _trials(name, 11):
         detection = GuardDetection.of_level(scene.level)

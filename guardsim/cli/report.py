@@ -47,7 +47,8 @@ def report(
 ) -> None:
     """Measure how hard LEVEL is for a player sneaking past its patrol, and score it from 0 to 100.
 
-    Per entry-goal pair: the sneak outcome (undetected rule), slack, peak awareness, the path-distance
+    Per entry-goal pair: the sneak outcome (undetected rule), slack, the straight walk's entry ticks
+    (walking the fewest steps, never waiting, unseen), peak awareness, the path-distance
     risk of the best path and the distinct ways through; over the level: the floor never watched and
     each guard's turns, backtracks and loop length; with --alert N, the capture rate of N seeded alert
     episodes. The score's formula is printed with its parts (docs/design.md).
@@ -71,7 +72,7 @@ def report(
             continue
         click.echo(
             f"  {where}: {pair['outcome']}, {pair['ticks']} ticks; slack {pair['slack']}/{pair['period']}; "
-            f"peak awareness {pair['peak_awareness']:.2f}; path-distance risk {pair['path_distance_risk']:.2f}; "
+            f"straight walk {pair['direct']}/{pair['period']}; peak awareness {pair['peak_awareness']:.2f}; path-distance risk {pair['path_distance_risk']:.2f}; "
             f"{pair['ways']} way(s) through"
         )
     for index, guard in enumerate(data["guards"]):

@@ -4,8 +4,10 @@
 applies the detection model (exposure, time to detection) and runs the sneak check for each entry-goal
 pair. Given the analysis of an earlier version of the level (``reuse``), it keeps what the edit left
 valid: the scene and view table when the walls, the grid and the guards' sight did not change (else the
-view table of every state out of reach of the edit, :mod:`guardsim.design.reuse`), and the planned
-patrol when, in addition, the guards' start and team did not.
+view table of every state out of reach of the edit, :mod:`guardsim.design.reuse`); the planned patrol
+when, in addition, the guards' start and team did not, and with it the exposure of a lap counted in
+slices; and each sneak check's backward sweep when the grid, the seen lap ticks and the goal are equal
+(:class:`~guardsim.sneak.SneakMemo`). Each gives what a fresh analysis gives.
 """
 
 from __future__ import annotations
@@ -13,6 +15,7 @@ from __future__ import annotations
 import dataclasses
 import time
 from collections.abc import Callable, Sequence
+from concurrent.futures import ThreadPoolExecutor
 from typing import NamedTuple
 
 import numpy as np
@@ -25,7 +28,7 @@ from guardsim.kernels.distances import FAR, distances_from
 from guardsim.level import Level
 from guardsim.patrol import Patrol, PatrolScore, PatrolSetup, plan_loop, read_patrol, score_patrol, seen_timeline
 from guardsim.scene import Scene
-from guardsim.sneak import SneakResult, sneak_check
+from guardsim.sneak import SneakMemo, SneakResult, sneak_check
 from guardsim.starts import episode_start, team_starts
 from guardsim.vision.table import ViewTable, view_table
 
@@ -91,7 +94,12 @@ class Analysis(NamedTuple):
     seconds: float
     """Wall time of this analysis."""
     reused: tuple[str, ...] = ()
-    """What was taken from the earlier analysis (``scene``, ``patrol``, ``sight away from the edit``)."""
+    """What was taken from the earlier analysis (``scene``, ``sight away from the edit``, ``patrol``,
+    ``exposure``, ``unseen reach``)."""
+    memo: SneakMemo | None = None
+    """The sneak checks' backward sweeps, for the next analysis to reuse (:class:`~guardsim.sneak.SneakMemo`)."""
+    seed: int = 0
+    """The seed the patrol was planned with."""
 
     @property
     def safe(self) -> np.ndarray:
@@ -154,7 +162,13 @@ def _cell(scene: Scene, point: Point) -> int | None:
 
 
 def _pair(
-    scene: Scene, table: ViewTable, patrol: Patrol, detection: GuardDetection, source: Point, target: Point
+    scene: Scene,
+    table: ViewTable,
+    patrol: Patrol,
+    detection: GuardDetection,
+    source: Point,
+    target: Point,
+    memo: SneakMemo | None = None,
 ) -> PairResult:
     start, goal = _cell(scene, source), _cell(scene, target)
     where = f"{source[0]:g},{source[1]:g} -> {target[0]:g},{target[1]:g}"
@@ -165,7 +179,7 @@ def _pair(
     if labels[start] != labels[goal]:
         return PairResult(source, target, start, goal, None, f"{where}: the goal cannot be reached from the entry")
     try:
-        result = sneak_check(scene.grid, table, patrol, start, goal, detection=detection, undetected=True)
+        result = sneak_check(scene.grid, table, patrol, start, goal, detection=detection, undetected=True, memo=memo)
     except LimitError as error:
         return PairResult(source, target, start, goal, None, f"{where}: not checked: {error}", checked=False)
     return PairResult(source, target, start, goal, result)
@@ -219,6 +233,7 @@ def analyse(
     elif (
         reuse is not None
         and reuse.patrol_source == _loop_name(guards, planner)
+        and reuse.seed == seed
         and _patrol_key(reuse.level, guards, planner) == _patrol_key(level, guards, planner)
     ):
         chosen, source = reuse.patrol, reuse.patrol_source
@@ -238,14 +253,27 @@ def analyse(
         )
         gains: PatrolGains | None = found
         exposure = exposure_map(found)
+    elif "scene" in reused and "patrol" in reused and reuse is not None and reuse.gains is None:
+        # The same view table and lap: the same share of it each cell is in view.
+        gains, exposure = None, reuse.exposure
+        reused.append("exposure")
     else:
-        # A lap too long to hold as one (ticks, cells) array: the exposure is counted a slice of it at a time.
-        gains, exposure = None, _exposure(table, chosen, grid.size)
+        gains, exposure = None, None  # counted below
     asked = default_pairs(scene, goal) if pairs is None else tuple(pairs)
+    memo = SneakMemo(None if reuse is None else reuse.memo)
     results = []
-    for source_point, target_point in asked:
-        tell(f"sneak check {source_point[0]:g},{source_point[1]:g} -> {target_point[0]:g},{target_point[1]:g}")
-        results.append(_pair(scene, table, chosen, detection, source_point, target_point))
+    with ThreadPoolExecutor(max_workers=1) as pool:
+        # A lap too long to hold as one (ticks, cells) array: the exposure is counted a slice of it at a
+        # time, beside the sneak checks (a core their sweeps leave free part of the time).
+        counting = pool.submit(_exposure, table, chosen, grid.size) if exposure is None else None
+        for source_point, target_point in asked:
+            tell(f"sneak check {source_point[0]:g},{source_point[1]:g} -> {target_point[0]:g},{target_point[1]:g}")
+            results.append(_pair(scene, table, chosen, detection, source_point, target_point, memo))
+        exposure = exposure if counting is None else counting.result()
+    assert exposure is not None
+    memo.forget_earlier()
+    if memo.hits:
+        reused.append("unseen reach")
     return Analysis(
         level,
         scene,
@@ -260,6 +288,8 @@ def analyse(
         tuple(results),
         time.perf_counter() - began,
         tuple(reused),
+        memo,
+        seed,
     )
 
 

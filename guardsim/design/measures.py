@@ -4,6 +4,8 @@
   FDG 2014), whose follow-up study found plain distance to the guards matched players' judgement of risk
   best: how close, on foot, the nearest guard is at each tick of a path.
 - :func:`distinct_ways`: undetected paths from entry to goal that share no corridor.
+- :func:`direct_entries`: the lap ticks from which a player walking the fewest steps, never waiting,
+  gets through unseen (the sneak check's slack with no time to wait in hiding).
 - :func:`readability`: turns, backtracks and loop length of each guard's lap, after Zhang and Verbrugge
   (AIIDE 2018): players expect short, simple guard paths.
 """
@@ -16,12 +18,21 @@ from typing import NamedTuple
 import numpy as np
 
 from guardsim.detection import PatrolGains
+from guardsim.detection.sight import LapSight
 from guardsim.grid import CoverageGrid, cell_of_state, heading_of_state
 from guardsim.kernels.distances import FAR, distances_between, distances_from
 from guardsim.patrol import Patrol
 from guardsim.sneak import undetected_search
 
-__all__ = ["ENDPOINT_STEPS", "MAX_WAYS", "GuardReadability", "distinct_ways", "path_distance_risk", "readability"]
+__all__ = [
+    "ENDPOINT_STEPS",
+    "MAX_WAYS",
+    "GuardReadability",
+    "direct_entries",
+    "distinct_ways",
+    "path_distance_risk",
+    "readability",
+]
 
 #: Ways through counted at most (a level with this many is wide open).
 MAX_WAYS = 4
@@ -112,6 +123,77 @@ def distinct_ways(
         # A corridor cell can no longer be entered (its cells stay, so the arrays keep their shape).
         neighbours[np.isin(neighbours, np.flatnonzero(corridor))] = -1
     return ways
+
+
+def direct_entries(grid: CoverageGrid, sight: LapSight, source: int, target: int) -> np.ndarray:
+    """``bool (period,)``: the lap ticks from which a player entering ``source`` reaches ``target`` unseen
+    in the fewest steps on foot: every tick a step along some shortest way, never a tick waiting.
+
+    A path of exactly the fewest steps ``D`` is at a cell ``k`` steps from the entry and ``D - k`` from the
+    target at its ``k``-th tick, so the ticks are counted layer by layer over those cells: a cell of layer
+    ``k`` is reached from the entry ticks ``t`` at which it is unseen at lap tick ``t + k`` and some
+    neighbour of layer ``k - 1`` was reached. The sneak check's slack counts the ticks from which a
+    player who may wait in hiding gets through; these are the ticks from which one who does not wait does.
+
+    Examples
+    --------
+    A corridor of five cells, its middle cell watched at lap tick 1 of a 2-tick lap: a player walking
+    from the left end reaches the middle two ticks after entering, at the lap tick it entered at.
+
+    >>> from guardsim.level import parse_level
+    >>> from guardsim.scene import Scene
+    >>> grid = Scene.from_level(parse_level({"outer": [[0, 0], [5, 0], [5, 1], [0, 1]]})).grid
+    >>> bits = np.zeros((5, 1), dtype=np.uint64)
+    >>> bits[2, 0] = 2
+    >>> nothing = np.zeros(0, dtype=np.int64)
+    >>> sight = LapSight(2, np.zeros(6, dtype=np.int64), nothing, nothing, np.zeros(0), bits, 1, 0.1,
+    ...                  np.zeros((1, 2), dtype=np.int64), 0.1)
+    >>> direct_entries(grid, sight, 0, 4).tolist()
+    [True, False]
+    """
+    neighbours = np.asarray(grid.neighbours, dtype=np.int64)
+    period = sight.period
+    from_source = distances_from(neighbours, np.array([source])).astype(np.int64)
+    to_target = distances_from(neighbours, np.array([target])).astype(np.int64)
+    steps = int(from_source[target])
+    if steps >= FAR:
+        return np.zeros(period, dtype=bool)
+    on_way = np.flatnonzero(from_source + to_target == steps)
+    on_way = on_way[np.argsort(from_source[on_way], kind="stable")]
+    layers = np.split(on_way, np.flatnonzero(np.diff(from_source[on_way])) + 1)
+    # Each cell's position in its layer, to find a neighbour's row in the layer before.
+    row = np.full(neighbours.shape[0], -1, dtype=np.int64)
+    # The sets of ticks are kept packed, as the sight's bits are, and counted in the lap tick the walk
+    # is on the cell (the entry tick plus k): a step moves every set one tick on, round the lap's end.
+    words = sight.bits.shape[1]
+    last_word, last_bit = (period - 1) // 64, np.uint64((period - 1) % 64)
+    one = np.uint64(1)
+    valid = np.full(words, ~np.uint64(0), dtype=np.uint64)
+    valid[last_word + 1 :] = 0
+    valid[last_word] = (one << last_bit << one) - one if last_bit < 63 else ~np.uint64(0)
+    reached = np.zeros((0, words), dtype=np.uint64)
+    for k, layer in enumerate(layers):
+        unseen = ~sight.bits[layer] & valid
+        if k:
+            before = np.zeros_like(unseen)
+            for move in range(4):
+                other = neighbours[layer, move]
+                index = np.where(other >= 0, row[np.maximum(other, 0)], -1)
+                # A neighbour in the layer before has its row there; any other cell is -1 or a later layer's.
+                index = np.where((other >= 0) & (from_source[np.maximum(other, 0)] == k - 1), index, -1)
+                has = index >= 0
+                before[has] |= reached[index[has]]
+            # One tick on: each word's bits up one, the top bit of the word below carried in, and the
+            # lap's last tick round to its first.
+            moved = before << one
+            moved[:, 1:] |= before[:, :-1] >> np.uint64(63)
+            moved[:, 0] |= (before[:, last_word] >> last_bit) & one
+            unseen &= moved & valid
+        row[layer] = np.arange(layer.size)
+        reached = unseen
+    arrived = np.unpackbits(reached[0].view(np.uint8), bitorder="little")[:period].astype(bool)
+    # A walk on the goal at lap tick t + steps entered at lap tick t.
+    return np.roll(arrived, -(steps % period))
 
 
 class GuardReadability(NamedTuple):

@@ -6,6 +6,10 @@ times 100 (:data:`WEIGHTS`; the capture part counts only when alert episodes wer
 - ``caught``: share of entry-goal pairs with no undetected path (the player must be detected);
 - ``tight``: 1 - slack / lap, averaged over the pairs (how few of the lap's ticks a player entering
   gets through from);
+- ``straight``: 1 - direct / lap, averaged over the pairs, ``direct`` the lap ticks from which a player
+  walking the fewest steps, never waiting, gets through unseen
+  (:func:`~guardsim.design.measures.direct_entries`): how often the player cannot just walk across but
+  must wait for a gap or go round (it does not saturate when a player who waits always gets through);
 - ``risk``: path-distance risk of each pair's best path (:func:`~guardsim.design.measures.path_distance_risk`);
 - ``peak``: the best path's peak awareness (how close a call it is);
 - ``ways``: 1 - ways / :data:`~guardsim.design.measures.MAX_WAYS`, averaged over the pairs (fewer
@@ -24,7 +28,14 @@ from typing import Any, NamedTuple
 import numpy as np
 
 from guardsim.design.analysis import Analysis, PairResult, Point, analyse
-from guardsim.design.measures import MAX_WAYS, GuardReadability, distinct_ways, path_distance_risk, readability
+from guardsim.design.measures import (
+    MAX_WAYS,
+    GuardReadability,
+    direct_entries,
+    distinct_ways,
+    path_distance_risk,
+    readability,
+)
 from guardsim.errors import GuardsimError
 from guardsim.grid import cell_of_state
 from guardsim.level import Level
@@ -32,6 +43,7 @@ from guardsim.patrol import Patrol
 
 __all__ = [
     "MAX_ALERT_EPISODES",
+    "SOURCES",
     "WEIGHTS",
     "LevelReport",
     "PairReport",
@@ -49,12 +61,27 @@ MAX_ALERT_EPISODES = 100_000
 WEIGHTS = {
     "caught": 25,
     "tight": 20,
+    "straight": 20,
     "risk": 15,
     "peak": 10,
     "ways": 10,
     "watched": 10,
     "unreadable": 5,
     "capture": 15,
+}
+
+
+#: Where each part of the score comes from, as the page shows it.
+SOURCES = {
+    "caught": "the sneak check, undetected rule",
+    "tight": "the sneak check's slack",
+    "straight": "the straight walk: the fewest steps, never waiting, unseen",
+    "risk": "path-distance risk, Tremblay, Torres and Verbrugge (FDG 2014)",
+    "peak": "the detection model's meters on the best path",
+    "ways": "distinct ways through (no shared corridor)",
+    "watched": "the patrol's exposure: floor never watched",
+    "unreadable": "turns and backtracks per move, after Zhang and Verbrugge (AIIDE 2018)",
+    "capture": "guardsim alert's seeded episodes",
 }
 
 
@@ -79,6 +106,9 @@ class PairReport(NamedTuple):
     """The best path's path-distance risk (:func:`~guardsim.design.measures.path_distance_risk`)."""
     ways: int
     """Distinct undetected ways through (at most :data:`~guardsim.design.measures.MAX_WAYS`)."""
+    direct: int = 0
+    """Lap ticks from which a player walking the fewest steps, never waiting, gets through unseen
+    (:func:`~guardsim.design.measures.direct_entries`)."""
     note: str = ""
 
 
@@ -129,7 +159,7 @@ def _pair_report(analysis: Analysis, pair: PairResult, ways: bool) -> PairReport
     result = pair.sneak
     period = analysis.patrol.ticks
     if result is None or result.path is None or result.grade is None:
-        return PairReport(pair.source, pair.target, pair.outcome, None, 0, period, None, None, None, 0, pair.note)
+        return PairReport(pair.source, pair.target, pair.outcome, None, 0, period, None, None, None, 0, 0, pair.note)
     path, grade = result.path, result.grade
     reach = analysis.detection.view_range
     reach = reach if np.isfinite(reach) else 8 * analysis.scene.grid.cell_size
@@ -139,8 +169,21 @@ def _pair_report(analysis: Analysis, pair: PairResult, ways: bool) -> PairReport
     gains = analysis.gains
     if ways and result.found and gains is not None and pair.source_cell is not None and pair.target_cell is not None:
         count = len(distinct_ways(analysis.scene.grid, gains, pair.source_cell, pair.target_cell, path.cells))
+    direct = 0
+    if pair.source_cell is not None and pair.target_cell is not None:
+        direct = int(direct_entries(analysis.scene.grid, result.sight, pair.source_cell, pair.target_cell).sum())
     return PairReport(
-        pair.source, pair.target, pair.outcome, path.ticks, result.slack, period, grade.peak, grade.risk, risk, count
+        pair.source,
+        pair.target,
+        pair.outcome,
+        path.ticks,
+        result.slack,
+        period,
+        grade.peak,
+        grade.risk,
+        risk,
+        count,
+        direct,
     )
 
 
@@ -187,6 +230,7 @@ def report_of(
     if checked:
         parts["caught"] = float(np.mean([pair.outcome == "detected" for pair in checked]))
         parts["tight"] = float(np.mean([1 - pair.slack / pair.period for pair in checked]))
+        parts["straight"] = float(np.mean([1 - pair.direct / pair.period for pair in checked]))
         parts["risk"] = float(np.mean([pair.path_risk or 0.0 for pair in checked]))
         parts["peak"] = float(np.mean([pair.peak or 0.0 for pair in checked]))
         if ways:
@@ -238,7 +282,7 @@ def report(
     ...                     "guard": {"start": [8.5, 1.5], "view_range": 4}})
     >>> found = report(room, pairs=[((0.5, 5.5), (15.5, 5.5))])
     >>> found.pairs[0].outcome, found.pairs[0].ways, found.score
-    ('unseen', 2, 19)
+    ('unseen', 2, 30)
     """
     analysis = analyse(level, patrol=patrol, guards=guards, pairs=pairs, seed=seed, progress=progress)
     return report_of(analysis, alert=alert, seed=seed, progress=progress)
@@ -253,6 +297,7 @@ def report_data(found: LevelReport) -> dict[str, Any]:
         "score": found.score,
         "formula": formula(found.parts),
         "weights": {name: WEIGHTS[name] for name in found.parts},
+        "sources": {name: SOURCES[name] for name in found.parts},
         "parts": found.parts,
         "never_watched": round(found.never_watched, 4),
         "worst_idleness": found.worst_idleness,
@@ -267,6 +312,7 @@ def report_data(found: LevelReport) -> dict[str, Any]:
                 "outcome": pair.outcome,
                 "ticks": pair.ticks,
                 "slack": pair.slack,
+                "direct": pair.direct,
                 "period": pair.period,
                 "peak_awareness": None if pair.peak is None else round(pair.peak, 4),
                 "risk": None if pair.risk is None else round(pair.risk, 4),

@@ -13,6 +13,7 @@ import math
 import numpy as np
 
 from guardsim.grid import HEADINGS_PER_CELL, state_of
+from guardsim.kernels.csr import invert_csr
 from guardsim.scene import Scene
 from guardsim.vision.table import ViewTable
 
@@ -87,18 +88,29 @@ def reused_view_table(old: Scene, old_table: ViewTable, new: Scene) -> ViewTable
     count = b.size * HEADINGS_PER_CELL
     asked = state_of(np.flatnonzero(again)[:, None], np.arange(HEADINGS_PER_CELL)).ravel()
     lengths, cells = sights(asked) if asked.size else (np.zeros(0, dtype=np.int64), np.zeros(0, dtype=np.int32))
-    keep = np.repeat(b.traversable.ravel(), HEADINGS_PER_CELL)
-    keep[asked] = False
-    old_states = np.repeat(np.arange(count), np.diff(old_table.sight_start))
-    kept = keep[old_states]
-    states = np.concatenate([old_states[kept], np.repeat(asked, lengths)])
-    seen = np.concatenate([old_table.sight[kept], np.asarray(cells, dtype=np.int32)])
-    # Each state's cells come whole from one side, ascending: a stable sort by state keeps them so.
-    order = np.argsort(states, kind="stable")
-    states, seen = states[order], seen[order]
+    # Each state's cells come from one side: 1 copied from the old table, 2 asked again, 0 none (not floor).
+    side = np.repeat(b.traversable.ravel().astype(np.int8), HEADINGS_PER_CELL)
+    side[asked] = 2
+    new_lengths = np.where(side == 1, np.diff(old_table.sight_start), 0)
+    new_lengths[asked] = lengths
     sight_start = np.zeros(count + 1, dtype=np.int64)
-    np.cumsum(np.bincount(states, minlength=count), out=sight_start[1:])
-    by_cell = np.argsort(seen, kind="stable")
-    watch_start = np.zeros(b.size + 1, dtype=np.int64)
-    np.cumsum(np.bincount(seen, minlength=b.size), out=watch_start[1:])
-    return ViewTable(sight_start, seen.astype(np.int32), watch_start, states[by_cell].astype(np.int32), b.entry_cells)
+    np.cumsum(new_lengths, out=sight_start[1:])
+    asked_start = np.zeros(count + 1, dtype=np.int64)
+    asked_start[asked + 1] = lengths
+    np.cumsum(asked_start, out=asked_start)
+    # States in runs of one side (few: the rows of the edit's neighbourhood), each run copied whole.
+    bounds = np.flatnonzero(np.diff(side)) + 1
+    firsts = np.concatenate([[0], bounds])
+    lasts = np.concatenate([bounds, [count]])
+    sight = np.empty(int(sight_start[-1]), dtype=np.int32)
+    for first, last in zip(firsts.tolist(), lasts.tolist(), strict=True):
+        which = side[first]
+        if which == 0:
+            continue
+        into = sight[sight_start[first] : sight_start[last]]
+        if which == 1:
+            into[:] = old_table.sight[old_table.sight_start[first] : old_table.sight_start[last]]
+        else:
+            into[:] = cells[asked_start[first] : asked_start[last]]
+    watch_start, watchers = invert_csr(sight_start, sight, b.size)
+    return ViewTable(sight_start, sight, watch_start, watchers, b.entry_cells)

@@ -3,7 +3,7 @@
 Candidates are the states a guard can arrive in by a step (the start state is the episode's own and
 sees its cells at tick 0 anyway). The greedy rule (Chvátal 1979, "A greedy heuristic for the
 set-covering problem") repeatedly takes the state that sees the most goal cells not yet covered, ties to
-the lowest state number; it stays within a factor ``ln(max cells per state) + 1`` of the smallest cover.
+the lowest state number (found in a heap of the states by gain, updated lazily); it stays within a factor ``ln(max cells per state) + 1`` of the smallest cover.
 A final pass drops any chosen viewpoint whose cells the others already cover, latest pick first.
 """
 
@@ -13,6 +13,7 @@ import numpy as np
 
 from guardsim.kernels.arrays import count_true
 from guardsim.kernels.compiler import jit
+from guardsim.kernels.heap import heap_pop, heap_push
 from guardsim.vision.table import ViewTable
 
 __all__ = ["greedy_cover"]
@@ -35,14 +36,21 @@ def _greedy_cover(
                 gain[state] += goal[sight[index]]
     covered = ~goal
     chosen = []
-    while True:
-        best = -1
-        best_gain = 0
-        for state in range(states):
-            if candidate[state] and gain[state] > best_gain:
-                best, best_gain = state, gain[state]
-        if best < 0:
-            break
+    # The states by gain, most first, then by number (one key: -gain x states + state), kept lazily: gains
+    # only fall, so a popped key whose gain has fallen is pushed again with its gain now, and the first
+    # popped key that is still right is the state of most gain, the lowest such, as a full scan finds.
+    keys = np.empty(states + 1, dtype=np.int64)
+    items = np.empty(states + 1, dtype=np.int64)
+    size = 0
+    for state in range(states):
+        if candidate[state] and gain[state] > 0:
+            size = heap_push(keys, items, size, -gain[state] * states + state, state)
+    while size > 0:
+        key, best, size = heap_pop(keys, items, size)
+        if -(key - best) // states != gain[best]:
+            if gain[best] > 0:
+                size = heap_push(keys, items, size, -gain[best] * states + best, best)
+            continue
         chosen.append(best)
         for index in range(sight_start[best], sight_start[best + 1]):
             cell = sight[index]

@@ -9,6 +9,8 @@ See ``docs/patrols.md`` and ``docs/detection.md``.
 
 from __future__ import annotations
 
+from concurrent.futures import ThreadPoolExecutor
+from functools import partial
 from typing import Any, NamedTuple
 
 import numpy as np
@@ -36,6 +38,7 @@ __all__ = [
     "FloorSight",
     "HidingSpot",
     "PathGrade",
+    "SneakMemo",
     "SneakPath",
     "SneakResult",
     "check_sneak_size",
@@ -113,6 +116,54 @@ class SneakResult(NamedTuple):
         return self.path is not None and self.path.found
 
 
+class SneakMemo:
+    """The backward unseen sweeps of sneak checks (the nodes from which each target is reached unseen),
+    kept for later checks: a check whose grid, seen lap ticks and target equal an earlier one's takes that
+    sweep instead of running it again (about half of a check on a big map).
+
+    The sweep reads nothing else (no meter, no entry, no gain), so a kept one is the sweep that would be
+    run, bit for bit. ``earlier``: a memo to look in too (``guardsim watch``: the last save's checks);
+    :meth:`forget_earlier` lets it go once the checks are done, so memos do not chain.
+    """
+
+    def __init__(self, earlier: SneakMemo | None = None) -> None:
+        self._kept: list[tuple[np.ndarray, np.ndarray, int, int, Sweep]] = []
+        self._earlier = earlier
+        self.hits = 0
+        """Sweeps taken from the earlier memo."""
+
+    def find(self, neighbours: np.ndarray, bits: np.ndarray, period: int, target: int) -> Sweep | None:
+        """The kept sweep to ``target`` over exactly these neighbours and seen bits of a ``period``-tick
+        lap, if any."""
+        for memo in (self, self._earlier):
+            for kept_neighbours, kept_bits, kept_period, kept_target, found in [] if memo is None else memo._kept:
+                if (
+                    kept_target == target
+                    and kept_period == period
+                    and kept_bits.shape == bits.shape
+                    and np.array_equal(kept_neighbours, neighbours)
+                    and np.array_equal(kept_bits, bits)
+                ):
+                    if memo is not self:
+                        self.hits += 1
+                        self.keep(neighbours, bits, period, target, found)
+                    return found
+        return None
+
+    def keep(self, neighbours: np.ndarray, bits: np.ndarray, period: int, target: int, found: Sweep) -> None:
+        """Keep the backward sweep to ``target`` over these neighbours and seen bits (not copied: the
+        caller does not change them)."""
+        self._kept.append((neighbours, bits, period, target, found))
+
+    def forget_earlier(self) -> None:
+        """Let the earlier memo go (what this one took from it, it keeps)."""
+        self._earlier = None
+
+
+#: (floor cell, lap tick) nodes from which the two sweeps of a check run side by side (below, a thread costs more
+#: than it saves).
+PARALLEL_SWEEP_NODES = 1_000_000
+
 #: Most (floor cell, lap tick) nodes a sneak search may cover: about :data:`SNEAK_BITS_PER_NODE` bits of
 #: memory each at the search's peak (the lap's seen ticks, the nodes reached unseen backwards from the
 #: target and undetected forwards from the entry, and a flood's pending nodes, as bitsets of a row per
@@ -159,6 +210,7 @@ def sneak_check(
     unheard: bool = False,
     intruder: IntruderSpec | None = None,
     max_labels: int = MAX_LABELS,
+    memo: SneakMemo | None = None,
 ) -> SneakResult:
     """Search for an unseen path (``undetected=True``: an undetected one) from cell ``source`` to cell
     ``target`` (flat indices) under ``patrol``, and grade it under ``detection``.
@@ -207,7 +259,7 @@ def sneak_check(
         sight = sight._replace(bits=np.zeros((0, sight.bits.shape[1]), dtype=np.uint64))
         path, entries, on_floor = _without_gaits(
             on.rows, on.neighbours, on.renumbered(source), on.renumbered(target), undetected, period * on.floor.size,
-            max_labels,
+            max_labels, memo,
         )  # fmt: skip
         path = on.path(path)
         reached = np.zeros(grid.size, dtype=bool)
@@ -287,14 +339,27 @@ def _without_gaits(
     undetected: bool,
     nodes: int,
     max_labels: int,
+    memo: SneakMemo | None = None,
 ) -> tuple[SneakPath | None, np.ndarray, np.ndarray]:
     """The path, the entry ticks that get through and the cells reached from the entry, found without an
     array over every (lap tick, cell) (:mod:`guardsim.sneak.sweep`)."""
     period = sight.period
     remaining = distances_from(neighbours, np.array([target])).astype(np.int64)
-    path, entries, reach = _unseen(sight, neighbours, source, target, remaining, max_labels)
-    # Every entry tick at once, on past the target: every cell it reaches is a place the player can get to.
-    search = sweep(sight, neighbours, source, target, graded=True, flood=True, max_labels=max_labels)
+    # Backwards from the target: the nodes from which it is reached unseen (the unseen slack); kept from an
+    # earlier check when its grid, seen ticks and target are the same.
+    reach = None if memo is None else memo.find(neighbours, sight.bits, period, target)
+    with ThreadPoolExecutor(max_workers=1) as pool:
+        # Every entry tick at once, on past the target: every cell it reaches is a place the player can get
+        # to. It reads nothing of the sweep backwards, so a big one runs beside it (the kernels release the
+        # interpreter): on two cores the check takes the longer of the two, not their sum.
+        forwards = partial(sweep, sight, neighbours, source, target, graded=True, flood=True, max_labels=max_labels)
+        ahead = pool.submit(forwards) if reach is None and nodes >= PARALLEL_SWEEP_NODES else None
+        if reach is None:
+            reach = sweep(sight, neighbours, target, -1, graded=False, forward=False, flood=True, max_labels=max_labels)
+            if memo is not None:
+                memo.keep(neighbours, sight.bits, period, target, reach)
+        search = forwards() if ahead is None else ahead.result()
+    path, entries, _ = _unseen(sight, neighbours, source, target, remaining, reach, max_labels)
     if undetected and search.cells[target]:
         # An unseen path as fast is the better answer (no guard's meter moves at all): only a faster
         # undetected one replaces it.
@@ -318,12 +383,19 @@ def _without_gaits(
 
 
 def _unseen(
-    sight: LapSight, neighbours: np.ndarray, source: int, target: int, remaining: np.ndarray, max_labels: int
+    sight: LapSight,
+    neighbours: np.ndarray,
+    source: int,
+    target: int,
+    remaining: np.ndarray,
+    reach: Sweep | None,
+    max_labels: int,
 ) -> tuple[SneakPath | None, np.ndarray, Sweep]:
     """The fastest unseen path (``None``: none), the entry ticks from which one exists and the backward
-    sweep from the target that found them."""
-    # Backwards from the target: the nodes from which it is reached unseen (the unseen slack).
-    reach = sweep(sight, neighbours, target, -1, graded=False, forward=False, flood=True, max_labels=max_labels)
+    sweep from the target that found them (``reach``: that sweep, run already)."""
+    if reach is None:
+        # Backwards from the target: the nodes from which it is reached unseen (the unseen slack).
+        reach = sweep(sight, neighbours, target, -1, graded=False, forward=False, flood=True, max_labels=max_labels)
     entries = _ticks_of(reach.reached[source], sight.period)
     if not entries.any():
         return None, entries, reach
@@ -374,7 +446,7 @@ def sneak_route(
     nodes = rows.period * rows.cells
     if heard is None:
         remaining = distances_from(neighbours, np.array([goal])).astype(np.int64)
-        path, _, _ = _unseen(rows, neighbours, start, goal, remaining, max_labels)
+        path, _, _ = _unseen(rows, neighbours, start, goal, remaining, None, max_labels)
         return sight.path(path if path is not None else _closest_call(rows, neighbours, start, goal, nodes))
     if nodes * sneak_ticks > MAX_CLOSEST_CALL_NODES:
         raise LimitError(
@@ -421,7 +493,9 @@ def _with_gaits(
         if path is None or path.ticks > cells.size - 1:
             in_view = int(seen[(start + np.arange(cells.size)) % sight.period, cells].sum())
             path = SneakPath(True, start, cells, in_view, search.gaits())
-        entries = entries | _gaited_undetected_entries(neighbours, gains, seen, source, target, reach, heard, sneak_ticks)
+        entries = entries | _gaited_undetected_entries(
+            neighbours, gains, seen, source, target, reach, heard, sneak_ticks
+        )
     elif path is None:
         path = closest_call(neighbours, seen, source, target, heard=heard, sneak_ticks=sneak_ticks)
     return path, entries, search.reached_cells()

@@ -106,12 +106,12 @@ function reportHtml(p) {
   if (!r) return "";
   const pending = r.provisional ? " (counting the ways through)" : "";
   let h = `<h2>Difficulty <span id="score">${r.score}</span>/100${pending}</h2><p id="formula"><code>${esc(r.formula)}</code></p>`;
-  h += "<table><tr><th>part</th><th>weight</th><th>value (0 easy, 1 hard)</th></tr>";
-  for (const [name, value] of Object.entries(r.parts)) h += `<tr><td>${name}</td><td>${r.weights[name]}</td><td>${value.toFixed(3)}</td></tr>`;
-  h += "</table><table><tr><th>from</th><th>to</th><th>outcome</th><th>ticks</th><th>slack</th><th>peak awareness</th><th>path-distance risk</th><th>ways</th></tr>";
+  h += "<table><tr><th>part</th><th>weight</th><th>value (0 easy, 1 hard)</th><th>source</th></tr>";
+  for (const [name, value] of Object.entries(r.parts)) h += `<tr><td>${name}</td><td>${r.weights[name]}</td><td>${value.toFixed(3)}</td><td>${esc((r.sources || {})[name] || "")}</td></tr>`;
+  h += "</table><table><tr><th>from</th><th>to</th><th>outcome</th><th>ticks</th><th>slack</th><th>straight walk</th><th>peak awareness</th><th>path-distance risk</th><th>ways</th></tr>";
   for (const q of r.pairs) {
     const f = (v) => (v === null || v === undefined ? "-" : typeof v === "number" && !Number.isInteger(v) ? v.toFixed(2) : v);
-    h += `<tr><td>${world(p, q.from)}</td><td>${world(p, q.to)}</td><td class="outcome">${q.outcome}</td><td>${f(q.ticks)}</td><td>${q.slack}/${q.period}</td><td>${f(q.peak_awareness)}</td><td>${f(q.path_distance_risk)}</td><td>${q.ways === null ? "counting" : q.ways}</td></tr>`;
+    h += `<tr><td>${world(p, q.from)}</td><td>${world(p, q.to)}</td><td class="outcome">${q.outcome}</td><td>${f(q.ticks)}</td><td>${q.slack}/${q.period}</td><td>${q.direct}/${q.period}</td><td>${f(q.peak_awareness)}</td><td>${f(q.path_distance_risk)}</td><td>${q.ways === null ? "counting" : q.ways}</td></tr>`;
   }
   h += "</table><table><tr><th>guard</th><th>loop (moves)</th><th>cells</th><th>turns</th><th>backtracks</th></tr>";
   r.guards.forEach((g, k) => { h += `<tr><td>${k}</td><td>${g.loop_length}</td><td>${g.cells}</td><td>${g.turns}</td><td>${g.backtracks}</td></tr>`; });
