@@ -23,7 +23,7 @@ from guardsim.bounds import lower_bounds
 from guardsim.cli import main
 from guardsim.kernels.frontier import drop_shadowed, frontier, frontier_work
 from guardsim.optimum import OptimumResult, SearchProgress, solve
-from guardsim.search.graph import build_search_graph
+from guardsim.search.graph import build_search_graph, search_positions
 from guardsim.search.residual import residual_goal
 from guardsim.simulation import Scene
 from guardsim.vision.rules import VisionFunction
@@ -116,6 +116,18 @@ def test_optimum_equals_brute_force_with_bresenham(name: str) -> None:
             assert result.headings_matter == (guard.get("fov_degrees") != 360)
             assert result.steps == optimum_steps(scene, start, heading, vision), (start, heading)
             assert_covering_walk(scene, result, start, heading, vision)
+
+
+@pytest.mark.parametrize("name", [*SHORT_SIGHTED, "pillar-360"], ids=[*SHORT_SIGHTED, "pillar-360"])
+def test_search_positions_counts_the_graph_without_its_views(name: str) -> None:
+    """``bounds`` asks how big the search would be before running it: the count, without the views (a
+    bitset of the goal per position, 8 GB on duskwood), is the graph's own, whether headings matter
+    (short-sighted) or not (360-degree sight)."""
+    scene, table = _frontier_level(name)
+    for start in starts(scene, most=4):
+        for heading in range(4):
+            graph = build_search_graph(scene.grid, table, start, heading)
+            assert search_positions(scene.grid, table, start, heading) == graph.positions
 
 
 @pytest.mark.parametrize("name", [*SHORT_SIGHTED, "pillar-360"], ids=[*SHORT_SIGHTED, "pillar-360"])

@@ -22,7 +22,7 @@ from guardsim.cli.map_options import MapImport
 from guardsim.cli.progress import StageLine, Throttle
 from guardsim.level import HEADINGS
 from guardsim.optimum import MAX_POSITIONS, SearchProgress, solve
-from guardsim.search.graph import build_search_graph
+from guardsim.search.graph import search_positions
 from guardsim.vision.rules import VisionFunction
 from guardsim.vision.table import view_table
 
@@ -156,7 +156,7 @@ def _search_bound(
 ) -> tuple[int | None, str, float]:
     """The exact search's proved floor after at most ``expansions`` (None: the default by level size),
     the words that say it, and its seconds."""
-    positions = build_search_graph(scene.grid, view_table(scene.grid, vision), cell, heading).positions
+    positions = search_positions(scene.grid, view_table(scene.grid, vision), cell, heading)
     if expansions is None:
         expansions = SEARCH_EXPANSIONS if positions <= SEARCH_POSITIONS else 0
         if expansions == 0:

@@ -31,6 +31,7 @@ __all__ = [
     "build_search_graph",
     "goal_bits",
     "route_steps",
+    "search_positions",
     "watcher_distances",
 ]
 
@@ -124,17 +125,10 @@ def build_search_graph(
     """
     neighbours = np.ascontiguousarray(grid.neighbours, dtype=np.int64)
     start_cell = grid.flat(*start)
-    goal_cells = np.flatnonzero(grid.component(*start).ravel()).astype(np.int64)
+    states, goal_cells, headings_matter = _graph_states(grid, table, start, heading, also)
     goal_index = np.full(grid.size, -1, dtype=np.int64)
     goal_index[goal_cells] = np.arange(goal_cells.size)
     words = max(1, (goal_cells.size + 63) // 64)
-    headings_matter = not _same_sight(table, goal_cells)
-    if headings_matter:
-        states = _reachable_states(neighbours, state_of(start_cell, heading))
-        for (col, row), facing in also:
-            states = np.union1d(states, _reachable_states(neighbours, state_of(grid.flat(col, row), facing)))
-    else:
-        states = state_of(goal_cells, np.zeros_like(goal_cells))
     position_of = np.full(grid.size * HEADINGS_PER_CELL, -1, dtype=np.int64)
     position_of[states] = np.arange(states.size)
     cells = cell_of_state(states)
@@ -153,6 +147,33 @@ def build_search_graph(
     for bit in range(goal_cells.size):
         full[bit >> 6] |= np.uint64(1) << np.uint64(bit & 63)
     return SearchGraph(successors, views, states, goal_cells, full, int(position_of[first]), headings_matter)
+
+
+def search_positions(grid: CoverageGrid, table: ViewTable, start: tuple[int, int], heading: int) -> int:
+    """How many positions :func:`build_search_graph` would have, without building their views (a bitset
+    of the goal cells per position: 8 GB on a 512 x 512 map)."""
+    return int(_graph_states(grid, table, start, heading, ())[0].size)
+
+
+def _graph_states(
+    grid: CoverageGrid,
+    table: ViewTable,
+    start: tuple[int, int],
+    heading: int,
+    also: Sequence[tuple[tuple[int, int], int]],
+) -> tuple[np.ndarray, np.ndarray, bool]:
+    """The search graph's states (its positions, in order), its goal cells, and whether headings matter."""
+    neighbours = np.ascontiguousarray(grid.neighbours, dtype=np.int64)
+    start_cell = grid.flat(*start)
+    goal_cells = np.flatnonzero(grid.component(*start).ravel()).astype(np.int64)
+    headings_matter = not _same_sight(table, goal_cells)
+    if headings_matter:
+        states = _reachable_states(neighbours, state_of(start_cell, heading))
+        for (col, row), facing in also:
+            states = np.union1d(states, _reachable_states(neighbours, state_of(grid.flat(col, row), facing)))
+    else:
+        states = state_of(goal_cells, np.zeros_like(goal_cells))
+    return states, goal_cells, headings_matter
 
 
 @jit
