@@ -151,7 +151,8 @@ def test_noises_and_hearing_are_in_the_trace_and_the_gif(tmp_path: Path) -> None
 @pytest.mark.parametrize(
     ("keys", "needle"),
     [({"walk_noise": -1}, "intruder.walk_noise"), ({"sneak_noise": -0.5}, "intruder.sneak_noise"),
-     ({"sneak_ticks": 0}, "intruder.sneak_ticks"), ({"sneak_ticks": 1.5}, "whole number"),
+     ({"sneak_ticks": 0}, "intruder.sneak_ticks"), ({"sneak_ticks": 1001}, "intruder.sneak_ticks"),
+     ({"sneak_ticks": 1.5}, "whole number"),
      ({"shout": 1}, "intruder.shout")],
 )  # fmt: skip
 def test_bad_intruder_keys_are_one_line_errors(keys: dict[str, Any], needle: str) -> None:

@@ -20,6 +20,7 @@ from guardsim.errors import GuardsimError, LimitError
 from guardsim.files.reading import display_path
 from guardsim.grid import CoverageGrid
 from guardsim.level import DEFAULT_MAX_CELLS, DEFAULT_MAX_FILE_BYTES, DEFAULT_MAX_VERTICES, Level
+from guardsim.level.limits import MAX_SNEAK_TICKS
 from guardsim.scene import Scene
 from guardsim.starts import episode_start
 from guardsim.vision.rules import LineOfSight
@@ -344,7 +345,9 @@ def ears_options(command: F) -> F:
 
     decorated: Any = wrapper
     decorated = click.option(
-        "--sneak-ticks", type=click.IntRange(min=1, max=1000), help="Ticks a sneaking step takes [level's key]."
+        "--sneak-ticks",
+        type=click.IntRange(min=1, max=MAX_SNEAK_TICKS),
+        help="Ticks a sneaking step takes [level's key].",
     )(decorated)
     decorated = click.option(
         "--sneak-noise",

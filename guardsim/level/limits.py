@@ -7,7 +7,7 @@ turns into its option.
 
 from __future__ import annotations
 
-__all__ = ["DEFAULT_MAX_CELLS", "DEFAULT_MAX_FILE_BYTES", "DEFAULT_MAX_VERTICES", "MAX_TICK_HZ"]
+__all__ = ["DEFAULT_MAX_CELLS", "DEFAULT_MAX_FILE_BYTES", "DEFAULT_MAX_VERTICES", "MAX_SNEAK_TICKS", "MAX_TICK_HZ"]
 
 #: Largest grid (rows x cols) a level may produce unless the caller raises the cap.
 DEFAULT_MAX_CELLS = 1_000_000
@@ -19,3 +19,6 @@ DEFAULT_MAX_FILE_BYTES = 16 * 1024 * 1024
 #: 240 times a second; past this a 20-second continuous episode is hours of stepping (100 000 Hz was
 #: killed after a minute of silence), and below it every game's rate fits with room to spare.
 MAX_TICK_HZ = 1000.0
+#: Most ticks a sneaking step may take (the level's ``intruder.sneak_ticks`` and ``--sneak-ticks``): the
+#: searches with gaits hold a layer per tick stood still.
+MAX_SNEAK_TICKS = 1000

@@ -24,7 +24,7 @@ from guardsim.files.reading import (
     warning_note,
 )
 from guardsim.level.geometry import MAX_OVERLAPS_LISTED, check_geometry
-from guardsim.level.limits import DEFAULT_MAX_CELLS, DEFAULT_MAX_VERTICES, MAX_TICK_HZ
+from guardsim.level.limits import DEFAULT_MAX_CELLS, DEFAULT_MAX_VERTICES, MAX_SNEAK_TICKS, MAX_TICK_HZ
 from guardsim.level.model import (
     HEADINGS,
     MAX_TILE_PIXELS,
@@ -192,7 +192,8 @@ def _check(data: Any, source: str, max_cells: int, max_vertices: int) -> tuple[L
 
 
 def _intruder(value: Any, problems: list[Problem]) -> IntruderSpec | None:
-    """``intruder``: its noise keys (radii >= 0 world units; ``sneak_ticks`` a whole number >= 1)."""
+    """``intruder``: its noise keys (radii >= 0 world units; ``sneak_ticks`` a whole number from 1 to
+    :data:`~guardsim.level.limits.MAX_SNEAK_TICKS`)."""
     if not isinstance(value, dict):
         problems.append(Problem("intruder", f"must be an object, not {json_type(value)}"))
         return None
@@ -203,7 +204,15 @@ def _intruder(value: Any, problems: list[Problem]) -> IntruderSpec | None:
     defaults = IntruderSpec()
     walk = _number(value, "walk_noise", defaults.walk_noise, problems, where="intruder.walk_noise", minimum=0)
     sneak = _number(value, "sneak_noise", defaults.sneak_noise, problems, where="intruder.sneak_noise", minimum=0)
-    ticks = _number(value, "sneak_ticks", defaults.sneak_ticks, problems, where="intruder.sneak_ticks", minimum=1)
+    ticks = _number(
+        value,
+        "sneak_ticks",
+        defaults.sneak_ticks,
+        problems,
+        where="intruder.sneak_ticks",
+        minimum=1,
+        maximum=MAX_SNEAK_TICKS,
+    )
     if ticks is not None and ticks != int(ticks):
         problems.append(Problem("intruder.sneak_ticks", f"must be a whole number of ticks, not {ticks!r}"))
     if len(problems) > count or walk is None or sneak is None or ticks is None:
