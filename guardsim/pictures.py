@@ -233,7 +233,6 @@ def write_sneak_json_page(
     :class:`~guardsim.errors.TraceError` when the file is not a sneak check of this level, or when the
     check run again does not find its path (the level or the patrol changed since)."""
     import dataclasses
-    import math
 
     from guardsim.patrol import read_patrol
     from guardsim.scene import Scene
@@ -255,15 +254,7 @@ def write_sneak_json_page(
         level = dataclasses.replace(level, guard=dataclasses.replace(level.guard, **data["detection"]))
     if "intruder" in data:
         level = dataclasses.replace(level, intruder=dataclasses.replace(level.intruder, **data["intruder"]))
-    vision: dict[str, Any] = {}
-    if "los" in data:
-        reach = data["view_range"]
-        vision = {
-            "line_of_sight": data["los"],
-            "fov_degrees": data["fov"],
-            "view_range": math.inf if reach is None else float(reach),
-        }
-    scene = Scene.from_level(level, **vision)
+    scene = Scene.from_level(level, **Scene.recorded_vision(data))
     grid = scene.grid
     rows, cols = grid.shape
     if shape != (rows, cols) or any(not (0 <= c < cols and 0 <= r < rows) for c, r in cells):

@@ -8,6 +8,7 @@ from __future__ import annotations
 
 import dataclasses
 import math
+from collections.abc import Mapping
 from dataclasses import dataclass
 from functools import cached_property
 from typing import TYPE_CHECKING, Any
@@ -122,6 +123,33 @@ class Scene:
         if view_range is None and LineOfSight(line_of_sight) is LineOfSight.BRESENHAM:
             view_range = math.inf
         return {"line_of_sight": line_of_sight, "fov_degrees": fov_degrees, "view_range": view_range}
+
+    def vision_record(self) -> dict[str, Any]:
+        """The vision this scene sees by, as the JSON outputs record it so that a page can be drawn again:
+        ``los``, ``fov`` and ``view_range`` (``null`` when unlimited). :meth:`recorded_vision` reads it back."""
+        reach = self.cone.view_range
+        return {
+            "los": self.rule.value,
+            "fov": self.cone.fov_degrees,
+            "view_range": None if math.isinf(reach) else reach,
+        }
+
+    @staticmethod
+    def recorded_vision(data: Mapping[str, Any]) -> dict[str, Any]:
+        """The :meth:`from_level` keywords of the vision ``data`` records (:meth:`vision_record`); none when it
+        records none (the level's own vision).
+
+        >>> Scene.recorded_vision({"los": "bresenham", "fov": 90.0, "view_range": None})
+        {'line_of_sight': 'bresenham', 'fov_degrees': 90.0, 'view_range': inf}
+        """
+        if "los" not in data:
+            return {}
+        reach = data["view_range"]
+        return {
+            "line_of_sight": data["los"],
+            "fov_degrees": data["fov"],
+            "view_range": math.inf if reach is None else float(reach),
+        }
 
     @property
     def line_of_sight(self) -> LineOfSight:

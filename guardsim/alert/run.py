@@ -4,7 +4,6 @@ traces as JSON and their summary per search strategy."""
 from __future__ import annotations
 
 import hashlib
-import math
 import threading
 from collections.abc import Sequence
 from typing import Any, NamedTuple
@@ -213,9 +212,7 @@ def alert_trace_data(
         "intruder": intruder,
         "phase": episode.phase,
         # The vision and the suspicious level the episode ran with, so that its page can be drawn again.
-        "los": scene.rule.value,
-        "fov": scene.cone.fov_degrees,
-        "view_range": None if math.isinf(scene.cone.view_range) else scene.cone.view_range,
+        **scene.vision_record(),
         "suspicious": episode.detection.model.suspicious,
         "goal": None if episode.intruder.goal < 0 else list(grid.centre(*grid.unflat(episode.intruder.goal))),
         "outcome": episode.result()._asdict(),

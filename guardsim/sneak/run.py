@@ -5,7 +5,6 @@ from __future__ import annotations
 
 import dataclasses
 import itertools
-import math
 from collections.abc import Callable
 from typing import TYPE_CHECKING, Any, NamedTuple
 
@@ -45,11 +44,8 @@ def sneak_header(scene: Scene, detection: GuardDetection, max_lap: int | None) -
     """What sneak.json records of how the check ran, so that it can be run again exactly (``guardsim view``
     does, for the page): the vision (``los``, ``fov``, ``view_range``, ``null`` when unlimited), the
     detection keys, the intruder's keys and the joint lap's limit (``null``: the default)."""
-    reach = scene.cone.view_range
     return {
-        "los": scene.rule.value,
-        "fov": scene.cone.fov_degrees,
-        "view_range": None if math.isinf(reach) else reach,
+        **scene.vision_record(),
         "detection": dataclasses.asdict(detection.model),
         "intruder": dataclasses.asdict(scene.level.intruder),
         "max_lap": max_lap,

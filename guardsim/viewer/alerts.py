@@ -7,7 +7,6 @@ alert GIF's (:mod:`guardsim.render.alert`), from the one palette.
 
 from __future__ import annotations
 
-import math
 from pathlib import Path
 from typing import Any
 
@@ -166,15 +165,7 @@ def write_alert_trace_page(
     from guardsim.patrol import read_patrol
     from guardsim.vision.table import view_table
 
-    vision: dict[str, Any] = {}
-    if "los" in data:
-        reach = data["view_range"]
-        vision = {
-            "line_of_sight": data["los"],
-            "fov_degrees": data["fov"],
-            "view_range": math.inf if reach is None else float(reach),
-        }
-    scene = Scene.from_level(level, **vision)
+    scene = Scene.from_level(level, **Scene.recorded_vision(data))
     episode = recorded_episode(data, scene.grid, source=source)
     patrol = None if patrol_path is None else read_patrol(patrol_path, scene.grid, level=level.name)
     suspicious = data.get("suspicious", GuardDetection.of_level(level).model.suspicious)
