@@ -6,8 +6,12 @@ it, then once more on the cache the first run left. Each figure is the whole pro
 exit, as a user waits for it. ``--rev REV`` measures another commit the same way (a ``git worktree``),
 for before/after tables; ``--fresh-venv`` installs the copy into a new virtual environment first.
 
+``--after-compile`` runs the install step first (``guardsim compile``, timed once, into a folder each
+command's cache starts as a copy of): the first run a user who followed the README meets.
+
     python benchmarks/cold_start.py [--commands play,tour,patrol,sneak,bounds,optimum,bench] [--runs 1]
     python benchmarks/cold_start.py --rev d763654
+    python benchmarks/cold_start.py --after-compile
 """
 
 from __future__ import annotations
@@ -114,6 +118,8 @@ def main() -> None:
     parser.add_argument("--runs", type=int, default=1, help="cold runs per command (each with a new empty cache)")
     parser.add_argument("--rev", help="measure this commit instead of the working tree")
     parser.add_argument("--fresh-venv", action="store_true", help="install into a new virtual environment first")
+    parser.add_argument("--after-compile", action="store_true",
+                        help="run `guardsim compile` first: each cache starts compiled, as after the install step")
     args = parser.parse_args()
     args.commands = [name.strip() for name in args.commands.split(",") if name.strip()]
     unknown = [name for name in args.commands if name not in NAMES]
@@ -138,7 +144,8 @@ def main() -> None:
     label = args.rev or "working tree"
     # Other work on the two cores changes these figures more than most code changes: say how busy it was.
     load = ", ".join(f"{value:.1f}" for value in os.getloadavg())
-    print(f"first use on {label} ({'fresh venv' if args.fresh_venv else 'this venv'}, empty caches), seconds;"
+    caches = "caches after `guardsim compile`" if args.after_compile else "empty caches"
+    print(f"first use on {label} ({'fresh venv' if args.fresh_venv else 'this venv'}, {caches}), seconds;"
           f" load average at the end {load}")  # fmt: skip
     print("| command | first run s | second run s | said compiling |")
     print("| --- | --- | --- | --- |")
@@ -175,6 +182,16 @@ def measure(args: argparse.Namespace, scratch: Path, checkout: Path) -> list[str
         if status:
             setup_failed = "making patrol.json: " + failure(status, stderr)
     rows: list[str] = []
+    compiled = scratch / "cache-compiled"
+    installed: Path | None = None
+    if args.after_compile:
+        # numba finds a cached function under its source file's path: the commands run on this same copy
+        # (its bytecode compiled by the step, as an install's is).
+        installed = None if args.fresh_venv else fresh_copy(checkout, scratch / "copy-compile")
+        seconds, status, stderr = timed([python, "-m", "guardsim.cli", "compile"], environment(compiled, installed),
+                                        scratch)  # fmt: skip
+        rows.append(f"| `guardsim compile` | {failure(status, stderr) if status else f'{seconds:.1f}'} | | |")
+        print(rows[-1], file=sys.stderr, flush=True)
     for name in args.commands:
         shown = " ".join(command_lines(scratch, checkout, "0")[name])
         shown = shown.replace(f"{checkout}/", "").replace(str(scratch), "…")
@@ -185,8 +202,14 @@ def measure(args: argparse.Namespace, scratch: Path, checkout: Path) -> list[str
         for run in range(args.runs):
             if failed:
                 break
-            copy = None if args.fresh_venv else fresh_copy(checkout, scratch / f"copy-{name}-{run}")
-            env = environment(scratch / f"cache-{name}-{run}", copy)
+            if args.after_compile:
+                copy = installed
+            else:
+                copy = None if args.fresh_venv else fresh_copy(checkout, scratch / f"copy-{name}-{run}")
+            cache = scratch / f"cache-{name}-{run}"
+            if args.after_compile:
+                shutil.copytree(compiled, cache)
+            env = environment(cache, copy)
             # Run from the scratch folder: from the checkout, Python would import its package, not the copy.
             seconds, status, stderr = timed(run_line(name, f"{run}a"), env, scratch)
             said.append("compiling" in stderr)

@@ -41,7 +41,7 @@ def commands(scratch: Path) -> dict[str, list[str]]:
         "sneak": ["sneak", square, "--patrol", str(scratch / "patrol" / "patrol.json"),
                   "--from", "2.5,2.5", "--to", "57.5,57.5", "--undetected", "--out", str(scratch / "sneak")],
         "alert": ["alert", square, "--patrol", str(scratch / "patrol" / "patrol.json"),
-                  "--from", "10.5,10.5", "--to", "50.5,50.5", "--search", "all"],
+                  "--from", "10.5,10.5", "--to", "50.5,50.5"],
         "bounds": ["bounds", square],
         "optimum": ["optimum", str(scratch / "room.json")],
         "bench": ["bench", square, "--episodes", "4", "--workers", "1", "--out", str(scratch / "bench")],
@@ -51,6 +51,8 @@ def commands(scratch: Path) -> dict[str, list[str]]:
         "check": ["check", square, "--patrol", str(scratch / "patrol" / "patrol.json"), "--max-idleness", "1000",
                   "--no-unreachable", "--safe", "30.5,30.5", "--sneak", "2.5,2.5", "57.5,57.5", "--expect", "sneaks",
                   "--undetected"],
+        "fortify": ["fortify", square, "--patrol", str(scratch / "patrol" / "patrol.json"), "--from", "2.5,2.5",
+                    "--to", "57.5,57.5", "--cameras", "1", "--posts", "0"],
         # report, diff, check --baseline and watch: one analysis (loop patrol, sneak checks, ways, risk).
         "report": ["report", square],
     }  # fmt: skip

@@ -64,6 +64,7 @@ _SOURCES = {
     "sneak_check": "guardsim.sneak",
     **dict.fromkeys(("Patrol", "patrol_setup", "plan_patrol", "read_patrol"), "guardsim.patrol"),
     "ViewTable": "guardsim.vision.table",
+    "compile_kernels": "guardsim.kernels.ahead",
     **dict.fromkeys(
         ("AlertEpisode", "AlertRules", "GameGuards", "alert_episode", "check_alert_trace", "run_alerts"),
         "guardsim.alert",
@@ -125,6 +126,7 @@ if TYPE_CHECKING:
     from guardsim.importers.imported import ImportedLevel as ImportedLevel
     from guardsim.importers.loading import load_level as load_level
     from guardsim.importers.options import ImportOptions as ImportOptions
+    from guardsim.kernels.ahead import compile_kernels as compile_kernels
     from guardsim.kernels.meter import meter_gain as meter_gain
     from guardsim.kernels.meter import visibility as visibility
     from guardsim.level import Camera as Camera

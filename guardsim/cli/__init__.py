@@ -26,6 +26,11 @@ COMMANDS: dict[str, tuple[str, str, str]] = {
     "bounds": ("guardsim.cli.bounds", "bounds", "Lower bounds on the steps needed to see every reachable cell."),
     "patrol": ("guardsim.cli.patrol", "patrol", "Build a repeating patrol of LEVEL and score its idleness."),
     "import": ("guardsim.cli.importing", "import_command", "Convert a Tiled, Moving AI or image map to a level."),
+    "compile": (
+        "guardsim.cli.compile",
+        "compile_command",
+        "Compile every command's kernels now (the install step), so no first run compiles.",
+    ),
     "optimum": (
         "guardsim.cli.optimum",
         "optimum",

@@ -170,7 +170,7 @@ def fortify(
     check_outputs(picture=picture)
     progress = StageLine(sys.stderr, "fortify").start()
     level = detection_overrides.apply(load(level_path, max_cells, max_vertices, max_file_bytes, map_import))
-    compile_ahead("sneak")
+    compile_ahead("fortify")
     options = Scene.vision_options(los, fov, view_range)
     patrol = None if patrol_path is None else _read_patrol(patrol_path, level, options)
     result = run_fortify(

@@ -152,10 +152,11 @@ class StageLine:
                 if now - self._drawn_at < REDRAW_SECONDS and not force:
                     return
             else:
-                stage = text.rsplit(" (", 1)[0]
-                if stage == self._printed and now - self._drawn_at < PLAIN_EVERY_SECONDS:
+                # A count that moves on (functions compiled, sources looped) is not a new stage: a plain
+                # line for every step would flood a log.
+                if self.what == self._printed and now - self._drawn_at < PLAIN_EVERY_SECONDS:
                     return
-                self._printed = stage
+                self._printed = self.what
             self._drawn_at = now
             self._drawn = True
             draw_line(self.stream, text, in_place=self.in_place)

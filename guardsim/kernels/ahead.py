@@ -9,6 +9,9 @@ command, :func:`compile_ahead` forks a helper process and both work down that li
 taking the next entry it can (:func:`take`: one whose callees are compiled, the longest chain of
 callers above it first) into the same cache; then the command runs on cached code. Later runs find the folder's mark and skip it.
 
+:func:`compile_kernels` (``guardsim compile``, the install step) does the same for every command's plan at
+once, so that no command's first run compiles.
+
 A plan that no longer matches the code (a function renamed, its argument types changed) costs only
 time: what compiling ahead missed is compiled when first called, as without it, and ``tests/
 test_kernels.py`` checks that the plan is current.
@@ -21,7 +24,10 @@ import importlib
 import json
 import multiprocessing
 import os
+import threading
 import time
+from collections.abc import Callable, Sequence
+from dataclasses import dataclass
 from functools import cache
 from pathlib import Path
 from typing import Any
@@ -30,9 +36,20 @@ import numba
 import numpy as np
 from numba.core import types
 
+from guardsim.errors import ArgumentError
 from guardsim.kernels.compiler import cache_folder, silence_notice
 
-__all__ = ["PLAN_FILE", "compile_ahead", "decode_type", "encode_type", "plan", "take", "urgency"]
+__all__ = [
+    "PLAN_FILE",
+    "CompiledKernels",
+    "compile_ahead",
+    "compile_kernels",
+    "decode_type",
+    "encode_type",
+    "plan",
+    "take",
+    "urgency",
+]
 
 #: The recorded plan: ``{command: [[module, function, [argument type, ...], seconds, caller], ...]}``, ``seconds``
 #: the function's own compile time (its planned callees excluded), ``caller`` the index of the entry it was
@@ -192,10 +209,72 @@ def compile_ahead(command: str) -> None:
     if command in _DONE or os.environ.get("GUARDSIM_COMPILE_AHEAD") == "0":
         return
     _DONE.add(command)
-    entries = plan().get(command, [])
-    mark = cache_folder() / f"ahead-{command}"
-    if not entries or mark.exists():
-        return
+    if plan().get(command) and not _mark(command).exists():
+        _compile_plans([command], None)
+
+
+@dataclass(frozen=True)
+class CompiledKernels:
+    """What :func:`compile_kernels` made ready: the commands, the compiled functions their plans list
+    (each once, however many commands share it), whether they were compiled before, and where they are."""
+
+    commands: tuple[str, ...]
+    functions: int
+    already: bool
+    folder: Path
+
+
+#: ``progress(what, done, total)``: the library's progress callback (functions compiled of the total).
+Progress = Callable[[str, int, int], None]
+
+
+def compile_kernels(commands: Sequence[str] | None = None, *, progress: Progress | None = None) -> CompiledKernels:
+    """Compile every kernel the ``commands`` call (all the plan's by default), on two processes, into
+    :func:`~guardsim.kernels.compiler.cache_folder`, so that their first runs load them instead.
+
+    The install step (``guardsim compile``): commands share most of their kernels, so compiling all plans
+    at once takes about half the sum of compiling them one by one. A command already compiled in the
+    folder (its mark there) is not compiled again. Raises :class:`~guardsim.ArgumentError` naming an unknown
+    command.
+    """
+    known = plan()
+    chosen = tuple(known) if commands is None else tuple(dict.fromkeys(commands))
+    unknown = [name for name in chosen if name not in known]
+    if unknown:
+        raise ArgumentError(f"no compile plan for {', '.join(unknown)}; the plans are {', '.join(known)}")
+    entries = _union(chosen)
+    already = all(_mark(name).exists() for name in chosen)
+    if not already:
+        silence_notice()  # compiling is what was asked for: no notice that it compiles
+        _compile_plans(list(chosen), progress)
+    return CompiledKernels(chosen, len(entries), already, cache_folder())
+
+
+def _mark(command: str) -> Path:
+    """The file that says ``command``'s plan has been compiled into this cache folder."""
+    return cache_folder() / f"ahead-{command.replace(':', '-')}"
+
+
+def _key(entry: list[Any]) -> str:
+    return f"{entry[0]}:{entry[1]}:{json.dumps(entry[2], sort_keys=True)}"
+
+
+def _union(commands: Sequence[str]) -> list[list[Any]]:
+    """The plans' entries, each function and argument types once, callees still before their callers
+    (in every plan a callee is compiled before its caller, so its first appearance comes first too)."""
+    entries: dict[str, list[Any]] = {}
+    for command in commands:
+        for entry in plan().get(command, []):
+            key = _key(entry)
+            # The longest recorded time of the function: what scheduling it by its chain should assume.
+            first = entries.get(key, entry)
+            entries[key] = [*first[:3], max(float(entry[3]), float(first[3])), -1]
+    return list(entries.values())
+
+
+def _compile_plans(commands: list[str], progress: Progress | None) -> None:
+    """Compile the plans of ``commands`` on two processes (one where the system cannot fork), then mark them."""
+    entries = _union(commands)
     # Set numba's compiler up once, here (a first compile sets up most of it), so that the forked
     # helper starts with it ready.
     numba.njit(_warm_up)(np.zeros(1, dtype=np.int64))
@@ -204,14 +283,45 @@ def compile_ahead(command: str) -> None:
         below = _callees(entries)
         chain = urgency(entries, below)
         state = context.Array("b", len(entries))
+        watcher = _Watcher(state, progress) if progress is not None else None
         helper = context.Process(target=_helper, args=(entries, below, chain, state), daemon=True)
         helper.start()
-        _work(entries, below, chain, state)
-        helper.join()
+        try:
+            _work(entries, below, chain, state)
+            helper.join()
+        finally:
+            if watcher is not None:
+                watcher.stop()
     else:
-        _compile_quietly(entries)
-    with contextlib.suppress(OSError):  # an unwritable cache: the next run compiles ahead again, no harm
-        mark.touch()
+        for done, entry in enumerate(entries):
+            if progress is not None:
+                progress("compiling kernels", done, len(entries))
+            _compile_quietly([entry])
+    if progress is not None:
+        progress("compiling kernels", len(entries), len(entries))
+    for command in commands:
+        with contextlib.suppress(OSError):  # an unwritable cache: the next run compiles ahead again, no harm
+            _mark(command).touch()
+
+
+class _Watcher:
+    """Tells ``progress`` how many entries both processes have compiled, five times a second."""
+
+    def __init__(self, state: Any, progress: Progress) -> None:
+        self.state = state
+        self.progress = progress
+        self._stop = threading.Event()
+        self._thread = threading.Thread(target=self._run, name="guardsim-compile-progress", daemon=True)
+        self._thread.start()
+
+    def _run(self) -> None:
+        while not self._stop.wait(0.2):
+            done = sum(1 for value in self.state[:] if value == COMPILED)
+            self.progress("compiling kernels", done, len(self.state))
+
+    def stop(self) -> None:
+        self._stop.set()
+        self._thread.join()
 
 
 def _warm_up(values: np.ndarray) -> int:

@@ -194,7 +194,11 @@ class _CompileNotice(event.Listener):
         self.said = True
         stream = sys.__stderr__
         if stream is not None:
-            print(f"guardsim: compiling kernels once for this version (kept in {cache_folder()})", file=stream)
+            print(
+                f"guardsim: compiling kernels once for this version (kept in {cache_folder()}; "
+                "`guardsim compile` compiles every command's at once)",
+                file=stream,
+            )
             stream.flush()
 
 
