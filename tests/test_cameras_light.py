@@ -19,8 +19,8 @@ from click.testing import CliRunner
 from guardsim.cli import main
 from guardsim.detection import GuardDetection
 from guardsim.detection.cameras import camera_ticks
-from guardsim.detection.exposure import patrol_gains
 from guardsim.detection.light import light_map
+from guardsim.detection.sight import patrol_gains
 from guardsim.detection.watch import joint_lap, lap_gains, level_watch
 from guardsim.errors import LevelError, LimitError
 from guardsim.importers.ldtk import import_ldtk

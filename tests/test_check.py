@@ -96,7 +96,7 @@ def test_rules_from_a_checks_file(corridor: tuple[Path, Path], tmp_path: Path) -
     ]
     as_json = tmp_path / "checks.json"
     as_json.write_text(json.dumps({"no_unreachable": True}))
-    assert _run(str(level), "--checks", str(as_json)) == (0, [f"{level}: all 1 rule holds"])
+    assert _run(str(level), "--checks", str(as_json)) == (0, [f"{level}: its one rule holds"])
 
 
 @pytest.mark.parametrize(
@@ -200,10 +200,10 @@ def test_a_safe_spot_a_guard_sees_breaks_the_build_until_it_is_fixed(corridor: t
         "safe 9.5,0.5: cell [9, 0] is in view of guard 0 for 1 of 8 lap ticks, first at lap tick 4"
     ]
     # Fixed by moving the spot to a cell the guard never sees ...
-    assert _run(str(level), "--patrol", pacer, "--safe", "8.5,0.5") == (0, [f"{level}: all 1 rule holds"])
+    assert _run(str(level), "--patrol", pacer, "--safe", "8.5,0.5") == (0, [f"{level}: its one rule holds"])
     # ... or by changing the patrol: a post facing left never looks into the right room.
     left = _patrol_file(level.parent, {"shape": [3, 11], "guards": [{"loop": [[5, 1]], "headings": [2]}]}, "left.json")
-    assert _run(str(level), "--patrol", left, "--safe", "9.5,0.5") == (0, [f"{level}: all 1 rule holds"])
+    assert _run(str(level), "--patrol", left, "--safe", "9.5,0.5") == (0, [f"{level}: its one rule holds"])
 
 
 def test_a_safe_spot_seen_by_two_guards_names_both(corridor: tuple[Path, Path]) -> None:
@@ -224,7 +224,7 @@ def test_an_undetected_safe_spot_may_be_seen_briefly(corridor: tuple[Path, Path]
     assert _run(str(level), "--patrol", pacer, "--safe", "9.5,0.5")[0] == 1
     assert _run(str(level), "--patrol", pacer, "--safe", "9.5,0.5", "--undetected") == (
         0,
-        [f"{level}: all 1 rule holds"],
+        [f"{level}: its one rule holds"],
     )
     [result] = run_checks(scene_from(TWO_ROOMS), CheckRules(patrol=pacer, safe=(SafeRule((9.5, 0.5)),), undetected=True))
     assert result == (
@@ -268,7 +268,7 @@ def test_expect_undetected_or_detected(
     pacer = _patrol_file(level.parent, PACER)
     code, lines = _run(str(level), "--patrol", pacer, "--sneak", "0.5,0.5", "10.5,2.5", "--expect", expect, *model)
     if broken is None:
-        assert (code, lines) == (0, [f"{level}: all 1 rule holds"])
+        assert (code, lines) == (0, [f"{level}: its one rule holds"])
     else:
         assert code == 1 and len(lines) == 1
         assert _broken(lines)[0].startswith(f"sneak 0.5,0.5 -> 10.5,2.5: {broken}"), lines

@@ -15,7 +15,7 @@ from pathlib import Path
 import numpy as np
 import pytest
 
-from guardsim import Scene, Simulation
+from guardsim import ArgumentError, Scene, Simulation
 from guardsim.kernels.compiler import compiled_sources, source_digest
 from guardsim.kernels.distances import FAR, distances_from, fill_states, spread_states
 from guardsim.kernels.heap import heap_pop, heap_push
@@ -345,22 +345,39 @@ def test_guardsim_compile_is_the_install_step(tmp_path: Path) -> None:
     # After `guardsim compile play:tour`, the command's first run compiles nothing: no notice, even one
     # due after a millisecond of compiling.
     env = dict(os.environ, GUARDSIM_CACHE_DIR=str(tmp_path / "cache"), GUARDSIM_COMPILE_NOTICE="0.001")
-    done = _guardsim(["compile", "play:tour"], env, tmp_path)
+    done = _guardsim(["compile", "play"], env, tmp_path)  # play's compiled planner: the tour
     assert done.returncode == 0, done.stderr
     folder = next((tmp_path / "cache").glob("kernels-*"))
     functions = len(json.loads((REPO / "guardsim" / "kernels" / "plan.json").read_text())["play:tour"])
-    assert done.stdout.startswith(f"compiled the {functions} kernels of 1 command in ")
+    assert done.stdout.startswith(f"compiled the {functions} kernels of play in ")
     assert done.stdout.endswith(f" s (kept in {folder})\n")
     assert "compiling kernels once" not in done.stderr  # compiling is what was asked: no notice of it
     assert (folder / "ahead-play-tour").exists() and any(folder.rglob("*.nbc"))
     played = _guardsim(["play", str(REPO / "levels" / "square.json"), "--planner", "tour"], env, tmp_path)
     assert played.returncode == 0 and "compiling" not in played.stderr, played.stderr
     again = _guardsim(["compile", "play:tour"], env, tmp_path)
-    assert again.stdout == f"the {functions} kernels of 1 command are compiled already (kept in {folder})\n"
-    wrong = _guardsim(["compile", "play:tour", "tours"], env, tmp_path)
+    assert again.stdout == f"the {functions} kernels of play:tour are compiled already (kept in {folder})\n"
+    wrong = _guardsim(["compile", "play:tour", "tours", "render"], env, tmp_path)
     assert wrong.returncode == 2 and wrong.stdout == ""
-    assert wrong.stderr.startswith("guardsim: error: no compile plan for tours; the plans are play:tour, patrol, ")
+    assert wrong.stderr.startswith(
+        "guardsim: error: no compiled kernels for tours, render: the commands that compile are alert, bench, "
+        "bounds, check, diff, fortify, optimum, patrol, play, report, sneak, watch (the others need none), the "
+        "plans play:tour, patrol, "
+    )
     assert wrong.stderr.count("\n") == 1
+
+
+def test_each_command_compiles_its_own_plans_and_the_analysis_it_shares() -> None:
+    from guardsim.kernels.ahead import compile_kernels, plans_of
+
+    assert plans_of("play") == ("play:tour",) and plans_of("play:tour") == ("play:tour",)
+    assert plans_of("patrol") == ("patrol", "patrol:team") and plans_of("patrol:team") == ("patrol:team",)
+    assert plans_of("diff") == plans_of("watch") == ("report",) and plans_of("check") == ("check", "report")
+    assert plans_of("render") == () and plans_of("play:sweep") == ()
+    with pytest.raises(ArgumentError, match="no compiled kernels for a, l, e:"):
+        compile_kernels(["a", "l", "e"])
+    with pytest.raises(ArgumentError, match="no compiled kernels for ale:"):  # one name, not its letters
+        compile_kernels("ale")
 
 
 @pytest.mark.slow  # about 30 s on two cores: every plan
@@ -370,7 +387,7 @@ def test_after_guardsim_compile_no_command_compiles(tmp_path: Path) -> None:
     assert done.returncode == 0, done.stderr
     plans = json.loads((REPO / "guardsim" / "kernels" / "plan.json").read_text())
     union = {(m, f, json.dumps(a)) for entries in plans.values() for m, f, a, *_ in entries}
-    assert done.stdout.startswith(f"compiled the {len(union)} kernels of {len(plans)} commands in ")
+    assert done.stdout.startswith(f"compiled the {len(union)} kernels of every command in ")
     square, passages = str(REPO / "levels" / "square.json"), str(REPO / "levels" / "passages.json")
     patrol = tmp_path / "p"
     for line in (["patrol", square, "--guards", "2", "--out", str(patrol)], ["bounds", square],

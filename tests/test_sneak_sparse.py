@@ -5,6 +5,7 @@ the tiny levels, with light and a dark sight so that meters rise and drain."""
 
 from __future__ import annotations
 
+import math
 from collections.abc import Iterator
 from typing import Any
 
@@ -14,6 +15,7 @@ import pytest
 from guardsim.detection import GuardDetection, PatrolGains, exposure_map, patrol_gains, time_to_detection
 from guardsim.detection.sight import lap_sight
 from guardsim.grid import CoverageGrid
+from guardsim.kernels.meter import meter_gain, visibility
 from guardsim.patrol import Patrol, patrol_setup
 from guardsim.scene import Scene
 from guardsim.sneak import closest_call, find_sneak, hiding_windows, sneak_check, undetected_search
@@ -101,17 +103,32 @@ def test_the_sparse_sneak_check_answers_as_the_dense_searches(
     assert (True, (True, True)) in rules and (False, (True, False)) in rules
 
 
-def test_the_sparse_sight_holds_the_dense_gains_exactly() -> None:
+def test_the_lap_sight_holds_each_watchers_gain_by_the_rule() -> None:
+    """Every (guard, lap tick, cell) the guard's state sees, and no other, holds the meter rule's gain at
+    that distance and light, written out here over the view table; the dense gains scatter the same."""
     for scene, table, patrol, _, _ in _trials("l-room", 3):
         detection = GuardDetection.of_level(scene.level)
-        grid = scene.grid
+        model, grid = detection.model, scene.grid
         light = np.linspace(0.0, 1.0, grid.size)
         arguments: dict[str, Any] = {"view_range": detection.view_range, "dt": detection.dt, "light": light}
-        dense = patrol_gains(grid, table, patrol.states, detection.model, **arguments)
-        sparse = lap_sight(grid, table, patrol.states, detection.model, **arguments)
-        assert np.array_equal(sparse.dense_gains().gain, dense.gain)
-        assert np.array_equal(sparse.dense_seen(), dense.seen)
-        assert sparse.fall == dense.fall and np.array_equal(sparse.guard_cells, dense.guard_cells)
+        sparse = lap_sight(grid, table, patrol.states, model, **arguments)
+        expected = np.zeros((patrol.states.shape[0], patrol.period, grid.size))
+        cols = grid.shape[1]
+        for guard, row in enumerate(patrol.states.tolist()):
+            for tick, state in enumerate(row):
+                own = state // 4
+                for cell in table.sees(state).tolist():
+                    distance = grid.cell_size * math.hypot(cell // cols - own // cols, cell % cols - own % cols)
+                    seen = visibility(distance, model.dark_sight, float(light[cell]))
+                    expected[guard, tick, cell] = meter_gain(
+                        detection.dt, distance, detection.view_range, model.detect_near, model.detect_far, seen
+                    )
+        dense = sparse.dense_gains()
+        assert np.allclose(dense.gain, expected, rtol=1e-12, atol=0.0)
+        assert np.array_equal(dense.gain > 0, expected > 0) and (expected > 0).any() and (expected == 0).any()
+        assert np.array_equal(patrol_gains(grid, table, patrol.states, model, **arguments).gain, dense.gain)
+        assert np.array_equal(sparse.dense_seen(), (expected > 0).any(axis=0))
+        assert sparse.fall == model.fall(detection.dt) and np.array_equal(sparse.guard_cells, patrol.states // 4)
 
 
 def test_the_sweeps_reach_what_the_dense_searches_reach() -> None:

@@ -337,7 +337,7 @@ def _write(
 
 
 def _table(rows: list[AlertSummary]) -> str:
-    head = "| search | detected | captured | capture rate | to capture (s) | searching (s) | re-acquire (s) | back on route (s) | detections |"
+    head = "| search | detected | captured | capture rate (of detected) | to capture (s) | searching (s) | re-acquire (s) | back on route (s) | detections |"
     lines = [head, "|" + " --- |" * 9]
 
     def fmt(value: float | None) -> str:

@@ -202,7 +202,7 @@ def check(
     if broken:
         sys.exit(1)
     click.echo(
-        f"{level_path}: all {len(results)} rules hold" if len(results) != 1 else f"{level_path}: all 1 rule holds"
+        f"{level_path}: all {len(results)} rules hold" if len(results) != 1 else f"{level_path}: its one rule holds"
     )
 
 

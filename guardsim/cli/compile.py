@@ -20,18 +20,20 @@ def compile_command(commands: tuple[str, ...]) -> None:
     """Compile the kernels of every command (or of each COMMAND named) into the compiled cache, on two
     processes, so that each command's first run loads them instead of compiling.
 
-    The install step: about 40 s on two cores, once per installed version (docs/kernels.md). A COMMAND is
-    a plan's name: play:tour, patrol, patrol:team, sneak, alert, bounds, optimum, optimum:team, bench,
-    check, report (also diff, check --baseline and watch). Run again, it says they are compiled already.
+    The install step, once per installed version: about 30 s on two cores with nothing else running, a
+    minute beside other work (docs/kernels.md). A COMMAND is a guardsim command that compiles: play
+    (its tour planner), patrol, sneak, alert, bounds, optimum, bench, check, report, diff, watch,
+    fortify; or a plan's own name (play:tour, patrol:team, optimum:team). Run again, it says they are
+    compiled already.
     """
     from guardsim.kernels.ahead import compile_kernels
 
     began = time.perf_counter()
     with StageLine(sys.stderr, "compile") as progress:
-        done = compile_kernels(commands or None, progress=progress)
-    plans = f"{len(done.commands)} command{'' if len(done.commands) == 1 else 's'}"
+        done = compile_kernels(commands, progress=progress)
+    of = f"of {', '.join(done.commands)}" if done.commands else "of every command"
     if done.already:
-        click.echo(f"the {done.functions} kernels of {plans} are compiled already (kept in {done.folder})")
+        click.echo(f"the {done.functions} kernels {of} are compiled already (kept in {done.folder})")
     else:
         seconds = time.perf_counter() - began
-        click.echo(f"compiled the {done.functions} kernels of {plans} in {seconds:.1f} s (kept in {done.folder})")
+        click.echo(f"compiled the {done.functions} kernels {of} in {seconds:.1f} s (kept in {done.folder})")

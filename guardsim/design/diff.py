@@ -301,7 +301,9 @@ def _pair(values: list[Any]) -> str:
 
 def diff_summary(data: dict[str, Any], name: str) -> list[str]:
     """What ``guardsim diff`` prints of :func:`diff_data`'s document, old -> new, a line each: cells,
-    steps to cover, idleness, safe spots, each pair's sneak, and the difficulty of the level ``name``."""
+    steps to cover, idleness, safe spots, each pair's sneak (with the path-distance risk and the ways
+    through, which the score reads), and the difficulty of the level ``name`` (``old -> new`` names when
+    the edit renamed it)."""
     lines = [
         f"  cells: {data['cells_added']} added, {data['cells_removed']} removed",
         f"  steps to cover: {_pair(data['cover_steps'])}",
@@ -313,7 +315,10 @@ def diff_summary(data: dict[str, Any], name: str) -> list[str]:
         lines.append(
             f"  {where}: {_pair(pair['outcome'])}; ticks {_pair(pair['ticks'])}; slack {_pair(pair['slack'])}; "
             f"risk {_pair(pair['risk'])}; peak awareness {_pair(pair['peak_awareness'])}; "
+            f"path-distance risk {_pair(pair['path_distance_risk'])}; ways through {_pair(pair['ways'])}; "
             f"hiding spots {len(pair['hiding_gained'])} gained, {len(pair['hiding_lost'])} lost"
         )
-    lines.append(f"{name}: difficulty {_pair(data['score'])}")
+    old, new = data.get("old"), data.get("new")
+    title = f"{old} -> {new}" if old is not None and new is not None and old != new else name
+    lines.append(f"{title}: difficulty {_pair(data['score'])}")
     return lines

@@ -1,8 +1,8 @@
 """A repeating patrol seen through the detection model: meter gains per tick, exposure, time to detection.
 
-The gains are the model applied once to every (watcher, lap tick, cell): how much a tick spent in the
-cell adds to the watcher's meter (0 where the watcher does not see it, or the cell is too dark to see the
-intruder in). The watchers are the patrol's guards, then the level's cameras (:mod:`guardsim.detection.watch`),
+The gains (:class:`PatrolGains`, built by :func:`guardsim.detection.sight.patrol_gains`) are the model
+applied once to every (watcher, lap tick, cell): how much a tick spent in the cell adds to the watcher's
+meter (0 where the watcher does not see it, or the cell is too dark to see the intruder in). The watchers are the patrol's guards, then the level's cameras (:mod:`guardsim.detection.watch`),
 over the joint lap of the patrol and the cameras' swings. The graded sneak search, the time-to-detection
 map and the replay of a path all read them, so the model's numbers enter one place.
 """
@@ -13,15 +13,11 @@ from typing import NamedTuple
 
 import numpy as np
 
-from guardsim.detection.model import DetectionModel
-from guardsim.grid import CoverageGrid
 from guardsim.kernels.arrays import copy_into
 from guardsim.kernels.compiler import jit
-from guardsim.kernels.meter import DETECTED, cell_gain, meter_after
-from guardsim.kernels.steps import cell_of_state
-from guardsim.vision.table import ViewTable
+from guardsim.kernels.meter import DETECTED, meter_after
 
-__all__ = ["MAX_DENSE_NODES", "NEVER_DETECTED", "PatrolGains", "exposure_map", "patrol_gains", "time_to_detection"]
+__all__ = ["MAX_DENSE_NODES", "NEVER_DETECTED", "PatrolGains", "exposure_map", "time_to_detection"]
 
 #: Most (lap tick, cell) nodes an array over all of them is built for (the dense gains are 8 bytes a
 #: watcher each; :class:`guardsim.detection.sight.LapSight` holds a longer lap sparse).
@@ -56,64 +52,6 @@ class PatrolGains(NamedTuple):
     def guards(self) -> int:
         """How many of the watchers are guards."""
         return int(self.gain.shape[0]) - self.cameras
-
-
-@jit
-def _fill_gains(
-    sight_start: np.ndarray,
-    sight: np.ndarray,
-    states: np.ndarray,
-    cols: int,
-    cell_size: float,
-    near: float,
-    far: float,
-    view_range: float,
-    dt: float,
-    dark_sight: float,
-    light: np.ndarray,
-    out: np.ndarray,
-) -> None:
-    for guard in range(states.shape[0]):
-        for tick in range(states.shape[1]):
-            state = states[guard, tick]
-            own = cell_of_state(state)
-            for index in range(sight_start[state], sight_start[state + 1]):
-                cell = sight[index]
-                out[guard, tick, cell] = cell_gain(own, cell, cols, cell_size, near, far, view_range, dt, dark_sight,
-                                                   light[cell])  # fmt: skip
-
-
-def patrol_gains(
-    grid: CoverageGrid,
-    table: ViewTable,
-    states: np.ndarray,
-    model: DetectionModel,
-    *,
-    view_range: float,
-    dt: float,
-    light: np.ndarray | None = None,
-    cameras: np.ndarray | None = None,
-) -> PatrolGains:
-    """The gains of a lap of ``states`` (``int64 (guards, period)``, a patrol's states).
-
-    ``view_range`` is the guards' view range in world units (the distance at which ``detect_far``
-    applies) and ``dt`` the seconds per tick (:func:`~guardsim.detection.grid_tick_seconds`). ``light``
-    (``float64 (cells,)``, default all 1) is each cell's light, ``cameras`` (``float64 (cameras, period,
-    cells)``) the cameras' own gains over the same lap, appended after the guards'
-    (:func:`guardsim.detection.watch.lap_gains` builds both for a level).
-    """
-    states = np.ascontiguousarray(states, dtype=np.int64)
-    extra = 0 if cameras is None else cameras.shape[0]
-    gain = np.zeros((states.shape[0] + extra, states.shape[1], grid.size), dtype=np.float64)
-    lit = np.ones(grid.size, dtype=np.float64) if light is None else np.ascontiguousarray(light, dtype=np.float64)
-    _fill_gains(
-        table.sight_start, table.sight, states, grid.shape[1], float(grid.cell_size),
-        float(model.detect_near), float(model.detect_far), float(view_range), float(dt),
-        float(model.dark_sight), lit, gain,
-    )  # fmt: skip
-    if cameras is not None:
-        gain[states.shape[0] :] = cameras
-    return PatrolGains(gain, model.fall(dt), cell_of_state(states), float(dt), extra)
 
 
 def exposure_map(gains: PatrolGains) -> np.ndarray:

@@ -5,8 +5,8 @@ guard's 8,826-tick lap of a 256 x 256 map, almost all of it zeros. :class:`LapSi
 numbers as events (the nonzero gains, by cell, then tick, then watcher) and each cell's seen ticks as a
 bitset (one bit per (lap tick, cell)), and reads from them the maps of the sneak check (exposure, longest
 unseen window, time to detection) and, where a caller still wants them, the dense arrays
-(:meth:`LapSight.dense_gains`). The gains come from the same rule and the same arithmetic as
-:func:`~guardsim.detection.patrol_gains`, so each equals its dense counterpart exactly.
+(:meth:`LapSight.dense_gains`, and :func:`patrol_gains`, the dense gains of a lap: the view table is walked
+for gains here alone, each gain :func:`guardsim.kernels.meter.cell_gain`).
 """
 
 from __future__ import annotations
@@ -23,7 +23,7 @@ from guardsim.kernels.meter import DETECTED, cell_gain, meter_after
 from guardsim.kernels.steps import cell_of_state
 from guardsim.vision.table import ViewTable
 
-__all__ = ["LapSight", "lap_sight", "seen_bits"]
+__all__ = ["LapSight", "lap_sight", "patrol_gains", "seen_bits"]
 
 
 class LapSight(NamedTuple):
@@ -177,8 +177,7 @@ def lap_sight(
     light: np.ndarray | None = None,
     cameras: np.ndarray | None = None,
 ) -> LapSight:
-    """The sparse :class:`LapSight` of the lap ``states`` (arguments as :func:`~guardsim.detection.patrol_gains`;
-    ``cameras`` the cameras' dense gains over the same lap)."""
+    """The sparse :class:`LapSight` of the lap ``states`` (arguments as :func:`patrol_gains`)."""
     states = np.ascontiguousarray(states, dtype=np.int64)
     guards, period = states.shape
     lit = np.ones(grid.size, dtype=np.float64) if light is None else np.ascontiguousarray(light, dtype=np.float64)
@@ -211,6 +210,30 @@ def lap_sight(
         period, start, tick, watcher, gain, seen_bits(start, tick, period), guards + extra,
         model.fall(dt), cell_of_state(states), float(dt), extra,
     )  # fmt: skip
+
+
+def patrol_gains(
+    grid: CoverageGrid,
+    table: ViewTable,
+    states: np.ndarray,
+    model: DetectionModel,
+    *,
+    view_range: float,
+    dt: float,
+    light: np.ndarray | None = None,
+    cameras: np.ndarray | None = None,
+) -> PatrolGains:
+    """The gains of a lap of ``states`` (``int64 (guards, period)``, a patrol's states) as one dense
+    ``(watchers, period, cells)`` array: :func:`lap_sight`'s, scattered.
+
+    ``view_range`` is the guards' view range in world units (the distance at which ``detect_far``
+    applies) and ``dt`` the seconds per tick (:func:`~guardsim.detection.grid_tick_seconds`). ``light``
+    (``float64 (cells,)``, default all 1) is each cell's light, ``cameras`` (``float64 (cameras, period,
+    cells)``) the cameras' own gains over the same lap, appended after the guards'
+    (:func:`guardsim.detection.watch.lap_gains` builds both for a level).
+    """
+    sight = lap_sight(grid, table, states, model, view_range=view_range, dt=dt, light=light, cameras=cameras)
+    return sight.dense_gains()
 
 
 @jit

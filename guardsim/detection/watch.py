@@ -16,10 +16,10 @@ from typing import NamedTuple
 import numpy as np
 
 from guardsim.detection.cameras import CameraSight, camera_gains, camera_sight, camera_ticks
-from guardsim.detection.exposure import PatrolGains, patrol_gains
+from guardsim.detection.exposure import PatrolGains
 from guardsim.detection.light import light_values, scene_sight
 from guardsim.detection.model import AwarenessMeter, DetectionModel, GuardDetection
-from guardsim.detection.sight import LapSight, lap_sight
+from guardsim.detection.sight import LapSight, lap_sight, patrol_gains
 from guardsim.errors import ArgumentError, LimitError
 from guardsim.grid import CoverageGrid
 from guardsim.kernels.meter import DETECTED

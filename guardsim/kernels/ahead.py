@@ -41,12 +41,14 @@ from guardsim.kernels.compiler import cache_folder, silence_notice
 
 __all__ = [
     "PLAN_FILE",
+    "SHARED_PLANS",
     "CompiledKernels",
     "compile_ahead",
     "compile_kernels",
     "decode_type",
     "encode_type",
     "plan",
+    "plans_of",
     "take",
     "urgency",
 ]
@@ -215,10 +217,12 @@ def compile_ahead(command: str) -> None:
 
 @dataclass(frozen=True)
 class CompiledKernels:
-    """What :func:`compile_kernels` made ready: the commands, the compiled functions their plans list
-    (each once, however many commands share it), whether they were compiled before, and where they are."""
+    """What :func:`compile_kernels` made ready: the commands asked for (empty: every command), the plans
+    they use, the compiled functions those list (each once, however many plans share it), whether all
+    were compiled before, and where they are kept."""
 
     commands: tuple[str, ...]
+    plans: tuple[str, ...]
     functions: int
     already: bool
     folder: Path
@@ -227,27 +231,49 @@ class CompiledKernels:
 #: ``progress(what, done, total)``: the library's progress callback (functions compiled of the total).
 Progress = Callable[[str, int, int], None]
 
+#: Commands that run another command's analysis, and so compile its plan too (``check --baseline``
+#: analyses the level as ``report`` does).
+SHARED_PLANS = {"diff": ("report",), "watch": ("report",), "check": ("report",)}
 
-def compile_kernels(commands: Sequence[str] | None = None, *, progress: Progress | None = None) -> CompiledKernels:
-    """Compile every kernel the ``commands`` call (all the plan's by default), on two processes, into
+
+def plans_of(command: str) -> tuple[str, ...]:
+    """The plans a ``guardsim`` command (``patrol``) or a plan's own name (``patrol:team``) compiles: the
+    command's own (``patrol``, ``patrol:team``) and those of the analysis it shares; empty when none."""
+    known = plan()
+    if command in known and ":" in command:
+        return (command,)
+    own = [name for name in known if name == command or name.startswith(f"{command}:")]
+    return tuple(dict.fromkeys([*own, *SHARED_PLANS.get(command, ())]))
+
+
+def compile_kernels(
+    commands: str | Sequence[str] | None = None, *, progress: Progress | None = None
+) -> CompiledKernels:
+    """Compile every kernel the ``commands`` call (``guardsim`` command names such as ``"sneak"`` or
+    ``"diff"``, or plan names such as ``"play:tour"``; all of them by default), on two processes, into
     :func:`~guardsim.kernels.compiler.cache_folder`, so that their first runs load them instead.
 
-    The install step (``guardsim compile``): commands share most of their kernels, so compiling all plans
-    at once takes about half the sum of compiling them one by one. A command already compiled in the
-    folder (its mark there) is not compiled again. Raises :class:`~guardsim.ArgumentError` naming an unknown
-    command.
+    The install step (``guardsim compile``): commands share most of their kernels, so compiling every plan
+    at once takes far less than compiling each on its command's first run. A plan already compiled in the
+    folder (its mark there) is not compiled again. Raises :class:`~guardsim.ArgumentError` naming a name that is
+    neither a command that compiles nor a plan.
     """
     known = plan()
-    chosen = tuple(known) if commands is None else tuple(dict.fromkeys(commands))
-    unknown = [name for name in chosen if name not in known]
+    asked = (commands,) if isinstance(commands, str) else tuple(dict.fromkeys(commands or ()))
+    unknown = [name for name in asked if not plans_of(name)]
     if unknown:
-        raise ArgumentError(f"no compile plan for {', '.join(unknown)}; the plans are {', '.join(known)}")
+        commands_that_compile = sorted({name.partition(":")[0] for name in known} | set(SHARED_PLANS))
+        raise ArgumentError(
+            f"no compiled kernels for {', '.join(unknown)}: the commands that compile are "
+            f"{', '.join(commands_that_compile)} (the others need none), the plans {', '.join(known)}"
+        )
+    chosen = tuple(dict.fromkeys(name for command in asked for name in plans_of(command))) if asked else tuple(known)
     entries = _union(chosen)
     already = all(_mark(name).exists() for name in chosen)
     if not already:
         silence_notice()  # compiling is what was asked for: no notice that it compiles
         _compile_plans(list(chosen), progress)
-    return CompiledKernels(chosen, len(entries), already, cache_folder())
+    return CompiledKernels(asked, chosen, len(entries), already, cache_folder())
 
 
 def _mark(command: str) -> Path:

@@ -31,9 +31,9 @@ from typing import Any, NamedTuple
 import numpy as np
 
 from guardsim.detection.cameras import camera_gains, camera_sight
-from guardsim.detection.exposure import patrol_gains
 from guardsim.detection.light import scene_sight
 from guardsim.detection.model import GuardDetection
+from guardsim.detection.sight import patrol_gains
 from guardsim.grid import CoverageGrid, state_of
 from guardsim.level import Camera, Level
 from guardsim.scene import Scene
