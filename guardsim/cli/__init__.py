@@ -25,7 +25,7 @@ COMMANDS: dict[str, tuple[str, str, str]] = {
     "bench": ("guardsim.cli.bench", "bench", "Run many episodes from random starts and summarise them."),
     "bounds": ("guardsim.cli.bounds", "bounds", "Lower bounds on the steps needed to see every reachable cell."),
     "patrol": ("guardsim.cli.patrol", "patrol", "Build a repeating patrol of LEVEL and score its idleness."),
-    "import": ("guardsim.cli.importing", "import_command", "Convert a Tiled, Moving AI or image map to a level."),
+    "import": ("guardsim.cli.importing", "import_command", "Convert a Tiled, LDtk, Moving AI or image map to a level."),
     "compile": (
         "guardsim.cli.compile",
         "compile_command",

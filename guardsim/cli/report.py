@@ -65,6 +65,9 @@ def report(
         analysis = analyse(level, patrol=patrol_path, guards=guards, pairs=pairs, seed=seed, progress=steps)
         found = report_of(analysis, alert=alert, seed=seed, progress=steps)
     data = report_data(found)
+    if pairs is None:
+        # Say where the sneak figures come from: a designer reading them should know the points were picked.
+        click.echo("  pairs: none given (--from X,Y --to X,Y), so from each player start, else the floor's far end, to the cell farthest on foot")
     for pair in data["pairs"]:
         where = f"{pair['from'][0]:g},{pair['from'][1]:g} -> {pair['to'][0]:g},{pair['to'][1]:g}"
         if pair["outcome"] in ("unreachable", "unchecked"):
