@@ -380,6 +380,22 @@ def test_each_command_compiles_its_own_plans_and_the_analysis_it_shares() -> Non
         compile_kernels("ale")
 
 
+def test_guardsim_compile_says_when_it_cannot_write_the_cache(tmp_path: Path) -> None:
+    # A folder under a file cannot be made, even by root: numba keeps the kernels where it can (its own
+    # fallbacks), and the step says it could not keep them in the folder it names.
+    blocker = tmp_path / "a-file"
+    blocker.write_text("")
+    env = dict(os.environ, GUARDSIM_CACHE_DIR=str(blocker / "cache"))
+    done = _guardsim(["compile", "alert"], env, tmp_path)
+    assert done.returncode == 0, done.stderr
+    functions = len(json.loads((REPO / "guardsim" / "kernels" / "plan.json").read_text())["alert"])
+    assert done.stdout.startswith(f"compiled the {functions} kernels of alert in ")
+    assert done.stdout.endswith(" s (see the warning)\n")
+    warning = [line for line in done.stderr.splitlines() if "warning" in line]
+    assert len(warning) == 1
+    assert warning[0].startswith(f"guardsim: warning: could not write the cache folder {blocker / 'cache'}/kernels-")
+
+
 @pytest.mark.slow  # about 30 s on two cores: every plan
 def test_after_guardsim_compile_no_command_compiles(tmp_path: Path) -> None:
     env = dict(os.environ, GUARDSIM_CACHE_DIR=str(tmp_path / "cache"), GUARDSIM_COMPILE_NOTICE="0.001")

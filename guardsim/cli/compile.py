@@ -32,8 +32,15 @@ def compile_command(commands: tuple[str, ...]) -> None:
     with StageLine(sys.stderr, "compile") as progress:
         done = compile_kernels(commands, progress=progress)
     of = f"of {', '.join(done.commands)}" if done.commands else "of every command"
+    if not done.writable:
+        click.echo(
+            f"guardsim: warning: could not write the cache folder {done.folder}: numba kept the kernels in its "
+            "own places if it could, else each run compiles them; set GUARDSIM_CACHE_DIR to a writable folder",
+            err=True,
+        )
     if done.already:
         click.echo(f"the {done.functions} kernels {of} are compiled already (kept in {done.folder})")
     else:
         seconds = time.perf_counter() - began
-        click.echo(f"compiled the {done.functions} kernels {of} in {seconds:.1f} s (kept in {done.folder})")
+        kept = f"kept in {done.folder}" if done.writable else "see the warning"
+        click.echo(f"compiled the {done.functions} kernels {of} in {seconds:.1f} s ({kept})")

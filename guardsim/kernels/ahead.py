@@ -226,6 +226,8 @@ class CompiledKernels:
     functions: int
     already: bool
     folder: Path
+    writable: bool
+    """Whether ``folder`` could be written (if not, numba kept the kernels in its own places, if any)."""
 
 
 #: ``progress(what, done, total)``: the library's progress callback (functions compiled of the total).
@@ -273,7 +275,9 @@ def compile_kernels(
     if not already:
         silence_notice()  # compiling is what was asked for: no notice that it compiles
         _compile_plans(list(chosen), progress)
-    return CompiledKernels(asked, chosen, len(entries), already, cache_folder())
+    folder = cache_folder()
+    writable = folder.is_dir() and os.access(folder, os.W_OK)
+    return CompiledKernels(asked, chosen, len(entries), already, folder, writable)
 
 
 def _mark(command: str) -> Path:
