@@ -15,7 +15,7 @@ from pathlib import Path
 import numpy as np
 import pytest
 
-from guardsim import ArgumentError, Scene, Simulation
+from guardsim import ArgumentError, GuardsimError, Scene, Simulation
 from guardsim.kernels.compiler import compiled_sources, source_digest
 from guardsim.kernels.distances import FAR, distances_from, fill_states, spread_states
 from guardsim.kernels.heap import heap_pop, heap_push
@@ -378,6 +378,14 @@ def test_each_command_compiles_its_own_plans_and_the_analysis_it_shares() -> Non
         compile_kernels(["a", "l", "e"])
     with pytest.raises(ArgumentError, match="no compiled kernels for ale:"):  # one name, not its letters
         compile_kernels("ale")
+
+
+def test_guardsim_compile_without_its_plans_says_so(monkeypatch: pytest.MonkeyPatch) -> None:
+    from guardsim.kernels import ahead
+
+    monkeypatch.setattr(ahead, "plan", dict)  # what plan() gives for a missing plan.json
+    with pytest.raises(GuardsimError, match=r"plan\.json: no compile plans \(the file is missing or unreadable\)"):
+        ahead.compile_kernels()
 
 
 def test_guardsim_compile_says_when_it_cannot_write_the_cache(tmp_path: Path) -> None:

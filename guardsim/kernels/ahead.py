@@ -36,7 +36,7 @@ import numba
 import numpy as np
 from numba.core import types
 
-from guardsim.errors import ArgumentError
+from guardsim.errors import ArgumentError, GuardsimError
 from guardsim.kernels.compiler import cache_folder, silence_notice
 
 __all__ = [
@@ -261,6 +261,8 @@ def compile_kernels(
     neither a command that compiles nor a plan.
     """
     known = plan()
+    if not known:
+        raise GuardsimError(f"{PLAN_FILE}: no compile plans (the file is missing or unreadable): reinstall guardsim")
     asked = (commands,) if isinstance(commands, str) else tuple(dict.fromkeys(commands or ()))
     unknown = [name for name in asked if not plans_of(name)]
     if unknown:
