@@ -396,3 +396,52 @@ def test_bad_safe_and_slack_options_are_exit_2(corridor: tuple[Path, Path], args
     code, lines = _run(str(level), *args)
     assert code == 2 and message in "\n".join(lines), lines
     assert code == 2 and sum(line.startswith(("guardsim: error", "Error")) for line in lines) == 1, lines
+
+
+#: The sneak tests' alcove (tests/test_sneak_ears.py): a corridor row with a guard posted in the alcove
+#: below its middle, facing the alcove's wall: it sees its own cell only, and hears steps in the corridor.
+ALCOVE: dict[str, Any] = {
+    "name": "alcove",
+    "outer": [
+        [0, 0], [3, 0], [3, 1], [8, 1], [8, 0], [11, 0], [11, 3], [8, 3], [8, 2], [6, 2], [6, 3], [5, 3], [5, 2],
+        [3, 2], [3, 3], [0, 3],
+    ],
+    "guard": {"start": [0.5, 0.5], "heading": "right", "radius": 0.3},
+}  # fmt: skip
+ALCOVE_POST = {"shape": [3, 11], "guards": [{"loop": [[5, 2]], "headings": [1]}]}
+
+
+def test_check_unheard_asks_that_the_sneak_goes_unheard_too(tmp_path: Path) -> None:
+    level = write_level(tmp_path, ALCOVE | {"intruder": {"walk_noise": 3, "sneak_noise": 3, "sneak_ticks": 2}})
+    post = tmp_path / "post.json"
+    post.write_text(json.dumps(ALCOVE_POST))
+    sneak = ["--patrol", str(post), "--sneak", "0.5,1.5", "10.5,1.5"]
+    # Unseen, the corridor is open; every step in it is heard, walking or sneaking.
+    code, lines = _run(str(level), *sneak, "--expect", "caught")
+    assert code == 1 and lines == [
+        f"{level}: broken: sneak 0.5,1.5 -> 10.5,1.5: expected caught, sneaks: an unseen path of 10 ticks from lap tick 0"
+    ]
+    assert _run(str(level), *sneak, "--expect", "caught", "--unheard") == (0, [f"{level}: its one rule holds"])
+    code, lines = _run(str(level), *sneak, "--expect", "sneaks", "--unheard")
+    assert code == 1 and lines == [
+        f"{level}: broken: sneak 0.5,1.5 -> 10.5,1.5: expected sneaks, caught: no unseen, unheard path (closest call: "
+        "0 ticks in view, heard 5 times)"
+    ]
+    # A quieter sneak (0.5 units: not the next cell) gets through, sneaking past the alcove: 15 ticks.
+    quiet = ["--sneak-noise", "0.5", "--min-slack", "2"]
+    code, lines = _run(str(level), *sneak, "--expect", "sneaks", "--unheard", *quiet)
+    assert code == 1 and lines == [
+        f"{level}: broken: min-slack: sneak 0.5,1.5 -> 10.5,1.5: an unseen, unheard path exists from 1 of 1 lap "
+        "ticks, limit at least 2"
+    ]
+    # The same from a checks file; and unheard needs a sneak rule to apply to.
+    checks = tmp_path / "checks.json"
+    checks.write_text(json.dumps({"unheard": True, "sneak": [{"from": [0.5, 1.5], "to": [10.5, 1.5], "expect": "caught"}]}))
+    assert _run(str(level), "--patrol", str(post), "--checks", str(checks)) == (0, [f"{level}: its one rule holds"])
+    checks.write_text(json.dumps({"unheard": True, "max_idleness": 10}))
+    code, lines = _run(str(level), "--patrol", str(post), "--checks", str(checks))
+    assert code == 2 and lines == [
+        f"guardsim: error: {checks}: unheard: there is no sneak rule in the file for it to apply to"
+    ]
+    code, lines = _run(str(level), "--patrol", str(post), "--max-idleness", "10", "--unheard")
+    assert code == 2 and lines[0].startswith("guardsim: error: ") and "unheard applies to the sneak rules" in lines[0]

@@ -9,7 +9,9 @@ import click
 
 from guardsim.cli.common import (
     DetectionOverrides,
+    EarsOverrides,
     build_scene,
+    ears_options,
     level_options,
     load,
     parse_point,
@@ -99,6 +101,14 @@ def _each_point(_ctx: click.Context, param: click.Parameter, values: tuple[str, 
     help="What each --sneak must give: caught/sneaks (an unseen path), detected/undetected (an undetected one).",
 )
 @click.option(
+    "--unheard",
+    is_flag=True,
+    default=None,
+    help="Each --sneak asks about paths no guard hears either: a walk or a sneak chosen for each step, by the "
+    "level's intruder noise keys (--walk-noise, --sneak-noise, --sneak-ticks override them).",
+)
+@ears_options
+@click.option(
     "--min-slack",
     type=click.IntRange(min=0),
     help="Each --sneak's path must exist from at least N of the lap's ticks (too tight breaks the build).",
@@ -145,6 +155,8 @@ def check(
     undetected: bool | None,
     sneaks: list[tuple[tuple[float, float], tuple[float, float]]],
     expects: tuple[str, ...],
+    unheard: bool | None,
+    ears_overrides: EarsOverrides,
     min_slack: int | None,
     max_slack: int | None,
     checks_path: str | None,
@@ -175,11 +187,12 @@ def check(
         sneaks=[SneakRule(a, b, e) for (a, b), e in zip(sneaks, expects)], safe=[SafeRule(point) for point in safe],
         max_cover_steps=max_cover_steps, max_idleness=max_idleness, no_unreachable=no_unreachable, patrol=patrol_path,
         guards=guards, planner=planner, undetected=undetected, min_slack=min_slack, max_slack=max_slack,
-        max_lap=max_lap,
+        max_lap=max_lap, unheard=unheard,
     )  # fmt: skip
     _check_something(rules, level_path, checks_path, baseline_path, max_worse)
     progress = StageLine(sys.stderr, "check").start()
-    level = detection_overrides.apply(load(level_path, max_cells, max_vertices, max_file_bytes, map_import))
+    level = load(level_path, max_cells, max_vertices, max_file_bytes, map_import)
+    level = ears_overrides.apply(detection_overrides.apply(level))
     scene = build_scene(level, los, fov, view_range)
     from guardsim.kernels.ahead import compile_ahead
 
@@ -193,7 +206,8 @@ def check(
         from guardsim.cli.baseline import baseline_results
 
         progress("comparing with the baseline", 0, 0)
-        old = detection_overrides.apply(load(baseline_path, max_cells, max_vertices, max_file_bytes, map_import))
+        old = load(baseline_path, max_cells, max_vertices, max_file_bytes, map_import)
+        old = ears_overrides.apply(detection_overrides.apply(old))
         results += baseline_results(old, level, rules, max_worse, seed=seed)
     progress.close()
     broken = [result for result in results if not result.holds]

@@ -12,6 +12,7 @@ chose, not on every change as a snapshot would. Rules come from the command line
     patrol = "patrol.json"       # the patrol for max_idleness, safe and the sneaks (else the loop is made)
     safe = [[30.5, 2.5]]         # cells no guard sees during the lap
     undetected = true            # ... or rather: where a player standing still is never detected
+    unheard = true               # the sneaks' paths must also go unheard (a gait chosen for each step)
     min_slack = 20               # each sneak's path exists from at least this many of the lap's ticks
     max_slack = 300              # and from at most this many
     [[sneak]]
@@ -110,6 +111,9 @@ class CheckRules:
     """... and from at most this many."""
     max_lap: int = MAX_JOINT_LAP
     """Longest joint lap of the patrol and the level's camera swings the safe and sneak rules run over."""
+    unheard: bool = False
+    """The sneak rules ask about paths no guard hears either, choosing to walk or sneak each step by the
+    level's intruder noise keys (``sneak --unheard``)."""
 
     def validate(self) -> None:
         """Raise :class:`CheckError` when an option modifies rules that are not there (slack limits without
@@ -126,6 +130,8 @@ class CheckRules:
             raise CheckError(f"min slack {self.min_slack} is over max slack {self.max_slack}: no slack meets both")
         if self.undetected and not self.safe:
             raise CheckError("undetected applies to the safe rules, and there is no safe rule")
+        if self.unheard and not self.sneaks:
+            raise CheckError("unheard applies to the sneak rules, and there is no sneak rule")
 
     def with_options(
         self, *, sneaks: Sequence[SneakRule] = (), safe: Sequence[SafeRule] = (), **given: object
@@ -218,7 +224,8 @@ def parse_checks(data: Any, *, source: str = "<checks>", base: Path | None = Non
     """:class:`CheckRules` from checks-file data, checked against ``checks.schema.json``; a relative
     ``patrol`` path is taken from ``base``.
 
-    The file must hold the rules its ``undetected`` and slack limits apply to (safe and sneak rules).
+    The file must hold the rules its ``undetected``, ``unheard`` and slack limits apply to (safe and sneak
+    rules).
 
     >>> parse_checks({"max_idleness": 600, "sneak": [{"from": [1, 2], "to": [3, 4], "expect": "caught"}]}).count
     2
@@ -227,7 +234,7 @@ def parse_checks(data: Any, *, source: str = "<checks>", base: Path | None = Non
     >>> parse_checks({"max_idle": 600})
     Traceback (most recent call last):
     ...
-    guardsim.errors.CheckError: <checks>: unknown rule 'max_idle' (known: guards, max_cover_steps, max_idleness, max_slack, min_slack, no_unreachable, patrol, planner, safe, sneak, undetected)
+    guardsim.errors.CheckError: <checks>: unknown rule 'max_idle' (known: guards, max_cover_steps, max_idleness, max_slack, min_slack, no_unreachable, patrol, planner, safe, sneak, undetected, unheard)
     """
     check(data, "checks", source=source, error=CheckError)
     patrol = data.get("patrol")
@@ -246,6 +253,9 @@ def parse_checks(data: Any, *, source: str = "<checks>", base: Path | None = Non
     undetected = data.get("undetected", False)
     if undetected and not safe:
         raise CheckError(f"{source}: undetected: there is no safe rule in the file for it to apply to")
+    unheard = data.get("unheard", False)
+    if unheard and not sneaks:
+        raise CheckError(f"{source}: unheard: there is no sneak rule in the file for it to apply to")
     min_slack, max_slack = data.get("min_slack"), data.get("max_slack")
     for key, limit in (("min_slack", min_slack), ("max_slack", max_slack)):
         if limit is not None and not sneaks:
@@ -264,6 +274,7 @@ def parse_checks(data: Any, *, source: str = "<checks>", base: Path | None = Non
         undetected=undetected,
         min_slack=min_slack,
         max_slack=max_slack,
+        unheard=unheard,
     )
 
 
@@ -485,10 +496,12 @@ def _sneak_results(
         undetected=rule.undetected,
         watch=_level_watch(scene, rules.max_lap),
         max_lap=rules.max_lap,
+        unheard=rules.unheard,
+        intruder=scene.level.intruder,
     )
     path, grade = result.path, result.grade
     assert path is not None and grade is not None
-    kind = "undetected" if rule.undetected else "unseen"
+    kind = ("undetected" if rule.undetected else "unseen") + (", unheard" if rules.unheard else "")
     if rule.undetected:
         answer = "undetected" if result.found else "detected"
     else:
@@ -498,7 +511,8 @@ def _sneak_results(
         if rule.undetected:
             told += f" (peak awareness {grade.peak:.2f})"
     else:
-        told = f"no {kind} path (closest call: {path.ticks_in_view} ticks in view)"
+        heard = f", heard {path.steps_heard} times" if rules.unheard else ""
+        told = f"no {kind} path (closest call: {path.ticks_in_view} ticks in view{heard})"
     name = f"sneak {rule.source[0]:g},{rule.source[1]:g} -> {rule.target[0]:g},{rule.target[1]:g}"
     results = [CheckResult(name, answer == rule.expect, f"expected {rule.expect}, {answer}: {told}")]
     slack = f"{name}: an {kind} path exists from {result.slack} of {result.period} lap ticks"
