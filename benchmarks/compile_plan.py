@@ -40,6 +40,9 @@ def commands(scratch: Path) -> dict[str, list[str]]:
         "patrol": ["patrol", square, "--out", str(scratch / "patrol")],
         "sneak": ["sneak", square, "--patrol", str(scratch / "patrol" / "patrol.json"),
                   "--from", "2.5,2.5", "--to", "57.5,57.5", "--undetected", "--out", str(scratch / "sneak")],
+        # With audible steps the searches choose gaits (dense, with the noise rule): sneak --unheard, check --unheard.
+        "sneak:unheard": ["sneak", square, "--patrol", str(scratch / "patrol" / "patrol.json"), "--from", "2.5,2.5",
+                          "--to", "57.5,57.5", "--unheard", "--walk-noise", "3", "--sneak-noise", "1"],
         "alert": ["alert", square, "--patrol", str(scratch / "patrol" / "patrol.json"),
                   "--from", "10.5,10.5", "--to", "50.5,50.5"],
         "bounds": ["bounds", square],

@@ -269,6 +269,7 @@ print(json.dumps(unplanned))
                 "check",
                 "report",
                 "fortify",
+                "sneak:unheard",
             )
         ),
     ],
@@ -295,11 +296,13 @@ def test_compiling_ahead_covers_what_the_command_compiles(command: str, tmp_path
         "report": ["report", square],
         "fortify": ["fortify", square, "--patrol", str(patrol / "patrol.json"), "--from", "2.5,2.5",
                     "--to", "57.5,57.5", "--cameras", "1", "--posts", "0"],
+        "sneak:unheard": ["sneak", square, "--patrol", str(patrol / "patrol.json"), "--from", "2.5,2.5", "--to",
+                          "57.5,57.5", "--unheard", "--walk-noise", "3", "--sneak-noise", "1"],
     }  # fmt: skip
     # A cache of its own, empty: in a shared one a kernel missing from the plan but compiled by another
     # test (or by `guardsim compile`) would load without compiling, and the test could not fail.
     env = dict(os.environ, GUARDSIM_COMPILE_NOTICE="0", GUARDSIM_CACHE_DIR=str(tmp_path / "cache"))
-    if command in ("sneak", "alert", "check", "fortify"):
+    if command in ("sneak", "alert", "check", "fortify", "sneak:unheard"):
         setup = dict(env, GUARDSIM_CACHE_DIR=str(tmp_path / "setup-cache"))
         subprocess.run([sys.executable, "-m", "guardsim.cli", *lines["patrol"]], env=setup, cwd=tmp_path,
                        check=True, capture_output=True)  # fmt: skip
@@ -372,7 +375,9 @@ def test_each_command_compiles_its_own_plans_and_the_analysis_it_shares() -> Non
 
     assert plans_of("play") == ("play:tour",) and plans_of("play:tour") == ("play:tour",)
     assert plans_of("patrol") == ("patrol", "patrol:team") and plans_of("patrol:team") == ("patrol:team",)
-    assert plans_of("diff") == plans_of("watch") == ("report",) and plans_of("check") == ("check", "report")
+    assert plans_of("diff") == plans_of("watch") == ("report",)
+    assert plans_of("check") == ("check", "report", "sneak:unheard")
+    assert plans_of("sneak") == ("sneak", "sneak:unheard")
     assert plans_of("render") == () and plans_of("play:sweep") == ()
     with pytest.raises(ArgumentError, match="no compiled kernels for a, l, e:"):
         compile_kernels(["a", "l", "e"])

@@ -198,6 +198,8 @@ def check(
 
     progress("compiling", 0, 0)
     compile_ahead("check")
+    if rules.unheard and level.intruder.walk_noise > 0:
+        compile_ahead("sneak:unheard")  # audible steps: the sneak rules choose gaits
     if baseline_path is not None:
         compile_ahead("report")  # the baseline's analysis is report's
     progress(f"checking {rules.count} rule{'' if rules.count == 1 else 's'}", 0, 0)

@@ -23,7 +23,7 @@ def compile_command(commands: tuple[str, ...]) -> None:
     The install step, once per installed version: about 30 s on two cores with nothing else running, a
     minute beside other work (docs/kernels.md). A COMMAND is a guardsim command that compiles: play
     (its tour planner), patrol, sneak, alert, bounds, optimum, bench, check, report, diff, watch,
-    fortify; or a plan's own name (play:tour, patrol:team, optimum:team). Run again, it says they are
+    fortify; or a plan's own name (play:tour, patrol:team, optimum:team, sneak:unheard). Run again, it says they are
     compiled already.
     """
     from guardsim.kernels.ahead import compile_kernels

@@ -136,7 +136,8 @@ def sneak(
     progress = StageLine(sys.stderr, "sneak").start()
     level = detection_overrides.apply(load(level_path, max_cells, max_vertices, max_file_bytes, map_import))
     level = ears_overrides.apply(level)
-    compile_ahead("sneak")
+    # Audible steps make the unheard search choose gaits: other kernels (its own plan).
+    compile_ahead("sneak:unheard" if unheard and level.intruder.walk_noise > 0 else "sneak")
     scene = build_scene(level, los, fov, view_range)
     patrol = read_patrol(patrol_path, scene.grid, level=level.name)
     patrol.require_repeating_grid(patrol_path, "sneak")

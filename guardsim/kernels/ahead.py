@@ -233,9 +233,9 @@ class CompiledKernels:
 #: ``progress(what, done, total)``: the library's progress callback (functions compiled of the total).
 Progress = Callable[[str, int, int], None]
 
-#: Commands that run another command's analysis, and so compile its plan too (``check --baseline``
-#: analyses the level as ``report`` does).
-SHARED_PLANS = {"diff": ("report",), "watch": ("report",), "check": ("report",)}
+#: Commands that run another command's work, and so compile its plan too (``check --baseline`` analyses
+#: the level as ``report`` does, ``check --unheard`` searches as ``sneak --unheard``).
+SHARED_PLANS = {"diff": ("report",), "watch": ("report",), "check": ("report", "sneak:unheard")}
 
 
 def plans_of(command: str) -> tuple[str, ...]:
