@@ -213,7 +213,7 @@ def problem(data: Any, name: str) -> str | None:
     >>> problem({"shape": [3, 11], "guards": [{"loop": [[5, 1], [5, "1"]], "headings": [0, 0]}]}, "patrol")
     'guards[0].loop[1]: expected [col, row], two whole numbers, got [5,"1"]'
     >>> problem({"max_idle": 600}, "checks")
-    "unknown rule 'max_idle' (known: guards, max_cover_steps, max_idleness, max_slack, min_slack, no_unreachable, patrol, planner, safe, sneak, undetected)"
+    "unknown rule 'max_idle' (known: guards, max_cover_steps, max_idleness, max_slack, min_slack, no_unreachable, patrol, planner, safe, sneak, undetected, unheard)"
     >>> problem({"shape": [3, 11], "guards": [{"loop": [[5, 1]], "headings": [0]}]}, "patrol") is None
     True
     """
