@@ -189,6 +189,19 @@ TWO_ROOMS: dict[str, Any] = {
     "guard": {"start": [0.5, 0.5], "heading": "right", "radius": 0.3},
 }
 
+#: The corridor of TWO_ROOMS with an alcove below its middle cell ([5, 2]): a guard posted there facing the
+#: alcove's wall (ALCOVE_POST) sees its own cell only, and hears steps in the corridor (hearing tests).
+ALCOVE: dict[str, Any] = {
+    "name": "alcove",
+    "outer": [
+        [0, 0], [3, 0], [3, 1], [8, 1], [8, 0], [11, 0], [11, 3], [8, 3], [8, 2], [6, 2], [6, 3], [5, 3], [5, 2],
+        [3, 2], [3, 3], [0, 3],
+    ],
+    "guard": {"start": [0.5, 0.5], "heading": "right", "radius": 0.3},
+}  # fmt: skip
+#: patrol.json of a guard posted in the alcove, facing down into its wall.
+ALCOVE_POST: dict[str, Any] = {"shape": [3, 11], "guards": [{"loop": [[5, 2]], "headings": [1]}]}
+
 #: A 1 x N corridor: a guard with view range 1 sees its own cell and the next one ahead.
 STRIP_CELLS = 7
 STRIP: dict[str, Any] = {

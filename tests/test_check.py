@@ -11,7 +11,7 @@ from click.testing import CliRunner
 
 from guardsim.cli import main
 from guardsim.validate.checks import CheckRules, SafeRule, SneakRule, run_checks
-from tests.common import SPLIT_ROOMS, TWO_ROOMS, scene_from, write_level
+from tests.common import ALCOVE, ALCOVE_POST, SPLIT_ROOMS, TWO_ROOMS, scene_from, write_level
 
 POST = {"shape": [3, 11], "guards": [{"loop": [[5, 1]], "headings": [0]}]}
 #: A guard pacing the corridor, [3, 1] to [7, 1] and back: an 8-tick lap. Facing right from [7, 1] (lap
@@ -396,19 +396,6 @@ def test_bad_safe_and_slack_options_are_exit_2(corridor: tuple[Path, Path], args
     code, lines = _run(str(level), *args)
     assert code == 2 and message in "\n".join(lines), lines
     assert code == 2 and sum(line.startswith(("guardsim: error", "Error")) for line in lines) == 1, lines
-
-
-#: The sneak tests' alcove (tests/test_sneak_ears.py): a corridor row with a guard posted in the alcove
-#: below its middle, facing the alcove's wall: it sees its own cell only, and hears steps in the corridor.
-ALCOVE: dict[str, Any] = {
-    "name": "alcove",
-    "outer": [
-        [0, 0], [3, 0], [3, 1], [8, 1], [8, 0], [11, 0], [11, 3], [8, 3], [8, 2], [6, 2], [6, 3], [5, 3], [5, 2],
-        [3, 2], [3, 3], [0, 3],
-    ],
-    "guard": {"start": [0.5, 0.5], "heading": "right", "radius": 0.3},
-}  # fmt: skip
-ALCOVE_POST = {"shape": [3, 11], "guards": [{"loop": [[5, 2]], "headings": [1]}]}
 
 
 def test_check_unheard_asks_that_the_sneak_goes_unheard_too(tmp_path: Path) -> None:

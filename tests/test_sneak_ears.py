@@ -27,19 +27,10 @@ from guardsim.patrol import Patrol, patrol_setup
 from guardsim.scene import Scene
 from guardsim.sneak import sneak_check, sneak_data
 from guardsim.sneak.grade import grade_path
-from tests.common import TINY_LEVELS, random_loop, scene_from, write_level
+from tests.common import ALCOVE, ALCOVE_POST, TINY_LEVELS, random_loop, scene_from, write_level
 
-#: A corridor between two rooms, one cell wide, with a one-cell alcove below its middle (5, 2) where a
-#: guard stands facing the alcove's wall: it sees no cell of the corridor, but every cell of the
-#: corridor is within 3 steps of it.
-ALCOVE: dict[str, Any] = {
-    "name": "alcove",
-    "outer": [
-        [0, 0], [3, 0], [3, 1], [8, 1], [8, 0], [11, 0], [11, 3], [8, 3], [8, 2], [6, 2], [6, 3], [5, 3], [5, 2],
-        [3, 2], [3, 3], [0, 3],
-    ],
-    "guard": {"start": [0.5, 0.5], "heading": "right", "radius": 0.3},
-}  # fmt: skip
+# ALCOVE (tests/common.py): its guard, posted at (5, 2) facing the alcove's wall, sees no cell of the
+# corridor, but every cell of the corridor is within 3 steps of it.
 
 
 def _steps_between(neighbours: np.ndarray, source: int) -> dict[int, int]:
@@ -348,7 +339,7 @@ def test_silent_steps_answer_as_without_ears() -> None:
 def test_sneak_unheard_command_prints_the_gaits(tmp_path: Path) -> None:
     level = write_level(tmp_path, ALCOVE | {"intruder": {"walk_noise": 3, "sneak_noise": 0.5, "sneak_ticks": 2}})
     patrol = tmp_path / "post.json"
-    patrol.write_text(json.dumps({"shape": [3, 11], "guards": [{"loop": [[5, 2]], "headings": [1]}]}))
+    patrol.write_text(json.dumps(ALCOVE_POST))
     runner = CliRunner()
     out = tmp_path / "run"
     args = ["sneak", str(level), "--patrol", str(patrol), "--from", "0.5,1.5", "--to", "10.5,1.5", "--unheard"]
@@ -446,7 +437,7 @@ def test_bad_ears_are_one_line_errors(tmp_path: Path) -> None:
     not allow): one line naming the file or the option, exit status 2."""
     runner = CliRunner()
     patrol = tmp_path / "post.json"
-    patrol.write_text(json.dumps({"shape": [3, 11], "guards": [{"loop": [[5, 2]], "headings": [1]}]}))
+    patrol.write_text(json.dumps(ALCOVE_POST))
     noisy = write_level(tmp_path, ALCOVE | {"intruder": {"walk_noise": 3, "sneak_noise": 0.5}}, "noisy.json")
     quiet = write_level(tmp_path, ALCOVE | {"intruder": {"walk_noise": -3}}, "bad.json")
     sneak = ["sneak", "--patrol", str(patrol), "--from", "0.5,1.5", "--to", "10.5,1.5", "--unheard"]
