@@ -194,11 +194,12 @@ def check(
     level = load(level_path, max_cells, max_vertices, max_file_bytes, map_import)
     level = ears_overrides.apply(detection_overrides.apply(level))
     scene = build_scene(level, los, fov, view_range)
+    from guardsim.detection.hearing import walks_audibly
     from guardsim.kernels.ahead import compile_ahead
 
     progress("compiling", 0, 0)
     compile_ahead("check")
-    if rules.unheard and level.intruder.walk_noise > 0:
+    if rules.unheard and walks_audibly(level.intruder):
         compile_ahead("sneak:unheard")  # audible steps: the sneak rules choose gaits
     if baseline_path is not None:
         compile_ahead("report")  # the baseline's analysis is report's

@@ -128,6 +128,7 @@ def sneak(
     (the level's walk_noise and sneak_noise, along the grid: docs/alert.md); the gaits are printed and in
     sneak.json.
     """
+    from guardsim.detection.hearing import walks_audibly
     from guardsim.kernels.ahead import compile_ahead
     from guardsim.patrol import read_patrol
     from guardsim.sneak.run import run_sneak, sneak_endpoints, sneak_summary
@@ -137,7 +138,7 @@ def sneak(
     level = detection_overrides.apply(load(level_path, max_cells, max_vertices, max_file_bytes, map_import))
     level = ears_overrides.apply(level)
     # Audible steps make the unheard search choose gaits: other kernels (its own plan).
-    compile_ahead("sneak:unheard" if unheard and level.intruder.walk_noise > 0 else "sneak")
+    compile_ahead("sneak:unheard" if unheard and walks_audibly(level.intruder) else "sneak")
     scene = build_scene(level, los, fov, view_range)
     patrol = read_patrol(patrol_path, scene.grid, level=level.name)
     patrol.require_repeating_grid(patrol_path, "sneak")

@@ -12,13 +12,19 @@ from guardsim.kernels.noise import heard_lap
 from guardsim.kernels.states import cell_of_state
 from guardsim.level.model import IntruderSpec
 
-__all__ = ["lap_hearing", "makes_noise"]
+__all__ = ["lap_hearing", "makes_noise", "walks_audibly"]
 
 
 def makes_noise(intruder: IntruderSpec) -> bool:
     """Whether some gait of ``intruder`` makes a noise at all (a radius of 0 is silent, as in the alert
     loop)."""
     return intruder.walk_noise > 0 or intruder.sneak_noise > 0
+
+
+def walks_audibly(intruder: IntruderSpec) -> bool:
+    """Whether a walking step of ``intruder`` makes a noise: only then may an unheard search need to sneak
+    (a silent walk is never worse than sneaking) and choose a gait for each step."""
+    return intruder.walk_noise > 0
 
 
 def lap_hearing(neighbours: np.ndarray, states: np.ndarray, intruder: IntruderSpec, cell_size: float) -> np.ndarray:
